@@ -1,0 +1,277 @@
+//! Compiles every compute pass under `shaders/` from WGSL to SPIR-V with naga, validates it, and
+//! generates `shaders.rs` in OUT_DIR: per pass, the SPIR-V words, the workgroup size, the
+//! descriptor bindings and a `#[repr(C)]` mirror of its push-constant block. The host reads all of
+//! these from the generated module, so a binding number or a workgroup size is written once, in
+//! the shader.
+//!
+//! A pass may pull shared helpers from `shaders/include/NAME.wgsl` with a line `// #import NAME`.
+//! Errors are reported against the file and line they came from, not the assembled source.
+
+use std::fmt::Write as _;
+use std::fs;
+use std::path::{Path, PathBuf};
+
+use naga::back::spv;
+use naga::valid::{Capabilities, ValidationFlags, Validator};
+
+const SHADER_DIR: &str = "shaders";
+const INCLUDE_DIR: &str = "shaders/include";
+const IMPORT_DIRECTIVE: &str = "// #import ";
+
+/// One file's lines inside an assembled shader source.
+struct Segment {
+    path: PathBuf,
+    first_line: usize,
+    line_count: usize,
+}
+
+struct AssembledSource {
+    text: String,
+    segments: Vec<Segment>,
+}
+
+impl AssembledSource {
+    /// Maps a 1-based line of the assembled text back to (file, 1-based line).
+    fn locate(&self, line: usize) -> (PathBuf, usize) {
+        for segment in &self.segments {
+            if line >= segment.first_line && line < segment.first_line + segment.line_count {
+                return (segment.path.clone(), line - segment.first_line + 1);
+            }
+        }
+        let last = self.segments.last().expect("a pass has at least its own segment");
+        (last.path.clone(), line.saturating_sub(last.first_line) + 1)
+    }
+}
+
+fn assemble(pass_path: &Path) -> Result<AssembledSource, String> {
+    let pass_text =
+        fs::read_to_string(pass_path).map_err(|e| format!("{}: {e}", pass_path.display()))?;
+    let mut text = String::new();
+    let mut segments = Vec::new();
+    let mut next_line = 1;
+    for (index, line) in pass_text.lines().enumerate() {
+        let Some(name) = line.trim().strip_prefix(IMPORT_DIRECTIVE) else {
+            continue;
+        };
+        let include_path = Path::new(INCLUDE_DIR).join(format!("{}.wgsl", name.trim()));
+        let include = fs::read_to_string(&include_path).map_err(|e| {
+            format!(
+                "{}:{}: cannot import {}: {e}",
+                pass_path.display(),
+                index + 1,
+                include_path.display()
+            )
+        })?;
+        println!("cargo:rerun-if-changed={}", include_path.display());
+        let line_count = include.lines().count();
+        segments.push(Segment { path: include_path, first_line: next_line, line_count });
+        next_line += line_count;
+        for include_line in include.lines() {
+            text.push_str(include_line);
+            text.push('\n');
+        }
+    }
+    segments.push(Segment {
+        path: pass_path.to_path_buf(),
+        first_line: next_line,
+        line_count: pass_text.lines().count(),
+    });
+    text.push_str(&pass_text);
+    Ok(AssembledSource { text, segments })
+}
+
+fn located_error(source: &AssembledSource, line: Option<u32>, message: &str) -> String {
+    match line {
+        Some(line) => {
+            let (path, line) = source.locate(line as usize);
+            format!("{}:{line}: {message}", path.display())
+        }
+        None => format!("{}: {message}", source.segments.last().unwrap().path.display()),
+    }
+}
+
+struct CompiledPass {
+    name: String,
+    words: Vec<u32>,
+    workgroup_size: [u32; 3],
+    bindings: Vec<(u32, &'static str, String)>,
+    push_constants: Option<String>,
+}
+
+fn compile(pass_path: &Path) -> Result<CompiledPass, String> {
+    let source = assemble(pass_path)?;
+    let module = naga::front::wgsl::parse_str(&source.text).map_err(|e| {
+        let line = e.location(&source.text).map(|l| l.line_number);
+        located_error(&source, line, &e.emit_to_string(&source.text))
+    })?;
+    let info = Validator::new(ValidationFlags::all(), Capabilities::IMMEDIATES)
+        .validate(&module)
+        .map_err(|e| {
+            let line = e.location(&source.text).map(|l| l.line_number);
+            located_error(&source, line, &e.emit_to_string(&source.text))
+        })?;
+
+    let mut options = spv::Options::default();
+    // Lavapipe lacks storageInputOutput16; compute passes never need it.
+    options.use_storage_input_output_16 = false;
+    options.flags.remove(spv::WriterFlags::DEBUG);
+    // A frame generator must never read or write outside an engine image.
+    options.bounds_check_policies.image_load = naga::proc::BoundsCheckPolicy::ReadZeroSkipWrite;
+    options.bounds_check_policies.buffer = naga::proc::BoundsCheckPolicy::ReadZeroSkipWrite;
+    options.bounds_check_policies.index = naga::proc::BoundsCheckPolicy::ReadZeroSkipWrite;
+    let words = spv::write_vec(&module, &info, &options, None)
+        .map_err(|e| located_error(&source, None, &format!("SPIR-V output: {e}")))?;
+
+    let [entry] = module.entry_points.as_slice() else {
+        return Err(located_error(&source, None, "a pass has exactly one entry point"));
+    };
+    if entry.stage != naga::ShaderStage::Compute || entry.name != "main" {
+        return Err(located_error(&source, None, "the entry point must be `@compute fn main`"));
+    }
+
+    let mut bindings = Vec::new();
+    let mut push_constants = None;
+    for (_, global) in module.global_variables.iter() {
+        let name = global.name.clone().unwrap_or_default();
+        if global.space == naga::AddressSpace::Immediate {
+            push_constants = Some(push_constant_struct(&module, global.ty)?);
+            continue;
+        }
+        let Some(binding) = &global.binding else { continue };
+        if binding.group != 0 {
+            return Err(located_error(&source, None, "every binding lives in @group(0)"));
+        }
+        let kind = match (&global.space, &module.types[global.ty].inner) {
+            (naga::AddressSpace::Uniform, _) => "UniformBuffer",
+            (naga::AddressSpace::Storage { .. }, _) => "StorageBuffer",
+            (_, naga::TypeInner::Image { class: naga::ImageClass::Storage { .. }, .. }) => {
+                "StorageImage"
+            }
+            (_, naga::TypeInner::Image { .. }) => "SampledImage",
+            (_, naga::TypeInner::Sampler { .. }) => "Sampler",
+            (_, other) => return Err(format!("{name}: unsupported binding type {other:?}")),
+        };
+        bindings.push((binding.binding, kind, name));
+    }
+    bindings.sort_by_key(|(binding, _, _)| *binding);
+
+    Ok(CompiledPass {
+        name: pass_path.file_stem().unwrap().to_string_lossy().into_owned(),
+        words,
+        workgroup_size: entry.workgroup_size,
+        bindings,
+        push_constants,
+    })
+}
+
+/// Rust type of a push-constant member, with its size in bytes.
+fn rust_type(module: &naga::Module, ty: naga::Handle<naga::Type>) -> Result<String, String> {
+    use naga::{ScalarKind, TypeInner};
+    let scalar = |s: naga::Scalar| match (s.kind, s.width) {
+        (ScalarKind::Float, 4) => Ok("f32"),
+        (ScalarKind::Uint, 4) => Ok("u32"),
+        (ScalarKind::Sint, 4) => Ok("i32"),
+        _ => Err(format!("push constants support 32-bit scalars only, not {s:?}")),
+    };
+    match &module.types[ty].inner {
+        TypeInner::Scalar(s) => Ok(scalar(*s)?.to_string()),
+        TypeInner::Vector { size, scalar: s } => Ok(format!("[{}; {}]", scalar(*s)?, *size as u8)),
+        TypeInner::Matrix { columns, rows, scalar: s } => {
+            Ok(format!("[[{}; {}]; {}]", scalar(*s)?, *rows as u8, *columns as u8))
+        }
+        other => Err(format!("unsupported push-constant member type {other:?}")),
+    }
+}
+
+fn push_constant_struct(
+    module: &naga::Module,
+    ty: naga::Handle<naga::Type>,
+) -> Result<String, String> {
+    let naga::TypeInner::Struct { members, span } = &module.types[ty].inner else {
+        return Err("the immediate (push constant) variable must be a struct".into());
+    };
+    let mut layouter = naga::proc::Layouter::default();
+    layouter.update(module.to_ctx()).map_err(|e| e.to_string())?;
+    let mut fields = String::new();
+    let mut cursor = 0;
+    for (index, member) in members.iter().enumerate() {
+        if member.offset > cursor {
+            writeln!(fields, "        pub _pad{index}: [u8; {}],", member.offset - cursor).unwrap();
+        }
+        let name = member.name.clone().unwrap_or_else(|| format!("field{index}"));
+        writeln!(fields, "        pub {name}: {},", rust_type(module, member.ty)?).unwrap();
+        cursor = member.offset + layouter[member.ty].size;
+    }
+    if *span > cursor {
+        writeln!(fields, "        pub _pad_end: [u8; {}],", span - cursor).unwrap();
+    }
+    Ok(format!(
+        "    /// Push constants, laid out exactly as the shader declares them.\n    \
+         #[repr(C)]\n    #[derive(Clone, Copy, Debug, Default, PartialEq)]\n    \
+         pub struct Params {{\n{fields}    }}\n    \
+         const _: () = assert!(std::mem::size_of::<Params>() == {span});\n"
+    ))
+}
+
+fn emit(pass: &CompiledPass) -> String {
+    let mut out = String::new();
+    writeln!(out, "pub mod {} {{", pass.name).unwrap();
+    writeln!(out, "    #[allow(unused_imports)]\n    use super::{{Binding, DescriptorKind}};").unwrap();
+    writeln!(out, "    pub const NAME: &str = {:?};", pass.name).unwrap();
+    writeln!(out, "    pub const WORKGROUP_SIZE: [u32; 3] = {:?};", pass.workgroup_size).unwrap();
+    writeln!(out, "    pub const BINDINGS: &[Binding] = &[").unwrap();
+    for (binding, kind, name) in &pass.bindings {
+        writeln!(
+            out,
+            "        Binding {{ binding: {binding}, kind: DescriptorKind::{kind}, name: {name:?} }},"
+        )
+        .unwrap();
+    }
+    writeln!(out, "    ];").unwrap();
+    writeln!(out, "    pub mod binding {{").unwrap();
+    for (binding, _, name) in &pass.bindings {
+        writeln!(out, "        pub const {}: u32 = {binding};", name.to_uppercase()).unwrap();
+    }
+    writeln!(out, "    }}").unwrap();
+    if let Some(push_constants) = &pass.push_constants {
+        out.push_str(push_constants);
+    }
+    write!(out, "    pub const SPIRV: &[u32] = &[").unwrap();
+    for (index, word) in pass.words.iter().enumerate() {
+        if index % 8 == 0 {
+            out.push_str("\n        ");
+        }
+        write!(out, "{word:#010x}, ").unwrap();
+    }
+    writeln!(out, "\n    ];\n}}").unwrap();
+    out
+}
+
+fn main() {
+    println!("cargo:rerun-if-changed={SHADER_DIR}");
+    println!("cargo:rerun-if-changed={INCLUDE_DIR}");
+    let mut passes: Vec<PathBuf> = fs::read_dir(SHADER_DIR)
+        .expect("shaders/ exists")
+        .map(|entry| entry.expect("readable shaders/ entry").path())
+        .filter(|path| path.extension().is_some_and(|ext| ext == "wgsl"))
+        .collect();
+    passes.sort();
+
+    let mut generated = String::from("// Generated by build.rs from shaders/*.wgsl. Do not edit.\n");
+    let mut failures = Vec::new();
+    for path in &passes {
+        println!("cargo:rerun-if-changed={}", path.display());
+        match compile(path) {
+            Ok(pass) => generated.push_str(&emit(&pass)),
+            Err(error) => failures.push(error),
+        }
+    }
+    if !failures.is_empty() {
+        for failure in &failures {
+            eprintln!("error: {failure}");
+        }
+        panic!("{} shader(s) failed to compile:\n{}", failures.len(), failures.join("\n"));
+    }
+    let out_dir = PathBuf::from(std::env::var("OUT_DIR").expect("cargo sets OUT_DIR"));
+    fs::write(out_dir.join("shaders.rs"), generated).expect("OUT_DIR is writable");
+}
