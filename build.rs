@@ -38,7 +38,10 @@ impl AssembledSource {
                 return (segment.path.clone(), line - segment.first_line + 1);
             }
         }
-        let last = self.segments.last().expect("a pass has at least its own segment");
+        let last = self
+            .segments
+            .last()
+            .expect("a pass has at least its own segment");
         (last.path.clone(), line.saturating_sub(last.first_line) + 1)
     }
 }
@@ -64,7 +67,11 @@ fn assemble(pass_path: &Path) -> Result<AssembledSource, String> {
         })?;
         println!("cargo:rerun-if-changed={}", include_path.display());
         let line_count = include.lines().count();
-        segments.push(Segment { path: include_path, first_line: next_line, line_count });
+        segments.push(Segment {
+            path: include_path,
+            first_line: next_line,
+            line_count,
+        });
         next_line += line_count;
         for include_line in include.lines() {
             text.push_str(include_line);
@@ -86,7 +93,10 @@ fn located_error(source: &AssembledSource, line: Option<u32>, message: &str) -> 
             let (path, line) = source.locate(line as usize);
             format!("{}:{line}: {message}", path.display())
         }
-        None => format!("{}: {message}", source.segments.last().unwrap().path.display()),
+        None => format!(
+            "{}: {message}",
+            source.segments.last().unwrap().path.display()
+        ),
     }
 }
 
@@ -111,22 +121,36 @@ fn compile(pass_path: &Path) -> Result<CompiledPass, String> {
             located_error(&source, line, &e.emit_to_string(&source.text))
         })?;
 
-    let mut options = spv::Options::default();
-    // Lavapipe lacks storageInputOutput16; compute passes never need it.
-    options.use_storage_input_output_16 = false;
-    options.flags.remove(spv::WriterFlags::DEBUG);
     // A frame generator must never read or write outside an engine image.
-    options.bounds_check_policies.image_load = naga::proc::BoundsCheckPolicy::ReadZeroSkipWrite;
-    options.bounds_check_policies.buffer = naga::proc::BoundsCheckPolicy::ReadZeroSkipWrite;
-    options.bounds_check_policies.index = naga::proc::BoundsCheckPolicy::ReadZeroSkipWrite;
+    let checked = naga::proc::BoundsCheckPolicy::ReadZeroSkipWrite;
+    let mut options = spv::Options {
+        // Lavapipe lacks storageInputOutput16; compute passes never need it.
+        use_storage_input_output_16: false,
+        bounds_check_policies: naga::proc::BoundsCheckPolicies {
+            index: checked,
+            buffer: checked,
+            image_load: checked,
+            binding_array: checked,
+        },
+        ..Default::default()
+    };
+    options.flags.remove(spv::WriterFlags::DEBUG);
     let words = spv::write_vec(&module, &info, &options, None)
         .map_err(|e| located_error(&source, None, &format!("SPIR-V output: {e}")))?;
 
     let [entry] = module.entry_points.as_slice() else {
-        return Err(located_error(&source, None, "a pass has exactly one entry point"));
+        return Err(located_error(
+            &source,
+            None,
+            "a pass has exactly one entry point",
+        ));
     };
     if entry.stage != naga::ShaderStage::Compute || entry.name != "main" {
-        return Err(located_error(&source, None, "the entry point must be `@compute fn main`"));
+        return Err(located_error(
+            &source,
+            None,
+            "the entry point must be `@compute fn main`",
+        ));
     }
 
     let mut bindings = Vec::new();
@@ -137,16 +161,26 @@ fn compile(pass_path: &Path) -> Result<CompiledPass, String> {
             push_constants = Some(push_constant_struct(&module, global.ty)?);
             continue;
         }
-        let Some(binding) = &global.binding else { continue };
+        let Some(binding) = &global.binding else {
+            continue;
+        };
         if binding.group != 0 {
-            return Err(located_error(&source, None, "every binding lives in @group(0)"));
+            return Err(located_error(
+                &source,
+                None,
+                "every binding lives in @group(0)",
+            ));
         }
         let kind = match (&global.space, &module.types[global.ty].inner) {
             (naga::AddressSpace::Uniform, _) => "UniformBuffer",
             (naga::AddressSpace::Storage { .. }, _) => "StorageBuffer",
-            (_, naga::TypeInner::Image { class: naga::ImageClass::Storage { .. }, .. }) => {
-                "StorageImage"
-            }
+            (
+                _,
+                naga::TypeInner::Image {
+                    class: naga::ImageClass::Storage { .. },
+                    ..
+                },
+            ) => "StorageImage",
             (_, naga::TypeInner::Image { .. }) => "SampledImage",
             (_, naga::TypeInner::Sampler { .. }) => "Sampler",
             (_, other) => return Err(format!("{name}: unsupported binding type {other:?}")),
@@ -156,7 +190,11 @@ fn compile(pass_path: &Path) -> Result<CompiledPass, String> {
     bindings.sort_by_key(|(binding, _, _)| *binding);
 
     Ok(CompiledPass {
-        name: pass_path.file_stem().unwrap().to_string_lossy().into_owned(),
+        name: pass_path
+            .file_stem()
+            .unwrap()
+            .to_string_lossy()
+            .into_owned(),
         words,
         workgroup_size: entry.workgroup_size,
         bindings,
@@ -171,14 +209,23 @@ fn rust_type(module: &naga::Module, ty: naga::Handle<naga::Type>) -> Result<Stri
         (ScalarKind::Float, 4) => Ok("f32"),
         (ScalarKind::Uint, 4) => Ok("u32"),
         (ScalarKind::Sint, 4) => Ok("i32"),
-        _ => Err(format!("push constants support 32-bit scalars only, not {s:?}")),
+        _ => Err(format!(
+            "push constants support 32-bit scalars only, not {s:?}"
+        )),
     };
     match &module.types[ty].inner {
         TypeInner::Scalar(s) => Ok(scalar(*s)?.to_string()),
         TypeInner::Vector { size, scalar: s } => Ok(format!("[{}; {}]", scalar(*s)?, *size as u8)),
-        TypeInner::Matrix { columns, rows, scalar: s } => {
-            Ok(format!("[[{}; {}]; {}]", scalar(*s)?, *rows as u8, *columns as u8))
-        }
+        TypeInner::Matrix {
+            columns,
+            rows,
+            scalar: s,
+        } => Ok(format!(
+            "[[{}; {}]; {}]",
+            scalar(*s)?,
+            *rows as u8,
+            *columns as u8
+        )),
         other => Err(format!("unsupported push-constant member type {other:?}")),
     }
 }
@@ -191,15 +238,30 @@ fn push_constant_struct(
         return Err("the immediate (push constant) variable must be a struct".into());
     };
     let mut layouter = naga::proc::Layouter::default();
-    layouter.update(module.to_ctx()).map_err(|e| e.to_string())?;
+    layouter
+        .update(module.to_ctx())
+        .map_err(|e| e.to_string())?;
     let mut fields = String::new();
     let mut cursor = 0;
     for (index, member) in members.iter().enumerate() {
         if member.offset > cursor {
-            writeln!(fields, "        pub _pad{index}: [u8; {}],", member.offset - cursor).unwrap();
+            writeln!(
+                fields,
+                "        pub _pad{index}: [u8; {}],",
+                member.offset - cursor
+            )
+            .unwrap();
         }
-        let name = member.name.clone().unwrap_or_else(|| format!("field{index}"));
-        writeln!(fields, "        pub {name}: {},", rust_type(module, member.ty)?).unwrap();
+        let name = member
+            .name
+            .clone()
+            .unwrap_or_else(|| format!("field{index}"));
+        writeln!(
+            fields,
+            "        pub {name}: {},",
+            rust_type(module, member.ty)?
+        )
+        .unwrap();
         cursor = member.offset + layouter[member.ty].size;
     }
     if *span > cursor {
@@ -209,16 +271,26 @@ fn push_constant_struct(
         "    /// Push constants, laid out exactly as the shader declares them.\n    \
          #[repr(C)]\n    #[derive(Clone, Copy, Debug, Default, PartialEq)]\n    \
          pub struct Params {{\n{fields}    }}\n    \
-         const _: () = assert!(std::mem::size_of::<Params>() == {span});\n"
+         const _: () = assert!(std::mem::size_of::<Params>() == {span});\n    \
+         impl super::PushConstants for Params {{}}\n"
     ))
 }
 
 fn emit(pass: &CompiledPass) -> String {
     let mut out = String::new();
     writeln!(out, "pub mod {} {{", pass.name).unwrap();
-    writeln!(out, "    #[allow(unused_imports)]\n    use super::{{Binding, DescriptorKind}};").unwrap();
+    writeln!(
+        out,
+        "    #[allow(unused_imports)]\n    use super::{{Binding, DescriptorKind}};"
+    )
+    .unwrap();
     writeln!(out, "    pub const NAME: &str = {:?};", pass.name).unwrap();
-    writeln!(out, "    pub const WORKGROUP_SIZE: [u32; 3] = {:?};", pass.workgroup_size).unwrap();
+    writeln!(
+        out,
+        "    pub const WORKGROUP_SIZE: [u32; 3] = {:?};",
+        pass.workgroup_size
+    )
+    .unwrap();
     writeln!(out, "    pub const BINDINGS: &[Binding] = &[").unwrap();
     for (binding, kind, name) in &pass.bindings {
         writeln!(
@@ -230,12 +302,27 @@ fn emit(pass: &CompiledPass) -> String {
     writeln!(out, "    ];").unwrap();
     writeln!(out, "    pub mod binding {{").unwrap();
     for (binding, _, name) in &pass.bindings {
-        writeln!(out, "        pub const {}: u32 = {binding};", name.to_uppercase()).unwrap();
+        writeln!(
+            out,
+            "        pub const {}: u32 = {binding};",
+            name.to_uppercase()
+        )
+        .unwrap();
     }
     writeln!(out, "    }}").unwrap();
-    if let Some(push_constants) = &pass.push_constants {
-        out.push_str(push_constants);
-    }
+    let push_constant_size = match &pass.push_constants {
+        Some(push_constants) => {
+            out.push_str(push_constants);
+            "std::mem::size_of::<Params>() as u32"
+        }
+        None => "0",
+    };
+    writeln!(
+        out,
+        "    pub const SHADER: super::ShaderInfo = super::ShaderInfo {{ name: NAME, spirv: SPIRV, \
+         workgroup_size: WORKGROUP_SIZE, bindings: BINDINGS, push_constant_size: {push_constant_size} }};"
+    )
+    .unwrap();
     write!(out, "    pub const SPIRV: &[u32] = &[").unwrap();
     for (index, word) in pass.words.iter().enumerate() {
         if index % 8 == 0 {
@@ -257,7 +344,8 @@ fn main() {
         .collect();
     passes.sort();
 
-    let mut generated = String::from("// Generated by build.rs from shaders/*.wgsl. Do not edit.\n");
+    let mut generated =
+        String::from("// Generated by build.rs from shaders/*.wgsl. Do not edit.\n");
     let mut failures = Vec::new();
     for path in &passes {
         println!("cargo:rerun-if-changed={}", path.display());
@@ -270,7 +358,11 @@ fn main() {
         for failure in &failures {
             eprintln!("error: {failure}");
         }
-        panic!("{} shader(s) failed to compile:\n{}", failures.len(), failures.join("\n"));
+        panic!(
+            "{} shader(s) failed to compile:\n{}",
+            failures.len(),
+            failures.join("\n")
+        );
     }
     let out_dir = PathBuf::from(std::env::var("OUT_DIR").expect("cargo sets OUT_DIR"));
     fs::write(out_dir.join("shaders.rs"), generated).expect("OUT_DIR is writable");

@@ -18,4 +18,28 @@ pub struct Binding {
     pub name: &'static str,
 }
 
+/// Everything the host needs to build a pass's pipeline.
+#[derive(Clone, Copy, Debug)]
+pub struct ShaderInfo {
+    pub name: &'static str,
+    pub spirv: &'static [u32],
+    pub workgroup_size: [u32; 3],
+    pub bindings: &'static [Binding],
+    pub push_constant_size: u32,
+}
+
+/// Plain-old-data push constants, viewable as bytes for vkCmdPushConstants.
+pub trait PushConstants: Copy {
+    fn as_bytes(&self) -> &[u8] {
+        // SAFETY: every generated `Params` is `#[repr(C)]` with its padding spelled out as
+        // fields (its size is asserted against the shader's), so all bytes are initialised.
+        unsafe {
+            std::slice::from_raw_parts(
+                (self as *const Self).cast::<u8>(),
+                std::mem::size_of::<Self>(),
+            )
+        }
+    }
+}
+
 include!(concat!(env!("OUT_DIR"), "/shaders.rs"));

@@ -1,0 +1,291 @@
+//! Types that cross the C ABI. cbindgen turns this file into `include/patchex.h`.
+//!
+//! Every top-level struct starts with `struct_type`, `struct_size` and `next`: the type tag says
+//! what the struct is, the size lets later versions append fields, and `next` chains optional
+//! extension structs (such as [`PatchexWarpSettings`]). Enumerations arriving from C are plain
+//! integers with named constants, so no value the engine writes can be undefined behaviour here.
+
+use std::ffi::{c_char, c_void};
+
+use ash::vk;
+
+// Vulkan types keep their C names in the header (which includes vulkan.h).
+pub type VkInstance = vk::Instance;
+pub type VkPhysicalDevice = vk::PhysicalDevice;
+pub type VkDevice = vk::Device;
+pub type VkCommandBuffer = vk::CommandBuffer;
+pub type VkImage = vk::Image;
+pub type VkImageView = vk::ImageView;
+pub type VkFormat = vk::Format;
+pub type VkImageLayout = vk::ImageLayout;
+pub type VkImageUsageFlags = vk::ImageUsageFlags;
+#[allow(non_camel_case_types)]
+pub type PFN_vkGetInstanceProcAddr = vk::PFN_vkGetInstanceProcAddr;
+#[allow(non_camel_case_types)]
+pub type PFN_vkGetDeviceProcAddr = vk::PFN_vkGetDeviceProcAddr;
+
+/// Version of this ABI, returned by `patchex_abi_version`; bumped on any incompatible change.
+pub const PATCHEX_ABI_VERSION: u32 = 1;
+
+/// 0 or 1; any other value is rejected as an invalid argument.
+pub type PatchexBool = u32;
+
+/// Tag in the first field of every versioned struct.
+pub type PatchexStructType = u32;
+pub const PATCHEX_STRUCT_TYPE_CREATE_INFO: PatchexStructType = 1;
+pub const PATCHEX_STRUCT_TYPE_FRAME_DESC: PatchexStructType = 2;
+pub const PATCHEX_STRUCT_TYPE_EXTRAPOLATE_DESC: PatchexStructType = 3;
+pub const PATCHEX_STRUCT_TYPE_WARP_SETTINGS: PatchexStructType = 4;
+pub const PATCHEX_STRUCT_TYPE_FRAME_STATS: PatchexStructType = 5;
+
+/// The first fields of every versioned struct, read before the rest.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct PatchexStructHeader {
+    pub struct_type: PatchexStructType,
+    /// `sizeof` the struct as the caller's header declares it.
+    pub struct_size: u32,
+    /// Optional chain of extension structs, each starting with a `PatchexStructHeader`.
+    pub next: *const c_void,
+}
+
+/// Trade of speed against accuracy. This build has the warp-only preset; the presets with
+/// inpainting networks and shadows are added with those stages.
+pub type PatchexPreset = u32;
+/// Demodulate, G-buffer-guided warp, remodulate. Holes keep the warp's nearest colour.
+pub const PATCHEX_PRESET_WARP_ONLY: PatchexPreset = 0;
+
+/// How the depth image encodes depth.
+pub type PatchexDepthConvention = u32;
+/// Linear view-space depth: distance along the camera's forward axis, in world units.
+pub const PATCHEX_DEPTH_LINEAR_VIEW_Z: PatchexDepthConvention = 0;
+/// Hardware depth, 0 at the near plane and 1 at the far plane.
+pub const PATCHEX_DEPTH_HARDWARE: PatchexDepthConvention = 1;
+/// Reversed hardware depth, 1 at the near plane and 0 at the far plane (or at infinity).
+pub const PATCHEX_DEPTH_HARDWARE_REVERSED: PatchexDepthConvention = 2;
+
+/// How the normal image encodes unit world-space normals.
+pub type PatchexNormalEncoding = u32;
+/// xyz in [-1, 1] (float formats, or SNORM).
+pub const PATCHEX_NORMAL_SIGNED: PatchexNormalEncoding = 0;
+/// xyz * 0.5 + 0.5 (UNORM formats).
+pub const PATCHEX_NORMAL_UNORM: PatchexNormalEncoding = 1;
+
+/// Which backward warp carries frame t to the target instant.
+pub type PatchexWarpKind = u32;
+/// Joint bilateral gather guided by the target's G-buffer (ExtraSS). The default.
+pub const PATCHEX_WARP_GBUFFER_GUIDED: PatchexWarpKind = 0;
+
+/// Severity passed to the log callback.
+pub type PatchexLogLevel = u32;
+pub const PATCHEX_LOG_ERROR: PatchexLogLevel = 0;
+pub const PATCHEX_LOG_WARNING: PatchexLogLevel = 1;
+pub const PATCHEX_LOG_INFO: PatchexLogLevel = 2;
+
+/// Called from the thread that made the call being reported; `message` is valid only during
+/// the callback.
+pub type PatchexLogCallback =
+    unsafe extern "C" fn(user_data: *mut c_void, level: PatchexLogLevel, message: *const c_char);
+
+/// An engine-owned image, imported for one call. The plugin never takes ownership.
+///
+/// `image == VK_NULL_HANDLE` means "not provided", allowed only for optional inputs.
+/// `width`/`height` are the image's full size; the plugin uses the top-left frame extent of it.
+/// `layout` is the layout the image is in when the recorded commands execute; the plugin's
+/// commands return it to that layout. UNDEFINED and PREINITIALIZED are rejected.
+/// `usage` is the usage the image was created with: inputs need SAMPLED, the output STORAGE.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default)]
+pub struct PatchexImage {
+    pub image: VkImage,
+    /// A 2D view of mip 0, layer 0; for depth/stencil formats, of the one aspect to read.
+    pub view: VkImageView,
+    pub format: VkFormat,
+    pub width: u32,
+    pub height: u32,
+    pub layout: VkImageLayout,
+    pub usage: VkImageUsageFlags,
+}
+
+/// Camera of one instant. Matrices are column-major (glam/GLM order), right- or left-handed,
+/// mapping to Vulkan clip space: NDC y grows down the image and depth follows `depth_convention`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default)]
+pub struct PatchexCamera {
+    /// World to view.
+    pub view: [f32; 16],
+    /// View to clip, including this instant's jitter, exactly as the G-buffer was rendered.
+    pub projection: [f32; 16],
+    /// Sub-pixel offset of the sample positions, in pixels (x right, y down).
+    pub jitter: [f32; 2],
+    pub near: f32,
+    /// May be +infinity (infinite far plane).
+    pub far: f32,
+    pub depth_convention: PatchexDepthConvention,
+}
+
+/// The geometry buffers of one instant.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default)]
+pub struct PatchexGeometry {
+    /// Single channel: R32_SFLOAT, R16_SFLOAT or D32_SFLOAT/D16_UNORM/D24_UNORM_S8_UINT/
+    /// D32_SFLOAT_S8_UINT through a depth-aspect view. Encoding given by the camera.
+    pub depth: PatchexImage,
+    /// World-space normals in RGB, encoded per `normal_encoding`.
+    pub normal: PatchexImage,
+    pub normal_encoding: PatchexNormalEncoding,
+    /// Optional: dynamic-object id, 0 for static geometry. R8_UINT, or the stencil aspect of
+    /// S8_UINT, D16_UNORM_S8_UINT, D24_UNORM_S8_UINT or D32_SFLOAT_S8_UINT.
+    pub stencil: PatchexImage,
+    /// Motion to the previous instant (for a target: to the submitted frame t). After scaling,
+    /// the position of the same surface point in the earlier frame minus this pixel, in pixels,
+    /// excluding jitter. Required by `patchex_extrapolate`, optional for submitted frames.
+    pub motion_vectors: PatchexImage,
+    /// Multiplies the stored motion vectors: (1, 1) for backward motion in pixels,
+    /// (width, height) for UV, negated for forward (current minus previous) vectors.
+    pub motion_vector_scale: [f32; 2],
+    pub camera: PatchexCamera,
+}
+
+/// Arguments of `patchex_create`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct PatchexCreateInfo {
+    /// PATCHEX_STRUCT_TYPE_CREATE_INFO, sizeof(PatchexCreateInfo), optional chain
+    /// (PatchexWarpSettings sets the context's default warp).
+    pub header: PatchexStructHeader,
+    pub instance: VkInstance,
+    pub physical_device: VkPhysicalDevice,
+    pub device: VkDevice,
+    /// Required: every Vulkan function is loaded through it (or `get_device_proc_addr`).
+    pub get_instance_proc_addr: Option<PFN_vkGetInstanceProcAddr>,
+    /// Optional: device-level functions come from it when given (skips loader trampolines).
+    pub get_device_proc_addr: Option<PFN_vkGetDeviceProcAddr>,
+    /// Queue family of every command buffer the engine will pass; must support compute.
+    pub queue_family_index: u32,
+    /// Largest frame the context will be given. Internal images grow to the largest frame seen.
+    pub max_width: u32,
+    pub max_height: u32,
+    /// How many frames the engine records ahead of the GPU (1 to 8): resources used by frame F
+    /// are reused at frame F + frames_in_flight.
+    pub frames_in_flight: u32,
+    pub preset: PatchexPreset,
+    pub log_callback: Option<PatchexLogCallback>,
+    pub log_user_data: *mut c_void,
+}
+
+/// Frame t: what `patchex_submit_gbuffers` reads.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct PatchexFrameDesc {
+    /// PATCHEX_STRUCT_TYPE_FRAME_DESC, sizeof(PatchexFrameDesc), chain (none defined yet).
+    pub header: PatchexStructHeader,
+    /// Strictly increasing. A gap (not previous + 1) resets history like `reset`.
+    pub frame_index: u64,
+    /// Camera cut or teleport: history from earlier frames is dropped.
+    pub reset: PatchexBool,
+    /// Queue family of the command buffer's pool.
+    pub queue_family_index: u32,
+    pub width: u32,
+    pub height: u32,
+    /// Final linear HDR colour, before tone mapping and UI.
+    pub color: PatchexImage,
+    /// Base colour (albedo) in RGB.
+    pub base_color: PatchexImage,
+    /// Optional: R metallic, G specular (Unreal's GBufferB). Absent means metallic 0, specular 0.5.
+    pub material: PatchexImage,
+    pub geometry: PatchexGeometry,
+}
+
+/// The target instant: what `patchex_extrapolate` reads and writes.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct PatchexExtrapolateDesc {
+    /// PATCHEX_STRUCT_TYPE_EXTRAPOLATE_DESC, sizeof(PatchexExtrapolateDesc), optional chain
+    /// (PatchexWarpSettings overrides the context's warp for this call).
+    pub header: PatchexStructHeader,
+    pub queue_family_index: u32,
+    /// Position of the target between frame t (0) and frame t+1 (1), in (0, 1].
+    pub alpha: f32,
+    /// Must equal the submitted frame's extent.
+    pub width: u32,
+    pub height: u32,
+    pub base_color: PatchexImage,
+    pub material: PatchexImage,
+    pub geometry: PatchexGeometry,
+    /// Receives the extrapolated linear HDR colour. R16G16B16A16_SFLOAT with STORAGE usage.
+    pub output: PatchexImage,
+}
+
+/// Chainable on PatchexCreateInfo (context default) or PatchexExtrapolateDesc (this call).
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct PatchexWarpSettings {
+    /// PATCHEX_STRUCT_TYPE_WARP_SETTINGS, sizeof(PatchexWarpSettings), chain.
+    pub header: PatchexStructHeader,
+    pub kind: PatchexWarpKind,
+    /// Gather radius in pixels, 0 to 3 (a (2r+1)^2 kernel).
+    pub kernel_radius: u32,
+    /// Gaussian sigma of the spatial weight, in pixels (> 0).
+    pub sigma_spatial: f32,
+    /// Tolerance on relative depth for dynamic objects (> 0).
+    pub sigma_depth: f32,
+    /// Tolerance on 1 - dot(normals) (> 0).
+    pub sigma_normal: f32,
+    /// Tolerance on world-position distance relative to depth, for static geometry (> 0).
+    pub sigma_position: f32,
+}
+
+/// Maximum number of extrapolations recorded from one submitted frame.
+pub const PATCHEX_MAX_EXTRAPOLATIONS_PER_FRAME: usize = 4;
+
+/// Stage indices into the `gpu_ms` arrays.
+pub type PatchexStage = u32;
+pub const PATCHEX_STAGE_DEMODULATE: PatchexStage = 0;
+pub const PATCHEX_STAGE_PACK_SOURCE_GBUFFER: PatchexStage = 1;
+pub const PATCHEX_STAGE_PACK_TARGET_GBUFFER: PatchexStage = 2;
+pub const PATCHEX_STAGE_WARP: PatchexStage = 3;
+pub const PATCHEX_STAGE_REMODULATE: PatchexStage = 4;
+/// Size of the `gpu_ms` arrays; stages added later take indices below it.
+pub const PATCHEX_STAGE_SLOTS: usize = 16;
+
+/// Why the history before a submitted frame was dropped.
+pub type PatchexResetReason = u32;
+pub const PATCHEX_RESET_NONE: PatchexResetReason = 0;
+pub const PATCHEX_RESET_FIRST_FRAME: PatchexResetReason = 1;
+pub const PATCHEX_RESET_REQUESTED: PatchexResetReason = 2;
+pub const PATCHEX_RESET_FRAME_GAP: PatchexResetReason = 3;
+
+/// What one extrapolation did.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default)]
+pub struct PatchexExtrapolationStats {
+    pub alpha: f32,
+    /// Fraction of target pixels whose warped colour is a guess: the source fell off-screen or
+    /// no source texel's geometry agreed with the target's.
+    pub hole_fraction: f32,
+    /// Fraction of target pixels whose source fell off-screen.
+    pub offscreen_fraction: f32,
+    /// GPU milliseconds per stage (index PATCHEX_STAGE_*), 0 for stages that did not run.
+    pub gpu_ms: [f32; PATCHEX_STAGE_SLOTS],
+}
+
+/// Filled by `patchex_get_frame_stats`; the caller sets the header.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct PatchexFrameStats {
+    /// PATCHEX_STRUCT_TYPE_FRAME_STATS, sizeof(PatchexFrameStats), chain (none defined yet).
+    pub header: PatchexStructHeader,
+    pub frame_index: u64,
+    pub width: u32,
+    pub height: u32,
+    pub reset_reason: PatchexResetReason,
+    /// 1 when the queue family writes timestamps; otherwise every `gpu_ms` is 0.
+    pub timings_valid: PatchexBool,
+    /// GPU milliseconds of the submit stages (index PATCHEX_STAGE_*).
+    pub submit_gpu_ms: [f32; PATCHEX_STAGE_SLOTS],
+    pub extrapolation_count: u32,
+    pub extrapolations: [PatchexExtrapolationStats; PATCHEX_MAX_EXTRAPOLATIONS_PER_FRAME],
+    /// Device memory the context holds now, in bytes.
+    pub device_memory_bytes: u64,
+}

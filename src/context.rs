@@ -1,0 +1,718 @@
+//! One plugin context: the engine's device, the plugin's pipelines and images, the frame ring,
+//! and the state between `submit` (frame t) and `extrapolate` (its target instants).
+
+use std::mem::ManuallyDrop;
+
+use ash::vk;
+use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
+
+use crate::abi::*;
+use crate::camera::Camera;
+use crate::error::{bail, Error, PatchexResult, Result};
+use crate::inputs::{self, SourceInputs, TargetInputs};
+use crate::passes::warp_gbuffer::WarpSettings;
+use crate::passes::{demodulate, pack_gbuffer, remodulate, warp_gbuffer, Pipelines, Texture};
+use crate::vk::barriers::{self, EngineImageAccess};
+use crate::vk::device::Gpu;
+use crate::vk::frame_ring::{FrameRecord, FrameRing, RegionRecord};
+use crate::vk::image::{ImportedImage, OwnedImage};
+
+pub const MAX_FRAMES_IN_FLIGHT: u32 = 8;
+/// Largest extent accepted at creation; 8K with margin.
+pub const MAX_EXTENT: u32 = 16384;
+
+/// The plugin's working images, all at one extent (the largest frame seen so far).
+struct WorkImages {
+    extent: vk::Extent2D,
+    source_shading: OwnedImage,
+    source_geometry: OwnedImage,
+    source_normal_id: OwnedImage,
+    target_geometry: OwnedImage,
+    target_normal_id: OwnedImage,
+    warped: OwnedImage,
+}
+
+impl WorkImages {
+    fn new(gpu: &Gpu, allocator: &mut Allocator, extent: vk::Extent2D) -> Result<Self> {
+        use vk::Format as F;
+        let specs = [
+            ("patchex source shading", F::R32G32B32A32_SFLOAT),
+            ("patchex source geometry", F::R32G32B32A32_SFLOAT),
+            ("patchex source normal+id", F::R16G16B16A16_SFLOAT),
+            ("patchex target geometry", F::R32G32B32A32_SFLOAT),
+            ("patchex target normal+id", F::R16G16B16A16_SFLOAT),
+            ("patchex warped shading", F::R32G32B32A32_SFLOAT),
+        ];
+        let mut made: Vec<OwnedImage> = Vec::with_capacity(specs.len());
+        for (name, format) in specs {
+            match OwnedImage::new(
+                gpu,
+                allocator,
+                name,
+                format,
+                extent,
+                vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::STORAGE,
+            ) {
+                Ok(image) => made.push(image),
+                Err(error) => {
+                    for mut image in made {
+                        image.destroy(gpu, allocator);
+                    }
+                    return Err(error);
+                }
+            }
+        }
+        let [source_shading, source_geometry, source_normal_id, target_geometry, target_normal_id, warped] =
+            <[OwnedImage; 6]>::try_from(made).ok().expect("six images");
+        Ok(Self {
+            extent,
+            source_shading,
+            source_geometry,
+            source_normal_id,
+            target_geometry,
+            target_normal_id,
+            warped,
+        })
+    }
+
+    fn into_vec(self) -> Vec<OwnedImage> {
+        vec![
+            self.source_shading,
+            self.source_geometry,
+            self.source_normal_id,
+            self.target_geometry,
+            self.target_normal_id,
+            self.warped,
+        ]
+    }
+
+    fn all_mut(&mut self) -> [&mut OwnedImage; 6] {
+        [
+            &mut self.source_shading,
+            &mut self.source_geometry,
+            &mut self.source_normal_id,
+            &mut self.target_geometry,
+            &mut self.target_normal_id,
+            &mut self.warped,
+        ]
+    }
+}
+
+/// 1x1 images bound where an optional input is absent; the shaders never read them.
+struct Placeholders {
+    float: OwnedImage,
+    uint: OwnedImage,
+}
+
+/// Frame t, as the last submit left it.
+struct SourceFrame {
+    frame_index: u64,
+    extent: vk::Extent2D,
+    camera: Camera,
+}
+
+pub struct Context {
+    gpu: Gpu,
+    allocator: ManuallyDrop<Allocator>,
+    pipelines: Pipelines,
+    ring: FrameRing,
+    placeholders: Placeholders,
+    work: Option<WorkImages>,
+    max_extent: vk::Extent2D,
+    default_warp: WarpSettings,
+    source: Option<SourceFrame>,
+}
+
+impl Context {
+    /// # Safety
+    /// The handles in `info` must be live objects of one Vulkan instance.
+    pub unsafe fn new(info: &PatchexCreateInfo, warp: Option<WarpSettings>) -> Result<Self> {
+        if info.preset != PATCHEX_PRESET_WARP_ONLY {
+            bail!(
+                ErrorInvalidArgument,
+                "PatchexCreateInfo.preset {} is not available; this build has PATCHEX_PRESET_WARP_ONLY (0)",
+                info.preset
+            );
+        }
+        if !(1..=MAX_FRAMES_IN_FLIGHT).contains(&info.frames_in_flight) {
+            bail!(
+                ErrorInvalidArgument,
+                "PatchexCreateInfo.frames_in_flight {} must be 1 to {MAX_FRAMES_IN_FLIGHT}",
+                info.frames_in_flight
+            );
+        }
+        if info.max_width == 0
+            || info.max_height == 0
+            || info.max_width > MAX_EXTENT
+            || info.max_height > MAX_EXTENT
+        {
+            bail!(
+                ErrorInvalidArgument,
+                "PatchexCreateInfo max extent {}x{} must be 1 to {MAX_EXTENT} on each side",
+                info.max_width,
+                info.max_height
+            );
+        }
+        let gpu = Gpu::load(info)?;
+        let mut allocator = Allocator::new(&AllocatorCreateDesc {
+            instance: gpu.instance.clone(),
+            device: gpu.device.clone(),
+            physical_device: gpu.physical_device,
+            debug_settings: Default::default(),
+            buffer_device_address: false,
+            allocation_sizes: Default::default(),
+        })?;
+        let mut pipelines = Pipelines::new(&gpu)?;
+        let set_layouts: Vec<_> = pipelines.all().iter().map(|p| p.set_layout).collect();
+        let ring = match FrameRing::new(
+            &gpu,
+            &mut allocator,
+            info.frames_in_flight as usize,
+            &set_layouts,
+            &pipelines.pool_sizes(),
+        ) {
+            Ok(ring) => ring,
+            Err(error) => {
+                pipelines.destroy(&gpu);
+                return Err(error);
+            }
+        };
+        let mut context = Self {
+            gpu,
+            allocator: ManuallyDrop::new(allocator),
+            pipelines,
+            ring,
+            placeholders: Placeholders {
+                float: OwnedImage::null(),
+                uint: OwnedImage::null(),
+            },
+            work: None,
+            max_extent: vk::Extent2D {
+                width: info.max_width,
+                height: info.max_height,
+            },
+            default_warp: warp.unwrap_or_default(),
+            source: None,
+        };
+        let one = vk::Extent2D {
+            width: 1,
+            height: 1,
+        };
+        let sampled = vk::ImageUsageFlags::SAMPLED;
+        context.placeholders.float = OwnedImage::new(
+            &context.gpu,
+            &mut context.allocator,
+            "patchex placeholder",
+            vk::Format::R16G16B16A16_SFLOAT,
+            one,
+            sampled,
+        )?;
+        context.placeholders.uint = OwnedImage::new(
+            &context.gpu,
+            &mut context.allocator,
+            "patchex placeholder uint",
+            vk::Format::R8_UINT,
+            one,
+            sampled,
+        )?;
+        Ok(context)
+    }
+
+    fn check_queue_family(&self, family: u32, what: &str) -> Result<()> {
+        if family != self.gpu.queue_family_index {
+            bail!(
+                ErrorWrongQueueFamily,
+                "{what}.queue_family_index is {family}, but the context records for family {}",
+                self.gpu.queue_family_index
+            );
+        }
+        Ok(())
+    }
+
+    fn reset_reason(&self, inputs: &SourceInputs) -> Result<PatchexResetReason> {
+        let Some(previous) = &self.source else {
+            return Ok(PATCHEX_RESET_FIRST_FRAME);
+        };
+        if inputs.frame_index <= previous.frame_index {
+            bail!(
+                ErrorOutOfOrder,
+                "PatchexFrameDesc.frame_index {} does not increase (previous {})",
+                inputs.frame_index,
+                previous.frame_index
+            );
+        }
+        Ok(if inputs.reset {
+            PATCHEX_RESET_REQUESTED
+        } else if inputs.frame_index != previous.frame_index + 1 {
+            PATCHEX_RESET_FRAME_GAP
+        } else {
+            PATCHEX_RESET_NONE
+        })
+    }
+
+    /// Grows the working images to hold `extent`; the old ones wait out the frames in flight.
+    fn ensure_work_images(&mut self, extent: vk::Extent2D, frame_index: u64) -> Result<()> {
+        let current = self.work.as_ref().map(|w| w.extent);
+        if let Some(current) = current {
+            if current.width >= extent.width && current.height >= extent.height {
+                return Ok(());
+            }
+        }
+        let grown = vk::Extent2D {
+            width: extent.width.max(current.map_or(0, |c| c.width)),
+            height: extent.height.max(current.map_or(0, |c| c.height)),
+        };
+        let work = WorkImages::new(&self.gpu, &mut self.allocator, grown)?;
+        if let Some(old) = self.work.replace(work) {
+            // The previous frame is the last one whose commands may use the old images.
+            for image in old.into_vec() {
+                self.ring.retire(frame_index.saturating_sub(1), image);
+            }
+        }
+        Ok(())
+    }
+
+    fn placeholder_textures(&self) -> (Texture, Texture) {
+        (
+            (&self.placeholders.float).into(),
+            (&self.placeholders.uint).into(),
+        )
+    }
+
+    /// Records frame t's demodulation and G-buffer packing into `cmd`.
+    pub fn submit(&mut self, cmd: vk::CommandBuffer, desc: &PatchexFrameDesc) -> Result<()> {
+        self.check_queue_family(desc.queue_family_index, "PatchexFrameDesc")?;
+        let inputs = inputs::source(&self.gpu, desc, self.max_extent)?;
+        let reset_reason = self.reset_reason(&inputs)?;
+        let mut access = EngineImageAccess::default();
+        let read = |access: &mut EngineImageAccess, image: &ImportedImage| -> Result<Texture> {
+            Ok(Texture {
+                view: image.view,
+                layout: access.read(image)?,
+            })
+        };
+        let color = read(&mut access, &inputs.color)?;
+        let base_color = read(&mut access, &inputs.base_color)?;
+        let material = inputs
+            .material
+            .as_ref()
+            .map(|m| read(&mut access, m))
+            .transpose()?;
+        let depth = read(&mut access, &inputs.geometry.depth)?;
+        let normal = read(&mut access, &inputs.geometry.normal)?;
+        let stencil = inputs
+            .geometry
+            .stencil
+            .as_ref()
+            .map(|s| read(&mut access, s))
+            .transpose()?;
+
+        self.ring
+            .collect(&self.gpu, &mut self.allocator, inputs.frame_index);
+        self.ensure_work_images(inputs.extent, inputs.frame_index)?;
+
+        // Everything is validated and allocated: from here on the call cannot fail.
+        let (placeholder, placeholder_uint) = self.placeholder_textures();
+        let slot = self.ring.slot_of(inputs.frame_index);
+        let device = &self.gpu.device;
+        let work = self.work.as_mut().expect("allocated above");
+        let mut owned: Vec<&mut OwnedImage> = work.all_mut().into_iter().collect();
+        owned.push(&mut self.placeholders.float);
+        owned.push(&mut self.placeholders.uint);
+        barriers::initialize_owned(device, cmd, &mut owned);
+        let work = self.work.as_ref().expect("allocated above");
+        access.acquire(device, cmd);
+        barriers::compute_to_compute(device, cmd, false);
+
+        let mut timed = TimedRegion::begin(&self.ring, device, cmd, slot, 0);
+        timed.stage(PATCHEX_STAGE_DEMODULATE, || {
+            demodulate::record(
+                &self.pipelines.demodulate,
+                device,
+                cmd,
+                self.ring.descriptor_set(slot, 0, Pipelines::DEMODULATE),
+                inputs.extent,
+                &demodulate::DemodulateInputs {
+                    color,
+                    base_color,
+                    material,
+                    placeholder,
+                },
+                &work.source_shading,
+            )
+        });
+        timed.stage(PATCHEX_STAGE_PACK_SOURCE_GBUFFER, || {
+            pack_gbuffer::record(
+                &self.pipelines.pack_gbuffer,
+                device,
+                cmd,
+                self.ring.descriptor_set(slot, 0, Pipelines::PACK_GBUFFER),
+                inputs.extent,
+                &inputs.geometry.camera,
+                &pack_gbuffer::PackInputs {
+                    depth,
+                    normal,
+                    normal_encoding: inputs.geometry.normal_encoding,
+                    stencil,
+                    placeholder_uint,
+                },
+                &pack_gbuffer::PackOutputs {
+                    geometry: &work.source_geometry,
+                    normal_id: &work.source_normal_id,
+                },
+            )
+        });
+        let stages = timed.stages;
+        access.release(device, cmd);
+
+        self.ring.slots[slot].record = Some(FrameRecord {
+            frame_index: inputs.frame_index,
+            extent: inputs.extent,
+            reset_reason,
+            submit: RegionRecord { stages, alpha: 0.0 },
+            extrapolations: Vec::new(),
+        });
+        self.source = Some(SourceFrame {
+            frame_index: inputs.frame_index,
+            extent: inputs.extent,
+            camera: inputs.geometry.camera,
+        });
+        Ok(())
+    }
+
+    /// Records one extrapolation from the last submitted frame into `cmd`.
+    pub fn extrapolate(
+        &mut self,
+        cmd: vk::CommandBuffer,
+        desc: &PatchexExtrapolateDesc,
+        warp: Option<WarpSettings>,
+    ) -> Result<()> {
+        self.check_queue_family(desc.queue_family_index, "PatchexExtrapolateDesc")?;
+        let Some(source) = &self.source else {
+            bail!(
+                ErrorNoSourceFrame,
+                "patchex_extrapolate called before any patchex_submit_gbuffers"
+            );
+        };
+        let inputs: TargetInputs = inputs::target(&self.gpu, desc, self.max_extent)?;
+        if inputs.extent != source.extent {
+            bail!(
+                ErrorMismatchedExtent,
+                "PatchexExtrapolateDesc extent {}x{} differs from the submitted frame's {}x{}",
+                inputs.extent.width,
+                inputs.extent.height,
+                source.extent.width,
+                source.extent.height
+            );
+        }
+        let slot = self.ring.slot_of(source.frame_index);
+        let done = self.ring.slots[slot]
+            .record
+            .as_ref()
+            .map_or(0, |r| r.extrapolations.len());
+        if done >= PATCHEX_MAX_EXTRAPOLATIONS_PER_FRAME {
+            bail!(
+                ErrorTooManyExtrapolations,
+                "frame {} already has {PATCHEX_MAX_EXTRAPOLATIONS_PER_FRAME} extrapolations",
+                source.frame_index
+            );
+        }
+        let mut access = EngineImageAccess::default();
+        let read = |access: &mut EngineImageAccess, image: &ImportedImage| -> Result<Texture> {
+            Ok(Texture {
+                view: image.view,
+                layout: access.read(image)?,
+            })
+        };
+        let base_color = read(&mut access, &inputs.base_color)?;
+        let material = inputs
+            .material
+            .as_ref()
+            .map(|m| read(&mut access, m))
+            .transpose()?;
+        let depth = read(&mut access, &inputs.geometry.depth)?;
+        let normal = read(&mut access, &inputs.geometry.normal)?;
+        let stencil = inputs
+            .geometry
+            .stencil
+            .as_ref()
+            .map(|s| read(&mut access, s))
+            .transpose()?;
+        let motion = read(&mut access, &inputs.motion_vectors)?;
+        let output = Texture {
+            view: inputs.output.view,
+            layout: access.write(&inputs.output)?,
+        };
+
+        let warp = warp.unwrap_or(self.default_warp);
+        let jitter_delta = (inputs.geometry.camera.jitter - source.camera.jitter).into();
+        let warp_params = warp.params(
+            inputs.extent,
+            jitter_delta,
+            inputs.geometry.motion_vector_scale,
+        );
+
+        // Everything is validated: from here on the call cannot fail.
+        let region = 1 + done;
+        let (placeholder, placeholder_uint) = self.placeholder_textures();
+        let device = &self.gpu.device;
+        let work = self
+            .work
+            .as_ref()
+            .expect("a submitted frame allocated the work images");
+        let counters = warp_gbuffer::CounterRange {
+            buffer: self.ring.counters.buffer,
+            offset: self.ring.counter_offset(slot, region),
+            range: FrameRing::COUNTER_RANGE,
+        };
+        access.acquire(device, cmd);
+        barriers::compute_to_transfer(device, cmd);
+        // SAFETY: cmd is recording; the range lies inside the counters buffer.
+        unsafe { device.cmd_fill_buffer(cmd, counters.buffer, counters.offset, counters.range, 0) };
+        let mut timed = TimedRegion::begin(&self.ring, device, cmd, slot, region);
+        barriers::compute_to_compute(device, cmd, true);
+
+        timed.stage(PATCHEX_STAGE_PACK_TARGET_GBUFFER, || {
+            pack_gbuffer::record(
+                &self.pipelines.pack_gbuffer,
+                device,
+                cmd,
+                self.ring
+                    .descriptor_set(slot, region, Pipelines::PACK_GBUFFER),
+                inputs.extent,
+                &inputs.geometry.camera,
+                &pack_gbuffer::PackInputs {
+                    depth,
+                    normal,
+                    normal_encoding: inputs.geometry.normal_encoding,
+                    stencil,
+                    placeholder_uint,
+                },
+                &pack_gbuffer::PackOutputs {
+                    geometry: &work.target_geometry,
+                    normal_id: &work.target_normal_id,
+                },
+            )
+        });
+        barriers::compute_to_compute(device, cmd, false);
+        timed.stage(PATCHEX_STAGE_WARP, || {
+            warp_gbuffer::record(
+                &self.pipelines.warp_gbuffer,
+                device,
+                cmd,
+                self.ring
+                    .descriptor_set(slot, region, Pipelines::WARP_GBUFFER),
+                &warp_params,
+                &warp_gbuffer::WarpInputs {
+                    source_shading: &work.source_shading,
+                    source_geometry: &work.source_geometry,
+                    source_normal_id: &work.source_normal_id,
+                    target_geometry: &work.target_geometry,
+                    target_normal_id: &work.target_normal_id,
+                    motion,
+                },
+                &work.warped,
+                &counters,
+            )
+        });
+        barriers::compute_to_compute(device, cmd, false);
+        timed.stage(PATCHEX_STAGE_REMODULATE, || {
+            remodulate::record(
+                &self.pipelines.remodulate,
+                device,
+                cmd,
+                self.ring
+                    .descriptor_set(slot, region, Pipelines::REMODULATE),
+                inputs.extent,
+                &remodulate::RemodulateInputs {
+                    shading: (&work.warped).into(),
+                    base_color,
+                    material,
+                    placeholder,
+                },
+                output,
+            )
+        });
+        let stages = timed.stages;
+        barriers::compute_to_host(device, cmd);
+        access.release(device, cmd);
+
+        let record = self.ring.slots[slot]
+            .record
+            .as_mut()
+            .expect("the submit recorded this slot");
+        record.extrapolations.push(RegionRecord {
+            stages,
+            alpha: inputs.alpha,
+        });
+        Ok(())
+    }
+
+    /// Fills `out` for `frame_index`; `NotReady` while the GPU has not finished it.
+    pub fn frame_stats(
+        &self,
+        frame_index: u64,
+        out: &mut PatchexFrameStats,
+    ) -> Result<PatchexResult> {
+        let slot = self.ring.slot_of(frame_index);
+        let Some(record) = self.ring.slots[slot]
+            .record
+            .as_ref()
+            .filter(|r| r.frame_index == frame_index)
+        else {
+            bail!(
+                ErrorFrameNotFound,
+                "frame {frame_index} is not among the last {} submitted frames",
+                self.ring.slots.len()
+            );
+        };
+        let mut ready = true;
+        let mut read_times = |region: usize,
+                              stages: &[u32],
+                              gpu_ms: &mut [f32; PATCHEX_STAGE_SLOTS]|
+         -> Result<()> {
+            let Some(timer) = &self.ring.timer else {
+                return Ok(());
+            };
+            for &stage in stages {
+                match timer.read_ms(&self.gpu.device, self.ring.query(slot, region, stage))? {
+                    Some(ms) => gpu_ms[stage as usize] = ms,
+                    None => ready = false,
+                }
+            }
+            Ok(())
+        };
+        let mut submit_gpu_ms = [0.0; PATCHEX_STAGE_SLOTS];
+        read_times(0, &record.submit.stages, &mut submit_gpu_ms)?;
+        let mut extrapolations =
+            [PatchexExtrapolationStats::default(); PATCHEX_MAX_EXTRAPOLATIONS_PER_FRAME];
+        let pixels = (record.extent.width * record.extent.height) as f32;
+        for (index, (region_record, stats)) in record
+            .extrapolations
+            .iter()
+            .zip(&mut extrapolations)
+            .enumerate()
+        {
+            let region = 1 + index;
+            read_times(region, &region_record.stages, &mut stats.gpu_ms)?;
+            let counters = self.ring.counter_offset(slot, region);
+            stats.alpha = region_record.alpha;
+            stats.hole_fraction =
+                self.ring
+                    .counters
+                    .read_u32(counters + warp_gbuffer::HOLE_PIXELS_OFFSET) as f32
+                    / pixels;
+            stats.offscreen_fraction = self
+                .ring
+                .counters
+                .read_u32(counters + warp_gbuffer::OFFSCREEN_PIXELS_OFFSET)
+                as f32
+                / pixels;
+        }
+        *out = PatchexFrameStats {
+            header: out.header,
+            frame_index,
+            width: record.extent.width,
+            height: record.extent.height,
+            reset_reason: record.reset_reason,
+            timings_valid: self.ring.timer.is_some() as u32,
+            submit_gpu_ms,
+            extrapolation_count: record.extrapolations.len() as u32,
+            extrapolations,
+            device_memory_bytes: self.device_memory_bytes(),
+        };
+        Ok(if ready {
+            PatchexResult::Success
+        } else {
+            PatchexResult::NotReady
+        })
+    }
+
+    fn device_memory_bytes(&self) -> u64 {
+        let work: u64 = self.work.as_ref().map_or(0, |w| {
+            [
+                &w.source_shading,
+                &w.source_geometry,
+                &w.source_normal_id,
+                &w.target_geometry,
+                &w.target_normal_id,
+                &w.warped,
+            ]
+            .iter()
+            .map(|image| image.size_bytes())
+            .sum()
+        });
+        work + self.ring.retired_bytes()
+            + self.ring.counters.size_bytes()
+            + self.placeholders.float.size_bytes()
+            + self.placeholders.uint.size_bytes()
+    }
+}
+
+impl Drop for Context {
+    fn drop(&mut self) {
+        let gpu = &self.gpu;
+        if let Some(work) = self.work.take() {
+            for mut image in work.into_vec() {
+                image.destroy(gpu, &mut self.allocator);
+            }
+        }
+        self.placeholders.float.destroy(gpu, &mut self.allocator);
+        self.placeholders.uint.destroy(gpu, &mut self.allocator);
+        self.ring.destroy(gpu, &mut self.allocator);
+        self.pipelines.destroy(gpu);
+        // SAFETY: every allocation was freed above; the allocator is not used again.
+        unsafe { ManuallyDrop::drop(&mut self.allocator) };
+    }
+}
+
+/// Timestamps around each stage of one region, and the list of stages that ran.
+struct TimedRegion<'a> {
+    ring: &'a FrameRing,
+    device: &'a ash::Device,
+    cmd: vk::CommandBuffer,
+    slot: usize,
+    region: usize,
+    stages: Vec<u32>,
+}
+
+impl<'a> TimedRegion<'a> {
+    fn begin(
+        ring: &'a FrameRing,
+        device: &'a ash::Device,
+        cmd: vk::CommandBuffer,
+        slot: usize,
+        region: usize,
+    ) -> Self {
+        if let Some(timer) = &ring.timer {
+            let (first, count) = ring.region_queries(slot, region);
+            timer.reset(device, cmd, first, count);
+        }
+        Self {
+            ring,
+            device,
+            cmd,
+            slot,
+            region,
+            stages: Vec::new(),
+        }
+    }
+
+    fn stage(&mut self, stage: PatchexStage, record: impl FnOnce()) {
+        let query = self.ring.query(self.slot, self.region, stage);
+        if let Some(timer) = &self.ring.timer {
+            timer.write(self.device, self.cmd, query, false);
+        }
+        record();
+        if let Some(timer) = &self.ring.timer {
+            timer.write(self.device, self.cmd, query, true);
+        }
+        self.stages.push(stage);
+    }
+}
+
+impl From<Error> for PatchexResult {
+    fn from(error: Error) -> Self {
+        error.code
+    }
+}

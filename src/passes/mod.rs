@@ -1,0 +1,110 @@
+//! The compute passes. Each file names what its pass reads and writes and records one dispatch;
+//! the math lives in `shaders/` and, as the tests' oracle, in `crate::reference`.
+
+pub mod demodulate;
+pub mod pack_gbuffer;
+pub mod remodulate;
+pub mod warp_gbuffer;
+
+use ash::vk;
+
+use crate::error::Result;
+use crate::shaders;
+use crate::vk::device::Gpu;
+use crate::vk::image::OwnedImage;
+use crate::vk::pipeline::ComputePipeline;
+
+/// An image a pass samples: its view and the layout it is in while the pass runs.
+#[derive(Clone, Copy, Debug)]
+pub struct Texture {
+    pub view: vk::ImageView,
+    pub layout: vk::ImageLayout,
+}
+
+impl From<&OwnedImage> for Texture {
+    fn from(image: &OwnedImage) -> Self {
+        Self {
+            view: image.view,
+            layout: vk::ImageLayout::GENERAL,
+        }
+    }
+}
+
+/// Every pass's pipeline. `INDEX` constants give each one's place in per-frame descriptor sets.
+pub struct Pipelines {
+    pub demodulate: ComputePipeline,
+    pub pack_gbuffer: ComputePipeline,
+    pub warp_gbuffer: ComputePipeline,
+    pub remodulate: ComputePipeline,
+}
+
+impl Pipelines {
+    pub const DEMODULATE: usize = 0;
+    pub const PACK_GBUFFER: usize = 1;
+    pub const WARP_GBUFFER: usize = 2;
+    pub const REMODULATE: usize = 3;
+
+    pub fn new(gpu: &Gpu) -> Result<Self> {
+        let mut built: Vec<ComputePipeline> = Vec::new();
+        for shader in [
+            shaders::demodulate::SHADER,
+            shaders::pack_gbuffer::SHADER,
+            shaders::warp_gbuffer::SHADER,
+            shaders::remodulate::SHADER,
+        ] {
+            match ComputePipeline::new(gpu, shader) {
+                Ok(pipeline) => built.push(pipeline),
+                Err(error) => {
+                    for mut pipeline in built {
+                        pipeline.destroy(gpu);
+                    }
+                    return Err(error);
+                }
+            }
+        }
+        let [demodulate, pack_gbuffer, warp_gbuffer, remodulate] =
+            <[ComputePipeline; 4]>::try_from(built)
+                .ok()
+                .expect("four pipelines");
+        Ok(Self {
+            demodulate,
+            pack_gbuffer,
+            warp_gbuffer,
+            remodulate,
+        })
+    }
+
+    pub fn all(&self) -> [&ComputePipeline; 4] {
+        [
+            &self.demodulate,
+            &self.pack_gbuffer,
+            &self.warp_gbuffer,
+            &self.remodulate,
+        ]
+    }
+
+    /// Descriptor counts one set of every pipeline needs together, for the descriptor pool.
+    pub fn pool_sizes(&self) -> Vec<vk::DescriptorPoolSize> {
+        let mut sizes: Vec<vk::DescriptorPoolSize> = Vec::new();
+        for pipeline in self.all() {
+            for binding in pipeline.shader.bindings {
+                let ty = crate::vk::pipeline::descriptor_type(binding.kind);
+                match sizes.iter_mut().find(|s| s.ty == ty) {
+                    Some(size) => size.descriptor_count += 1,
+                    None => sizes.push(vk::DescriptorPoolSize {
+                        ty,
+                        descriptor_count: 1,
+                    }),
+                }
+            }
+        }
+        sizes
+    }
+
+    pub fn destroy(&mut self, gpu: &Gpu) {
+        self.demodulate.destroy(gpu);
+        self.pack_gbuffer.destroy(gpu);
+        self.warp_gbuffer.destroy(gpu);
+        self.remodulate.destroy(gpu);
+    }
+}

@@ -1,0 +1,80 @@
+//! Packs one instant's engine G-buffer into the plugin's canonical images:
+//! geometry = (world position, linear depth), normal_id = (unit world normal, object id).
+//! Runs for frame t at submit and for the target instant at extrapolation.
+
+use ash::vk;
+
+use crate::abi::PatchexNormalEncoding;
+use crate::camera::Camera;
+use crate::passes::Texture;
+use crate::shaders::pack_gbuffer::{binding, Params};
+use crate::vk::image::OwnedImage;
+use crate::vk::pipeline::{ComputePipeline, DescriptorWrites};
+
+pub struct PackInputs {
+    pub depth: Texture,
+    pub normal: Texture,
+    pub normal_encoding: PatchexNormalEncoding,
+    /// `None`: every pixel is static geometry (id 0); `placeholder_uint` is bound.
+    pub stencil: Option<Texture>,
+    pub placeholder_uint: Texture,
+}
+
+pub struct PackOutputs<'a> {
+    pub geometry: &'a OwnedImage,
+    pub normal_id: &'a OwnedImage,
+}
+
+pub fn params(
+    camera: &Camera,
+    extent: vk::Extent2D,
+    normal_encoding: u32,
+    has_stencil: bool,
+) -> Params {
+    Params {
+        inv_view_proj: camera.inverse_view_projection().to_cols_array_2d(),
+        camera_position: camera.position().into(),
+        far: camera.far,
+        camera_forward: camera.forward().into(),
+        depth_convention: camera.depth_convention,
+        extent: [extent.width, extent.height],
+        normal_encoding,
+        has_stencil: has_stencil as u32,
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
+pub fn record(
+    pipeline: &ComputePipeline,
+    device: &ash::Device,
+    cmd: vk::CommandBuffer,
+    set: vk::DescriptorSet,
+    extent: vk::Extent2D,
+    camera: &Camera,
+    inputs: &PackInputs,
+    outputs: &PackOutputs,
+) {
+    let stencil = inputs.stencil.unwrap_or(inputs.placeholder_uint);
+    DescriptorWrites::new(pipeline)
+        .image(binding::DEPTH, inputs.depth.view, inputs.depth.layout)
+        .image(binding::NORMAL, inputs.normal.view, inputs.normal.layout)
+        .image(binding::STENCIL, stencil.view, stencil.layout)
+        .image(
+            binding::GEOMETRY,
+            outputs.geometry.view,
+            vk::ImageLayout::GENERAL,
+        )
+        .image(
+            binding::NORMAL_ID,
+            outputs.normal_id.view,
+            vk::ImageLayout::GENERAL,
+        )
+        .update(device, set);
+    let params = params(
+        camera,
+        extent,
+        inputs.normal_encoding,
+        inputs.stencil.is_some(),
+    );
+    pipeline.dispatch(device, cmd, set, &params, extent);
+}

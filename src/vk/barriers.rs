@@ -1,0 +1,266 @@
+//! Barriers around the plugin's work: engine images move from the layout they were handed in to
+//! the layout a pass needs and back, and the plugin's own images are ordered between passes.
+//!
+//! The plugin cannot know what the engine did to an image before the call or will do after it,
+//! so the engine side of every dependency is ALL_COMMANDS with all memory access.
+
+use ash::vk;
+
+use crate::error::{bail, Result};
+use crate::vk::image::{ImportedImage, OwnedImage, COLOR_SUBRESOURCE};
+
+/// Layouts in which a pass can read an image as it is.
+fn is_readable_layout(layout: vk::ImageLayout) -> bool {
+    matches!(
+        layout,
+        vk::ImageLayout::GENERAL
+            | vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL
+            | vk::ImageLayout::DEPTH_STENCIL_READ_ONLY_OPTIMAL
+            | vk::ImageLayout::DEPTH_READ_ONLY_OPTIMAL
+            | vk::ImageLayout::STENCIL_READ_ONLY_OPTIMAL
+            | vk::ImageLayout::READ_ONLY_OPTIMAL
+    )
+}
+
+struct EngineImageUse {
+    image: ImportedImage,
+    layout_in_pass: vk::ImageLayout,
+    written: bool,
+}
+
+/// The engine images one call touches, each once, with the layout its passes use.
+#[derive(Default)]
+pub struct EngineImageAccess {
+    uses: Vec<EngineImageUse>,
+}
+
+impl EngineImageAccess {
+    /// Registers a sampled read; returns the layout the descriptor must name.
+    pub fn read(&mut self, image: &ImportedImage) -> Result<vk::ImageLayout> {
+        if let Some(existing) = self.uses.iter().find(|u| u.image.image == image.image) {
+            if existing.written {
+                bail!(
+                    ErrorInvalidArgument,
+                    "the output image is also passed as an input"
+                );
+            }
+            if existing.image.layout != image.layout {
+                bail!(
+                    ErrorInvalidLayout,
+                    "one VkImage is passed twice with different layouts ({:?} and {:?})",
+                    existing.image.layout,
+                    image.layout
+                );
+            }
+            return Ok(existing.layout_in_pass);
+        }
+        let layout_in_pass = if is_readable_layout(image.layout) {
+            image.layout
+        } else if image.barrier_aspects() == vk::ImageAspectFlags::COLOR {
+            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL
+        } else {
+            vk::ImageLayout::DEPTH_STENCIL_READ_ONLY_OPTIMAL
+        };
+        self.uses.push(EngineImageUse {
+            image: *image,
+            layout_in_pass,
+            written: false,
+        });
+        Ok(layout_in_pass)
+    }
+
+    /// Registers a storage write; the image is written in GENERAL layout.
+    pub fn write(&mut self, image: &ImportedImage) -> Result<vk::ImageLayout> {
+        if self.uses.iter().any(|u| u.image.image == image.image) {
+            bail!(
+                ErrorInvalidArgument,
+                "the output image is also passed as an input"
+            );
+        }
+        let layout_in_pass = vk::ImageLayout::GENERAL;
+        self.uses.push(EngineImageUse {
+            image: *image,
+            layout_in_pass,
+            written: true,
+        });
+        Ok(layout_in_pass)
+    }
+
+    /// Waits for the engine's earlier work on every image and moves it to its pass layout.
+    pub fn acquire(&self, device: &ash::Device, cmd: vk::CommandBuffer) {
+        let barriers: Vec<_> = self
+            .uses
+            .iter()
+            .map(|u| {
+                barrier(&u.image)
+                    .src_access_mask(vk::AccessFlags::MEMORY_WRITE)
+                    .dst_access_mask(if u.written {
+                        vk::AccessFlags::SHADER_WRITE
+                    } else {
+                        vk::AccessFlags::SHADER_READ
+                    })
+                    .old_layout(u.image.layout)
+                    .new_layout(u.layout_in_pass)
+            })
+            .collect();
+        // SAFETY: cmd is in the recording state (API contract); barriers name live images.
+        unsafe {
+            device.cmd_pipeline_barrier(
+                cmd,
+                vk::PipelineStageFlags::ALL_COMMANDS,
+                vk::PipelineStageFlags::COMPUTE_SHADER,
+                vk::DependencyFlags::empty(),
+                &[],
+                &[],
+                &barriers,
+            );
+        }
+    }
+
+    /// Returns every image to the layout it was handed in, visible to whatever the engine does
+    /// next.
+    pub fn release(&self, device: &ash::Device, cmd: vk::CommandBuffer) {
+        let barriers: Vec<_> = self
+            .uses
+            .iter()
+            .map(|u| {
+                barrier(&u.image)
+                    .src_access_mask(if u.written {
+                        vk::AccessFlags::SHADER_WRITE
+                    } else {
+                        vk::AccessFlags::empty()
+                    })
+                    .dst_access_mask(vk::AccessFlags::MEMORY_READ | vk::AccessFlags::MEMORY_WRITE)
+                    .old_layout(u.layout_in_pass)
+                    .new_layout(u.image.layout)
+            })
+            .collect();
+        // SAFETY: as in `acquire`.
+        unsafe {
+            device.cmd_pipeline_barrier(
+                cmd,
+                vk::PipelineStageFlags::COMPUTE_SHADER,
+                vk::PipelineStageFlags::ALL_COMMANDS,
+                vk::DependencyFlags::empty(),
+                &[],
+                &[],
+                &barriers,
+            );
+        }
+    }
+}
+
+fn barrier(image: &ImportedImage) -> vk::ImageMemoryBarrier<'static> {
+    vk::ImageMemoryBarrier::default()
+        .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+        .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+        .image(image.image)
+        .subresource_range(vk::ImageSubresourceRange {
+            aspect_mask: image.barrier_aspects(),
+            ..COLOR_SUBRESOURCE
+        })
+}
+
+/// Orders the plugin's own reads and writes: everything a compute pass (of this call or an
+/// earlier one) wrote is visible to the next pass, and nothing is overwritten while an earlier
+/// pass still reads it. `from_transfer` also covers vkCmdFillBuffer/vkCmdResetQueryPool.
+pub fn compute_to_compute(device: &ash::Device, cmd: vk::CommandBuffer, from_transfer: bool) {
+    let mut src_stages = vk::PipelineStageFlags::COMPUTE_SHADER;
+    let mut src_access = vk::AccessFlags::SHADER_WRITE;
+    if from_transfer {
+        src_stages |= vk::PipelineStageFlags::TRANSFER;
+        src_access |= vk::AccessFlags::TRANSFER_WRITE;
+    }
+    let memory = vk::MemoryBarrier::default()
+        .src_access_mask(src_access)
+        .dst_access_mask(vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE);
+    // SAFETY: cmd is recording.
+    unsafe {
+        device.cmd_pipeline_barrier(
+            cmd,
+            src_stages,
+            vk::PipelineStageFlags::COMPUTE_SHADER,
+            vk::DependencyFlags::empty(),
+            &[memory],
+            &[],
+            &[],
+        );
+    }
+}
+
+/// Orders earlier compute reads and writes before transfer writes of the same call (the fill
+/// that clears counters an earlier extrapolation of this slot may still hold).
+pub fn compute_to_transfer(device: &ash::Device, cmd: vk::CommandBuffer) {
+    let memory = vk::MemoryBarrier::default()
+        .src_access_mask(vk::AccessFlags::SHADER_WRITE)
+        .dst_access_mask(vk::AccessFlags::TRANSFER_WRITE);
+    // SAFETY: cmd is recording.
+    unsafe {
+        device.cmd_pipeline_barrier(
+            cmd,
+            vk::PipelineStageFlags::COMPUTE_SHADER,
+            vk::PipelineStageFlags::TRANSFER,
+            vk::DependencyFlags::empty(),
+            &[memory],
+            &[],
+            &[],
+        );
+    }
+}
+
+/// Makes compute writes to host-visible memory readable by the host after the engine's fence.
+pub fn compute_to_host(device: &ash::Device, cmd: vk::CommandBuffer) {
+    let memory = vk::MemoryBarrier::default()
+        .src_access_mask(vk::AccessFlags::SHADER_WRITE)
+        .dst_access_mask(vk::AccessFlags::HOST_READ);
+    // SAFETY: cmd is recording.
+    unsafe {
+        device.cmd_pipeline_barrier(
+            cmd,
+            vk::PipelineStageFlags::COMPUTE_SHADER,
+            vk::PipelineStageFlags::HOST,
+            vk::DependencyFlags::empty(),
+            &[memory],
+            &[],
+            &[],
+        );
+    }
+}
+
+/// Moves plugin images that no command buffer has touched yet from UNDEFINED to GENERAL.
+pub fn initialize_owned(
+    device: &ash::Device,
+    cmd: vk::CommandBuffer,
+    images: &mut [&mut OwnedImage],
+) {
+    let barriers: Vec<_> = images
+        .iter_mut()
+        .filter(|image| !image.initialized)
+        .map(|image| {
+            image.initialized = true;
+            vk::ImageMemoryBarrier::default()
+                .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+                .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+                .image(image.image)
+                .subresource_range(COLOR_SUBRESOURCE)
+                .old_layout(vk::ImageLayout::UNDEFINED)
+                .new_layout(vk::ImageLayout::GENERAL)
+                .dst_access_mask(vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE)
+        })
+        .collect();
+    if barriers.is_empty() {
+        return;
+    }
+    // SAFETY: cmd is recording; the images are live.
+    unsafe {
+        device.cmd_pipeline_barrier(
+            cmd,
+            vk::PipelineStageFlags::TOP_OF_PIPE,
+            vk::PipelineStageFlags::COMPUTE_SHADER,
+            vk::DependencyFlags::empty(),
+            &[],
+            &[],
+            &barriers,
+        );
+    }
+}

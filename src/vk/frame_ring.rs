@@ -1,0 +1,186 @@
+//! Per-frame resources reused round-robin over the engine's frames in flight.
+//!
+//! Frame F uses slot F % frames_in_flight. The engine promises (API contract) that when it
+//! submits frame F, the GPU has finished everything recorded for frame F - frames_in_flight, so
+//! that slot's descriptor sets, queries and counters can be rewritten, and plugin images retired
+//! at that frame can be destroyed.
+
+use ash::vk;
+use gpu_allocator::vulkan::Allocator;
+
+use crate::abi::{PatchexResetReason, PATCHEX_MAX_EXTRAPOLATIONS_PER_FRAME, PATCHEX_STAGE_SLOTS};
+use crate::error::Result;
+use crate::vk::buffer::ReadbackBuffer;
+use crate::vk::device::Gpu;
+use crate::vk::image::OwnedImage;
+use crate::vk::timestamps::StageTimer;
+
+/// Region 0 of a slot belongs to `patchex_submit_gbuffers`, region 1 + i to extrapolation i.
+pub const REGIONS_PER_SLOT: usize = 1 + PATCHEX_MAX_EXTRAPOLATIONS_PER_FRAME;
+const QUERIES_PER_REGION: u32 = 2 * PATCHEX_STAGE_SLOTS as u32;
+/// Bytes of counters per region; a multiple of every device's storage-buffer offset alignment.
+const COUNTER_STRIDE: u64 = 256;
+
+/// What was recorded into one region, to read its results back later.
+#[derive(Clone, Debug, Default)]
+pub struct RegionRecord {
+    pub stages: Vec<u32>,
+    pub alpha: f32,
+}
+
+#[derive(Clone, Debug)]
+pub struct FrameRecord {
+    pub frame_index: u64,
+    pub extent: vk::Extent2D,
+    pub reset_reason: PatchexResetReason,
+    pub submit: RegionRecord,
+    pub extrapolations: Vec<RegionRecord>,
+}
+
+pub struct FrameSlot {
+    /// One set per (region, pipeline).
+    sets: Vec<vk::DescriptorSet>,
+    pub record: Option<FrameRecord>,
+}
+
+pub struct FrameRing {
+    descriptor_pool: vk::DescriptorPool,
+    pipelines_per_region: usize,
+    pub slots: Vec<FrameSlot>,
+    pub timer: Option<StageTimer>,
+    pub counters: ReadbackBuffer,
+    /// Images replaced by larger ones, with the frame index after which no GPU work uses them.
+    retired: Vec<(u64, OwnedImage)>,
+}
+
+impl FrameRing {
+    /// `set_layouts` has one layout per pipeline, `pool_sizes` the descriptors one set of each
+    /// pipeline needs in total.
+    pub fn new(
+        gpu: &Gpu,
+        allocator: &mut Allocator,
+        frames_in_flight: usize,
+        set_layouts: &[vk::DescriptorSetLayout],
+        pool_sizes: &[vk::DescriptorPoolSize],
+    ) -> Result<Self> {
+        let sets_per_slot = REGIONS_PER_SLOT * set_layouts.len();
+        let copies = (frames_in_flight * REGIONS_PER_SLOT) as u32;
+        let sizes: Vec<_> = pool_sizes
+            .iter()
+            .map(|s| vk::DescriptorPoolSize {
+                ty: s.ty,
+                descriptor_count: s.descriptor_count * copies,
+            })
+            .collect();
+        let counters_size = COUNTER_STRIDE * (frames_in_flight * REGIONS_PER_SLOT) as u64;
+        let counters =
+            ReadbackBuffer::new(gpu, allocator, "patchex frame counters", counters_size)?;
+        let mut ring = Self {
+            descriptor_pool: vk::DescriptorPool::null(),
+            pipelines_per_region: set_layouts.len(),
+            slots: Vec::new(),
+            timer: None,
+            counters,
+            retired: Vec::new(),
+        };
+        // SAFETY: valid device; on failure everything made so far is destroyed.
+        let built = unsafe {
+            (|| -> Result<()> {
+                ring.descriptor_pool = gpu.device.create_descriptor_pool(
+                    &vk::DescriptorPoolCreateInfo::default()
+                        .max_sets((frames_in_flight * sets_per_slot) as u32)
+                        .pool_sizes(&sizes),
+                    None,
+                )?;
+                let layouts: Vec<_> = (0..REGIONS_PER_SLOT)
+                    .flat_map(|_| set_layouts.iter().copied())
+                    .collect();
+                for _ in 0..frames_in_flight {
+                    let sets = gpu.device.allocate_descriptor_sets(
+                        &vk::DescriptorSetAllocateInfo::default()
+                            .descriptor_pool(ring.descriptor_pool)
+                            .set_layouts(&layouts),
+                    )?;
+                    ring.slots.push(FrameSlot { sets, record: None });
+                }
+                ring.timer = StageTimer::new(
+                    gpu,
+                    QUERIES_PER_REGION * (frames_in_flight * REGIONS_PER_SLOT) as u32,
+                )?;
+                Ok(())
+            })()
+        };
+        match built {
+            Ok(()) => Ok(ring),
+            Err(error) => {
+                ring.destroy(gpu, allocator);
+                Err(error)
+            }
+        }
+    }
+
+    pub fn slot_of(&self, frame_index: u64) -> usize {
+        (frame_index % self.slots.len() as u64) as usize
+    }
+
+    pub fn descriptor_set(&self, slot: usize, region: usize, pipeline: usize) -> vk::DescriptorSet {
+        self.slots[slot].sets[region * self.pipelines_per_region + pipeline]
+    }
+
+    /// First query of `stage` in `region` of `slot`.
+    pub fn query(&self, slot: usize, region: usize, stage: u32) -> u32 {
+        ((slot * REGIONS_PER_SLOT + region) as u32) * QUERIES_PER_REGION + 2 * stage
+    }
+
+    pub fn region_queries(&self, slot: usize, region: usize) -> (u32, u32) {
+        (self.query(slot, region, 0), QUERIES_PER_REGION)
+    }
+
+    /// Byte offset of the counters of `region` in `slot`.
+    pub fn counter_offset(&self, slot: usize, region: usize) -> u64 {
+        COUNTER_STRIDE * (slot * REGIONS_PER_SLOT + region) as u64
+    }
+
+    pub const COUNTER_RANGE: u64 = COUNTER_STRIDE;
+
+    /// Keeps `image` alive until the GPU can no longer use it: frames up to `last_frame_using_it`
+    /// may still run, so it goes once frame `last_frame_using_it + frames_in_flight` is submitted.
+    pub fn retire(&mut self, last_frame_using_it: u64, image: OwnedImage) {
+        self.retired.push((last_frame_using_it, image));
+    }
+
+    /// Destroys retired images no frame in flight can still use, at the submit of `frame_index`.
+    pub fn collect(&mut self, gpu: &Gpu, allocator: &mut Allocator, frame_index: u64) {
+        let frames_in_flight = self.slots.len() as u64;
+        let (done, alive): (Vec<_>, Vec<_>) = std::mem::take(&mut self.retired)
+            .into_iter()
+            .partition(|(last, _)| frame_index >= last.saturating_add(frames_in_flight));
+        self.retired = alive;
+        for (_, mut image) in done {
+            image.destroy(gpu, allocator);
+        }
+    }
+
+    pub fn retired_bytes(&self) -> u64 {
+        self.retired
+            .iter()
+            .map(|(_, image)| image.size_bytes())
+            .sum()
+    }
+
+    pub fn destroy(&mut self, gpu: &Gpu, allocator: &mut Allocator) {
+        for (_, mut image) in self.retired.drain(..) {
+            image.destroy(gpu, allocator);
+        }
+        if let Some(timer) = &mut self.timer {
+            timer.destroy(&gpu.device);
+        }
+        self.counters.destroy(gpu, allocator);
+        // SAFETY: destroy contract: no pending work uses the pool's sets.
+        unsafe {
+            gpu.device
+                .destroy_descriptor_pool(self.descriptor_pool, None)
+        };
+        self.descriptor_pool = vk::DescriptorPool::null();
+    }
+}

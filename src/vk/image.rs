@@ -1,0 +1,335 @@
+//! Engine images imported for one call, and images the plugin owns.
+
+use ash::vk;
+use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme, Allocator};
+use gpu_allocator::MemoryLocation;
+
+use crate::abi::PatchexImage;
+use crate::error::{bail, Result};
+use crate::vk::device::Gpu;
+
+/// What one input or output of a call accepts.
+pub struct ImageRole<'a> {
+    /// The argument's name as the engine sees it, for error messages.
+    pub name: &'a str,
+    pub formats: &'static [vk::Format],
+    /// Usage the image must have been created with.
+    pub usage: vk::ImageUsageFlags,
+    /// Format feature the device must support for this use.
+    pub feature: vk::FormatFeatureFlags,
+}
+
+/// Colour formats readable as `texture_2d<f32>`.
+pub const FLOAT_COLOR_FORMATS: &[vk::Format] = &[
+    vk::Format::R16G16B16A16_SFLOAT,
+    vk::Format::R32G32B32A32_SFLOAT,
+    vk::Format::B10G11R11_UFLOAT_PACK32,
+    vk::Format::A2B10G10R10_UNORM_PACK32,
+    vk::Format::A2R10G10B10_UNORM_PACK32,
+    vk::Format::R8G8B8A8_UNORM,
+    vk::Format::R8G8B8A8_SRGB,
+    vk::Format::B8G8R8A8_UNORM,
+    vk::Format::B8G8R8A8_SRGB,
+    vk::Format::R8G8B8A8_SNORM,
+    vk::Format::R16G16B16A16_UNORM,
+    vk::Format::R16G16B16A16_SNORM,
+];
+pub const MOTION_FORMATS: &[vk::Format] = &[
+    vk::Format::R16G16_SFLOAT,
+    vk::Format::R32G32_SFLOAT,
+    vk::Format::R16G16B16A16_SFLOAT,
+    vk::Format::R32G32B32A32_SFLOAT,
+];
+pub const DEPTH_FORMATS: &[vk::Format] = &[
+    vk::Format::R32_SFLOAT,
+    vk::Format::R16_SFLOAT,
+    vk::Format::D32_SFLOAT,
+    vk::Format::D16_UNORM,
+    vk::Format::D24_UNORM_S8_UINT,
+    vk::Format::D32_SFLOAT_S8_UINT,
+];
+/// 8-bit object ids; wider ids would not survive the plugin's f16 packing exactly.
+pub const STENCIL_FORMATS: &[vk::Format] = &[
+    vk::Format::R8_UINT,
+    vk::Format::S8_UINT,
+    vk::Format::D16_UNORM_S8_UINT,
+    vk::Format::D24_UNORM_S8_UINT,
+    vk::Format::D32_SFLOAT_S8_UINT,
+];
+pub const OUTPUT_FORMATS: &[vk::Format] = &[vk::Format::R16G16B16A16_SFLOAT];
+
+impl<'a> ImageRole<'a> {
+    pub const fn input(name: &'a str, formats: &'static [vk::Format]) -> Self {
+        Self {
+            name,
+            formats,
+            usage: vk::ImageUsageFlags::SAMPLED,
+            feature: vk::FormatFeatureFlags::SAMPLED_IMAGE,
+        }
+    }
+
+    pub const fn output(name: &'a str) -> Self {
+        Self {
+            name,
+            formats: OUTPUT_FORMATS,
+            usage: vk::ImageUsageFlags::STORAGE,
+            feature: vk::FormatFeatureFlags::STORAGE_IMAGE,
+        }
+    }
+}
+
+/// An engine image checked for one use. It is only borrowed for the call being recorded.
+#[derive(Clone, Copy, Debug)]
+pub struct ImportedImage {
+    pub image: vk::Image,
+    pub view: vk::ImageView,
+    pub format: vk::Format,
+    pub layout: vk::ImageLayout,
+}
+
+impl ImportedImage {
+    /// Checks an engine image against `role` and the frame extent. `Ok(None)` when the engine
+    /// passed no image, which the caller accepts only for optional inputs.
+    pub fn import(
+        gpu: &Gpu,
+        desc: &PatchexImage,
+        role: &ImageRole,
+        extent: vk::Extent2D,
+    ) -> Result<Option<Self>> {
+        let name = role.name;
+        if desc.image == vk::Image::null() {
+            return Ok(None);
+        }
+        if desc.view == vk::ImageView::null() {
+            bail!(
+                ErrorNullPointer,
+                "{name}: image is set but view is VK_NULL_HANDLE"
+            );
+        }
+        if !role.formats.contains(&desc.format) {
+            bail!(
+                ErrorUnsupportedFormat,
+                "{name}: format {:?} is not accepted; use one of {:?}",
+                desc.format,
+                role.formats
+            );
+        }
+        if !gpu.format_features(desc.format).contains(role.feature) {
+            bail!(
+                ErrorUnsupportedFormat,
+                "{name}: the device does not support {:?} for format {:?}",
+                role.feature,
+                desc.format
+            );
+        }
+        if !desc.usage.contains(role.usage) {
+            bail!(
+                ErrorMissingImageUsage,
+                "{name}: usage {:?} lacks {:?}",
+                desc.usage,
+                role.usage
+            );
+        }
+        if !is_supported_layout(desc.layout) {
+            bail!(
+                ErrorInvalidLayout,
+                "{name}: layout {:?} is not one the plugin can transition from and back to",
+                desc.layout
+            );
+        }
+        if desc.width < extent.width || desc.height < extent.height {
+            bail!(
+                ErrorMismatchedExtent,
+                "{name}: image is {}x{}, smaller than the frame's {}x{}",
+                desc.width,
+                desc.height,
+                extent.width,
+                extent.height
+            );
+        }
+        Ok(Some(Self {
+            image: desc.image,
+            view: desc.view,
+            format: desc.format,
+            layout: desc.layout,
+        }))
+    }
+
+    /// Like `import`, for inputs the call cannot do without.
+    pub fn import_required(
+        gpu: &Gpu,
+        desc: &PatchexImage,
+        role: &ImageRole,
+        extent: vk::Extent2D,
+    ) -> Result<Self> {
+        match Self::import(gpu, desc, role, extent)? {
+            Some(image) => Ok(image),
+            None => bail!(
+                ErrorNullPointer,
+                "{}: image is VK_NULL_HANDLE but required",
+                role.name
+            ),
+        }
+    }
+
+    /// Aspects a barrier on this image must name (both for combined depth/stencil formats).
+    pub fn barrier_aspects(&self) -> vk::ImageAspectFlags {
+        match self.format {
+            vk::Format::D16_UNORM | vk::Format::D32_SFLOAT => vk::ImageAspectFlags::DEPTH,
+            vk::Format::S8_UINT => vk::ImageAspectFlags::STENCIL,
+            vk::Format::D16_UNORM_S8_UINT
+            | vk::Format::D24_UNORM_S8_UINT
+            | vk::Format::D32_SFLOAT_S8_UINT => {
+                vk::ImageAspectFlags::DEPTH | vk::ImageAspectFlags::STENCIL
+            }
+            _ => vk::ImageAspectFlags::COLOR,
+        }
+    }
+}
+
+/// Layouts an engine image may be handed in: every core layout that holds defined contents.
+fn is_supported_layout(layout: vk::ImageLayout) -> bool {
+    matches!(
+        layout,
+        vk::ImageLayout::GENERAL
+            | vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL
+            | vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL
+            | vk::ImageLayout::DEPTH_STENCIL_READ_ONLY_OPTIMAL
+            | vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL
+            | vk::ImageLayout::TRANSFER_SRC_OPTIMAL
+            | vk::ImageLayout::TRANSFER_DST_OPTIMAL
+            | vk::ImageLayout::DEPTH_READ_ONLY_STENCIL_ATTACHMENT_OPTIMAL
+            | vk::ImageLayout::DEPTH_ATTACHMENT_STENCIL_READ_ONLY_OPTIMAL
+            | vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL
+            | vk::ImageLayout::DEPTH_READ_ONLY_OPTIMAL
+            | vk::ImageLayout::STENCIL_ATTACHMENT_OPTIMAL
+            | vk::ImageLayout::STENCIL_READ_ONLY_OPTIMAL
+            | vk::ImageLayout::READ_ONLY_OPTIMAL
+            | vk::ImageLayout::ATTACHMENT_OPTIMAL
+            | vk::ImageLayout::PRESENT_SRC_KHR
+    )
+}
+
+/// A 2D image the plugin allocated. It lives in GENERAL layout from its first use on, read as a
+/// texture and (with STORAGE usage) written as a storage image.
+pub struct OwnedImage {
+    pub image: vk::Image,
+    pub view: vk::ImageView,
+    pub format: vk::Format,
+    pub extent: vk::Extent2D,
+    allocation: Option<Allocation>,
+    /// Whether a command buffer has already moved it out of UNDEFINED.
+    pub initialized: bool,
+}
+
+impl OwnedImage {
+    pub fn new(
+        gpu: &Gpu,
+        allocator: &mut Allocator,
+        name: &str,
+        format: vk::Format,
+        extent: vk::Extent2D,
+        usage: vk::ImageUsageFlags,
+    ) -> Result<Self> {
+        let device = &gpu.device;
+        let info = vk::ImageCreateInfo::default()
+            .image_type(vk::ImageType::TYPE_2D)
+            .format(format)
+            .extent(vk::Extent3D {
+                width: extent.width,
+                height: extent.height,
+                depth: 1,
+            })
+            .mip_levels(1)
+            .array_layers(1)
+            .samples(vk::SampleCountFlags::TYPE_1)
+            .tiling(vk::ImageTiling::OPTIMAL)
+            .usage(usage)
+            .initial_layout(vk::ImageLayout::UNDEFINED);
+        // SAFETY: valid device and create info; every handle made here is destroyed on error.
+        unsafe {
+            let image = device.create_image(&info, None)?;
+            let requirements = device.get_image_memory_requirements(image);
+            let allocation = match allocator.allocate(&AllocationCreateDesc {
+                name,
+                requirements,
+                location: MemoryLocation::GpuOnly,
+                linear: false,
+                allocation_scheme: AllocationScheme::GpuAllocatorManaged,
+            }) {
+                Ok(allocation) => allocation,
+                Err(error) => {
+                    device.destroy_image(image, None);
+                    return Err(error.into());
+                }
+            };
+            let mut owned = Self {
+                image,
+                view: vk::ImageView::null(),
+                format,
+                extent,
+                allocation: Some(allocation),
+                initialized: false,
+            };
+            let bound = device.bind_image_memory(
+                image,
+                owned.allocation.as_ref().unwrap().memory(),
+                owned.allocation.as_ref().unwrap().offset(),
+            );
+            let view = bound.and_then(|()| {
+                device.create_image_view(
+                    &vk::ImageViewCreateInfo::default()
+                        .image(image)
+                        .view_type(vk::ImageViewType::TYPE_2D)
+                        .format(format)
+                        .subresource_range(COLOR_SUBRESOURCE),
+                    None,
+                )
+            });
+            match view {
+                Ok(view) => owned.view = view,
+                Err(error) => {
+                    owned.destroy(gpu, allocator);
+                    return Err(error.into());
+                }
+            }
+            Ok(owned)
+        }
+    }
+
+    /// An image that holds nothing; destroying it is a no-op.
+    pub fn null() -> Self {
+        Self {
+            image: vk::Image::null(),
+            view: vk::ImageView::null(),
+            format: vk::Format::UNDEFINED,
+            extent: vk::Extent2D::default(),
+            allocation: None,
+            initialized: true,
+        }
+    }
+
+    pub fn size_bytes(&self) -> u64 {
+        self.allocation.as_ref().map_or(0, |a| a.size())
+    }
+
+    pub fn destroy(&mut self, gpu: &Gpu, allocator: &mut Allocator) {
+        // SAFETY: the caller guarantees the GPU no longer uses the image (deferred destruction).
+        unsafe {
+            gpu.device.destroy_image_view(self.view, None);
+            gpu.device.destroy_image(self.image, None);
+        }
+        if let Some(allocation) = self.allocation.take() {
+            // Freeing a live allocation only fails on allocator bugs; nothing to recover.
+            let _ = allocator.free(allocation);
+        }
+    }
+}
+
+pub const COLOR_SUBRESOURCE: vk::ImageSubresourceRange = vk::ImageSubresourceRange {
+    aspect_mask: vk::ImageAspectFlags::COLOR,
+    base_mip_level: 0,
+    level_count: 1,
+    base_array_layer: 0,
+    layer_count: 1,
+};

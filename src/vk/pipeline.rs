@@ -1,0 +1,232 @@
+//! Compute pipelines built from the shader reflection that build.rs generates, and descriptor
+//! writes checked against it.
+
+use ash::vk;
+
+use crate::error::Result;
+use crate::shaders::{DescriptorKind, PushConstants, ShaderInfo};
+use crate::vk::device::Gpu;
+
+pub fn descriptor_type(kind: DescriptorKind) -> vk::DescriptorType {
+    match kind {
+        DescriptorKind::SampledImage => vk::DescriptorType::SAMPLED_IMAGE,
+        DescriptorKind::StorageImage => vk::DescriptorType::STORAGE_IMAGE,
+        DescriptorKind::StorageBuffer => vk::DescriptorType::STORAGE_BUFFER,
+        DescriptorKind::UniformBuffer => vk::DescriptorType::UNIFORM_BUFFER,
+        DescriptorKind::Sampler => vk::DescriptorType::SAMPLER,
+    }
+}
+
+/// One pass's pipeline, its layout and its descriptor-set layout.
+pub struct ComputePipeline {
+    pub shader: ShaderInfo,
+    pub set_layout: vk::DescriptorSetLayout,
+    layout: vk::PipelineLayout,
+    pipeline: vk::Pipeline,
+}
+
+impl ComputePipeline {
+    pub fn new(gpu: &Gpu, shader: ShaderInfo) -> Result<Self> {
+        let device = &gpu.device;
+        let bindings: Vec<_> = shader
+            .bindings
+            .iter()
+            .map(|b| {
+                vk::DescriptorSetLayoutBinding::default()
+                    .binding(b.binding)
+                    .descriptor_type(descriptor_type(b.kind))
+                    .descriptor_count(1)
+                    .stage_flags(vk::ShaderStageFlags::COMPUTE)
+            })
+            .collect();
+        let push_constant_ranges = [vk::PushConstantRange {
+            stage_flags: vk::ShaderStageFlags::COMPUTE,
+            offset: 0,
+            size: shader.push_constant_size,
+        }];
+        let push_constant_ranges = if shader.push_constant_size > 0 {
+            &push_constant_ranges[..]
+        } else {
+            &[]
+        };
+        let mut pipeline = Self {
+            shader,
+            set_layout: vk::DescriptorSetLayout::null(),
+            layout: vk::PipelineLayout::null(),
+            pipeline: vk::Pipeline::null(),
+        };
+        // SAFETY: valid device; on any failure the partly built pipeline is destroyed, and
+        // destroying null handles is a no-op.
+        let built = unsafe {
+            (|| -> Result<()> {
+                pipeline.set_layout = device.create_descriptor_set_layout(
+                    &vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings),
+                    None,
+                )?;
+                pipeline.layout = device.create_pipeline_layout(
+                    &vk::PipelineLayoutCreateInfo::default()
+                        .set_layouts(std::slice::from_ref(&pipeline.set_layout))
+                        .push_constant_ranges(push_constant_ranges),
+                    None,
+                )?;
+                let module = device.create_shader_module(
+                    &vk::ShaderModuleCreateInfo::default().code(shader.spirv),
+                    None,
+                )?;
+                let stage = vk::PipelineShaderStageCreateInfo::default()
+                    .stage(vk::ShaderStageFlags::COMPUTE)
+                    .module(module)
+                    .name(c"main");
+                let created = device.create_compute_pipelines(
+                    vk::PipelineCache::null(),
+                    &[vk::ComputePipelineCreateInfo::default()
+                        .stage(stage)
+                        .layout(pipeline.layout)],
+                    None,
+                );
+                device.destroy_shader_module(module, None);
+                pipeline.pipeline = created.map_err(|(_, result)| result)?[0];
+                Ok(())
+            })()
+        };
+        match built {
+            Ok(()) => Ok(pipeline),
+            Err(error) => {
+                pipeline.destroy(gpu);
+                Err(error)
+            }
+        }
+    }
+
+    /// Binds the pipeline, its descriptor set and push constants, and covers `extent` with
+    /// workgroups.
+    pub fn dispatch<P: PushConstants>(
+        &self,
+        device: &ash::Device,
+        cmd: vk::CommandBuffer,
+        set: vk::DescriptorSet,
+        params: &P,
+        extent: vk::Extent2D,
+    ) {
+        debug_assert_eq!(
+            std::mem::size_of::<P>() as u32,
+            self.shader.push_constant_size
+        );
+        let [group_x, group_y, _] = self.shader.workgroup_size;
+        // SAFETY: cmd is recording; set was written for this pipeline's layout.
+        unsafe {
+            device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline);
+            device.cmd_bind_descriptor_sets(
+                cmd,
+                vk::PipelineBindPoint::COMPUTE,
+                self.layout,
+                0,
+                &[set],
+                &[],
+            );
+            device.cmd_push_constants(
+                cmd,
+                self.layout,
+                vk::ShaderStageFlags::COMPUTE,
+                0,
+                params.as_bytes(),
+            );
+            device.cmd_dispatch(
+                cmd,
+                extent.width.div_ceil(group_x),
+                extent.height.div_ceil(group_y),
+                1,
+            );
+        }
+    }
+
+    pub fn destroy(&mut self, gpu: &Gpu) {
+        // SAFETY: the pipeline is no longer used by pending work (destroy contract).
+        unsafe {
+            gpu.device.destroy_pipeline(self.pipeline, None);
+            gpu.device.destroy_pipeline_layout(self.layout, None);
+            gpu.device
+                .destroy_descriptor_set_layout(self.set_layout, None);
+        }
+        self.pipeline = vk::Pipeline::null();
+        self.layout = vk::PipelineLayout::null();
+        self.set_layout = vk::DescriptorSetLayout::null();
+    }
+}
+
+enum Resource {
+    Image(vk::DescriptorImageInfo),
+    Buffer(vk::DescriptorBufferInfo),
+}
+
+/// The resources of one dispatch, keyed by the binding numbers the shader declares.
+pub struct DescriptorWrites<'a> {
+    shader: &'a ShaderInfo,
+    resources: Vec<(u32, Resource)>,
+}
+
+impl<'a> DescriptorWrites<'a> {
+    pub fn new(pipeline: &'a ComputePipeline) -> Self {
+        Self {
+            shader: &pipeline.shader,
+            resources: Vec::new(),
+        }
+    }
+
+    pub fn image(mut self, binding: u32, view: vk::ImageView, layout: vk::ImageLayout) -> Self {
+        let info = vk::DescriptorImageInfo {
+            sampler: vk::Sampler::null(),
+            image_view: view,
+            image_layout: layout,
+        };
+        self.resources.push((binding, Resource::Image(info)));
+        self
+    }
+
+    pub fn buffer(mut self, binding: u32, buffer: vk::Buffer, offset: u64, range: u64) -> Self {
+        self.resources.push((
+            binding,
+            Resource::Buffer(vk::DescriptorBufferInfo {
+                buffer,
+                offset,
+                range,
+            }),
+        ));
+        self
+    }
+
+    /// Writes every binding of `set`. Panics (a plugin bug, caught at the ABI) if a binding the
+    /// shader declares was left out or one it does not declare was given.
+    pub fn update(self, device: &ash::Device, set: vk::DescriptorSet) {
+        assert_eq!(
+            self.resources.len(),
+            self.shader.bindings.len(),
+            "pass {}: every binding must be written once",
+            self.shader.name
+        );
+        let writes: Vec<_> = self
+            .resources
+            .iter()
+            .map(|(binding, resource)| {
+                let declared = self
+                    .shader
+                    .bindings
+                    .iter()
+                    .find(|b| b.binding == *binding)
+                    .unwrap_or_else(|| {
+                        panic!("pass {} has no binding {binding}", self.shader.name)
+                    });
+                let write = vk::WriteDescriptorSet::default()
+                    .dst_set(set)
+                    .dst_binding(*binding)
+                    .descriptor_type(descriptor_type(declared.kind));
+                match resource {
+                    Resource::Image(info) => write.image_info(std::slice::from_ref(info)),
+                    Resource::Buffer(info) => write.buffer_info(std::slice::from_ref(info)),
+                }
+            })
+            .collect();
+        // SAFETY: the set is not in use by pending GPU work (frame ring contract).
+        unsafe { device.update_descriptor_sets(&writes, &[]) };
+    }
+}
