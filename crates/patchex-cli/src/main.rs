@@ -1,0 +1,40 @@
+//! `patchex`: the project's command line tool. Each subcommand lives in its own module under
+//! `commands/`; add one by adding a variant here and a module there.
+
+mod commands;
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(name = "patchex", version, about = "PatchEX frame extrapolation tools")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Render a scene file into a G-buffer dataset sequence.
+    Render(commands::render::RenderArgs),
+    /// Make a contact sheet PNG of one dataset frame: colour and every G-buffer layer.
+    Sheet(commands::sheet::SheetArgs),
+    /// Print what a glTF asset contains: meshes, bounds, animation clips.
+    Inspect(commands::inspect::InspectArgs),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Render(args) => commands::render::run(args),
+        Command::Sheet(args) => commands::sheet::run(args),
+        Command::Inspect(args) => commands::inspect::run(args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(error) => {
+            eprintln!("error: {error}");
+            ExitCode::FAILURE
+        }
+    }
+}

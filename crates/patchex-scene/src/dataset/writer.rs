@@ -1,0 +1,87 @@
+//! Renders a scene into a sequence folder: `frame_NNNN.exr` per frame plus `manifest.json`.
+
+use super::reader::frame_file_name;
+use super::{write_exr, DynamicObject, FrameInfo, FrameRole, Manifest, LAYERS};
+use crate::error::{io_error, Result};
+use crate::gpu::Gpu;
+use crate::render::{FrameRequest, Renderer};
+use crate::scene::World;
+use std::path::PathBuf;
+use std::sync::Arc;
+
+pub struct SequenceOptions {
+    pub frames: usize,
+    pub width: u32,
+    pub height: u32,
+    pub out_dir: PathBuf,
+}
+
+/// Scene time of frame `index`: frames follow the scene's (doubled) frame rate.
+pub fn frame_time(world: &World, index: usize) -> f32 {
+    world.description.start_time + index as f32 / world.description.fps
+}
+
+/// Renders every frame fully lit (targets too, as ground truth) and writes the sequence.
+/// `progress` is called with (frames done, frames total) after each frame.
+pub fn render_sequence(
+    gpu: &Arc<Gpu>,
+    world: &World,
+    options: &SequenceOptions,
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<Manifest> {
+    std::fs::create_dir_all(&options.out_dir).map_err(io_error(&options.out_dir))?;
+    let mut renderer = Renderer::new(gpu, world, options.width, options.height)?;
+    let aspect = options.width as f32 / options.height as f32;
+    let mut frames = Vec::with_capacity(options.frames);
+    for index in 0..options.frames {
+        let time = frame_time(world, index);
+        // Frame 0 has no predecessor: it reuses its own instant, so its motion is zero.
+        let previous_time = if index == 0 {
+            time
+        } else {
+            frame_time(world, index - 1)
+        };
+        let request = FrameRequest::at(world, time, previous_time, aspect, true);
+        let layers = renderer.render(world, &request)?;
+        write_exr(&options.out_dir.join(frame_file_name(index)), &layers)?;
+        let camera = &request.camera;
+        frames.push(FrameInfo {
+            index,
+            time,
+            role: if index % 2 == 0 {
+                FrameRole::Rendered
+            } else {
+                FrameRole::Target
+            },
+            view: camera.view.to_cols_array(),
+            proj: camera.proj.to_cols_array(),
+            view_proj: camera.view_proj().to_cols_array(),
+            camera_position: camera.position.to_array(),
+        });
+        progress(index + 1, options.frames);
+    }
+    let lens = &world.description.camera;
+    let manifest = Manifest {
+        scene: world.description.name.clone(),
+        width: options.width as usize,
+        height: options.height as usize,
+        fps: world.description.fps,
+        near: lens.near,
+        far: lens.far,
+        frames,
+        dynamic_objects: world
+            .characters
+            .iter()
+            .map(|character| DynamicObject {
+                stencil: character.stencil,
+                name: character.description.name.clone(),
+                asset: character.description.asset.clone(),
+            })
+            .collect(),
+        layers: LAYERS.iter().map(|layer| layer.name.to_owned()).collect(),
+    };
+    let manifest_path = options.out_dir.join("manifest.json");
+    let json = serde_json::to_string_pretty(&manifest).expect("the manifest is plain data");
+    std::fs::write(&manifest_path, json + "\n").map_err(io_error(&manifest_path))?;
+    Ok(manifest)
+}

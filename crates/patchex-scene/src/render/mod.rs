@@ -1,0 +1,14 @@
+//! The deferred renderer: sun shadow maps, the G-buffer pass and the resolve (lighting and
+//! layer output) pass, recorded into one command buffer per frame.
+
+mod gbuffer_pass;
+mod gpu_batch;
+mod materials;
+mod pipelines;
+mod renderer;
+mod resolve_pass;
+mod shadow_pass;
+mod targets;
+mod uniforms;
+
+pub use renderer::{FrameRequest, Renderer};

@@ -1,0 +1,21 @@
+//! Scene files (TOML) and the world they describe: environment, characters, camera and sun,
+//! each evaluated at any instant.
+
+mod batch;
+mod camera;
+mod description;
+mod path;
+mod placement;
+mod projection;
+mod sun;
+mod world;
+
+pub use batch::{Draw, MeshBatch, Vertex};
+pub use camera::CameraState;
+pub use description::{
+    CameraDescription, CameraRig, CharacterDescription, GroundDescription, PropDescription,
+    ScatterDescription, SceneDescription, ShakeDescription, SunDescription,
+};
+pub use path::PathMotion;
+pub use sun::SunLight;
+pub use world::{Character, World};

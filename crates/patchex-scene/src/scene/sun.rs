@@ -1,0 +1,50 @@
+//! The directional sun and the orthographic projection of its shadow maps.
+
+use super::projection::{look_at, orthographic};
+use super::SunDescription;
+use glam::{Mat4, Vec3};
+
+#[derive(Clone, Copy, Debug)]
+pub struct SunLight {
+    /// Unit vector from the surface toward the sun.
+    pub direction: Vec3,
+    pub radiance: Vec3,
+    pub light_view_proj: Mat4,
+    pub shadow_resolution: u32,
+    /// World size of one shadow-map texel, for biasing.
+    pub texel_size: f32,
+    /// Depth bias in light clip units (one texel's worth of depth).
+    pub depth_bias: f32,
+}
+
+impl SunLight {
+    /// `center` and `radius` give the square (seen from the sun) that the shadow maps cover.
+    pub fn new(description: &SunDescription, center: Vec3, radius: f32) -> Self {
+        let (azimuth, elevation) = (
+            description.azimuth_deg.to_radians(),
+            description.elevation_deg.to_radians(),
+        );
+        let direction = Vec3::new(
+            elevation.cos() * azimuth.sin(),
+            elevation.sin(),
+            elevation.cos() * azimuth.cos(),
+        );
+        let up = if direction.y.abs() > 0.999 {
+            Vec3::Z
+        } else {
+            Vec3::Y
+        };
+        let depth_range = 4.0 * radius;
+        let view = look_at(center + direction * (2.0 * radius), center, up);
+        let proj = orthographic(-radius, radius, -radius, radius, 0.0, depth_range);
+        let texel_size = 2.0 * radius / description.shadow_resolution as f32;
+        Self {
+            direction,
+            radiance: Vec3::from(description.color) * description.intensity,
+            light_view_proj: proj * view,
+            shadow_resolution: description.shadow_resolution,
+            texel_size,
+            depth_bias: 1.5 * texel_size / depth_range,
+        }
+    }
+}

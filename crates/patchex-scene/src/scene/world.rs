@@ -1,0 +1,386 @@
+//! A loaded scene: static geometry baked to world space once, characters posed per instant,
+//! the camera rig and the sun.
+
+use super::batch::MeshBatch;
+use super::camera::CameraState;
+use super::description::{
+    CameraRig, CharacterDescription, GroundDescription, PropDescription, SceneDescription,
+};
+use super::path::PathMotion;
+use super::placement::scatter_props;
+use super::sun::SunLight;
+use super::Vertex;
+use crate::asset::{
+    load_model, AlphaMode, Material, Mesh, Model, Node, Pose, PosedVertex, Primitive, TextureData,
+};
+use crate::error::{io_error, Error, Result};
+use glam::{Mat4, Quat, Vec2, Vec3, Vec4};
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+/// A skinned, animated dynamic object with its own CustomStencil id.
+pub struct Character {
+    pub description: CharacterDescription,
+    pub model: usize,
+    pub clip: Option<usize>,
+    /// 1-based, in the order of the scene file.
+    pub stencil: u32,
+    path: PathMotion,
+}
+
+pub struct World {
+    pub description: SceneDescription,
+    pub models: Vec<Model>,
+    /// All materials; index 0 is glTF's default material. Texture indices point into `textures`.
+    pub materials: Vec<Material>,
+    pub textures: Vec<TextureData>,
+    pub static_batch: MeshBatch,
+    /// Triangles and draws of all characters; vertices come from [`World::dynamic_vertices`].
+    pub dynamic_batch: MeshBatch,
+    pub characters: Vec<Character>,
+    pub sun: SunLight,
+    /// Asset path of each model, relative to the assets folder.
+    pub model_assets: Vec<String>,
+}
+
+/// Loads each asset file once and moves its materials and textures into the world's tables.
+struct ModelCache {
+    assets_dir: PathBuf,
+    models: Vec<Model>,
+    model_assets: Vec<String>,
+    material_offsets: Vec<u32>,
+    by_asset: HashMap<String, usize>,
+    materials: Vec<Material>,
+    textures: Vec<TextureData>,
+}
+
+impl ModelCache {
+    fn get(&mut self, asset: &str) -> Result<usize> {
+        if let Some(&index) = self.by_asset.get(asset) {
+            return Ok(index);
+        }
+        let model = load_model(&self.assets_dir.join(asset))?;
+        Ok(self.insert(asset.to_owned(), model))
+    }
+
+    fn insert(&mut self, asset: String, mut model: Model) -> usize {
+        let texture_offset = self.textures.len();
+        self.textures.append(&mut model.textures);
+        self.material_offsets.push(self.materials.len() as u32);
+        for material in &model.materials {
+            let shift = |t: Option<usize>| t.map(|t| t + texture_offset);
+            self.materials.push(Material {
+                base_color_texture: shift(material.base_color_texture),
+                metallic_roughness_texture: shift(material.metallic_roughness_texture),
+                normal_texture: shift(material.normal_texture),
+                emissive_texture: shift(material.emissive_texture),
+                ..material.clone()
+            });
+        }
+        self.models.push(model);
+        self.model_assets.push(asset.clone());
+        self.by_asset.insert(asset, self.models.len() - 1);
+        self.models.len() - 1
+    }
+}
+
+impl World {
+    /// Reads a scene file; assets resolve against `assets_dir`, or `<scene dir>/../assets`.
+    pub fn load(scene_path: &Path, assets_dir: Option<&Path>) -> Result<Self> {
+        let text = std::fs::read_to_string(scene_path).map_err(io_error(scene_path))?;
+        let description: SceneDescription = toml::from_str(&text).map_err(|e| Error::Scene {
+            path: scene_path.to_path_buf(),
+            message: e.to_string(),
+        })?;
+        let assets_dir = match assets_dir {
+            Some(dir) => dir.to_path_buf(),
+            None => scene_path
+                .parent()
+                .unwrap_or(Path::new("."))
+                .join("..")
+                .join("assets"),
+        };
+        Self::from_description(description, &assets_dir).map_err(|e| match e {
+            Error::Scene { message, .. } => Error::Scene {
+                path: scene_path.to_path_buf(),
+                message,
+            },
+            other => other,
+        })
+    }
+
+    pub fn from_description(description: SceneDescription, assets_dir: &Path) -> Result<Self> {
+        let mut cache = ModelCache {
+            assets_dir: assets_dir.to_path_buf(),
+            models: Vec::new(),
+            model_assets: Vec::new(),
+            material_offsets: Vec::new(),
+            by_asset: HashMap::new(),
+            materials: vec![Material::default()],
+            textures: Vec::new(),
+        };
+
+        let mut static_batch = MeshBatch::default();
+        let mut props: Vec<PropDescription> = description.environment.clone();
+        props.extend(description.scatter.iter().flat_map(scatter_props));
+        let mut instances: Vec<(usize, Mat4)> = Vec::new();
+        if let Some(ground) = &description.ground {
+            let index = cache.insert("(ground)".into(), ground_model(ground));
+            instances.push((index, Mat4::IDENTITY));
+        }
+        for prop in &props {
+            let model = cache.get(&prop.asset)?;
+            let transform = Mat4::from_scale_rotation_translation(
+                Vec3::splat(prop.scale),
+                Quat::from_rotation_y(prop.yaw_deg.to_radians()),
+                Vec3::from(prop.position),
+            );
+            instances.push((model, transform));
+        }
+        for &(model_index, transform) in &instances {
+            let model = &cache.models[model_index];
+            static_batch.append_triangles(model, cache.material_offsets[model_index], 0, 0);
+            let mut posed = Vec::new();
+            Pose::new(model, transform, None).vertices(model, &mut posed);
+            static_batch.append_vertices(model, &posed, &posed);
+        }
+
+        let mut characters = Vec::new();
+        let mut dynamic_batch = MeshBatch::default();
+        for (index, character) in description.character.iter().enumerate() {
+            let model_index = cache.get(&character.asset)?;
+            let model = &cache.models[model_index];
+            let clip = match &character.clip {
+                Some(name) => Some(model.animation_index(name).ok_or_else(|| Error::Scene {
+                    path: PathBuf::new(),
+                    message: format!(
+                        "character {:?}: {} has no clip {name:?} (clips: {})",
+                        character.name,
+                        character.asset,
+                        model.animation_names().join(", ")
+                    ),
+                })?),
+                None => None,
+            };
+            let stencil = index as u32 + 1;
+            dynamic_batch.append_triangles(model, cache.material_offsets[model_index], 0, stencil);
+            characters.push(Character {
+                description: character.clone(),
+                model: model_index,
+                clip,
+                stencil,
+                path: PathMotion::new(&character.path),
+            });
+        }
+        if let CameraRig::Follow { character, .. } = &description.camera.rig {
+            if !characters.iter().any(|c| &c.description.name == character) {
+                return Err(Error::Scene {
+                    path: PathBuf::new(),
+                    message: format!("the camera follows {character:?}, which is not a character"),
+                });
+            }
+        }
+
+        let (center, radius) = shadow_region(&description, &static_batch.vertices);
+        let sun = SunLight::new(&description.sun, center, radius);
+        Ok(Self {
+            description,
+            models: cache.models,
+            materials: cache.materials,
+            textures: cache.textures,
+            static_batch,
+            dynamic_batch,
+            characters,
+            sun,
+            model_assets: cache.model_assets,
+        })
+    }
+
+    /// Root transform of a character: on its path, facing the way it walks.
+    pub fn character_transform(&self, character: &Character, time: f32) -> Mat4 {
+        let d = &character.description;
+        let (position, heading) = character.path.at(d.walk_speed * time);
+        let walking = d.walk_speed > 0.0 && d.path.len() >= 2;
+        let yaw = if walking {
+            heading.x.atan2(heading.z)
+        } else {
+            d.yaw_deg.to_radians()
+        } + d.yaw_offset_deg.to_radians();
+        Mat4::from_scale_rotation_translation(
+            Vec3::splat(d.scale),
+            Quat::from_rotation_y(yaw),
+            position,
+        )
+    }
+
+    fn pose_character(&self, character: &Character, time: f32, out: &mut Vec<PosedVertex>) {
+        let model = &self.models[character.model];
+        let clip = character.clip.map(|clip| {
+            let d = &character.description;
+            (
+                clip,
+                model.animations[clip].looped_time(time * d.clip_speed + d.clip_offset),
+            )
+        });
+        Pose::new(model, self.character_transform(character, time), clip).vertices(model, out);
+    }
+
+    /// Vertices of all characters at `time`, with their positions at `previous_time` for
+    /// motion vectors, in the order of `dynamic_batch`'s triangles.
+    pub fn dynamic_vertices(&self, time: f32, previous_time: f32) -> Vec<Vertex> {
+        let mut batch = MeshBatch::default();
+        let (mut current, mut previous) = (Vec::new(), Vec::new());
+        for character in &self.characters {
+            current.clear();
+            previous.clear();
+            self.pose_character(character, time, &mut current);
+            self.pose_character(character, previous_time, &mut previous);
+            batch.append_vertices(&self.models[character.model], &current, &previous);
+        }
+        batch.vertices
+    }
+
+    pub fn camera(&self, time: f32, aspect: f32) -> CameraState {
+        let lens = &self.description.camera;
+        let (mut position, mut target) = match &lens.rig {
+            CameraRig::Static { position, target } => (Vec3::from(*position), Vec3::from(*target)),
+            CameraRig::Orbit {
+                center,
+                radius,
+                height,
+                degrees_per_second,
+                start_deg,
+            } => {
+                let angle = (start_deg + degrees_per_second * time).to_radians();
+                let center = Vec3::from(*center);
+                (
+                    center + Vec3::new(radius * angle.cos(), *height, radius * angle.sin()),
+                    center,
+                )
+            }
+            CameraRig::Dolly {
+                path,
+                speed,
+                target,
+            } => (
+                PathMotion::new(path).at(speed * time).0,
+                Vec3::from(*target),
+            ),
+            CameraRig::Follow {
+                character,
+                offset,
+                look_height,
+            } => {
+                let followed = self
+                    .characters
+                    .iter()
+                    .find(|c| &c.description.name == character)
+                    .expect("checked when the world was built");
+                let (_, rotation, translation) = self
+                    .character_transform(followed, time)
+                    .to_scale_rotation_translation();
+                let yaw_only =
+                    Quat::from_rotation_y(-followed.description.yaw_offset_deg.to_radians())
+                        * rotation;
+                (
+                    translation + yaw_only * Vec3::from(*offset),
+                    translation + Vec3::Y * *look_height,
+                )
+            }
+        };
+        if let Some(shake) = lens.shake {
+            let phase = std::f32::consts::TAU * shake.frequency * time;
+            let wobble = Vec3::new(
+                phase.sin() + 0.5 * (2.3 * phase + 1.1).sin(),
+                (1.3 * phase + 2.0).sin() + 0.4 * (3.1 * phase).sin(),
+                (0.7 * phase + 0.5).sin(),
+            ) * shake.amplitude;
+            position += wobble;
+            target += wobble * 0.5;
+        }
+        CameraState::look_at(position, target, lens.fov_deg, aspect, lens.near, lens.far)
+    }
+}
+
+/// The square the shadow maps cover: the scene file's, or the characters' walking area grown
+/// by a margin (so their shadows stay sharp), limited to the static geometry's extent.
+fn shadow_region(description: &SceneDescription, static_vertices: &[Vertex]) -> (Vec3, f32) {
+    if let (Some(center), Some(radius)) =
+        (description.sun.shadow_center, description.sun.shadow_radius)
+    {
+        return (Vec3::from(center), radius);
+    }
+    let bounds = |points: &mut dyn Iterator<Item = Vec3>| {
+        points.fold(None, |acc: Option<(Vec3, Vec3)>, p| {
+            Some(acc.map_or((p, p), |(lo, hi)| (lo.min(p), hi.max(p))))
+        })
+    };
+    let static_bounds = bounds(&mut static_vertices.iter().map(|v| Vec3::from(v.position)));
+    let walk_bounds = bounds(
+        &mut description
+            .character
+            .iter()
+            .flat_map(|c| c.path.iter().copied().map(Vec3::from)),
+    );
+    let half_diagonal = |(lo, hi): (Vec3, Vec3)| (hi - lo).length() * 0.5;
+    match (static_bounds, walk_bounds) {
+        (Some(s), Some((lo, hi))) => {
+            let margin = Vec3::splat(8.0);
+            let walk = (lo - margin, hi + margin);
+            (
+                ((walk.0 + walk.1) * 0.5),
+                half_diagonal(walk).min(half_diagonal(s).max(1.0)),
+            )
+        }
+        (Some(s), None) => ((s.0 + s.1) * 0.5, half_diagonal(s).max(1.0)),
+        (None, Some(w)) => ((w.0 + w.1) * 0.5, half_diagonal(w) + 8.0),
+        (None, None) => (Vec3::ZERO, 10.0),
+    }
+}
+
+/// A flat textureless square, as a one-primitive model.
+fn ground_model(ground: &GroundDescription) -> Model {
+    let h = ground.size * 0.5;
+    let corners = [(-h, -h), (h, -h), (h, h), (-h, h)];
+    let primitive = Primitive {
+        positions: corners
+            .iter()
+            .map(|&(x, z)| Vec3::new(x, ground.height, z))
+            .collect(),
+        normals: vec![Vec3::Y; 4],
+        tangents: None,
+        uvs: corners.iter().map(|&(x, z)| Vec2::new(x, z)).collect(),
+        colors: vec![Vec4::ONE; 4],
+        joints: None,
+        weights: None,
+        // Counter-clockwise seen from above.
+        indices: vec![0, 2, 1, 0, 3, 2],
+        material: Some(0),
+    };
+    Model {
+        name: "ground".into(),
+        nodes: vec![Node {
+            name: "ground".into(),
+            translation: Vec3::ZERO,
+            rotation: Quat::IDENTITY,
+            scale: Vec3::ONE,
+            children: Vec::new(),
+            mesh: Some(0),
+            skin: None,
+        }],
+        roots: vec![0],
+        meshes: vec![Mesh {
+            primitives: vec![primitive],
+        }],
+        skins: Vec::new(),
+        animations: Vec::new(),
+        materials: vec![Material {
+            base_color: Vec3::from(ground.base_color).extend(1.0),
+            metallic: 0.0,
+            roughness: ground.roughness,
+            alpha_mode: AlphaMode::Opaque,
+            ..Material::default()
+        }],
+        textures: Vec::new(),
+    }
+}
