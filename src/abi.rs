@@ -19,10 +19,11 @@ pub type VkImageView = vk::ImageView;
 pub type VkFormat = vk::Format;
 pub type VkImageLayout = vk::ImageLayout;
 pub type VkImageUsageFlags = vk::ImageUsageFlags;
+/// Nullable, as the C typedef is.
 #[allow(non_camel_case_types)]
-pub type PFN_vkGetInstanceProcAddr = vk::PFN_vkGetInstanceProcAddr;
+pub type PFN_vkGetInstanceProcAddr = Option<vk::PFN_vkGetInstanceProcAddr>;
 #[allow(non_camel_case_types)]
-pub type PFN_vkGetDeviceProcAddr = vk::PFN_vkGetDeviceProcAddr;
+pub type PFN_vkGetDeviceProcAddr = Option<vk::PFN_vkGetDeviceProcAddr>;
 
 /// Version of this ABI, returned by `patchex_abi_version`; bumped on any incompatible change.
 pub const PATCHEX_ABI_VERSION: u32 = 1;
@@ -83,9 +84,10 @@ pub const PATCHEX_LOG_WARNING: PatchexLogLevel = 1;
 pub const PATCHEX_LOG_INFO: PatchexLogLevel = 2;
 
 /// Called from the thread that made the call being reported; `message` is valid only during
-/// the callback.
-pub type PatchexLogCallback =
-    unsafe extern "C" fn(user_data: *mut c_void, level: PatchexLogLevel, message: *const c_char);
+/// the callback. NULL for no logging.
+pub type PatchexLogCallback = Option<
+    unsafe extern "C" fn(user_data: *mut c_void, level: PatchexLogLevel, message: *const c_char),
+>;
 
 /// An engine-owned image, imported for one call. The plugin never takes ownership.
 ///
@@ -158,9 +160,9 @@ pub struct PatchexCreateInfo {
     pub physical_device: VkPhysicalDevice,
     pub device: VkDevice,
     /// Required: every Vulkan function is loaded through it (or `get_device_proc_addr`).
-    pub get_instance_proc_addr: Option<PFN_vkGetInstanceProcAddr>,
+    pub get_instance_proc_addr: PFN_vkGetInstanceProcAddr,
     /// Optional: device-level functions come from it when given (skips loader trampolines).
-    pub get_device_proc_addr: Option<PFN_vkGetDeviceProcAddr>,
+    pub get_device_proc_addr: PFN_vkGetDeviceProcAddr,
     /// Queue family of every command buffer the engine will pass; must support compute.
     pub queue_family_index: u32,
     /// Largest frame the context will be given. Internal images grow to the largest frame seen.
@@ -170,7 +172,7 @@ pub struct PatchexCreateInfo {
     /// are reused at frame F + frames_in_flight.
     pub frames_in_flight: u32,
     pub preset: PatchexPreset,
-    pub log_callback: Option<PatchexLogCallback>,
+    pub log_callback: PatchexLogCallback,
     pub log_user_data: *mut c_void,
 }
 

@@ -71,6 +71,7 @@ impl PatchexResult {
     }
 
     /// Every result code, for `patchex_result_string` and tests.
+    /// cbindgen:ignore
     pub const ALL: [PatchexResult; 20] = [
         Self::Success,
         Self::NotReady,

@@ -15,7 +15,7 @@ use crate::passes::warp_gbuffer::WarpSettings;
 pub struct PatchexContext {
     context: Option<Context>,
     last_error: CString,
-    log_callback: Option<PatchexLogCallback>,
+    log_callback: PatchexLogCallback,
     log_user_data: *mut c_void,
 }
 
@@ -37,7 +37,7 @@ fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
 }
 
 fn log(
-    callback: Option<PatchexLogCallback>,
+    callback: PatchexLogCallback,
     user_data: *mut c_void,
     level: PatchexLogLevel,
     message: &CString,
