@@ -57,6 +57,10 @@ impl FrameLayers {
             .unwrap_or_else(|| panic!("frame has no layer {name:?}"))
     }
 
+    pub fn get_mut(&mut self, name: &str) -> Option<&mut LayerImage> {
+        self.layers.iter_mut().find(|layer| layer.name == name)
+    }
+
     pub fn names(&self) -> Vec<String> {
         self.layers.iter().map(|layer| layer.name.clone()).collect()
     }

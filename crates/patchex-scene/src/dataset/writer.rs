@@ -1,7 +1,7 @@
 //! Renders a scene into a sequence folder: `frame_NNNN.exr` per frame plus `manifest.json`.
 
 use super::reader::frame_file_name;
-use super::{write_exr, DynamicObject, FrameInfo, FrameRole, Manifest, LAYERS};
+use super::{write_exr, DynamicObject, FrameInfo, FrameRole, Manifest, LAYERS, MOTION_VECTOR};
 use crate::error::{io_error, Result};
 use crate::gpu::Gpu;
 use crate::render::{FrameRequest, Renderer};
@@ -42,7 +42,13 @@ pub fn render_sequence(
             frame_time(world, index - 1)
         };
         let request = FrameRequest::at(world, time, previous_time, aspect, true);
-        let layers = renderer.render(world, &request)?;
+        let mut layers = renderer.render(world, &request)?;
+        if index == 0 {
+            // Re-projecting onto the same instant leaves float noise; the contract says zero.
+            if let Some(motion) = layers.get_mut(MOTION_VECTOR) {
+                motion.data.fill(0.0);
+            }
+        }
         write_exr(&options.out_dir.join(frame_file_name(index)), &layers)?;
         let camera = &request.camera;
         frames.push(FrameInfo {
