@@ -18,6 +18,9 @@ pub struct SheetArgs {
     /// Tiles per row.
     #[arg(long, default_value_t = 4)]
     columns: usize,
+    /// Only these layers, comma-separated (default: all, in dataset order).
+    #[arg(long, value_delimiter = ',')]
+    layers: Vec<String>,
 }
 
 type Rgb = [u8; 3];
@@ -26,8 +29,19 @@ pub fn run(args: SheetArgs) -> CommandResult {
     let dataset = Dataset::open(&args.dataset)?;
     let frame = dataset.read_frame(args.frame)?;
     let (near, far) = (dataset.manifest.near, dataset.manifest.far);
-    let tiles: Vec<Vec<Rgb>> = frame
-        .layers
+    let chosen: Vec<&LayerImage> = if args.layers.is_empty() {
+        frame.layers.iter().collect()
+    } else {
+        args.layers
+            .iter()
+            .map(|name| {
+                frame
+                    .get(name)
+                    .ok_or_else(|| format!("the frame has no layer {name:?}"))
+            })
+            .collect::<Result<_, _>>()?
+    };
+    let tiles: Vec<Vec<Rgb>> = chosen
         .iter()
         .map(|layer| visualize(layer, near, far))
         .collect();
@@ -58,7 +72,11 @@ pub fn run(args: SheetArgs) -> CommandResult {
         "{} ({} tiles: {})",
         args.out.display(),
         tiles.len(),
-        frame.names().join(", ")
+        chosen
+            .iter()
+            .map(|l| l.name.as_str())
+            .collect::<Vec<_>>()
+            .join(", ")
     );
     Ok(())
 }
