@@ -9,6 +9,7 @@ pub mod context;
 pub mod error;
 pub mod ffi;
 pub mod inputs;
+pub mod loader;
 pub mod passes;
 pub mod reference;
 pub mod shaders;

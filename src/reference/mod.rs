@@ -1,1 +1,123 @@
+//! Plain-Rust versions of every GPU pass: the oracle the tests compare the shaders against.
+//! Each function mirrors its shader line for line, takes the same generated `Params`, and
+//! rounds where the GPU stores to a 16-bit float image.
 
+pub mod demodulate;
+pub mod gbuffer;
+pub mod pack_gbuffer;
+pub mod remodulate;
+pub mod warp_gbuffer;
+
+/// One instant's inputs, as plain images: the reference side of what an engine submits.
+pub struct FrameInputs<'a> {
+    pub color: Option<&'a Image>,
+    pub base_color: &'a Image,
+    pub material: Option<&'a Image>,
+    pub depth: &'a Image,
+    pub normal: &'a Image,
+    pub stencil: Option<&'a Image>,
+    pub motion: Option<&'a Image>,
+    pub camera: &'a crate::camera::Camera,
+    pub normal_encoding: u32,
+    pub motion_vector_scale: [f32; 2],
+}
+
+/// The whole warp-only extrapolation, pass by pass, as the plugin records it.
+pub fn extrapolate(
+    source: &FrameInputs,
+    target: &FrameInputs,
+    warp: &crate::passes::warp_gbuffer::WarpSettings,
+) -> (Image, warp_gbuffer::Warped) {
+    use crate::passes::pack_gbuffer::params as pack_params;
+    let extent = ash::vk::Extent2D {
+        width: source.base_color.width as u32,
+        height: source.base_color.height as u32,
+    };
+    let pack = |frame: &FrameInputs| {
+        let params = pack_params(
+            frame.camera,
+            extent,
+            frame.normal_encoding,
+            frame.stencil.is_some(),
+        );
+        pack_gbuffer::pack_gbuffer(frame.depth, frame.normal, frame.stencil, &params)
+    };
+    let shading = demodulate::demodulate(
+        source.color.expect("frame t has colour"),
+        source.base_color,
+        source.material,
+    );
+    let (source_packed, target_packed) = (pack(source), pack(target));
+    let jitter_delta = (target.camera.jitter - source.camera.jitter).into();
+    let params = warp.params(extent, jitter_delta, target.motion_vector_scale);
+    let warped = warp_gbuffer::warp_gbuffer(
+        &warp_gbuffer::WarpSources {
+            shading: &shading,
+            geometry: &source_packed.geometry,
+            normal_id: &source_packed.normal_id,
+        },
+        &target_packed.geometry,
+        &target_packed.normal_id,
+        target.motion.expect("the target has motion vectors"),
+        &params,
+    );
+    let output = remodulate::remodulate(&warped.warped, target.base_color, target.material);
+    (output, warped)
+}
+
+/// A float image in row-major order with interleaved channels.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Image {
+    pub width: usize,
+    pub height: usize,
+    pub channels: usize,
+    pub data: Vec<f32>,
+}
+
+impl Image {
+    pub fn new(width: usize, height: usize, channels: usize) -> Self {
+        Self {
+            width,
+            height,
+            channels,
+            data: vec![0.0; width * height * channels],
+        }
+    }
+
+    pub fn from_fn(
+        width: usize,
+        height: usize,
+        channels: usize,
+        mut f: impl FnMut(usize, usize) -> Vec<f32>,
+    ) -> Self {
+        let mut image = Self::new(width, height, channels);
+        for y in 0..height {
+            for x in 0..width {
+                image.set(x, y, &f(x, y));
+            }
+        }
+        image
+    }
+
+    pub fn at(&self, x: usize, y: usize) -> &[f32] {
+        let start = (y * self.width + x) * self.channels;
+        &self.data[start..start + self.channels]
+    }
+
+    /// Texel at signed coordinates clamped to the image, as the shaders clamp.
+    pub fn clamped(&self, x: i32, y: i32) -> &[f32] {
+        let x = x.clamp(0, self.width as i32 - 1) as usize;
+        let y = y.clamp(0, self.height as i32 - 1) as usize;
+        self.at(x, y)
+    }
+
+    pub fn set(&mut self, x: usize, y: usize, value: &[f32]) {
+        let start = (y * self.width + x) * self.channels;
+        self.data[start..start + self.channels].copy_from_slice(&value[..self.channels]);
+    }
+}
+
+/// What storing to a 16-bit float image does to a value.
+pub fn round_to_f16(value: f32) -> f32 {
+    half::f16::from_f32(value).to_f32()
+}

@@ -1,0 +1,307 @@
+//! Instance, device, queue and one-shot command submission.
+
+use std::ffi::{c_void, CStr};
+use std::sync::Mutex;
+
+use ash::vk;
+
+const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
+
+#[derive(Clone, Debug)]
+pub struct EngineOptions {
+    /// Khronos validation with synchronization validation. Off for timing runs.
+    pub validation: bool,
+    /// Picks the first physical device whose name contains this (case-insensitive); otherwise
+    /// the first device, preferring a discrete or integrated GPU over a CPU driver.
+    pub device_name: Option<String>,
+}
+
+impl Default for EngineOptions {
+    /// Validation on, device from `PATCHEX_DEVICE` if set.
+    fn default() -> Self {
+        Self {
+            validation: true,
+            device_name: std::env::var("PATCHEX_DEVICE").ok(),
+        }
+    }
+}
+
+pub struct Engine {
+    pub entry: ash::Entry,
+    pub instance: ash::Instance,
+    pub physical_device: vk::PhysicalDevice,
+    pub device: ash::Device,
+    pub queue: vk::Queue,
+    pub queue_family_index: u32,
+    pub device_name: String,
+    command_pool: vk::CommandPool,
+    debug: Option<(ash::ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
+    /// Boxed so its address, handed to the messenger, stays put.
+    messages: Box<Mutex<Vec<String>>>,
+    memory_properties: vk::PhysicalDeviceMemoryProperties,
+}
+
+unsafe extern "system" fn collect_message(
+    severity: vk::DebugUtilsMessageSeverityFlagsEXT,
+    _types: vk::DebugUtilsMessageTypeFlagsEXT,
+    data: *const vk::DebugUtilsMessengerCallbackDataEXT<'_>,
+    user: *mut c_void,
+) -> vk::Bool32 {
+    let messages = &*(user as *const Mutex<Vec<String>>);
+    let text = if data.is_null() || (*data).p_message.is_null() {
+        "(no message)".to_string()
+    } else {
+        CStr::from_ptr((*data).p_message)
+            .to_string_lossy()
+            .into_owned()
+    };
+    if let Ok(mut messages) = messages.lock() {
+        messages.push(format!("[{severity:?}] {text}"));
+    }
+    vk::FALSE
+}
+
+impl Engine {
+    pub fn new(options: &EngineOptions) -> Result<Self, String> {
+        // SAFETY: loading the system Vulkan loader; every object made below is destroyed in Drop.
+        unsafe {
+            let entry =
+                ash::Entry::load().map_err(|e| format!("cannot load the Vulkan loader: {e}"))?;
+            let app = vk::ApplicationInfo::default()
+                .application_name(c"patchex harness")
+                .api_version(vk::API_VERSION_1_2);
+            let mut layers = Vec::new();
+            let mut extensions = Vec::new();
+            if options.validation {
+                let available = entry
+                    .enumerate_instance_layer_properties()
+                    .map_err(|e| e.to_string())?;
+                if !available
+                    .iter()
+                    .any(|l| l.layer_name_as_c_str() == Ok(VALIDATION_LAYER))
+                {
+                    return Err("VK_LAYER_KHRONOS_validation is not installed (apt-get install vulkan-validationlayers)".into());
+                }
+                layers.push(VALIDATION_LAYER.as_ptr());
+                extensions.push(ash::ext::debug_utils::NAME.as_ptr());
+                extensions.push(ash::ext::validation_features::NAME.as_ptr());
+            }
+            let enables = [vk::ValidationFeatureEnableEXT::SYNCHRONIZATION_VALIDATION];
+            let mut features =
+                vk::ValidationFeaturesEXT::default().enabled_validation_features(&enables);
+            let mut info = vk::InstanceCreateInfo::default()
+                .application_info(&app)
+                .enabled_layer_names(&layers)
+                .enabled_extension_names(&extensions);
+            if options.validation {
+                info = info.push_next(&mut features);
+            }
+            let instance = entry
+                .create_instance(&info, None)
+                .map_err(|e| format!("vkCreateInstance: {e}"))?;
+
+            let messages: Box<Mutex<Vec<String>>> = Box::default();
+            let debug = if options.validation {
+                let debug_utils = ash::ext::debug_utils::Instance::new(&entry, &instance);
+                let messenger = debug_utils
+                    .create_debug_utils_messenger(
+                        &vk::DebugUtilsMessengerCreateInfoEXT::default()
+                            .message_severity(
+                                vk::DebugUtilsMessageSeverityFlagsEXT::WARNING
+                                    | vk::DebugUtilsMessageSeverityFlagsEXT::ERROR,
+                            )
+                            .message_type(
+                                vk::DebugUtilsMessageTypeFlagsEXT::VALIDATION
+                                    | vk::DebugUtilsMessageTypeFlagsEXT::PERFORMANCE,
+                            )
+                            .pfn_user_callback(Some(collect_message))
+                            .user_data(&*messages as *const Mutex<Vec<String>> as *mut c_void),
+                        None,
+                    )
+                    .map_err(|e| e.to_string())?;
+                Some((debug_utils, messenger))
+            } else {
+                None
+            };
+
+            let devices = instance
+                .enumerate_physical_devices()
+                .map_err(|e| e.to_string())?;
+            let name_of = |pd: vk::PhysicalDevice| {
+                instance
+                    .get_physical_device_properties(pd)
+                    .device_name_as_c_str()
+                    .unwrap_or_default()
+                    .to_string_lossy()
+                    .into_owned()
+            };
+            let physical_device = match &options.device_name {
+                Some(wanted) => devices
+                    .iter()
+                    .copied()
+                    .find(|&pd| name_of(pd).to_lowercase().contains(&wanted.to_lowercase()))
+                    .ok_or_else(|| format!("no Vulkan device named like {wanted:?}"))?,
+                None => devices
+                    .iter()
+                    .copied()
+                    .min_by_key(|&pd| {
+                        match instance.get_physical_device_properties(pd).device_type {
+                            vk::PhysicalDeviceType::DISCRETE_GPU => 0,
+                            vk::PhysicalDeviceType::INTEGRATED_GPU => 1,
+                            _ => 2,
+                        }
+                    })
+                    .ok_or("no Vulkan device")?,
+            };
+            let device_name = name_of(physical_device);
+            let queue_family_index = instance
+                .get_physical_device_queue_family_properties(physical_device)
+                .iter()
+                .position(|f| {
+                    f.queue_flags
+                        .contains(vk::QueueFlags::GRAPHICS | vk::QueueFlags::COMPUTE)
+                })
+                .ok_or("no graphics+compute queue family")?
+                as u32;
+            let priorities = [1.0];
+            let queue_info = vk::DeviceQueueCreateInfo::default()
+                .queue_family_index(queue_family_index)
+                .queue_priorities(&priorities);
+            let device = instance
+                .create_device(
+                    physical_device,
+                    &vk::DeviceCreateInfo::default()
+                        .queue_create_infos(std::slice::from_ref(&queue_info)),
+                    None,
+                )
+                .map_err(|e| format!("vkCreateDevice: {e}"))?;
+            let queue = device.get_device_queue(queue_family_index, 0);
+            let command_pool = device
+                .create_command_pool(
+                    &vk::CommandPoolCreateInfo::default()
+                        .queue_family_index(queue_family_index)
+                        .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER),
+                    None,
+                )
+                .map_err(|e| e.to_string())?;
+            let memory_properties = instance.get_physical_device_memory_properties(physical_device);
+            Ok(Self {
+                entry,
+                instance,
+                physical_device,
+                device,
+                queue,
+                queue_family_index,
+                device_name,
+                command_pool,
+                debug,
+                messages,
+                memory_properties,
+            })
+        }
+    }
+
+    /// The loader's `vkGetInstanceProcAddr`, as an engine hands it to a plugin.
+    pub fn get_instance_proc_addr(&self) -> vk::PFN_vkGetInstanceProcAddr {
+        self.entry.static_fn().get_instance_proc_addr
+    }
+
+    /// Validation messages reported so far, taken out of the engine.
+    pub fn take_validation_messages(&self) -> Vec<String> {
+        std::mem::take(&mut *self.messages.lock().unwrap())
+    }
+
+    /// Panics with every validation message reported since the last call, if there is any.
+    pub fn assert_validation_clean(&self) {
+        let messages = self.take_validation_messages();
+        assert!(
+            messages.is_empty(),
+            "validation reported {} message(s):\n{}",
+            messages.len(),
+            messages.join("\n")
+        );
+    }
+
+    pub fn memory_type(&self, bits: u32, flags: vk::MemoryPropertyFlags) -> u32 {
+        (0..self.memory_properties.memory_type_count)
+            .find(|&i| {
+                bits & (1 << i) != 0
+                    && self.memory_properties.memory_types[i as usize]
+                        .property_flags
+                        .contains(flags)
+            })
+            .expect("a memory type with the requested properties")
+    }
+
+    /// Allocates a primary command buffer and begins it for one submission.
+    pub fn begin(&self) -> vk::CommandBuffer {
+        // SAFETY: the pool belongs to this device.
+        unsafe {
+            let cmd = self
+                .device
+                .allocate_command_buffers(
+                    &vk::CommandBufferAllocateInfo::default()
+                        .command_pool(self.command_pool)
+                        .level(vk::CommandBufferLevel::PRIMARY)
+                        .command_buffer_count(1),
+                )
+                .expect("vkAllocateCommandBuffers")[0];
+            self.device
+                .begin_command_buffer(
+                    cmd,
+                    &vk::CommandBufferBeginInfo::default()
+                        .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT),
+                )
+                .expect("vkBeginCommandBuffer");
+            cmd
+        }
+    }
+
+    /// Ends, submits and waits for `cmd`, then frees it.
+    pub fn submit_and_wait(&self, cmd: vk::CommandBuffer) {
+        // SAFETY: cmd was begun by `begin`; waiting on the fence makes freeing it safe.
+        unsafe {
+            self.device
+                .end_command_buffer(cmd)
+                .expect("vkEndCommandBuffer");
+            let fence = self
+                .device
+                .create_fence(&vk::FenceCreateInfo::default(), None)
+                .expect("vkCreateFence");
+            self.device
+                .queue_submit(
+                    self.queue,
+                    &[vk::SubmitInfo::default().command_buffers(&[cmd])],
+                    fence,
+                )
+                .expect("vkQueueSubmit");
+            self.device
+                .wait_for_fences(&[fence], true, u64::MAX)
+                .expect("vkWaitForFences");
+            self.device.destroy_fence(fence, None);
+            self.device.free_command_buffers(self.command_pool, &[cmd]);
+        }
+    }
+
+    /// Records `record` into a fresh command buffer, submits it and waits.
+    pub fn run(&self, record: impl FnOnce(vk::CommandBuffer)) {
+        let cmd = self.begin();
+        record(cmd);
+        self.submit_and_wait(cmd);
+    }
+}
+
+impl Drop for Engine {
+    fn drop(&mut self) {
+        // SAFETY: waiting idle first; every object here was made by this engine.
+        unsafe {
+            let _ = self.device.device_wait_idle();
+            self.device.destroy_command_pool(self.command_pool, None);
+            self.device.destroy_device(None);
+            if let Some((debug_utils, messenger)) = self.debug.take() {
+                debug_utils.destroy_debug_utils_messenger(messenger, None);
+            }
+            self.instance.destroy_instance(None);
+        }
+    }
+}

@@ -1,0 +1,387 @@
+//! Engine-owned images with upload and readback through staging buffers.
+
+use ash::vk;
+
+use crate::Engine;
+
+/// A 2D image owned by the engine (mip 0, layer 0), with its view and dedicated memory.
+pub struct EngineImage {
+    pub image: vk::Image,
+    pub view: vk::ImageView,
+    pub format: vk::Format,
+    pub width: u32,
+    pub height: u32,
+    pub usage: vk::ImageUsageFlags,
+    memory: vk::DeviceMemory,
+    device: ash::Device,
+}
+
+/// Channels and bytes per channel of the formats the harness can fill and read.
+fn texel_layout(format: vk::Format) -> (usize, usize) {
+    match format {
+        vk::Format::R32G32B32A32_SFLOAT => (4, 4),
+        vk::Format::R16G16B16A16_SFLOAT => (4, 2),
+        vk::Format::R32G32_SFLOAT => (2, 4),
+        vk::Format::R16G16_SFLOAT => (2, 2),
+        vk::Format::R32_SFLOAT | vk::Format::D32_SFLOAT => (1, 4),
+        vk::Format::R8_UINT => (1, 1),
+        vk::Format::R8G8B8A8_UNORM => (4, 1),
+        other => panic!("the harness does not handle {other:?}"),
+    }
+}
+
+fn aspect(format: vk::Format) -> vk::ImageAspectFlags {
+    match format {
+        vk::Format::D32_SFLOAT => vk::ImageAspectFlags::DEPTH,
+        _ => vk::ImageAspectFlags::COLOR,
+    }
+}
+
+impl EngineImage {
+    pub fn new(
+        engine: &Engine,
+        format: vk::Format,
+        width: u32,
+        height: u32,
+        usage: vk::ImageUsageFlags,
+    ) -> Self {
+        let device = &engine.device;
+        let usage = usage | vk::ImageUsageFlags::TRANSFER_SRC | vk::ImageUsageFlags::TRANSFER_DST;
+        // SAFETY: plain object creation on the engine's device; destroyed in Drop.
+        unsafe {
+            let image = device
+                .create_image(
+                    &vk::ImageCreateInfo::default()
+                        .image_type(vk::ImageType::TYPE_2D)
+                        .format(format)
+                        .extent(vk::Extent3D {
+                            width,
+                            height,
+                            depth: 1,
+                        })
+                        .mip_levels(1)
+                        .array_layers(1)
+                        .samples(vk::SampleCountFlags::TYPE_1)
+                        .tiling(vk::ImageTiling::OPTIMAL)
+                        .usage(usage)
+                        .initial_layout(vk::ImageLayout::UNDEFINED),
+                    None,
+                )
+                .expect("vkCreateImage");
+            let requirements = device.get_image_memory_requirements(image);
+            let memory = device
+                .allocate_memory(
+                    &vk::MemoryAllocateInfo::default()
+                        .allocation_size(requirements.size)
+                        .memory_type_index(engine.memory_type(
+                            requirements.memory_type_bits,
+                            vk::MemoryPropertyFlags::DEVICE_LOCAL,
+                        )),
+                    None,
+                )
+                .expect("vkAllocateMemory");
+            device
+                .bind_image_memory(image, memory, 0)
+                .expect("vkBindImageMemory");
+            let view = device
+                .create_image_view(
+                    &vk::ImageViewCreateInfo::default()
+                        .image(image)
+                        .view_type(vk::ImageViewType::TYPE_2D)
+                        .format(format)
+                        .subresource_range(range(format)),
+                    None,
+                )
+                .expect("vkCreateImageView");
+            Self {
+                image,
+                view,
+                format,
+                width,
+                height,
+                usage,
+                memory,
+                device: device.clone(),
+            }
+        }
+    }
+
+    fn barrier(
+        &self,
+        old: vk::ImageLayout,
+        new: vk::ImageLayout,
+    ) -> vk::ImageMemoryBarrier<'static> {
+        vk::ImageMemoryBarrier::default()
+            .image(self.image)
+            .subresource_range(range(self.format))
+            .old_layout(old)
+            .new_layout(new)
+            .src_access_mask(vk::AccessFlags::MEMORY_WRITE)
+            .dst_access_mask(vk::AccessFlags::MEMORY_READ | vk::AccessFlags::MEMORY_WRITE)
+            .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+            .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+    }
+
+    fn record_barrier(
+        &self,
+        device: &ash::Device,
+        cmd: vk::CommandBuffer,
+        old: vk::ImageLayout,
+        new: vk::ImageLayout,
+    ) {
+        // SAFETY: cmd is recording.
+        unsafe {
+            device.cmd_pipeline_barrier(
+                cmd,
+                vk::PipelineStageFlags::ALL_COMMANDS,
+                vk::PipelineStageFlags::ALL_COMMANDS,
+                vk::DependencyFlags::empty(),
+                &[],
+                &[],
+                &[self.barrier(old, new)],
+            );
+        }
+    }
+
+    /// Fills the image with `values` (row-major, the format's channels interleaved) and leaves
+    /// it in `layout`. The image's previous contents are discarded.
+    pub fn upload(&self, engine: &Engine, values: &[f32], layout: vk::ImageLayout) {
+        let bytes = encode(self.format, values);
+        let (channels, _) = texel_layout(self.format);
+        assert_eq!(
+            values.len(),
+            (self.width * self.height) as usize * channels,
+            "upload size"
+        );
+        let staging = StagingBuffer::new(engine, bytes.len() as u64);
+        staging.write(&bytes);
+        engine.run(|cmd| {
+            self.record_barrier(
+                &engine.device,
+                cmd,
+                vk::ImageLayout::UNDEFINED,
+                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+            );
+            // SAFETY: cmd is recording; the buffer holds exactly the image's texels.
+            unsafe {
+                engine.device.cmd_copy_buffer_to_image(
+                    cmd,
+                    staging.buffer,
+                    self.image,
+                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                    &[self.copy_region()],
+                );
+            }
+            self.record_barrier(
+                &engine.device,
+                cmd,
+                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                layout,
+            );
+        });
+    }
+
+    /// Reads the image, which must be in `layout`, and leaves it there. Validation's layout
+    /// tracking reports it when the image is in fact in another layout.
+    pub fn read(&self, engine: &Engine, layout: vk::ImageLayout) -> Vec<f32> {
+        let (channels, bytes_per_channel) = texel_layout(self.format);
+        let size = (self.width * self.height) as u64 * (channels * bytes_per_channel) as u64;
+        let staging = StagingBuffer::new(engine, size);
+        engine.run(|cmd| {
+            self.record_barrier(
+                &engine.device,
+                cmd,
+                layout,
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+            );
+            // SAFETY: cmd is recording; the buffer is large enough for the image.
+            unsafe {
+                engine.device.cmd_copy_image_to_buffer(
+                    cmd,
+                    self.image,
+                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                    staging.buffer,
+                    &[self.copy_region()],
+                );
+            }
+            self.record_barrier(
+                &engine.device,
+                cmd,
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                layout,
+            );
+            let to_host = vk::MemoryBarrier::default()
+                .src_access_mask(vk::AccessFlags::TRANSFER_WRITE)
+                .dst_access_mask(vk::AccessFlags::HOST_READ);
+            // SAFETY: cmd is recording.
+            unsafe {
+                engine.device.cmd_pipeline_barrier(
+                    cmd,
+                    vk::PipelineStageFlags::TRANSFER,
+                    vk::PipelineStageFlags::HOST,
+                    vk::DependencyFlags::empty(),
+                    &[to_host],
+                    &[],
+                    &[],
+                );
+            }
+        });
+        decode(self.format, &staging.read())
+    }
+
+    fn copy_region(&self) -> vk::BufferImageCopy {
+        vk::BufferImageCopy {
+            buffer_offset: 0,
+            buffer_row_length: 0,
+            buffer_image_height: 0,
+            image_subresource: vk::ImageSubresourceLayers {
+                aspect_mask: aspect(self.format),
+                mip_level: 0,
+                base_array_layer: 0,
+                layer_count: 1,
+            },
+            image_offset: vk::Offset3D::default(),
+            image_extent: vk::Extent3D {
+                width: self.width,
+                height: self.height,
+                depth: 1,
+            },
+        }
+    }
+}
+
+impl Drop for EngineImage {
+    fn drop(&mut self) {
+        // SAFETY: the harness waits for every submission before images go out of scope.
+        unsafe {
+            self.device.destroy_image_view(self.view, None);
+            self.device.destroy_image(self.image, None);
+            self.device.free_memory(self.memory, None);
+        }
+    }
+}
+
+fn range(format: vk::Format) -> vk::ImageSubresourceRange {
+    vk::ImageSubresourceRange {
+        aspect_mask: aspect(format),
+        base_mip_level: 0,
+        level_count: 1,
+        base_array_layer: 0,
+        layer_count: 1,
+    }
+}
+
+fn encode(format: vk::Format, values: &[f32]) -> Vec<u8> {
+    match texel_layout(format) {
+        (_, 4) => values.iter().flat_map(|v| v.to_ne_bytes()).collect(),
+        (_, 2) => values
+            .iter()
+            .flat_map(|v| half::f16::from_f32(*v).to_ne_bytes())
+            .collect(),
+        _ if format == vk::Format::R8G8B8A8_UNORM => values
+            .iter()
+            .map(|v| (v.clamp(0.0, 1.0) * 255.0).round() as u8)
+            .collect(),
+        _ => values.iter().map(|v| *v as u8).collect(),
+    }
+}
+
+fn decode(format: vk::Format, bytes: &[u8]) -> Vec<f32> {
+    match texel_layout(format) {
+        (_, 4) => bytes
+            .chunks_exact(4)
+            .map(|b| f32::from_ne_bytes(b.try_into().unwrap()))
+            .collect(),
+        (_, 2) => bytes
+            .chunks_exact(2)
+            .map(|b| half::f16::from_ne_bytes(b.try_into().unwrap()).to_f32())
+            .collect(),
+        _ if format == vk::Format::R8G8B8A8_UNORM => {
+            bytes.iter().map(|b| *b as f32 / 255.0).collect()
+        }
+        _ => bytes.iter().map(|b| *b as f32).collect(),
+    }
+}
+
+/// A host-visible transfer buffer.
+struct StagingBuffer {
+    buffer: vk::Buffer,
+    memory: vk::DeviceMemory,
+    size: u64,
+    device: ash::Device,
+}
+
+impl StagingBuffer {
+    fn new(engine: &Engine, size: u64) -> Self {
+        let device = &engine.device;
+        // SAFETY: plain object creation; destroyed in Drop.
+        unsafe {
+            let buffer = device
+                .create_buffer(
+                    &vk::BufferCreateInfo::default().size(size).usage(
+                        vk::BufferUsageFlags::TRANSFER_SRC | vk::BufferUsageFlags::TRANSFER_DST,
+                    ),
+                    None,
+                )
+                .expect("vkCreateBuffer");
+            let requirements = device.get_buffer_memory_requirements(buffer);
+            let memory = device
+                .allocate_memory(
+                    &vk::MemoryAllocateInfo::default()
+                        .allocation_size(requirements.size)
+                        .memory_type_index(engine.memory_type(
+                            requirements.memory_type_bits,
+                            vk::MemoryPropertyFlags::HOST_VISIBLE
+                                | vk::MemoryPropertyFlags::HOST_COHERENT,
+                        )),
+                    None,
+                )
+                .expect("vkAllocateMemory");
+            device
+                .bind_buffer_memory(buffer, memory, 0)
+                .expect("vkBindBufferMemory");
+            Self {
+                buffer,
+                memory,
+                size,
+                device: device.clone(),
+            }
+        }
+    }
+
+    fn write(&self, bytes: &[u8]) {
+        // SAFETY: coherent host-visible memory of at least `size` bytes, not in use by the GPU.
+        unsafe {
+            let pointer = self
+                .device
+                .map_memory(self.memory, 0, self.size, vk::MemoryMapFlags::empty())
+                .expect("vkMapMemory");
+            std::ptr::copy_nonoverlapping(bytes.as_ptr(), pointer.cast::<u8>(), bytes.len());
+            self.device.unmap_memory(self.memory);
+        }
+    }
+
+    fn read(&self) -> Vec<u8> {
+        // SAFETY: as in `write`; the GPU finished writing before `run` returned.
+        unsafe {
+            let pointer = self
+                .device
+                .map_memory(self.memory, 0, self.size, vk::MemoryMapFlags::empty())
+                .expect("vkMapMemory");
+            let bytes =
+                std::slice::from_raw_parts(pointer.cast::<u8>(), self.size as usize).to_vec();
+            self.device.unmap_memory(self.memory);
+            bytes
+        }
+    }
+}
+
+impl Drop for StagingBuffer {
+    fn drop(&mut self) {
+        // SAFETY: the submission using the buffer has completed.
+        unsafe {
+            self.device.destroy_buffer(self.buffer, None);
+            self.device.free_memory(self.memory, None);
+        }
+    }
+}

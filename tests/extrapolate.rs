@@ -1,0 +1,317 @@
+//! End-to-end extrapolation on lavapipe through the C ABI, compared with the plain-Rust
+//! reference of the same passes.
+//!
+//! Tolerance: the GPU and the reference run the same f32 arithmetic, but exp(), fused
+//! multiply-adds and the order of matrix products differ in the last bits, and both round the
+//! result to the RGBA16F output (one f16 step is 2^-10 relative). A pixel matches when it is
+//! within 2e-3 relative (two f16 steps) plus 1e-4 absolute. The warp has two thresholds (the
+//! agreeing share of the bilinear footprint, and the best agreement for holes); a last-bit
+//! difference can flip a pixel whose reference value lies within 1e-4 of one, so only such
+//! pixels may differ beyond the tolerance, and the test reports how many there were.
+
+mod support;
+
+use glam::Vec2;
+use patchex::abi::*;
+use patchex::camera::Camera;
+use patchex::error::PatchexResult;
+use patchex::passes::warp_gbuffer::WarpSettings;
+use patchex::reference::warp_gbuffer::{AGREEMENT_THRESHOLD, BILINEAR_ACCEPT};
+use patchex::reference::{self, FrameInputs, Image};
+use support::scene::{Frame, Scene};
+use support::*;
+
+const WIDTH: usize = 96;
+const HEIGHT: usize = 64;
+/// Rendered frames are 1/30 s apart; the target sits halfway (alpha 0.5).
+const FRAME_TIME: f32 = 1.0 / 30.0;
+const NEAR_THRESHOLD: f32 = 1e-4;
+
+fn inputs<'a>(frame: &'a Frame, camera: &'a Camera) -> FrameInputs<'a> {
+    FrameInputs {
+        color: Some(&frame.color),
+        base_color: &frame.base_color,
+        material: Some(&frame.material),
+        depth: &frame.depth,
+        normal: &frame.normal,
+        stencil: Some(&frame.stencil),
+        motion: Some(&frame.motion),
+        camera,
+        normal_encoding: PATCHEX_NORMAL_SIGNED,
+        motion_vector_scale: [1.0, 1.0],
+    }
+}
+
+fn psnr(a: &Image, b: &Image) -> f64 {
+    let mut squared = 0.0;
+    let mut count = 0;
+    for (pa, pb) in a.data.chunks(4).zip(b.data.chunks(4)) {
+        for c in 0..3 {
+            squared += ((pa[c] - pb[c]) as f64).powi(2);
+            count += 1;
+        }
+    }
+    10.0 * (1.0 / (squared / count as f64)).log10()
+}
+
+struct Outcome {
+    output: Image,
+    stats: PatchexFrameStats,
+}
+
+/// Submits `source` as frame 1 and extrapolates `target` from it on the GPU.
+fn run_plugin(rig: &Rig, source: &Frame, target: &Frame, alpha: f32) -> Outcome {
+    let engine = &rig.engine;
+    let family = engine.queue_family_index;
+    let gpu_source = GpuFrame::upload(engine, source);
+    let gpu_target = GpuFrame::upload(engine, target);
+    let output = output_image(engine, WIDTH as u32, HEIGHT as u32);
+    engine.run(|cmd| {
+        assert_eq!(
+            rig.submit(cmd, &gpu_source.frame_desc(1, family)),
+            PatchexResult::Success,
+            "{}",
+            rig.last_error()
+        );
+        let desc = gpu_target.extrapolate_desc(&output, alpha, family);
+        assert_eq!(
+            rig.extrapolate(cmd, &desc),
+            PatchexResult::Success,
+            "{}",
+            rig.last_error()
+        );
+    });
+    // Every engine image is read back in the layout it was handed in: validation reports any
+    // image the plugin left in another layout.
+    let output_values = output.read(engine, OUTPUT_LAYOUT);
+    gpu_source.color.read(engine, COLOR_LAYOUT);
+    gpu_source.depth.read(engine, DEPTH_LAYOUT);
+    gpu_target.motion.read(engine, MOTION_LAYOUT);
+    gpu_target.normal.read(engine, GBUFFER_LAYOUT);
+    let (result, stats) = rig.stats(1);
+    assert_eq!(result, PatchexResult::Success, "{}", rig.last_error());
+    Outcome {
+        output: Image {
+            width: WIDTH,
+            height: HEIGHT,
+            channels: 4,
+            data: output_values,
+        },
+        stats,
+    }
+}
+
+/// Compares the plugin with the reference; returns the number of pixels excused as lying at a
+/// threshold.
+fn assert_matches_reference(
+    scene: &Scene,
+    source: &Frame,
+    target: &Frame,
+    outcome: &Outcome,
+) -> usize {
+    let source_camera = Camera::from_abi(&source.camera, "source").unwrap();
+    let target_camera = Camera::from_abi(&target.camera, "target").unwrap();
+    let (expected, warped) = reference::extrapolate(
+        &inputs(source, &source_camera),
+        &inputs(target, &target_camera),
+        &WarpSettings::default(),
+    );
+    let mut excused = 0;
+    let mut worst = (0.0f32, 0, 0);
+    for y in 0..scene.height {
+        for x in 0..scene.width {
+            let i = y * scene.width + x;
+            let at_threshold = (warped.bilinear_weight[i] - BILINEAR_ACCEPT).abs() < NEAR_THRESHOLD
+                || (warped.best_agreement[i] - AGREEMENT_THRESHOLD).abs() < NEAR_THRESHOLD;
+            let (got, want) = (outcome.output.at(x, y), expected.at(x, y));
+            let error = (0..3)
+                .map(|c| (got[c] - want[c]).abs() / (2e-3 * want[c].abs() + 1e-4))
+                .fold(0.0, f32::max);
+            if error > 1.0 {
+                assert!(
+                    at_threshold,
+                    "pixel ({x}, {y}): plugin {got:?}, reference {want:?}"
+                );
+                excused += 1;
+            }
+            if error > worst.0 {
+                worst = (error, x, y);
+            }
+        }
+    }
+    let pixels = (scene.width * scene.height) as f32;
+    let stats = &outcome.stats.extrapolations[0];
+    let near_hole_threshold = warped
+        .best_agreement
+        .iter()
+        .filter(|a| (**a - AGREEMENT_THRESHOLD).abs() < NEAR_THRESHOLD)
+        .count();
+    let hole_difference = (stats.hole_fraction * pixels - warped.hole_pixels as f32).abs();
+    assert!(
+        hole_difference <= near_hole_threshold as f32,
+        "holes: plugin {} pixels, reference {}",
+        stats.hole_fraction * pixels,
+        warped.hole_pixels
+    );
+    assert_eq!(
+        stats.offscreen_fraction * pixels,
+        warped.offscreen_pixels as f32
+    );
+    println!(
+        "worst error {:.3} of tolerance at {:?}; {excused} pixel(s) at a threshold",
+        worst.0,
+        (worst.1, worst.2)
+    );
+    excused
+}
+
+fn two_frame_case(scene: &Scene) -> (Frame, Frame) {
+    let source = scene.render(0.0, Vec2::new(0.25, -0.25), -FRAME_TIME);
+    let target = scene.render(0.5 * FRAME_TIME, Vec2::new(-0.125, 0.375), 0.0);
+    (source, target)
+}
+
+#[test]
+fn extrapolation_matches_reference_on_a_moving_textured_sphere() {
+    let scene = Scene::new(WIDTH, HEIGHT);
+    let (source, target) = two_frame_case(&scene);
+    let rig = Rig::new(WIDTH as u32, HEIGHT as u32);
+    let outcome = run_plugin(&rig, &source, &target, 0.5);
+    assert_matches_reference(&scene, &source, &target, &outcome);
+
+    // The case is real: the sphere moves and uncovers ground, and warping beats showing frame t.
+    let stats = &outcome.stats.extrapolations[0];
+    assert!(
+        stats.hole_fraction > 0.002,
+        "the sphere disoccludes ground ({})",
+        stats.hole_fraction
+    );
+    let warped_psnr = psnr(&outcome.output, &target.color);
+    let stale_psnr = psnr(&source.color, &target.color);
+    println!("PSNR against the rendered target: extrapolated {warped_psnr:.2} dB, frame t {stale_psnr:.2} dB");
+    assert!(
+        warped_psnr > stale_psnr + 3.0,
+        "extrapolated {warped_psnr:.2} dB vs frame t {stale_psnr:.2} dB"
+    );
+}
+
+#[test]
+fn extrapolation_matches_reference_with_reversed_infinite_depth() {
+    let mut scene = Scene::new(WIDTH, HEIGHT);
+    scene.depth_convention = PATCHEX_DEPTH_HARDWARE_REVERSED;
+    let (source, target) = two_frame_case(&scene);
+    let rig = Rig::new(WIDTH as u32, HEIGHT as u32);
+    let outcome = run_plugin(&rig, &source, &target, 0.5);
+    assert_matches_reference(&scene, &source, &target, &outcome);
+}
+
+#[test]
+fn extrapolation_matches_reference_with_linear_view_depth() {
+    let mut scene = Scene::new(WIDTH, HEIGHT);
+    scene.depth_convention = PATCHEX_DEPTH_LINEAR_VIEW_Z;
+    let (source, target) = two_frame_case(&scene);
+    let rig = Rig::new(WIDTH as u32, HEIGHT as u32);
+    let outcome = run_plugin(&rig, &source, &target, 0.5);
+    assert_matches_reference(&scene, &source, &target, &outcome);
+}
+
+#[test]
+fn zero_motion_gives_back_the_submitted_frame() {
+    let mut scene = Scene::new(WIDTH, HEIGHT);
+    scene.sphere_speed = 0.0;
+    scene.camera_speed = 0.0;
+    let frame = scene.render(0.0, Vec2::ZERO, -FRAME_TIME);
+    assert!(frame.motion.data.iter().all(|m| *m == 0.0));
+    let rig = Rig::new(WIDTH as u32, HEIGHT as u32);
+    let outcome = run_plugin(&rig, &frame, &frame, 0.5);
+    for (got, want) in outcome
+        .output
+        .data
+        .chunks(4)
+        .zip(frame.color.data.chunks(4))
+    {
+        for c in 0..3 {
+            // Only the RGBA16F output's rounding separates them: under one f16 step (2^-10
+            // relative), as Vulkan lets a driver round or truncate when it stores to f16.
+            assert!(
+                (got[c] - want[c]).abs() <= want[c].abs() * 9.77e-4 + 1e-6,
+                "{got:?} vs {want:?}"
+            );
+        }
+    }
+    assert_eq!(outcome.stats.extrapolations[0].hole_fraction, 0.0);
+}
+
+#[test]
+fn several_extrapolations_from_one_frame_report_their_own_stats() {
+    let scene = Scene::new(WIDTH, HEIGHT);
+    let source = scene.render(0.0, Vec2::ZERO, -FRAME_TIME);
+    let alphas = [1.0 / 3.0, 2.0 / 3.0];
+    let targets: Vec<Frame> = alphas
+        .iter()
+        .map(|a| scene.render(a * FRAME_TIME, Vec2::ZERO, 0.0))
+        .collect();
+    let rig = Rig::new(WIDTH as u32, HEIGHT as u32);
+    let engine = &rig.engine;
+    let family = engine.queue_family_index;
+    let gpu_source = GpuFrame::upload(engine, &source);
+    let gpu_targets: Vec<GpuFrame> = targets
+        .iter()
+        .map(|t| GpuFrame::upload(engine, t))
+        .collect();
+    let outputs: Vec<_> = alphas
+        .iter()
+        .map(|_| output_image(engine, WIDTH as u32, HEIGHT as u32))
+        .collect();
+    engine.run(|cmd| {
+        assert_eq!(
+            rig.submit(cmd, &gpu_source.frame_desc(7, family)),
+            PatchexResult::Success
+        );
+        for ((target, output), alpha) in gpu_targets.iter().zip(&outputs).zip(alphas) {
+            let result = rig.extrapolate(cmd, &target.extrapolate_desc(output, alpha, family));
+            assert_eq!(result, PatchexResult::Success, "{}", rig.last_error());
+        }
+    });
+    let (result, stats) = rig.stats(7);
+    assert_eq!(result, PatchexResult::Success);
+    assert_eq!(stats.extrapolation_count, 2);
+    assert_eq!(stats.reset_reason, PATCHEX_RESET_FIRST_FRAME);
+    assert_eq!((stats.width, stats.height), (WIDTH as u32, HEIGHT as u32));
+    assert!(stats.device_memory_bytes > 0);
+    let (first, second) = (&stats.extrapolations[0], &stats.extrapolations[1]);
+    assert_eq!((first.alpha, second.alpha), (alphas[0], alphas[1]));
+    // Farther from frame t, the sphere has uncovered more ground.
+    assert!(
+        second.hole_fraction > first.hole_fraction,
+        "{} vs {}",
+        second.hole_fraction,
+        first.hole_fraction
+    );
+    assert_eq!(stats.timings_valid, 1);
+    for stage in [PATCHEX_STAGE_DEMODULATE, PATCHEX_STAGE_PACK_SOURCE_GBUFFER] {
+        assert!(
+            stats.submit_gpu_ms[stage as usize] > 0.0,
+            "submit stage {stage} has a GPU time"
+        );
+    }
+    for stage in [
+        PATCHEX_STAGE_PACK_TARGET_GBUFFER,
+        PATCHEX_STAGE_WARP,
+        PATCHEX_STAGE_REMODULATE,
+    ] {
+        assert!(
+            first.gpu_ms[stage as usize] > 0.0,
+            "extrapolation stage {stage} has a GPU time"
+        );
+    }
+    for (output, target) in outputs.iter().zip(&targets) {
+        let values = Image {
+            width: WIDTH,
+            height: HEIGHT,
+            channels: 4,
+            data: output.read(engine, OUTPUT_LAYOUT),
+        };
+        assert!(psnr(&values, &target.color) > psnr(&source.color, &target.color));
+    }
+}

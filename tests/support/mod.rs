@@ -1,0 +1,283 @@
+//! What the integration tests share: the analytic scene, and a rig that plays the engine —
+//! its own Vulkan device and images, the patchex library loaded through libloading, and the
+//! descriptors an engine would fill in.
+#![allow(dead_code)]
+
+pub mod scene;
+
+use std::ptr;
+
+use ash::vk;
+use patchex::abi::*;
+use patchex::error::PatchexResult;
+use patchex::ffi::PatchexContext;
+use patchex::loader::PatchexLibrary;
+use patchex::reference::Image;
+use patchex_harness::{Engine, EngineImage, EngineOptions};
+
+use scene::Frame;
+
+pub struct Rig {
+    pub engine: Engine,
+    pub library: PatchexLibrary,
+    pub context: *mut PatchexContext,
+}
+
+pub fn header(struct_type: PatchexStructType, size: usize) -> PatchexStructHeader {
+    PatchexStructHeader {
+        struct_type,
+        struct_size: size as u32,
+        next: ptr::null(),
+    }
+}
+
+impl Rig {
+    pub fn create_info(engine: &Engine, max_width: u32, max_height: u32) -> PatchexCreateInfo {
+        PatchexCreateInfo {
+            header: header(
+                PATCHEX_STRUCT_TYPE_CREATE_INFO,
+                size_of::<PatchexCreateInfo>(),
+            ),
+            instance: engine.instance.handle(),
+            physical_device: engine.physical_device,
+            device: engine.device.handle(),
+            get_instance_proc_addr: Some(engine.get_instance_proc_addr()),
+            get_device_proc_addr: None,
+            queue_family_index: engine.queue_family_index,
+            max_width,
+            max_height,
+            frames_in_flight: 2,
+            preset: PATCHEX_PRESET_WARP_ONLY,
+            log_callback: None,
+            log_user_data: ptr::null_mut(),
+        }
+    }
+
+    /// An engine with validation and a patchex context for frames up to `max_width` x `max_height`.
+    pub fn new(max_width: u32, max_height: u32) -> Self {
+        let engine =
+            Engine::new(&EngineOptions::default()).expect("a Vulkan device with validation");
+        let path = PatchexLibrary::beside_current_exe().expect("the patchex cdylib is built");
+        // SAFETY: the library was built from this source tree.
+        let library = unsafe { PatchexLibrary::open(&path) }.expect("patchex loads");
+        let info = Self::create_info(&engine, max_width, max_height);
+        let mut context = ptr::null_mut();
+        // SAFETY: valid create info and out pointer.
+        let result = unsafe { (library.create)(&info, &mut context) };
+        // SAFETY: NULL asks for this thread's last error.
+        let message = unsafe { library.last_error_message(ptr::null()) };
+        assert_eq!(result, PatchexResult::Success, "{message}");
+        engine.assert_validation_clean();
+        Self {
+            engine,
+            library,
+            context,
+        }
+    }
+
+    pub fn last_error(&self) -> String {
+        // SAFETY: the rig's context is live.
+        unsafe { self.library.last_error_message(self.context) }
+    }
+
+    pub fn submit(&self, cmd: vk::CommandBuffer, desc: &PatchexFrameDesc) -> PatchexResult {
+        // SAFETY: live context; the descriptor's images live until the command buffer completes.
+        unsafe { (self.library.submit_gbuffers)(self.context, cmd, desc) }
+    }
+
+    pub fn extrapolate(
+        &self,
+        cmd: vk::CommandBuffer,
+        desc: &PatchexExtrapolateDesc,
+    ) -> PatchexResult {
+        // SAFETY: as for `submit`.
+        unsafe { (self.library.extrapolate)(self.context, cmd, desc) }
+    }
+
+    pub fn stats(&self, frame_index: u64) -> (PatchexResult, PatchexFrameStats) {
+        // SAFETY: zeroed stats are a valid PatchexFrameStats bit pattern.
+        let mut stats: PatchexFrameStats = unsafe { std::mem::zeroed() };
+        stats.header = header(
+            PATCHEX_STRUCT_TYPE_FRAME_STATS,
+            size_of::<PatchexFrameStats>(),
+        );
+        // SAFETY: live context, writable stats.
+        let result =
+            unsafe { (self.library.get_frame_stats)(self.context, frame_index, &mut stats) };
+        (result, stats)
+    }
+}
+
+impl Drop for Rig {
+    fn drop(&mut self) {
+        // SAFETY: every submission was waited on; the context is not used again.
+        unsafe {
+            self.engine
+                .device
+                .device_wait_idle()
+                .expect("vkDeviceWaitIdle");
+            (self.library.destroy)(self.context);
+        }
+        if !std::thread::panicking() {
+            self.engine.assert_validation_clean();
+        }
+    }
+}
+
+/// An engine image holding `image`'s values, left in `layout`.
+pub fn upload(
+    engine: &Engine,
+    image: &Image,
+    format: vk::Format,
+    layout: vk::ImageLayout,
+) -> EngineImage {
+    let mut usage = vk::ImageUsageFlags::SAMPLED;
+    if layout == vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL {
+        usage |= vk::ImageUsageFlags::COLOR_ATTACHMENT;
+    }
+    let gpu = EngineImage::new(
+        engine,
+        format,
+        image.width as u32,
+        image.height as u32,
+        usage,
+    );
+    gpu.upload(engine, &image.data, layout);
+    gpu
+}
+
+/// Describes `image` as being in `layout` when the plugin's commands run.
+pub fn describe(image: &EngineImage, layout: vk::ImageLayout) -> PatchexImage {
+    PatchexImage {
+        image: image.image,
+        view: image.view,
+        format: image.format,
+        width: image.width,
+        height: image.height,
+        layout,
+        usage: image.usage,
+    }
+}
+
+/// One instant's G-buffers as engine images, each with the layout the engine keeps it in.
+pub struct GpuFrame {
+    pub color: EngineImage,
+    pub base_color: EngineImage,
+    pub material: EngineImage,
+    pub depth: EngineImage,
+    pub normal: EngineImage,
+    pub stencil: EngineImage,
+    pub motion: EngineImage,
+    pub camera: PatchexCamera,
+    pub width: u32,
+    pub height: u32,
+}
+
+/// Layouts the tests' engine keeps its images in: a mix, to exercise the plugin's transitions.
+pub const COLOR_LAYOUT: vk::ImageLayout = vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL;
+pub const GBUFFER_LAYOUT: vk::ImageLayout = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
+pub const DEPTH_LAYOUT: vk::ImageLayout = vk::ImageLayout::TRANSFER_SRC_OPTIMAL;
+pub const MOTION_LAYOUT: vk::ImageLayout = vk::ImageLayout::GENERAL;
+pub const OUTPUT_LAYOUT: vk::ImageLayout = vk::ImageLayout::TRANSFER_SRC_OPTIMAL;
+
+impl GpuFrame {
+    pub fn upload(engine: &Engine, frame: &Frame) -> Self {
+        use vk::Format as F;
+        Self {
+            color: upload(engine, &frame.color, F::R32G32B32A32_SFLOAT, COLOR_LAYOUT),
+            base_color: upload(
+                engine,
+                &frame.base_color,
+                F::R32G32B32A32_SFLOAT,
+                GBUFFER_LAYOUT,
+            ),
+            material: upload(
+                engine,
+                &frame.material,
+                F::R32G32B32A32_SFLOAT,
+                GBUFFER_LAYOUT,
+            ),
+            depth: upload(engine, &frame.depth, F::R32_SFLOAT, DEPTH_LAYOUT),
+            normal: upload(
+                engine,
+                &frame.normal,
+                F::R32G32B32A32_SFLOAT,
+                GBUFFER_LAYOUT,
+            ),
+            stencil: upload(engine, &frame.stencil, F::R8_UINT, GBUFFER_LAYOUT),
+            motion: upload(engine, &frame.motion, F::R32G32_SFLOAT, MOTION_LAYOUT),
+            camera: frame.camera,
+            width: frame.color.width as u32,
+            height: frame.color.height as u32,
+        }
+    }
+
+    pub fn geometry(&self) -> PatchexGeometry {
+        PatchexGeometry {
+            depth: describe(&self.depth, DEPTH_LAYOUT),
+            normal: describe(&self.normal, GBUFFER_LAYOUT),
+            normal_encoding: PATCHEX_NORMAL_SIGNED,
+            stencil: describe(&self.stencil, GBUFFER_LAYOUT),
+            motion_vectors: describe(&self.motion, MOTION_LAYOUT),
+            motion_vector_scale: [1.0, 1.0],
+            camera: self.camera,
+        }
+    }
+
+    pub fn frame_desc(&self, frame_index: u64, queue_family_index: u32) -> PatchexFrameDesc {
+        PatchexFrameDesc {
+            header: header(
+                PATCHEX_STRUCT_TYPE_FRAME_DESC,
+                size_of::<PatchexFrameDesc>(),
+            ),
+            frame_index,
+            reset: 0,
+            queue_family_index,
+            width: self.width,
+            height: self.height,
+            color: describe(&self.color, COLOR_LAYOUT),
+            base_color: describe(&self.base_color, GBUFFER_LAYOUT),
+            material: describe(&self.material, GBUFFER_LAYOUT),
+            geometry: self.geometry(),
+        }
+    }
+
+    pub fn extrapolate_desc(
+        &self,
+        output: &EngineImage,
+        alpha: f32,
+        queue_family_index: u32,
+    ) -> PatchexExtrapolateDesc {
+        PatchexExtrapolateDesc {
+            header: header(
+                PATCHEX_STRUCT_TYPE_EXTRAPOLATE_DESC,
+                size_of::<PatchexExtrapolateDesc>(),
+            ),
+            queue_family_index,
+            alpha,
+            width: self.width,
+            height: self.height,
+            base_color: describe(&self.base_color, GBUFFER_LAYOUT),
+            material: describe(&self.material, GBUFFER_LAYOUT),
+            geometry: self.geometry(),
+            output: describe(output, OUTPUT_LAYOUT),
+        }
+    }
+}
+
+/// The engine's output image, R16G16B16A16_SFLOAT with storage usage, in OUTPUT_LAYOUT.
+pub fn output_image(engine: &Engine, width: u32, height: u32) -> EngineImage {
+    let output = EngineImage::new(
+        engine,
+        vk::Format::R16G16B16A16_SFLOAT,
+        width,
+        height,
+        vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::SAMPLED,
+    );
+    output.upload(
+        engine,
+        &vec![0.0; (width * height * 4) as usize],
+        OUTPUT_LAYOUT,
+    );
+    output
+}
