@@ -1,0 +1,550 @@
+//! Every bad input the C ABI can be handed returns its own result code and a message, records
+//! nothing, and leaves the context working: each test follows the rejected call with a valid
+//! frame in the same command buffer, and the rig fails on any validation message.
+
+mod support;
+
+use std::ffi::{c_char, c_void, CStr};
+use std::ptr;
+
+use ash::vk;
+use glam::Vec2;
+use patchex::abi::*;
+use patchex::error::PatchexResult;
+use patchex::loader::PatchexLibrary;
+use patchex_harness::{Engine, EngineOptions};
+use support::scene::Scene;
+use support::*;
+
+const WIDTH: u32 = 32;
+const HEIGHT: u32 = 24;
+
+struct Case {
+    source: GpuFrame,
+    target: GpuFrame,
+    output: patchex_harness::EngineImage,
+    /// Last: its engine must outlive the images above.
+    rig: Rig,
+}
+
+impl Case {
+    fn new() -> Self {
+        let scene = Scene::new(WIDTH as usize, HEIGHT as usize);
+        let rig = Rig::new(WIDTH, HEIGHT);
+        let source = GpuFrame::upload(&rig.engine, &scene.render(0.0, Vec2::ZERO, -0.03));
+        let target = GpuFrame::upload(&rig.engine, &scene.render(0.015, Vec2::ZERO, 0.0));
+        let output = output_image(&rig.engine, WIDTH, HEIGHT);
+        Self {
+            rig,
+            source,
+            target,
+            output,
+        }
+    }
+
+    fn family(&self) -> u32 {
+        self.rig.engine.queue_family_index
+    }
+
+    fn frame(&self, index: u64) -> PatchexFrameDesc {
+        self.source.frame_desc(index, self.family())
+    }
+
+    fn target(&self) -> PatchexExtrapolateDesc {
+        self.target
+            .extrapolate_desc(&self.output, 0.5, self.family())
+    }
+
+    fn expect(&self, got: PatchexResult, want: PatchexResult) {
+        assert_eq!(got, want, "message: {}", self.rig.last_error());
+        let message = self.rig.last_error();
+        assert!(!message.is_empty(), "{want:?} comes with a message");
+        println!("{want:?}: {message}");
+    }
+
+    /// A valid frame and extrapolation after the rejected call: the context still works.
+    fn still_works(&self, cmd: vk::CommandBuffer, frame_index: u64) {
+        assert_eq!(
+            self.rig.submit(cmd, &self.frame(frame_index)),
+            PatchexResult::Success,
+            "{}",
+            self.rig.last_error()
+        );
+        assert_eq!(
+            self.rig.extrapolate(cmd, &self.target()),
+            PatchexResult::Success,
+            "{}",
+            self.rig.last_error()
+        );
+        assert!(
+            self.rig.last_error().is_empty(),
+            "success clears the last error"
+        );
+    }
+}
+
+fn rejected_submit(want: PatchexResult, break_it: impl FnOnce(&mut PatchexFrameDesc)) {
+    let case = Case::new();
+    let mut desc = case.frame(1);
+    break_it(&mut desc);
+    case.rig.engine.run(|cmd| {
+        case.expect(case.rig.submit(cmd, &desc), want);
+        case.still_works(cmd, 1);
+    });
+    let (result, stats) = case.rig.stats(1);
+    assert_eq!(result, PatchexResult::Success);
+    assert_eq!(stats.extrapolation_count, 1);
+}
+
+fn rejected_extrapolate(want: PatchexResult, break_it: impl FnOnce(&mut PatchexExtrapolateDesc)) {
+    let case = Case::new();
+    let mut desc = case.target();
+    break_it(&mut desc);
+    case.rig.engine.run(|cmd| {
+        assert_eq!(case.rig.submit(cmd, &case.frame(1)), PatchexResult::Success);
+        case.expect(case.rig.extrapolate(cmd, &desc), want);
+        assert_eq!(
+            case.rig.extrapolate(cmd, &case.target()),
+            PatchexResult::Success
+        );
+        case.still_works(cmd, 2);
+    });
+}
+
+#[test]
+fn submit_with_wrong_struct_type() {
+    rejected_submit(PatchexResult::ErrorInvalidStructType, |d| {
+        d.header.struct_type = PATCHEX_STRUCT_TYPE_CREATE_INFO
+    });
+}
+
+#[test]
+fn submit_with_struct_from_an_older_smaller_version() {
+    rejected_submit(PatchexResult::ErrorStructVersion, |d| {
+        d.header.struct_size = 16
+    });
+}
+
+#[test]
+fn submit_with_unknown_chained_struct() {
+    let unknown = PatchexStructHeader {
+        struct_type: 999,
+        struct_size: 16,
+        next: ptr::null(),
+    };
+    rejected_submit(PatchexResult::ErrorInvalidStructType, |d| {
+        d.header.next = &unknown as *const PatchexStructHeader as *const c_void
+    });
+}
+
+#[test]
+fn submit_with_unsupported_color_format() {
+    rejected_submit(PatchexResult::ErrorUnsupportedFormat, |d| {
+        d.color.format = vk::Format::R8_UINT
+    });
+}
+
+#[test]
+fn submit_with_depth_lacking_sampled_usage() {
+    rejected_submit(PatchexResult::ErrorMissingImageUsage, |d| {
+        d.geometry.depth.usage = vk::ImageUsageFlags::TRANSFER_SRC
+    });
+}
+
+#[test]
+fn submit_with_image_in_undefined_layout() {
+    rejected_submit(PatchexResult::ErrorInvalidLayout, |d| {
+        d.base_color.layout = vk::ImageLayout::UNDEFINED
+    });
+}
+
+#[test]
+fn submit_with_image_smaller_than_the_frame() {
+    rejected_submit(PatchexResult::ErrorMismatchedExtent, |d| {
+        d.geometry.normal.width = WIDTH - 1
+    });
+}
+
+#[test]
+fn submit_larger_than_the_maximum_extent() {
+    rejected_submit(PatchexResult::ErrorExtentTooLarge, |d| d.width = WIDTH + 1);
+}
+
+#[test]
+fn submit_with_empty_extent() {
+    rejected_submit(PatchexResult::ErrorInvalidArgument, |d| d.height = 0);
+}
+
+#[test]
+fn submit_on_another_queue_family() {
+    rejected_submit(PatchexResult::ErrorWrongQueueFamily, |d| {
+        d.queue_family_index += 1
+    });
+}
+
+#[test]
+fn submit_without_required_depth() {
+    rejected_submit(PatchexResult::ErrorNullPointer, |d| {
+        d.geometry.depth.image = vk::Image::null()
+    });
+}
+
+#[test]
+fn submit_with_image_but_no_view() {
+    rejected_submit(PatchexResult::ErrorNullPointer, |d| {
+        d.color.view = vk::ImageView::null()
+    });
+}
+
+#[test]
+fn submit_with_reset_flag_not_a_bool() {
+    rejected_submit(PatchexResult::ErrorInvalidArgument, |d| d.reset = 2);
+}
+
+#[test]
+fn submit_with_nan_in_the_camera() {
+    rejected_submit(PatchexResult::ErrorInvalidArgument, |d| {
+        d.geometry.camera.view[5] = f32::NAN
+    });
+}
+
+#[test]
+fn submit_with_singular_projection() {
+    rejected_submit(PatchexResult::ErrorInvalidArgument, |d| {
+        d.geometry.camera.projection = [0.0; 16]
+    });
+}
+
+#[test]
+fn submit_with_unknown_depth_convention() {
+    rejected_submit(PatchexResult::ErrorInvalidArgument, |d| {
+        d.geometry.camera.depth_convention = 7
+    });
+}
+
+#[test]
+fn submit_with_one_image_in_two_layouts() {
+    rejected_submit(PatchexResult::ErrorInvalidLayout, |d| {
+        d.base_color = d.color;
+        d.base_color.layout = vk::ImageLayout::GENERAL;
+    });
+}
+
+#[test]
+fn extrapolate_with_alpha_outside_its_range() {
+    rejected_extrapolate(PatchexResult::ErrorInvalidArgument, |d| d.alpha = 0.0);
+    rejected_extrapolate(PatchexResult::ErrorInvalidArgument, |d| d.alpha = f32::NAN);
+    rejected_extrapolate(PatchexResult::ErrorInvalidArgument, |d| d.alpha = 1.5);
+}
+
+#[test]
+fn extrapolate_with_extent_other_than_the_submitted_frame() {
+    rejected_extrapolate(PatchexResult::ErrorMismatchedExtent, |d| {
+        d.width = WIDTH - 2
+    });
+}
+
+#[test]
+fn extrapolate_without_motion_vectors() {
+    rejected_extrapolate(PatchexResult::ErrorNullPointer, |d| {
+        d.geometry.motion_vectors.image = vk::Image::null()
+    });
+}
+
+#[test]
+fn extrapolate_into_output_without_storage_usage() {
+    rejected_extrapolate(PatchexResult::ErrorMissingImageUsage, |d| {
+        d.output.usage = vk::ImageUsageFlags::SAMPLED
+    });
+}
+
+#[test]
+fn extrapolate_into_unsupported_output_format() {
+    rejected_extrapolate(PatchexResult::ErrorUnsupportedFormat, |d| {
+        d.output.format = vk::Format::R8G8B8A8_UNORM
+    });
+}
+
+#[test]
+fn extrapolate_into_an_input() {
+    rejected_extrapolate(PatchexResult::ErrorInvalidArgument, |d| {
+        d.output.image = d.base_color.image;
+    });
+}
+
+#[test]
+fn extrapolate_on_another_queue_family() {
+    rejected_extrapolate(PatchexResult::ErrorWrongQueueFamily, |d| {
+        d.queue_family_index = 77
+    });
+}
+
+#[test]
+fn extrapolate_with_invalid_warp_settings() {
+    let settings = PatchexWarpSettings {
+        header: header(
+            PATCHEX_STRUCT_TYPE_WARP_SETTINGS,
+            size_of::<PatchexWarpSettings>(),
+        ),
+        kind: PATCHEX_WARP_GBUFFER_GUIDED,
+        kernel_radius: 9,
+        sigma_spatial: 1.0,
+        sigma_depth: 0.05,
+        sigma_normal: 0.1,
+        sigma_position: 0.02,
+    };
+    rejected_extrapolate(PatchexResult::ErrorInvalidArgument, |d| {
+        d.header.next = &settings as *const PatchexWarpSettings as *const c_void
+    });
+    let negative = PatchexWarpSettings {
+        kernel_radius: 2,
+        sigma_depth: -1.0,
+        ..settings
+    };
+    rejected_extrapolate(PatchexResult::ErrorInvalidArgument, |d| {
+        d.header.next = &negative as *const PatchexWarpSettings as *const c_void
+    });
+}
+
+#[test]
+fn extrapolate_before_any_submit() {
+    let case = Case::new();
+    case.rig.engine.run(|cmd| {
+        case.expect(
+            case.rig.extrapolate(cmd, &case.target()),
+            PatchexResult::ErrorNoSourceFrame,
+        );
+        case.still_works(cmd, 1);
+    });
+}
+
+#[test]
+fn too_many_extrapolations_from_one_frame() {
+    let case = Case::new();
+    case.rig.engine.run(|cmd| {
+        assert_eq!(case.rig.submit(cmd, &case.frame(1)), PatchexResult::Success);
+        for _ in 0..PATCHEX_MAX_EXTRAPOLATIONS_PER_FRAME {
+            assert_eq!(
+                case.rig.extrapolate(cmd, &case.target()),
+                PatchexResult::Success
+            );
+        }
+        case.expect(
+            case.rig.extrapolate(cmd, &case.target()),
+            PatchexResult::ErrorTooManyExtrapolations,
+        );
+        case.still_works(cmd, 2);
+    });
+}
+
+#[test]
+fn frame_index_that_does_not_increase() {
+    let case = Case::new();
+    case.rig.engine.run(|cmd| {
+        assert_eq!(case.rig.submit(cmd, &case.frame(5)), PatchexResult::Success);
+        case.expect(
+            case.rig.submit(cmd, &case.frame(5)),
+            PatchexResult::ErrorOutOfOrder,
+        );
+        case.expect(
+            case.rig.submit(cmd, &case.frame(4)),
+            PatchexResult::ErrorOutOfOrder,
+        );
+        case.still_works(cmd, 6);
+    });
+}
+
+#[test]
+fn frame_gaps_and_reset_flags_are_reported() {
+    let case = Case::new();
+    // One submission per frame, waited on, as the frames-in-flight contract requires.
+    for (index, reset) in [(1, 0), (2, 0), (4, 0), (5, 1)] {
+        let mut desc = case.frame(index);
+        desc.reset = reset;
+        case.rig
+            .engine
+            .run(|cmd| assert_eq!(case.rig.submit(cmd, &desc), PatchexResult::Success));
+    }
+    // frames_in_flight is 2: frames 4 and 5 are held, earlier ones have left the ring.
+    assert_eq!(case.rig.stats(4).1.reset_reason, PATCHEX_RESET_FRAME_GAP);
+    assert_eq!(case.rig.stats(5).1.reset_reason, PATCHEX_RESET_REQUESTED);
+    case.expect(case.rig.stats(2).0, PatchexResult::ErrorFrameNotFound);
+}
+
+#[test]
+fn stats_with_wrong_struct_type() {
+    let case = Case::new();
+    // SAFETY: zeroed stats are a valid bit pattern; the header is deliberately wrong.
+    let mut stats: PatchexFrameStats = unsafe { std::mem::zeroed() };
+    stats.header = header(
+        PATCHEX_STRUCT_TYPE_FRAME_DESC,
+        size_of::<PatchexFrameStats>(),
+    );
+    // SAFETY: live context and writable stats.
+    let result = unsafe { (case.rig.library.get_frame_stats)(case.rig.context, 1, &mut stats) };
+    case.expect(result, PatchexResult::ErrorInvalidStructType);
+}
+
+#[test]
+fn null_pointers_on_every_call() {
+    let case = Case::new();
+    let library = &case.rig.library;
+    let desc = case.frame(1);
+    let target = case.target();
+    // SAFETY: every call is given a null where the ABI promises to check for one.
+    unsafe {
+        assert_eq!(
+            (library.submit_gbuffers)(ptr::null_mut(), vk::CommandBuffer::null(), &desc),
+            PatchexResult::ErrorNullPointer
+        );
+        assert!(!library.last_error_message(ptr::null()).is_empty());
+        case.rig.engine.run(|cmd| {
+            case.expect(
+                (library.submit_gbuffers)(case.rig.context, vk::CommandBuffer::null(), &desc),
+                PatchexResult::ErrorNullPointer,
+            );
+            case.expect(
+                (library.submit_gbuffers)(case.rig.context, cmd, ptr::null()),
+                PatchexResult::ErrorNullPointer,
+            );
+            case.expect(
+                (library.extrapolate)(case.rig.context, cmd, ptr::null()),
+                PatchexResult::ErrorNullPointer,
+            );
+            case.expect(
+                (library.extrapolate)(case.rig.context, vk::CommandBuffer::null(), &target),
+                PatchexResult::ErrorNullPointer,
+            );
+            case.expect(
+                (library.get_frame_stats)(case.rig.context, 1, ptr::null_mut()),
+                PatchexResult::ErrorNullPointer,
+            );
+            case.still_works(cmd, 1);
+        });
+        (library.destroy)(ptr::null_mut());
+    }
+}
+
+#[test]
+fn every_result_code_has_its_own_description() {
+    let case = Case::new();
+    let describe = |code: i32| {
+        // SAFETY: result_string returns a static string for any value.
+        unsafe { CStr::from_ptr((case.rig.library.result_string)(code)) }
+            .to_string_lossy()
+            .into_owned()
+    };
+    let mut seen = std::collections::HashSet::new();
+    for code in PatchexResult::ALL {
+        assert!(
+            seen.insert(describe(code as i32)),
+            "{code:?} shares its description"
+        );
+    }
+    assert_eq!(describe(12345), "unknown result code");
+    // SAFETY: plain call.
+    assert_eq!(
+        unsafe { (case.rig.library.abi_version)() },
+        PATCHEX_ABI_VERSION
+    );
+}
+
+// --- creation ---
+
+unsafe extern "C" fn collect_log(
+    user_data: *mut c_void,
+    level: PatchexLogLevel,
+    message: *const c_char,
+) {
+    let log = &mut *(user_data as *mut Vec<(PatchexLogLevel, String)>);
+    log.push((
+        level,
+        CStr::from_ptr(message).to_string_lossy().into_owned(),
+    ));
+}
+
+fn rejected_create(want: PatchexResult, break_it: impl FnOnce(&mut PatchexCreateInfo)) {
+    let engine = Engine::new(&EngineOptions::default()).unwrap();
+    // SAFETY: the library was built from this tree.
+    let library =
+        unsafe { PatchexLibrary::open(&PatchexLibrary::beside_current_exe().unwrap()) }.unwrap();
+    let mut log: Vec<(PatchexLogLevel, String)> = Vec::new();
+    let mut info = Rig::create_info(&engine, WIDTH, HEIGHT);
+    info.log_callback = Some(collect_log);
+    info.log_user_data = &mut log as *mut _ as *mut c_void;
+    break_it(&mut info);
+    let mut context = ptr::null_mut();
+    // SAFETY: info is readable; the case under test is what `break_it` changed.
+    let result = unsafe { (library.create)(&info, &mut context) };
+    // SAFETY: NULL asks for this thread's last error.
+    let message = unsafe { library.last_error_message(ptr::null()) };
+    assert_eq!(result, want, "{message}");
+    assert!(context.is_null());
+    assert!(!message.is_empty());
+    if info.log_callback.is_some()
+        && info.header.struct_type == PATCHEX_STRUCT_TYPE_CREATE_INFO
+        && info.header.struct_size as usize >= size_of::<PatchexCreateInfo>()
+    {
+        assert_eq!(
+            log,
+            vec![(PATCHEX_LOG_ERROR, message.clone())],
+            "the log callback hears the error"
+        );
+    }
+    println!("{want:?}: {message}");
+    // A good create on the same engine works afterwards.
+    let good = Rig::create_info(&engine, WIDTH, HEIGHT);
+    // SAFETY: valid create info.
+    unsafe {
+        assert_eq!(
+            (library.create)(&good, &mut context),
+            PatchexResult::Success
+        );
+        (library.destroy)(context);
+    }
+    engine.assert_validation_clean();
+}
+
+#[test]
+fn create_with_bad_arguments() {
+    rejected_create(PatchexResult::ErrorInvalidStructType, |i| {
+        i.header.struct_type = PATCHEX_STRUCT_TYPE_FRAME_DESC
+    });
+    rejected_create(PatchexResult::ErrorStructVersion, |i| {
+        i.header.struct_size = 8
+    });
+    rejected_create(PatchexResult::ErrorNullPointer, |i| {
+        i.get_instance_proc_addr = None
+    });
+    rejected_create(PatchexResult::ErrorNullPointer, |i| {
+        i.device = vk::Device::null()
+    });
+    rejected_create(PatchexResult::ErrorInvalidArgument, |i| i.preset = 42);
+    rejected_create(PatchexResult::ErrorInvalidArgument, |i| {
+        i.frames_in_flight = 0
+    });
+    rejected_create(PatchexResult::ErrorInvalidArgument, |i| i.max_width = 0);
+    rejected_create(PatchexResult::ErrorInvalidArgument, |i| {
+        i.queue_family_index = 99
+    });
+}
+
+#[test]
+fn create_with_null_pointers() {
+    // SAFETY: the library was built from this tree; nulls are what the ABI checks.
+    unsafe {
+        let library = PatchexLibrary::open(&PatchexLibrary::beside_current_exe().unwrap()).unwrap();
+        let mut context = ptr::null_mut();
+        assert_eq!(
+            (library.create)(ptr::null(), &mut context),
+            PatchexResult::ErrorNullPointer
+        );
+        let engine = Engine::new(&EngineOptions::default()).unwrap();
+        let info = Rig::create_info(&engine, WIDTH, HEIGHT);
+        assert_eq!(
+            (library.create)(&info, ptr::null_mut()),
+            PatchexResult::ErrorNullPointer
+        );
+        assert!(!library.last_error_message(ptr::null()).is_empty());
+    }
+}
