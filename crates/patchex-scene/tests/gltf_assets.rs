@@ -3,7 +3,7 @@
 mod common;
 
 use glam::Vec3;
-use patchex_scene::asset::{load_model, Pose, TextureRole};
+use patchex_scene::asset::{load_model, ChannelValue, Pose, Property, TextureRole};
 use patchex_scene::scene::SceneDescription;
 use patchex_scene::World;
 
@@ -21,6 +21,45 @@ fn robot_has_named_clips_skins_and_materials() {
         "Dance lasts {}",
         dance.duration
     );
+}
+
+#[test]
+fn robot_face_morph_targets_load_and_deform_the_head() {
+    let mut model =
+        load_model(&common::assets_dir().join("characters/RobotExpressive.glb")).unwrap();
+    let dance = &model.animations[model.animation_index("Dance").unwrap()];
+    let channel = dance
+        .channels
+        .iter()
+        .find(|c| c.property == Property::MorphWeights)
+        .expect("Dance has a morph weight channel");
+    assert!(
+        matches!(channel.sample(1.0), ChannelValue::MorphWeights(ref w) if w.len() == channel.width)
+    );
+    let node = channel.node;
+    let mesh = model.nodes[node]
+        .mesh
+        .expect("the animated node has a mesh");
+    let targets = model.meshes[mesh].primitives[0].morph_targets.len();
+    assert_eq!(channel.width, targets, "one weight per morph target");
+
+    // The clips keep the expressions at 0; a weight set on the node deforms the face.
+    let pose = |model: &patchex_scene::asset::Model| {
+        let mut out = Vec::new();
+        Pose::new(model, glam::Mat4::IDENTITY, None).vertices(model, &mut out);
+        out
+    };
+    let neutral = pose(&model);
+    let mut weights = vec![0.0; targets];
+    weights[0] = 1.0;
+    model.nodes[node].weights = Some(weights);
+    let expressive = pose(&model);
+    let moved = neutral
+        .iter()
+        .zip(&expressive)
+        .filter(|(a, b)| a.position.distance(b.position) > 1e-3)
+        .count();
+    assert!(moved > 10, "morph target 0 moves {moved} vertices");
 }
 
 #[test]

@@ -41,10 +41,12 @@ pub fn run(args: SheetArgs) -> CommandResult {
             })
             .collect::<Result<_, _>>()?
     };
-    let tiles: Vec<Vec<Rgb>> = chosen
-        .iter()
-        .map(|layer| visualize(layer, near, far))
-        .collect();
+    let sky: Vec<bool> = frame
+        .get(SCENE_DEPTH)
+        .map(|depth| depth.data.iter().map(|&d| d >= far).collect())
+        .unwrap_or_else(|| vec![false; frame.width * frame.height]);
+    let view = ViewInfo { near, far, sky };
+    let tiles: Vec<Vec<Rgb>> = chosen.iter().map(|layer| visualize(layer, &view)).collect();
     let columns = args.columns.max(1);
     let rows = tiles.len().div_ceil(columns);
     let (w, h) = (frame.width, frame.height);
@@ -106,8 +108,17 @@ fn hue(h: f32, saturation: f32) -> Rgb {
     [channel(5.0), channel(3.0), channel(1.0)]
 }
 
+/// What the visualisations need besides the layer itself.
+struct ViewInfo {
+    near: f32,
+    far: f32,
+    /// Background pixels, whose world positions are far-away points of no interest.
+    sky: Vec<bool>,
+}
+
 /// Maps one layer to displayable colours.
-fn visualize(layer: &LayerImage, near: f32, far: f32) -> Vec<Rgb> {
+fn visualize(layer: &LayerImage, view: &ViewInfo) -> Vec<Rgb> {
+    let (near, far) = (view.near, view.far);
     let pixels = (0..layer.height).flat_map(|y| (0..layer.width).map(move |x| (x, y)));
     match layer.name.as_str() {
         FINAL_IMAGE | FINAL_IMAGE_NO_DYNAMIC_SHADOWS => pixels
@@ -128,9 +139,14 @@ fn visualize(layer: &LayerImage, near: f32, far: f32) -> Vec<Rgb> {
                 gray(1.0 - (layer.value(x, y, 0) / near).max(1.0).ln() / (far / near).ln())
             })
             .collect(),
+        // A 4 m colour grid, so positions read as stripes; the sky's far points are noise.
         WORLD_POSITION => pixels
             .map(|(x, y)| {
-                [0, 1, 2].map(|c| (layer.value(x, y, c).rem_euclid(4.0) / 4.0 * 255.0) as u8)
+                if view.sky[y * layer.width + x] {
+                    [0, 0, 0]
+                } else {
+                    [0, 1, 2].map(|c| (layer.value(x, y, c).rem_euclid(4.0) / 4.0 * 255.0) as u8)
+                }
             })
             .collect(),
         CUSTOM_STENCIL => pixels

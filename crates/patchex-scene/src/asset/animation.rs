@@ -1,5 +1,5 @@
-//! Animation clips: keyframe channels on node translation, rotation and scale, sampled with
-//! glTF's STEP, LINEAR and CUBICSPLINE interpolation.
+//! Animation clips: keyframe channels on node translation, rotation, scale and morph target
+//! weights, sampled with glTF's STEP, LINEAR and CUBICSPLINE interpolation.
 
 use glam::{Quat, Vec3, Vec4};
 
@@ -8,6 +8,7 @@ pub enum Property {
     Translation,
     Rotation,
     Scale,
+    MorphWeights,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -22,9 +23,11 @@ pub struct Channel {
     pub property: Property,
     pub interpolation: Interpolation,
     pub times: Vec<f32>,
+    /// Floats per value: 3 for translation and scale, 4 for a rotation (xyzw), one per
+    /// morph target for weights.
+    pub width: usize,
     /// One value per key, or (in-tangent, value, out-tangent) per key for CUBICSPLINE.
-    /// Translation and scale use xyz; rotation is a quaternion in xyzw.
-    pub values: Vec<Vec4>,
+    pub values: Vec<f32>,
 }
 
 pub struct AnimationClip {
@@ -33,12 +36,13 @@ pub struct AnimationClip {
     pub channels: Vec<Channel>,
 }
 
-/// A sampled channel value, ready to replace the node's rest transform component.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// A sampled channel value, ready to replace the node's rest value.
+#[derive(Clone, Debug, PartialEq)]
 pub enum ChannelValue {
     Translation(Vec3),
     Rotation(Quat),
     Scale(Vec3),
+    MorphWeights(Vec<f32>),
 }
 
 impl AnimationClip {
@@ -55,21 +59,31 @@ impl AnimationClip {
 impl Channel {
     pub fn sample(&self, time: f32) -> ChannelValue {
         let raw = self.sample_raw(time);
+        let vec3 = || Vec3::from_slice(&raw);
         match self.property {
-            Property::Translation => ChannelValue::Translation(raw.truncate()),
-            Property::Scale => ChannelValue::Scale(raw.truncate()),
-            Property::Rotation => ChannelValue::Rotation(Quat::from_vec4(raw).normalize()),
+            Property::Translation => ChannelValue::Translation(vec3()),
+            Property::Scale => ChannelValue::Scale(vec3()),
+            Property::Rotation => {
+                ChannelValue::Rotation(Quat::from_vec4(Vec4::from_slice(&raw)).normalize())
+            }
+            Property::MorphWeights => ChannelValue::MorphWeights(raw),
         }
     }
 
-    fn value(&self, key: usize) -> Vec4 {
-        match self.interpolation {
-            Interpolation::CubicSpline => self.values[key * 3 + 1],
-            _ => self.values[key],
-        }
+    /// Value `slot` (0 in-tangent, 1 value, 2 out-tangent for cubic splines) of `key`.
+    fn element(&self, key: usize, slot: usize) -> &[f32] {
+        let index = match self.interpolation {
+            Interpolation::CubicSpline => key * 3 + slot,
+            _ => key,
+        };
+        &self.values[index * self.width..(index + 1) * self.width]
     }
 
-    fn sample_raw(&self, time: f32) -> Vec4 {
+    fn value(&self, key: usize) -> Vec<f32> {
+        self.element(key, 1).to_vec()
+    }
+
+    fn sample_raw(&self, time: f32) -> Vec<f32> {
         let last = self.times.len() - 1;
         if time <= self.times[0] {
             return self.value(0);
@@ -88,27 +102,28 @@ impl Channel {
         };
         match self.interpolation {
             Interpolation::Step => self.value(previous),
+            Interpolation::Linear if self.property == Property::Rotation => {
+                let qa = Quat::from_vec4(Vec4::from_slice(self.element(previous, 1)));
+                let qb = Quat::from_vec4(Vec4::from_slice(self.element(next, 1)));
+                qa.slerp(qb, t).to_array().to_vec()
+            }
             Interpolation::Linear => {
-                let (a, b) = (self.value(previous), self.value(next));
-                if self.property == Property::Rotation {
-                    let qa = Quat::from_vec4(a);
-                    let qb = Quat::from_vec4(b);
-                    Vec4::from(qa.slerp(qb, t))
-                } else {
-                    a.lerp(b, t)
-                }
+                let (a, b) = (self.element(previous, 1), self.element(next, 1));
+                a.iter().zip(b).map(|(a, b)| a + (b - a) * t).collect()
             }
             Interpolation::CubicSpline => {
                 // Hermite spline of glTF 2.0 appendix C; tangents are scaled by the key span.
-                let p0 = self.values[previous * 3 + 1];
-                let m0 = self.values[previous * 3 + 2] * span;
-                let p1 = self.values[next * 3 + 1];
-                let m1 = self.values[next * 3] * span;
                 let (t2, t3) = (t * t, t * t * t);
-                p0 * (2.0 * t3 - 3.0 * t2 + 1.0)
-                    + m0 * (t3 - 2.0 * t2 + t)
-                    + p1 * (-2.0 * t3 + 3.0 * t2)
-                    + m1 * (t3 - t2)
+                let (p0, m0) = (self.element(previous, 1), self.element(previous, 2));
+                let (p1, m1) = (self.element(next, 1), self.element(next, 0));
+                (0..self.width)
+                    .map(|i| {
+                        p0[i] * (2.0 * t3 - 3.0 * t2 + 1.0)
+                            + m0[i] * span * (t3 - 2.0 * t2 + t)
+                            + p1[i] * (-2.0 * t3 + 3.0 * t2)
+                            + m1[i] * span * (t3 - t2)
+                    })
+                    .collect()
             }
         }
     }
@@ -118,13 +133,14 @@ impl Channel {
 mod tests {
     use super::*;
 
-    fn channel(interpolation: Interpolation, values: Vec<Vec4>) -> Channel {
+    fn channel(interpolation: Interpolation, values: Vec<Vec3>) -> Channel {
         Channel {
             node: 0,
             property: Property::Translation,
             interpolation,
             times: vec![0.0, 1.0, 3.0],
-            values,
+            width: 3,
+            values: values.iter().flat_map(|v| v.to_array()).collect(),
         }
     }
 
@@ -133,9 +149,9 @@ mod tests {
         let c = channel(
             Interpolation::Linear,
             vec![
-                Vec4::ZERO,
-                Vec4::new(2.0, 0.0, 0.0, 0.0),
-                Vec4::new(2.0, 4.0, 0.0, 0.0),
+                Vec3::ZERO,
+                Vec3::new(2.0, 0.0, 0.0),
+                Vec3::new(2.0, 4.0, 0.0),
             ],
         );
         assert_eq!(
@@ -157,7 +173,7 @@ mod tests {
     fn step_holds_the_previous_key() {
         let c = channel(
             Interpolation::Step,
-            vec![Vec4::ZERO, Vec4::ONE, Vec4::new(5.0, 5.0, 5.0, 0.0)],
+            vec![Vec3::ZERO, Vec3::ONE, Vec3::splat(5.0)],
         );
         assert_eq!(c.sample(0.99), ChannelValue::Translation(Vec3::ZERO));
         assert_eq!(c.sample(1.5), ChannelValue::Translation(Vec3::ONE));
@@ -165,12 +181,25 @@ mod tests {
 
     #[test]
     fn cubic_spline_with_zero_tangents_passes_through_keys_and_midpoint() {
-        let key = |v: f32| [Vec4::ZERO, Vec4::splat(v), Vec4::ZERO];
+        let key = |v: f32| [Vec3::ZERO, Vec3::splat(v), Vec3::ZERO];
         let values = [key(0.0), key(1.0), key(3.0)].concat();
         let c = channel(Interpolation::CubicSpline, values);
         assert_eq!(c.sample(1.0), ChannelValue::Translation(Vec3::splat(1.0)));
         // Smoothstep between keys 1 and 3 at the middle of the span gives the mean.
         assert_eq!(c.sample(2.0), ChannelValue::Translation(Vec3::splat(2.0)));
+    }
+
+    #[test]
+    fn morph_weights_interpolate_per_target() {
+        let c = Channel {
+            node: 0,
+            property: Property::MorphWeights,
+            interpolation: Interpolation::Linear,
+            times: vec![0.0, 2.0],
+            width: 2,
+            values: vec![0.0, 1.0, 1.0, 0.0],
+        };
+        assert_eq!(c.sample(0.5), ChannelValue::MorphWeights(vec![0.25, 0.75]));
     }
 
     #[test]

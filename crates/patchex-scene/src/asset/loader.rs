@@ -1,7 +1,9 @@
 //! Reads a .glb/.gltf file with the `gltf` crate into a [`Model`].
 
 use super::animation::{AnimationClip, Channel, Interpolation, Property};
-use super::{AlphaMode, Material, Mesh, Model, Node, Primitive, Skin, TextureData, TextureRole};
+use super::{
+    AlphaMode, Material, Mesh, Model, MorphTarget, Node, Primitive, Skin, TextureData, TextureRole,
+};
 use crate::error::{Error, Result};
 use glam::{Mat4, Quat, Vec2, Vec3, Vec4};
 use gltf::image::Format;
@@ -28,6 +30,7 @@ pub fn load_model(path: &Path) -> Result<Model> {
                 children: node.children().map(|child| child.index()).collect(),
                 mesh: node.mesh().map(|mesh| mesh.index()),
                 skin: node.skin().map(|skin| skin.index()),
+                weights: node.weights().map(<[f32]>::to_vec),
             }
         })
         .collect();
@@ -50,7 +53,10 @@ pub fn load_model(path: &Path) -> Result<Model> {
                 .filter(|primitive| primitive.mode() == gltf::mesh::Mode::Triangles)
                 .filter_map(|primitive| read_primitive(&primitive, buffer_data))
                 .collect();
-            Mesh { primitives }
+            Mesh {
+                primitives,
+                weights: mesh.weights().map(<[f32]>::to_vec).unwrap_or_default(),
+            }
         })
         .collect();
     let skins = document
@@ -228,7 +234,16 @@ fn read_primitive<'a, 's>(
         Some(normals) => normals.map(Vec3::from).collect(),
         None => smooth_normals(&positions, &indices),
     };
+    let morph_targets = reader
+        .read_morph_targets()
+        .map(|(positions, normals, tangents)| MorphTarget {
+            positions: positions.map(|p| p.map(Vec3::from).collect()),
+            normals: normals.map(|n| n.map(Vec3::from).collect()),
+            tangents: tangents.map(|t| t.map(Vec3::from).collect()),
+        })
+        .collect();
     Some(Primitive {
+        morph_targets,
         normals,
         tangents: reader
             .read_tangents()
@@ -281,21 +296,6 @@ fn read_animation<'a, 's>(
         let (Some(inputs), Some(outputs)) = (reader.read_inputs(), reader.read_outputs()) else {
             continue;
         };
-        let (property, values): (Property, Vec<Vec4>) = match outputs {
-            ReadOutputs::Translations(t) => (
-                Property::Translation,
-                t.map(|v| Vec3::from(v).extend(0.0)).collect(),
-            ),
-            ReadOutputs::Scales(s) => (
-                Property::Scale,
-                s.map(|v| Vec3::from(v).extend(0.0)).collect(),
-            ),
-            ReadOutputs::Rotations(r) => {
-                (Property::Rotation, r.into_f32().map(Vec4::from).collect())
-            }
-            // Morph target weights are not rendered.
-            ReadOutputs::MorphTargetWeights(_) => continue,
-        };
         let times: Vec<f32> = inputs.collect();
         if times.is_empty() {
             continue;
@@ -305,11 +305,27 @@ fn read_animation<'a, 's>(
             gltf::animation::Interpolation::Linear => Interpolation::Linear,
             gltf::animation::Interpolation::CubicSpline => Interpolation::CubicSpline,
         };
+        let (property, values): (Property, Vec<f32>) = match outputs {
+            ReadOutputs::Translations(t) => (Property::Translation, t.flatten().collect()),
+            ReadOutputs::Scales(s) => (Property::Scale, s.flatten().collect()),
+            ReadOutputs::Rotations(r) => (Property::Rotation, r.into_f32().flatten().collect()),
+            ReadOutputs::MorphTargetWeights(w) => (Property::MorphWeights, w.into_f32().collect()),
+        };
+        let values_per_key = if interpolation == Interpolation::CubicSpline {
+            3
+        } else {
+            1
+        };
+        let width = values.len() / (times.len() * values_per_key);
+        if width == 0 || width * times.len() * values_per_key != values.len() {
+            continue;
+        }
         channels.push(Channel {
             node: channel.target().node().index(),
             property,
             interpolation,
             times,
+            width,
             values,
         });
     }

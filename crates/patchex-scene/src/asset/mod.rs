@@ -6,8 +6,8 @@ mod model;
 mod pose;
 mod texture;
 
-pub use animation::{AnimationClip, Channel, Interpolation, Property};
+pub use animation::{AnimationClip, Channel, ChannelValue, Interpolation, Property};
 pub use loader::load_model;
-pub use model::{AlphaMode, Material, Mesh, Model, Node, Primitive, Skin};
+pub use model::{AlphaMode, Material, Mesh, Model, MorphTarget, Node, Primitive, Skin};
 pub use pose::{Pose, PosedVertex};
 pub use texture::{TextureData, TextureRole};

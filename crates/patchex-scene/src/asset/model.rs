@@ -37,6 +37,8 @@ pub struct Node {
     pub children: Vec<usize>,
     pub mesh: Option<usize>,
     pub skin: Option<usize>,
+    /// Morph target weights of this instance; the mesh's defaults apply when `None`.
+    pub weights: Option<Vec<f32>>,
 }
 
 impl Node {
@@ -47,6 +49,15 @@ impl Node {
 
 pub struct Mesh {
     pub primitives: Vec<Primitive>,
+    /// Default morph target weights.
+    pub weights: Vec<f32>,
+}
+
+/// Per-vertex displacements of one morph target.
+pub struct MorphTarget {
+    pub positions: Option<Vec<Vec3>>,
+    pub normals: Option<Vec<Vec3>>,
+    pub tangents: Option<Vec<Vec3>>,
 }
 
 /// One triangle list with a single material. Optional attributes are filled with glTF's
@@ -62,6 +73,7 @@ pub struct Primitive {
     pub weights: Option<Vec<Vec4>>,
     pub indices: Vec<u32>,
     pub material: Option<usize>,
+    pub morph_targets: Vec<MorphTarget>,
 }
 
 pub struct Skin {

@@ -356,6 +356,7 @@ fn ground_model(ground: &GroundDescription) -> Model {
         // Counter-clockwise seen from above.
         indices: vec![0, 2, 1, 0, 3, 2],
         material: Some(0),
+        morph_targets: Vec::new(),
     };
     Model {
         name: "ground".into(),
@@ -367,10 +368,12 @@ fn ground_model(ground: &GroundDescription) -> Model {
             children: Vec::new(),
             mesh: Some(0),
             skin: None,
+            weights: None,
         }],
         roots: vec![0],
         meshes: vec![Mesh {
             primitives: vec![primitive],
+            weights: Vec::new(),
         }],
         skins: Vec::new(),
         animations: Vec::new(),
