@@ -139,13 +139,17 @@ fn visualize(layer: &LayerImage, view: &ViewInfo) -> Vec<Rgb> {
                 gray(1.0 - (layer.value(x, y, 0) / near).max(1.0).ln() / (far / near).ln())
             })
             .collect(),
-        // A 4 m colour grid, so positions read as stripes; the sky's far points are noise.
+        // Smooth 4 m colour bands per axis (a sawtooth would flicker on planes at a band
+        // edge); the sky's far points are noise, so they stay black.
         WORLD_POSITION => pixels
             .map(|(x, y)| {
                 if view.sky[y * layer.width + x] {
                     [0, 0, 0]
                 } else {
-                    [0, 1, 2].map(|c| (layer.value(x, y, c).rem_euclid(4.0) / 4.0 * 255.0) as u8)
+                    [0, 1, 2].map(|c| {
+                        let phase = layer.value(x, y, c) * std::f32::consts::TAU / 4.0;
+                        ((0.5 + 0.5 * phase.sin()) * 255.0) as u8
+                    })
                 }
             })
             .collect(),
