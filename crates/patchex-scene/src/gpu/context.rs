@@ -160,6 +160,10 @@ impl Drop for Gpu {
             }
             self.instance.destroy_instance(None);
         }
+        // Teardown messages (leaked objects, say) arrive after any caller could collect them.
+        for message in self.take_validation_messages() {
+            eprintln!("validation message at device teardown: {message}");
+        }
     }
 }
 
