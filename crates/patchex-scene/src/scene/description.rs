@@ -155,6 +155,10 @@ pub struct PropDescription {
     pub yaw_deg: f32,
     #[serde(default = "default_scale")]
     pub scale: f32,
+    /// Characters stand on the highest `ground` prop under them; path heights become
+    /// offsets above it.
+    #[serde(default)]
+    pub ground: bool,
 }
 
 fn default_scale() -> f32 {
@@ -195,7 +199,8 @@ pub struct CharacterDescription {
     /// Added to the walking direction's yaw, for models whose forward axis is not +z.
     #[serde(default)]
     pub yaw_offset_deg: f32,
-    /// Waypoints over the ground; one point keeps the character in place.
+    /// Waypoints over the ground (heights are offsets above `ground` props where the scene
+    /// has them); one point keeps the character in place.
     pub path: Vec<[f32; 3]>,
     /// Walking speed along the path in m/s.
     #[serde(default)]

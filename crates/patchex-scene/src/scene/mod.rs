@@ -4,6 +4,7 @@
 mod batch;
 mod camera;
 mod description;
+mod ground;
 mod path;
 mod placement;
 mod projection;
@@ -16,6 +17,7 @@ pub use description::{
     CameraDescription, CameraRig, CharacterDescription, GroundDescription, PropDescription,
     ScatterDescription, SceneDescription, ShakeDescription, SunDescription,
 };
+pub use ground::GroundSurface;
 pub use path::PathMotion;
 pub use sun::SunLight;
 pub use world::{Character, World};

@@ -37,6 +37,7 @@ pub(crate) fn scatter_props(scatter: &ScatterDescription) -> Vec<PropDescription
                 position: [cx + radius * angle.cos(), cy, cz + radius * angle.sin()],
                 yaw_deg: rng.next_f32() * 360.0,
                 scale: scatter.scale_min + rng.next_f32() * (scatter.scale_max - scatter.scale_min),
+                ground: false,
             }
         })
         .collect()

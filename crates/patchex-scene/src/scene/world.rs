@@ -6,6 +6,7 @@ use super::camera::CameraState;
 use super::description::{
     CameraRig, CharacterDescription, GroundDescription, PropDescription, SceneDescription,
 };
+use super::ground::GroundSurface;
 use super::path::PathMotion;
 use super::placement::scatter_props;
 use super::sun::SunLight;
@@ -39,6 +40,8 @@ pub struct World {
     pub dynamic_batch: MeshBatch,
     pub characters: Vec<Character>,
     pub sun: SunLight,
+    /// Surface of the props marked `ground`, which characters stand on.
+    pub ground: Option<GroundSurface>,
     /// Asset path of each model, relative to the assets folder.
     pub model_assets: Vec<String>,
 }
@@ -123,10 +126,11 @@ impl World {
         let mut static_batch = MeshBatch::default();
         let mut props: Vec<PropDescription> = description.environment.clone();
         props.extend(description.scatter.iter().flat_map(scatter_props));
-        let mut instances: Vec<(usize, Mat4)> = Vec::new();
+        // (model, transform, whether characters stand on it)
+        let mut instances: Vec<(usize, Mat4, bool)> = Vec::new();
         if let Some(ground) = &description.ground {
             let index = cache.insert("(ground)".into(), ground_model(ground));
-            instances.push((index, Mat4::IDENTITY));
+            instances.push((index, Mat4::IDENTITY, false));
         }
         for prop in &props {
             let model = cache.get(&prop.asset)?;
@@ -135,15 +139,26 @@ impl World {
                 Quat::from_rotation_y(prop.yaw_deg.to_radians()),
                 Vec3::from(prop.position),
             );
-            instances.push((model, transform));
+            instances.push((model, transform, prop.ground));
         }
-        for &(model_index, transform) in &instances {
+        let mut ground_triangles = Vec::new();
+        for &(model_index, transform, is_ground) in &instances {
             let model = &cache.models[model_index];
+            let first_index = static_batch.indices.len();
             static_batch.append_triangles(model, cache.material_offsets[model_index], 0, 0);
             let mut posed = Vec::new();
             Pose::new(model, transform, None).vertices(model, &mut posed);
             static_batch.append_vertices(model, &posed, &posed);
+            if is_ground {
+                let corner = |i: u32| Vec3::from(static_batch.vertices[i as usize].position);
+                ground_triangles.extend(
+                    static_batch.indices[first_index..]
+                        .chunks_exact(3)
+                        .map(|t| [corner(t[0]), corner(t[1]), corner(t[2])]),
+                );
+            }
         }
+        let ground = (!ground_triangles.is_empty()).then(|| GroundSurface::new(ground_triangles));
 
         let mut characters = Vec::new();
         let mut dynamic_batch = MeshBatch::default();
@@ -192,6 +207,7 @@ impl World {
             dynamic_batch,
             characters,
             sun,
+            ground,
             model_assets: cache.model_assets,
         })
     }
@@ -199,7 +215,14 @@ impl World {
     /// Root transform of a character: on its path, facing the way it walks.
     pub fn character_transform(&self, character: &Character, time: f32) -> Mat4 {
         let d = &character.description;
-        let (position, heading) = character.path.at(d.walk_speed * time);
+        let (mut position, heading) = character.path.at(d.walk_speed * time);
+        if let Some(height) = self
+            .ground
+            .as_ref()
+            .and_then(|g| g.height_at(position.x, position.z))
+        {
+            position.y += height;
+        }
         let walking = d.walk_speed > 0.0 && d.path.len() >= 2;
         let yaw = if walking {
             heading.x.atan2(heading.z)
