@@ -2,6 +2,7 @@
 // skinned ones re-posed on the CPU each frame together with their previous-frame positions),
 // so motion vectors come from the previous position without a second skeleton on the GPU.
 
+// Same layout in gbuffer.wgsl, resolve.wgsl and FrameUniforms (src/render/uniforms.rs).
 struct Frame {
     view_proj: mat4x4<f32>,
     prev_view_proj: mat4x4<f32>,
@@ -16,7 +17,7 @@ struct Frame {
     ground_ambient: vec4<f32>,
     // width, height, near, far
     viewport: vec4<f32>,
-    // static texel size, dynamic texel size, depth bias, normal offset (world units)
+    // x: depth bias (light clip units), y: normal offset (metres), zw: padding
     shadow_params: vec4<f32>,
 }
 

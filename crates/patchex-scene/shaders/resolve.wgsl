@@ -5,6 +5,7 @@
 // Shading is split the way Unreal does it: DiffuseColor = BaseColor * (1 - Metallic),
 // SpecularColor = lerp(0.08 * Specular, BaseColor, Metallic); emissive is added unlit.
 
+// Same layout in gbuffer.wgsl, resolve.wgsl and FrameUniforms (src/render/uniforms.rs).
 struct Frame {
     view_proj: mat4x4<f32>,
     prev_view_proj: mat4x4<f32>,
@@ -18,6 +19,7 @@ struct Frame {
     sky_horizon: vec4<f32>,
     ground_ambient: vec4<f32>,
     viewport: vec4<f32>,
+    // x: depth bias (light clip units), y: normal offset (metres), zw: padding
     shadow_params: vec4<f32>,
 }
 
@@ -172,11 +174,11 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     // Shadow lookups offset along the normal by a few texels to avoid acne on lit slopes.
     let sun = frame.sun_direction.xyz;
     let n_dot_l = clamp(dot(normal, sun), 0.0, 1.0);
-    let offset_world = world + normal * frame.shadow_params.w;
+    let offset_world = world + normal * frame.shadow_params.y;
     let light_clip4 = frame.light_view_proj * vec4<f32>(offset_world, 1.0);
     let light_clip = light_clip4.xyz / light_clip4.w;
-    let static_visibility = sun_visibility(static_shadow_map, light_clip, frame.shadow_params.z);
-    let dynamic_visibility = sun_visibility(dynamic_shadow_map, light_clip, frame.shadow_params.z);
+    let static_visibility = sun_visibility(static_shadow_map, light_clip, frame.shadow_params.x);
+    let dynamic_visibility = sun_visibility(dynamic_shadow_map, light_clip, frame.shadow_params.x);
     store(PLANE_SHADOW_MASK, pixel, dynamic_visibility);
     if options.lighting != 1u {
         store3(PLANE_FINAL, pixel, vec3<f32>(0.0));

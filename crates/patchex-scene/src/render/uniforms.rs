@@ -48,12 +48,7 @@ impl FrameUniforms {
             sky_horizon: extend(sky.sky_horizon),
             ground_ambient: extend(sky.ground_ambient),
             viewport: [width as f32, height as f32, camera.near, camera.far],
-            shadow_params: [
-                sun.texel_size,
-                sun.texel_size,
-                sun.depth_bias,
-                1.5 * sun.texel_size,
-            ],
+            shadow_params: [sun.depth_bias, 1.5 * sun.texel_size, 0.0, 0.0],
         }
     }
 }
