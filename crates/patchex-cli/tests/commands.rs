@@ -64,6 +64,25 @@ fn render_then_sheet_writes_a_dataset_and_a_png() {
     // 13 layers in 4 columns: 4 rows of 64x36 tiles.
     assert_eq!((info.width, info.height), (4 * 64, 4 * 36));
 
+    // Several datasets make a gallery of the chosen layers.
+    let gallery = patchex(&[
+        "sheet",
+        dataset.to_str().unwrap(),
+        dataset.to_str().unwrap(),
+        "--layers",
+        "FinalImage,ShadowMask",
+        "--columns",
+        "2",
+        "--out",
+        sheet_path.to_str().unwrap(),
+    ]);
+    assert!(gallery.status.success(), "{}", text(&gallery));
+    let decoder = png::Decoder::new(std::io::BufReader::new(
+        std::fs::File::open(&sheet_path).unwrap(),
+    ));
+    let info = decoder.read_info().unwrap().info().clone();
+    assert_eq!((info.width, info.height), (2 * 64, 2 * 36));
+
     let missing = patchex(&[
         "sheet",
         dataset.to_str().unwrap(),

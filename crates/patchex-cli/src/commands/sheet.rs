@@ -1,5 +1,6 @@
-//! `patchex sheet DATASET --frame K --out sheet.png`: every layer of one frame as a tile, in
-//! the order of the dataset's layer list, four tiles per row.
+//! `patchex sheet DATASET... --frame K --out sheet.png`: the chosen layers (default: all, in
+//! the dataset's order) of frame K of each dataset as tiles, four per row. Several datasets of
+//! the same size make a gallery, e.g. the FinalImage of every scene.
 
 use super::CommandResult;
 use clap::Args;
@@ -9,8 +10,9 @@ use std::path::PathBuf;
 
 #[derive(Args)]
 pub struct SheetArgs {
-    /// A dataset folder written by `patchex render`.
-    dataset: PathBuf,
+    /// Dataset folders written by `patchex render`, all of one resolution.
+    #[arg(required = true)]
+    datasets: Vec<PathBuf>,
     #[arg(long, default_value_t = 0)]
     frame: usize,
     #[arg(long)]
@@ -25,8 +27,15 @@ pub struct SheetArgs {
 
 type Rgb = [u8; 3];
 
-pub fn run(args: SheetArgs) -> CommandResult {
-    let dataset = Dataset::open(&args.dataset)?;
+/// The tiles of one dataset's frame.
+struct FrameTiles {
+    tiles: Vec<Vec<Rgb>>,
+    width: usize,
+    height: usize,
+}
+
+fn frame_tiles(path: &PathBuf, args: &SheetArgs) -> Result<FrameTiles, Box<dyn std::error::Error>> {
+    let dataset = Dataset::open(path)?;
     let frame = dataset.read_frame(args.frame)?;
     let (near, far) = (dataset.manifest.near, dataset.manifest.far);
     let chosen: Vec<&LayerImage> = if args.layers.is_empty() {
@@ -37,7 +46,7 @@ pub fn run(args: SheetArgs) -> CommandResult {
             .map(|name| {
                 frame
                     .get(name)
-                    .ok_or_else(|| format!("the frame has no layer {name:?}"))
+                    .ok_or_else(|| format!("{}: the frame has no layer {name:?}", path.display()))
             })
             .collect::<Result<_, _>>()?
     };
@@ -46,10 +55,27 @@ pub fn run(args: SheetArgs) -> CommandResult {
         .map(|depth| depth.data.iter().map(|&d| d >= far).collect())
         .unwrap_or_else(|| vec![false; frame.width * frame.height]);
     let view = ViewInfo { near, far, sky };
-    let tiles: Vec<Vec<Rgb>> = chosen.iter().map(|layer| visualize(layer, &view)).collect();
+    Ok(FrameTiles {
+        tiles: chosen.iter().map(|layer| visualize(layer, &view)).collect(),
+        width: frame.width,
+        height: frame.height,
+    })
+}
+
+pub fn run(args: SheetArgs) -> CommandResult {
+    let mut tiles: Vec<Vec<Rgb>> = Vec::new();
+    let mut size = None;
+    for path in &args.datasets {
+        let frame = frame_tiles(path, &args)?;
+        let frame_size = (frame.width, frame.height);
+        if *size.get_or_insert(frame_size) != frame_size {
+            return Err(format!("{} is not the size of the first dataset", path.display()).into());
+        }
+        tiles.extend(frame.tiles);
+    }
+    let (w, h) = size.expect("clap requires one dataset");
     let columns = args.columns.max(1);
     let rows = tiles.len().div_ceil(columns);
-    let (w, h) = (frame.width, frame.height);
     let sheet_width = columns * w;
     let mut pixels = vec![0u8; sheet_width * rows * h * 3];
     for (index, tile) in tiles.iter().enumerate() {
@@ -70,16 +96,7 @@ pub fn run(args: SheetArgs) -> CommandResult {
     encoder.set_color(png::ColorType::Rgb);
     encoder.set_depth(png::BitDepth::Eight);
     encoder.write_header()?.write_image_data(&pixels)?;
-    println!(
-        "{} ({} tiles: {})",
-        args.out.display(),
-        tiles.len(),
-        chosen
-            .iter()
-            .map(|l| l.name.as_str())
-            .collect::<Vec<_>>()
-            .join(", ")
-    );
+    println!("{} ({} tiles)", args.out.display(), tiles.len());
     Ok(())
 }
 
