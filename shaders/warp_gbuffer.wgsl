@@ -1,13 +1,17 @@
-// G-buffer-guided backward warp (ExtraSS, Wu et al. 2023). Each target pixel follows its motion
-// vector into frame t and gathers frame t's demodulated colour with a joint bilateral kernel around
-// that point, weighting each source texel by how well its geometry agrees with the target's:
-// same object id, close normals, and for static surfaces the same world position, for moving
-// ones the same relative depth. A pixel whose source leaves the screen or finds no agreeing
-// texel is a hole (alpha 0).
+// G-buffer-guided backward warp (after ExtraSS, Wu et al. 2023). Each target pixel follows its
+// motion vector to a point q in frame t. Where the source texels around q show the same surface
+// as the target pixel (same object id, close normals, and for static surfaces the same world
+// position, for moving ones the same relative depth), it takes their bilinear blend, weighted by
+// that agreement, so zero motion returns frame t exactly. Where they do not (disocclusions,
+// silhouettes, motion-vector errors), it gathers from a (2r+1)^2 window with a joint bilateral
+// kernel instead. A pixel whose source leaves the screen or finds no agreeing texel is a hole
+// (alpha 0).
 // #import gbuffer
 
 // A source texel agrees with the target when its geometry weight reaches this value.
 const AGREEMENT_THRESHOLD: f32 = 0.5;
+// The bilinear blend is kept when agreeing texels carry at least this share of its weight.
+const BILINEAR_ACCEPT: f32 = 0.5;
 // Below this total weight the kernel found nothing usable; take the nearest texel instead.
 const MIN_TOTAL_WEIGHT: f32 = 1e-6;
 
@@ -72,28 +76,51 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
     if (all(p < params.extent)) {
         let extent = vec2i(params.extent);
         let q = vec2f(p) + 0.5 + textureLoad(motion, p, 0).xy * params.motion_scale + params.jitter_delta;
-        let offscreen = any(q < vec2f(0.0)) || any(q >= vec2f(params.extent));
-        let centre = clamp(vec2i(floor(q)), vec2i(0), extent - 1);
+        // Written so that a NaN motion vector counts as off-screen.
+        let offscreen = !(all(q >= vec2f(0.0)) && all(q < vec2f(params.extent)));
         let target_geo = textureLoad(target_geometry, p, 0);
         let target_nid = textureLoad(target_normal_id, p, 0);
 
+        // Bilinear footprint of q, each texel weighted by its agreement with the target.
+        let corner = vec2i(floor(q - 0.5));
+        let f = q - 0.5 - floor(q - 0.5);
         var shading_sum = vec3f(0.0);
         var weight_sum = 0.0;
         var best_agreement = 0.0;
-        let r = params.kernel_radius;
-        for (var dy = -r; dy <= r; dy++) {
-            for (var dx = -r; dx <= r; dx++) {
-                let s = clamp(centre + vec2i(dx, dy), vec2i(0), extent - 1);
-                let agreement = geometry_weight(target_geo, target_nid,
-                    textureLoad(source_geometry, s, 0), textureLoad(source_normal_id, s, 0));
-                let d = vec2f(s) + 0.5 - q;
-                let weight = exp(-dot(d, d) * params.inv_two_sigma_spatial_sq) * agreement;
-                shading_sum += weight * textureLoad(source_shading, s, 0).rgb;
-                weight_sum += weight;
+        for (var i = 0; i < 4; i++) {
+            let offset = vec2i(i & 1, i >> 1u);
+            let s = clamp(corner + offset, vec2i(0), extent - 1);
+            let agreement = geometry_weight(target_geo, target_nid,
+                textureLoad(source_geometry, s, 0), textureLoad(source_normal_id, s, 0));
+            let bilinear = select(1.0 - f, f, vec2<bool>(offset == vec2i(1)));
+            let footprint = bilinear.x * bilinear.y;
+            shading_sum += footprint * agreement * textureLoad(source_shading, s, 0).rgb;
+            weight_sum += footprint * agreement;
+            if (footprint > 0.0) {
                 best_agreement = max(best_agreement, agreement);
             }
         }
-        var shading = textureLoad(source_shading, centre, 0).rgb;
+
+        if (weight_sum < BILINEAR_ACCEPT) {
+            // Joint bilateral gather around q.
+            shading_sum = vec3f(0.0);
+            weight_sum = 0.0;
+            let centre = clamp(vec2i(floor(q)), vec2i(0), extent - 1);
+            let r = params.kernel_radius;
+            for (var dy = -r; dy <= r; dy++) {
+                for (var dx = -r; dx <= r; dx++) {
+                    let s = clamp(centre + vec2i(dx, dy), vec2i(0), extent - 1);
+                    let agreement = geometry_weight(target_geo, target_nid,
+                        textureLoad(source_geometry, s, 0), textureLoad(source_normal_id, s, 0));
+                    let d = vec2f(s) + 0.5 - q;
+                    let weight = exp(-dot(d, d) * params.inv_two_sigma_spatial_sq) * agreement;
+                    shading_sum += weight * textureLoad(source_shading, s, 0).rgb;
+                    weight_sum += weight;
+                    best_agreement = max(best_agreement, agreement);
+                }
+            }
+        }
+        var shading = textureLoad(source_shading, clamp(vec2i(floor(q)), vec2i(0), extent - 1), 0).rgb;
         if (weight_sum > MIN_TOTAL_WEIGHT) {
             shading = shading_sum / weight_sum;
         }
