@@ -3,9 +3,12 @@
 //! `cargo bench -p patchex-scene --bench render_time [-- FILTER]` prints a Markdown table.
 //! A frame is everything `Renderer::render` does: posing and skinning the characters on the
 //! CPU, the dynamic shadow map, the G-buffer and resolve passes, and reading all layers back
-//! (EXR encoding is not included). Validation is off; the median of the timed frames is shown.
+//! (EXR encoding is not included). Validation is off. Shown are medians over the timed
+//! frames: wall time per frame, and GPU time (timestamp queries) of the G-buffer stage
+//! (dynamic shadow map + G-buffer pass) and of the resolve pass.
 
 use patchex_scene::dataset::frame_time;
+use patchex_scene::render::PassTimings;
 use patchex_scene::{FrameRequest, Gpu, GpuOptions, Renderer, World};
 use std::path::Path;
 use std::sync::Arc;
@@ -15,15 +18,23 @@ const SIZES: [(u32, u32); 2] = [(640, 360), (1280, 720)];
 const WARM_UP_FRAMES: usize = 2;
 const TIMED_FRAMES: usize = 8;
 
-fn median_ms(mut samples: Vec<f64>) -> f64 {
+fn median(mut samples: Vec<f64>) -> f64 {
     samples.sort_by(f64::total_cmp);
-    samples[samples.len() / 2] * 1e3
+    samples[samples.len() / 2]
 }
 
-fn time_scene(gpu: &Arc<Gpu>, world: &World, (width, height): (u32, u32)) -> f64 {
+/// Medians in milliseconds.
+struct SceneTimes {
+    frame_ms: f64,
+    gbuffer_ms: f64,
+    resolve_ms: f64,
+}
+
+fn time_scene(gpu: &Arc<Gpu>, world: &World, (width, height): (u32, u32)) -> SceneTimes {
     let mut renderer = Renderer::new(gpu, world, width, height).expect("renderer");
     let aspect = width as f32 / height as f32;
-    let mut samples = Vec::with_capacity(TIMED_FRAMES);
+    let mut frame_ms = Vec::with_capacity(TIMED_FRAMES);
+    let mut passes: Vec<PassTimings> = Vec::with_capacity(TIMED_FRAMES);
     for index in 1..=WARM_UP_FRAMES + TIMED_FRAMES {
         let request = FrameRequest::at(
             world,
@@ -35,10 +46,22 @@ fn time_scene(gpu: &Arc<Gpu>, world: &World, (width, height): (u32, u32)) -> f64
         let started = Instant::now();
         renderer.render(world, &request).expect("frame renders");
         if index > WARM_UP_FRAMES {
-            samples.push(started.elapsed().as_secs_f64());
+            frame_ms.push(started.elapsed().as_secs_f64() * 1e3);
+            passes.extend(renderer.last_timings());
         }
     }
-    median_ms(samples)
+    let gpu_ms = |pick: fn(&PassTimings) -> f64| {
+        if passes.is_empty() {
+            f64::NAN
+        } else {
+            median(passes.iter().map(pick).collect())
+        }
+    };
+    SceneTimes {
+        frame_ms: median(frame_ms),
+        gbuffer_ms: gpu_ms(|p| p.shadow_ms + p.gbuffer_ms),
+        resolve_ms: gpu_ms(|p| p.resolve_ms),
+    }
 }
 
 fn main() {
@@ -62,22 +85,25 @@ fn main() {
     scenes.sort();
     let gpu = Arc::new(Gpu::new(GpuOptions::default()).expect("Vulkan device"));
     println!("device: {}", gpu.device_name());
-    println!("median of {TIMED_FRAMES} frames after {WARM_UP_FRAMES} warm-up frames\n");
-    println!("| scene | triangles | 640x360 ms/frame | 1280x720 ms/frame | 720p / 360p |");
-    println!("| --- | --- | --- | --- | --- |");
+    println!(
+        "medians of {TIMED_FRAMES} frames after {WARM_UP_FRAMES} warm-up frames, milliseconds\n"
+    );
+    println!("| scene | triangles | 360p frame | 360p G-buffer GPU | 360p resolve GPU | 720p frame | 720p G-buffer GPU | 720p resolve GPU | 720p / 360p frame |");
+    println!("| --- | --- | --- | --- | --- | --- | --- | --- | --- |");
     for scene in scenes {
         let world = World::load(&scene, None).expect("scene loads");
         let triangles = (world.static_batch.indices.len() + world.dynamic_batch.indices.len()) / 3;
-        let times: Vec<f64> = SIZES
-            .iter()
-            .map(|&size| time_scene(&gpu, &world, size))
-            .collect();
+        let [low, high] = SIZES.map(|size| time_scene(&gpu, &world, size));
         println!(
-            "| {} | {triangles} | {:.1} | {:.1} | {:.2} |",
+            "| {} | {triangles} | {:.1} | {:.1} | {:.1} | {:.1} | {:.1} | {:.1} | {:.2} |",
             world.description.name,
-            times[0],
-            times[1],
-            times[1] / times[0]
+            low.frame_ms,
+            low.gbuffer_ms,
+            low.resolve_ms,
+            high.frame_ms,
+            high.gbuffer_ms,
+            high.resolve_ms,
+            high.frame_ms / low.frame_ms
         );
     }
 }

@@ -97,6 +97,14 @@ fn same_inputs_give_the_same_bytes_and_the_reader_returns_the_render() {
         lit,
         "EXR round trip is exact"
     );
+    let timings = renderer.last_timings().expect("lavapipe has timestamps");
+    for (pass, ms) in [
+        ("shadow", timings.shadow_ms),
+        ("G-buffer", timings.gbuffer_ms),
+        ("resolve", timings.resolve_ms),
+    ] {
+        assert!(ms > 0.0 && ms < 10_000.0, "{pass} pass took {ms} ms");
+    }
 
     // G-buffer-only frames skip lighting: no lit layers, every other layer unchanged.
     let unlit = renderer

@@ -21,6 +21,8 @@ pub struct Gpu {
     pub(crate) queue: vk::Queue,
     pub(crate) command_pool: vk::CommandPool,
     pub(crate) memory_properties: vk::PhysicalDeviceMemoryProperties,
+    /// Nanoseconds per timestamp tick, or `None` when the queue has no timestamps.
+    pub(crate) timestamp_period_ns: Option<f32>,
     device_name: String,
     messenger: Option<(ash::ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
     messages: MessageLog,
@@ -86,6 +88,10 @@ impl Gpu {
                 instance.get_physical_device_properties(physical),
             )
         };
+        // SAFETY: `physical` comes from `instance`.
+        let families = unsafe { instance.get_physical_device_queue_family_properties(physical) };
+        let timestamp_period_ns = (families[queue_family as usize].timestamp_valid_bits > 0)
+            .then_some(properties.limits.timestamp_period);
         let device_name = properties
             .device_name_as_c_str()
             .map(|name| name.to_string_lossy().into_owned())
@@ -116,6 +122,7 @@ impl Gpu {
             queue,
             command_pool,
             memory_properties,
+            timestamp_period_ns,
             device_name,
             messenger,
             messages,

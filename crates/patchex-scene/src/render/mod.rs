@@ -9,6 +9,8 @@ mod renderer;
 mod resolve_pass;
 mod shadow_pass;
 mod targets;
+mod timings;
 mod uniforms;
 
 pub use renderer::{FrameRequest, Renderer};
+pub use timings::PassTimings;

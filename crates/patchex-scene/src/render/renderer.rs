@@ -7,6 +7,7 @@ use super::pipelines::Pipelines;
 use super::resolve_pass::record_resolve_pass;
 use super::shadow_pass::record_shadow_pass;
 use super::targets::{shadow_map, GBufferTargets, GBUFFER_TARGETS};
+use super::timings::{Mark, PassTimer, PassTimings};
 use super::uniforms::FrameUniforms;
 use crate::dataset::{FrameLayers, PLANE_COUNT};
 use crate::error::{Result, VkContext};
@@ -53,6 +54,8 @@ pub struct Renderer {
     static_shadow: Image,
     dynamic_shadow: Image,
     pipelines: Pipelines,
+    timer: Option<PassTimer>,
+    last_timings: Option<PassTimings>,
     gpu: Arc<Gpu>,
 }
 
@@ -135,6 +138,8 @@ impl Renderer {
             static_shadow,
             dynamic_shadow,
             pipelines,
+            timer: PassTimer::new(gpu)?,
+            last_timings: None,
             gpu: gpu.clone(),
         };
         renderer.write_descriptor_sets();
@@ -210,6 +215,12 @@ impl Renderer {
         unsafe { self.gpu.device.update_descriptor_sets(&writes, &[]) };
     }
 
+    /// GPU time of each pass of the last frame; `None` before the first frame or on devices
+    /// without timestamps.
+    pub fn last_timings(&self) -> Option<PassTimings> {
+        self.last_timings
+    }
+
     pub fn size(&self) -> (u32, u32) {
         (self.width, self.height)
     }
@@ -231,6 +242,15 @@ impl Renderer {
         }
         let gpu = self.gpu.clone();
         gpu.submit_and_wait(|command_buffer| {
+            let mark = |mark: Mark| {
+                if let Some(timer) = &self.timer {
+                    timer.mark(command_buffer, mark);
+                }
+            };
+            if let Some(timer) = &self.timer {
+                timer.reset(command_buffer);
+            }
+            mark(Mark::Start);
             record_shadow_pass(
                 &gpu,
                 command_buffer,
@@ -240,6 +260,7 @@ impl Renderer {
                 world.sun.light_view_proj,
                 vk::PipelineStageFlags::COMPUTE_SHADER,
             );
+            mark(Mark::ShadowDone);
             record_gbuffer_pass(
                 &gpu,
                 command_buffer,
@@ -252,6 +273,7 @@ impl Renderer {
                     batches: [&self.static_batch, &self.dynamic_batch],
                 },
             );
+            mark(Mark::GBufferDone);
             record_resolve_pass(
                 &gpu,
                 command_buffer,
@@ -261,7 +283,9 @@ impl Renderer {
                 (self.width, self.height),
                 request.lighting,
             );
+            mark(Mark::ResolveDone);
         })?;
+        self.last_timings = self.timer.as_ref().map(PassTimer::read).transpose()?;
         let pixels = self.width as usize * self.height as usize;
         let planes = self.planes.read_f32(PLANE_COUNT * pixels);
         Ok(FrameLayers::from_planes(
