@@ -3,8 +3,10 @@
 
 mod batch;
 mod camera;
+mod camera_rig;
 mod description;
 mod ground;
+mod ground_plane;
 mod path;
 mod placement;
 mod projection;

@@ -1,7 +1,7 @@
 //! The directional sun and the orthographic projection of its shadow maps.
 
 use super::projection::{look_at, orthographic};
-use super::SunDescription;
+use super::{SceneDescription, SunDescription, Vertex};
 use glam::{Mat4, Vec3};
 
 #[derive(Clone, Copy, Debug)]
@@ -46,5 +46,44 @@ impl SunLight {
             texel_size,
             depth_bias: 1.5 * texel_size / depth_range,
         }
+    }
+}
+
+/// The square the shadow maps cover: the scene file's, or the characters' walking area grown
+/// by a margin (so their shadows stay sharp), limited to the static geometry's extent.
+pub(crate) fn shadow_region(
+    description: &SceneDescription,
+    static_vertices: &[Vertex],
+) -> (Vec3, f32) {
+    if let (Some(center), Some(radius)) =
+        (description.sun.shadow_center, description.sun.shadow_radius)
+    {
+        return (Vec3::from(center), radius);
+    }
+    let bounds = |points: &mut dyn Iterator<Item = Vec3>| {
+        points.fold(None, |acc: Option<(Vec3, Vec3)>, p| {
+            Some(acc.map_or((p, p), |(lo, hi)| (lo.min(p), hi.max(p))))
+        })
+    };
+    let static_bounds = bounds(&mut static_vertices.iter().map(|v| Vec3::from(v.position)));
+    let walk_bounds = bounds(
+        &mut description
+            .character
+            .iter()
+            .flat_map(|c| c.path.iter().copied().map(Vec3::from)),
+    );
+    let half_diagonal = |(lo, hi): (Vec3, Vec3)| (hi - lo).length() * 0.5;
+    match (static_bounds, walk_bounds) {
+        (Some(s), Some((lo, hi))) => {
+            let margin = Vec3::splat(8.0);
+            let walk = (lo - margin, hi + margin);
+            (
+                ((walk.0 + walk.1) * 0.5),
+                half_diagonal(walk).min(half_diagonal(s).max(1.0)),
+            )
+        }
+        (Some(s), None) => ((s.0 + s.1) * 0.5, half_diagonal(s).max(1.0)),
+        (None, Some(w)) => ((w.0 + w.1) * 0.5, half_diagonal(w) + 8.0),
+        (None, None) => (Vec3::ZERO, 10.0),
     }
 }

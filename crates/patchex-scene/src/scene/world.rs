@@ -1,21 +1,17 @@
 //! A loaded scene: static geometry baked to world space once, characters posed per instant,
-//! the camera rig and the sun.
+//! and the sun. The camera rigs are evaluated in `camera_rig.rs`.
 
 use super::batch::MeshBatch;
-use super::camera::CameraState;
-use super::description::{
-    CameraRig, CharacterDescription, GroundDescription, PropDescription, SceneDescription,
-};
+use super::description::{CameraRig, CharacterDescription, PropDescription, SceneDescription};
 use super::ground::GroundSurface;
+use super::ground_plane::ground_model;
 use super::path::PathMotion;
 use super::placement::scatter_props;
-use super::sun::SunLight;
+use super::sun::{shadow_region, SunLight};
 use super::Vertex;
-use crate::asset::{
-    load_model, AlphaMode, Material, Mesh, Model, Node, Pose, PosedVertex, Primitive, TextureData,
-};
+use crate::asset::{load_model, Material, Model, Pose, PosedVertex, TextureData};
 use crate::error::{io_error, Error, Result};
-use glam::{Mat4, Quat, Vec2, Vec3, Vec4};
+use glam::{Mat4, Quat, Vec3};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
@@ -261,152 +257,5 @@ impl World {
             batch.append_vertices(&self.models[character.model], &current, &previous);
         }
         batch.vertices
-    }
-
-    pub fn camera(&self, time: f32, aspect: f32) -> CameraState {
-        let lens = &self.description.camera;
-        let (mut position, mut target) = match &lens.rig {
-            CameraRig::Static { position, target } => (Vec3::from(*position), Vec3::from(*target)),
-            CameraRig::Orbit {
-                center,
-                radius,
-                height,
-                degrees_per_second,
-                start_deg,
-            } => {
-                let angle = (start_deg + degrees_per_second * time).to_radians();
-                let center = Vec3::from(*center);
-                (
-                    center + Vec3::new(radius * angle.cos(), *height, radius * angle.sin()),
-                    center,
-                )
-            }
-            CameraRig::Dolly {
-                path,
-                speed,
-                target,
-            } => (
-                PathMotion::new(path).at(speed * time).0,
-                Vec3::from(*target),
-            ),
-            CameraRig::Follow {
-                character,
-                offset,
-                look_height,
-            } => {
-                let followed = self
-                    .characters
-                    .iter()
-                    .find(|c| &c.description.name == character)
-                    .expect("checked when the world was built");
-                let (_, rotation, translation) = self
-                    .character_transform(followed, time)
-                    .to_scale_rotation_translation();
-                let yaw_only =
-                    Quat::from_rotation_y(-followed.description.yaw_offset_deg.to_radians())
-                        * rotation;
-                (
-                    translation + yaw_only * Vec3::from(*offset),
-                    translation + Vec3::Y * *look_height,
-                )
-            }
-        };
-        if let Some(shake) = lens.shake {
-            let phase = std::f32::consts::TAU * shake.frequency * time;
-            let wobble = Vec3::new(
-                phase.sin() + 0.5 * (2.3 * phase + 1.1).sin(),
-                (1.3 * phase + 2.0).sin() + 0.4 * (3.1 * phase).sin(),
-                (0.7 * phase + 0.5).sin(),
-            ) * shake.amplitude;
-            position += wobble;
-            target += wobble * 0.5;
-        }
-        CameraState::look_at(position, target, lens.fov_deg, aspect, lens.near, lens.far)
-    }
-}
-
-/// The square the shadow maps cover: the scene file's, or the characters' walking area grown
-/// by a margin (so their shadows stay sharp), limited to the static geometry's extent.
-fn shadow_region(description: &SceneDescription, static_vertices: &[Vertex]) -> (Vec3, f32) {
-    if let (Some(center), Some(radius)) =
-        (description.sun.shadow_center, description.sun.shadow_radius)
-    {
-        return (Vec3::from(center), radius);
-    }
-    let bounds = |points: &mut dyn Iterator<Item = Vec3>| {
-        points.fold(None, |acc: Option<(Vec3, Vec3)>, p| {
-            Some(acc.map_or((p, p), |(lo, hi)| (lo.min(p), hi.max(p))))
-        })
-    };
-    let static_bounds = bounds(&mut static_vertices.iter().map(|v| Vec3::from(v.position)));
-    let walk_bounds = bounds(
-        &mut description
-            .character
-            .iter()
-            .flat_map(|c| c.path.iter().copied().map(Vec3::from)),
-    );
-    let half_diagonal = |(lo, hi): (Vec3, Vec3)| (hi - lo).length() * 0.5;
-    match (static_bounds, walk_bounds) {
-        (Some(s), Some((lo, hi))) => {
-            let margin = Vec3::splat(8.0);
-            let walk = (lo - margin, hi + margin);
-            (
-                ((walk.0 + walk.1) * 0.5),
-                half_diagonal(walk).min(half_diagonal(s).max(1.0)),
-            )
-        }
-        (Some(s), None) => ((s.0 + s.1) * 0.5, half_diagonal(s).max(1.0)),
-        (None, Some(w)) => ((w.0 + w.1) * 0.5, half_diagonal(w) + 8.0),
-        (None, None) => (Vec3::ZERO, 10.0),
-    }
-}
-
-/// A flat textureless square, as a one-primitive model.
-fn ground_model(ground: &GroundDescription) -> Model {
-    let h = ground.size * 0.5;
-    let corners = [(-h, -h), (h, -h), (h, h), (-h, h)];
-    let primitive = Primitive {
-        positions: corners
-            .iter()
-            .map(|&(x, z)| Vec3::new(x, ground.height, z))
-            .collect(),
-        normals: vec![Vec3::Y; 4],
-        tangents: None,
-        uvs: corners.iter().map(|&(x, z)| Vec2::new(x, z)).collect(),
-        colors: vec![Vec4::ONE; 4],
-        joints: None,
-        weights: None,
-        // Counter-clockwise seen from above.
-        indices: vec![0, 2, 1, 0, 3, 2],
-        material: Some(0),
-        morph_targets: Vec::new(),
-    };
-    Model {
-        name: "ground".into(),
-        nodes: vec![Node {
-            name: "ground".into(),
-            translation: Vec3::ZERO,
-            rotation: Quat::IDENTITY,
-            scale: Vec3::ONE,
-            children: Vec::new(),
-            mesh: Some(0),
-            skin: None,
-            weights: None,
-        }],
-        roots: vec![0],
-        meshes: vec![Mesh {
-            primitives: vec![primitive],
-            weights: Vec::new(),
-        }],
-        skins: Vec::new(),
-        animations: Vec::new(),
-        materials: vec![Material {
-            base_color: Vec3::from(ground.base_color).extend(1.0),
-            metallic: 0.0,
-            roughness: ground.roughness,
-            alpha_mode: AlphaMode::Opaque,
-            ..Material::default()
-        }],
-        textures: Vec::new(),
     }
 }
