@@ -15,6 +15,9 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
+    /// The main job: render a scene, extrapolate every target instant through the plugin,
+    /// and write picture strips and a quality/GPU-time table.
+    Demo(commands::demo::DemoArgs),
     /// Render a scene file into a G-buffer dataset sequence.
     Render(commands::render::RenderArgs),
     /// Make a contact sheet PNG of one dataset frame: colour and every G-buffer layer.
@@ -26,6 +29,7 @@ enum Command {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
+        Command::Demo(args) => commands::demo::run(args),
         Command::Render(args) => commands::render::run(args),
         Command::Sheet(args) => commands::sheet::run(args),
         Command::Inspect(args) => commands::inspect::run(args),

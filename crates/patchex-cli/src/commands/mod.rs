@@ -1,4 +1,7 @@
+pub mod demo;
 pub mod inspect;
+pub mod picture;
+pub mod plugin_driver;
 pub mod render;
 pub mod sheet;
 

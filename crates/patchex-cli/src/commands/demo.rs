@@ -1,0 +1,259 @@
+//! `patchex demo`: the main job. Renders a real scene with the scene renderer at twice the
+//! display rate, extrapolates every target instant from the rendered frame before it through
+//! the plugin's C ABI, and writes what a person can look at: a picture strip per target
+//! (frame t, extrapolated, ground truth, error) and a table of quality and GPU time.
+
+use std::fmt::Write as _;
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use clap::Args;
+use indicatif::{ProgressBar, ProgressStyle};
+use patchex::abi::*;
+use patchex_scene::dataset::{render_sequence, Dataset, FrameRole, SequenceOptions, FINAL_IMAGE};
+use patchex_scene::{Gpu, GpuOptions, World};
+
+use super::picture::{psnr, tone_map, write_strip};
+use super::plugin_driver::PluginDriver;
+use super::render::parse_size;
+use super::CommandResult;
+
+#[derive(Args)]
+pub struct DemoArgs {
+    /// Scene file (TOML).
+    #[arg(default_value = "scenes/crossing_street.toml")]
+    scene: PathBuf,
+    /// Frames of the doubled stream to render; every odd frame is extrapolated.
+    #[arg(long, default_value_t = 16)]
+    frames: usize,
+    /// Resolution, WIDTHxHEIGHT.
+    #[arg(long, default_value = "640x360", value_parser = parse_size)]
+    size: (u32, u32),
+    /// Output folder: dataset/, strips/, summary.md, summary.json.
+    #[arg(long, default_value = "out/demo")]
+    out: PathBuf,
+    /// Assets folder; defaults to ../assets relative to the scene file.
+    #[arg(long)]
+    assets: Option<PathBuf>,
+    /// Run renderer and plugin under the Vulkan validation layer; fail on any message.
+    #[arg(long)]
+    validation: bool,
+}
+
+struct Row {
+    target: usize,
+    psnr_extrapolated: f64,
+    psnr_frame_t: f64,
+    hole_fraction: f32,
+    gpu_ms: [f32; PATCHEX_STAGE_SLOTS],
+}
+
+const STAGES: [(PatchexStage, &str); 5] = [
+    (PATCHEX_STAGE_DEMODULATE, "demodulate"),
+    (PATCHEX_STAGE_PACK_SOURCE_GBUFFER, "pack source"),
+    (PATCHEX_STAGE_PACK_TARGET_GBUFFER, "pack target"),
+    (PATCHEX_STAGE_WARP, "warp"),
+    (PATCHEX_STAGE_REMODULATE, "remodulate"),
+];
+
+pub fn run(args: DemoArgs) -> CommandResult {
+    let world = World::load(&args.scene, args.assets.as_deref())?;
+    let dataset_dir = args.out.join("dataset");
+    let strips_dir = args.out.join("strips");
+    std::fs::create_dir_all(&strips_dir)?;
+
+    let gpu = Arc::new(Gpu::new(GpuOptions {
+        validation: args.validation,
+    })?);
+    let bar = ProgressBar::new(args.frames as u64);
+    bar.set_style(
+        ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len}, {elapsed}")?
+            .progress_chars("=> "),
+    );
+    bar.set_message(format!("rendering {}", world.description.name));
+    let options = SequenceOptions {
+        frames: args.frames,
+        width: args.size.0,
+        height: args.size.1,
+        out_dir: dataset_dir.clone(),
+    };
+    render_sequence(&gpu, &world, &options, &mut |done, _| {
+        bar.set_position(done as u64)
+    })?;
+    bar.finish();
+    check_validation(
+        args.validation,
+        gpu.take_validation_messages(),
+        "scene renderer",
+    )?;
+
+    let dataset = Dataset::open(&dataset_dir)?;
+    let manifest = &dataset.manifest;
+    let driver = PluginDriver::new(manifest, args.validation)?;
+    let targets: Vec<usize> = manifest
+        .frames
+        .iter()
+        .filter(|f| f.role == FrameRole::Target && f.index > 0)
+        .map(|f| f.index)
+        .collect();
+    let bar = ProgressBar::new(targets.len() as u64);
+    bar.set_style(
+        ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len}, {elapsed}")?
+            .progress_chars("=> "),
+    );
+    bar.set_message("extrapolating");
+    let mut rows = Vec::new();
+    for (n, &target) in targets.iter().enumerate() {
+        let source_layers = dataset.read_frame(target - 1)?;
+        let target_layers = dataset.read_frame(target)?;
+        let result = driver.extrapolate(
+            n as u64 + 1,
+            (&source_layers, &manifest.frames[target - 1]),
+            (&target_layers, &manifest.frames[target]),
+            0.5,
+        )?;
+        let (width, height) = (manifest.width, manifest.height);
+        let frame_t = tone_map(&source_layers.layer(FINAL_IMAGE).data, 3);
+        let truth = tone_map(&target_layers.layer(FINAL_IMAGE).data, 3);
+        let extrapolated = tone_map(&result.color, 4);
+        write_strip(
+            &strips_dir.join(format!("target_{target:04}.png")),
+            width,
+            height,
+            &frame_t,
+            &extrapolated,
+            &truth,
+        )?;
+        let stats = &result.stats.extrapolations[0];
+        rows.push(Row {
+            target,
+            psnr_extrapolated: psnr(&extrapolated, &truth),
+            psnr_frame_t: psnr(&frame_t, &truth),
+            hole_fraction: stats.hole_fraction,
+            gpu_ms: merged_stage_times(&result.stats),
+        });
+        bar.inc(1);
+    }
+    bar.finish();
+    check_validation(args.validation, driver.validation_messages(), "plugin")?;
+
+    let summary = summary_markdown(
+        &world.description.name,
+        manifest.width,
+        manifest.height,
+        &driver.engine.device_name,
+        &rows,
+    );
+    std::fs::write(args.out.join("summary.md"), &summary)?;
+    std::fs::write(
+        args.out.join("summary.json"),
+        summary_json(&world.description.name, &rows),
+    )?;
+    println!("{summary}");
+    println!("pictures: {}", strips_dir.display());
+    Ok(())
+}
+
+fn check_validation(enabled: bool, messages: Vec<String>, what: &str) -> CommandResult {
+    if enabled && !messages.is_empty() {
+        return Err(format!(
+            "{what}: {} validation messages, first: {}",
+            messages.len(),
+            messages[0]
+        )
+        .into());
+    }
+    Ok(())
+}
+
+/// Submit and extrapolation stages in one array (their indices do not overlap).
+fn merged_stage_times(stats: &PatchexFrameStats) -> [f32; PATCHEX_STAGE_SLOTS] {
+    let mut merged = stats.submit_gpu_ms;
+    for (slot, ms) in merged.iter_mut().zip(stats.extrapolations[0].gpu_ms) {
+        *slot += ms;
+    }
+    merged
+}
+
+fn mean(values: impl Iterator<Item = f64>) -> f64 {
+    let (sum, count) = values.fold((0.0, 0), |(s, c), v| (s + v, c + 1));
+    sum / count.max(1) as f64
+}
+
+fn summary_markdown(
+    scene: &str,
+    width: usize,
+    height: usize,
+    device: &str,
+    rows: &[Row],
+) -> String {
+    let mut out = String::new();
+    writeln!(
+        out,
+        "## patchex demo: {scene}, {width}x{height}, warp-only preset, on {device}\n"
+    )
+    .unwrap();
+    writeln!(out, "PSNR (dB) of tone-mapped frames against the rendered ground truth; GPU times from timestamp queries.\n").unwrap();
+    write!(
+        out,
+        "| target | extrapolated | frame t (no extrapolation) | holes |"
+    )
+    .unwrap();
+    for (_, name) in STAGES {
+        write!(out, " {name} ms |").unwrap();
+    }
+    writeln!(out).unwrap();
+    writeln!(out, "|{}", "---|".repeat(4 + STAGES.len())).unwrap();
+    for row in rows {
+        write!(
+            out,
+            "| {} | {:.2} | {:.2} | {:.2}% |",
+            row.target,
+            row.psnr_extrapolated,
+            row.psnr_frame_t,
+            row.hole_fraction * 100.0
+        )
+        .unwrap();
+        for (stage, _) in STAGES {
+            write!(out, " {:.2} |", row.gpu_ms[stage as usize]).unwrap();
+        }
+        writeln!(out).unwrap();
+    }
+    write!(
+        out,
+        "| **mean** | **{:.2}** | **{:.2}** | {:.2}% |",
+        mean(rows.iter().map(|r| r.psnr_extrapolated)),
+        mean(rows.iter().map(|r| r.psnr_frame_t)),
+        mean(rows.iter().map(|r| r.hole_fraction as f64)) * 100.0
+    )
+    .unwrap();
+    for (stage, _) in STAGES {
+        write!(
+            out,
+            " {:.2} |",
+            mean(rows.iter().map(|r| r.gpu_ms[stage as usize] as f64))
+        )
+        .unwrap();
+    }
+    writeln!(out).unwrap();
+    out
+}
+
+fn summary_json(scene: &str, rows: &[Row]) -> String {
+    let rows: Vec<String> = rows
+        .iter()
+        .map(|r| {
+            let stages: Vec<String> =
+                STAGES.iter().map(|(s, name)| format!("\"{name}\": {:.4}", r.gpu_ms[*s as usize])).collect();
+            format!(
+                "    {{\"target\": {}, \"psnr_extrapolated\": {:.4}, \"psnr_frame_t\": {:.4}, \"hole_fraction\": {:.6}, \"gpu_ms\": {{{}}}}}",
+                r.target,
+                r.psnr_extrapolated,
+                r.psnr_frame_t,
+                r.hole_fraction,
+                stages.join(", ")
+            )
+        })
+        .collect();
+    format!("{{\n  \"scene\": \"{scene}\",\n  \"preset\": \"warp_only\",\n  \"targets\": [\n{}\n  ]\n}}\n", rows.join(",\n"))
+}

@@ -1,0 +1,68 @@
+//! Tone mapping, PSNR and picture strips for the demo.
+
+use std::path::Path;
+
+/// Reinhard tone mapping and sRGB encoding of linear HDR values with `channels` per pixel; the
+/// result is RGB in [0, 1], the space the demo's PSNR is measured in.
+pub fn tone_map(linear: &[f32], channels: usize) -> Vec<f32> {
+    linear
+        .chunks(channels)
+        .flat_map(|pixel| {
+            pixel[..3].iter().map(|&v| {
+                let mapped = (v.max(0.0) / (1.0 + v.max(0.0))).min(1.0);
+                if mapped <= 0.003_130_8 {
+                    mapped * 12.92
+                } else {
+                    1.055 * mapped.powf(1.0 / 2.4) - 0.055
+                }
+            })
+        })
+        .collect()
+}
+
+/// Peak signal-to-noise ratio of two RGB images in [0, 1], in dB.
+pub fn psnr(a: &[f32], b: &[f32]) -> f64 {
+    let squared: f64 = a.iter().zip(b).map(|(x, y)| ((x - y) as f64).powi(2)).sum();
+    let mse = squared / a.len() as f64;
+    if mse == 0.0 {
+        f64::INFINITY
+    } else {
+        10.0 * (1.0 / mse).log10()
+    }
+}
+
+/// Writes [frame t | extrapolated | ground truth | 4x absolute error] side by side.
+pub fn write_strip(
+    path: &Path,
+    width: usize,
+    height: usize,
+    frame_t: &[f32],
+    extrapolated: &[f32],
+    truth: &[f32],
+) -> Result<(), Box<dyn std::error::Error>> {
+    let error: Vec<f32> = extrapolated
+        .iter()
+        .zip(truth)
+        .map(|(x, y)| ((x - y).abs() * 4.0).min(1.0))
+        .collect();
+    let panels = [frame_t, extrapolated, truth, &error];
+    let strip_width = width * panels.len();
+    let mut bytes = vec![0u8; strip_width * height * 3];
+    for (panel_index, panel) in panels.iter().enumerate() {
+        for y in 0..height {
+            for x in 0..width {
+                let from = (y * width + x) * 3;
+                let to = (y * strip_width + panel_index * width + x) * 3;
+                for c in 0..3 {
+                    bytes[to + c] = (panel[from + c].clamp(0.0, 1.0) * 255.0 + 0.5) as u8;
+                }
+            }
+        }
+    }
+    let file = std::io::BufWriter::new(std::fs::File::create(path)?);
+    let mut encoder = png::Encoder::new(file, strip_width as u32, height as u32);
+    encoder.set_color(png::ColorType::Rgb);
+    encoder.set_depth(png::BitDepth::Eight);
+    encoder.write_header()?.write_image_data(&bytes)?;
+    Ok(())
+}

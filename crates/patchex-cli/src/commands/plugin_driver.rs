@@ -1,0 +1,280 @@
+//! Plays the engine for the plugin on dataset frames: uploads a frame's layers into engine-owned
+//! images, calls `patchex_submit_gbuffers` and `patchex_extrapolate` through the C ABI of the
+//! loaded shared library, and reads the output back.
+
+use std::ptr;
+
+use ash::vk;
+use patchex::abi::*;
+use patchex::error::PatchexResult;
+use patchex::ffi::PatchexContext;
+use patchex::loader::PatchexLibrary;
+use patchex_harness::{Engine, EngineImage, EngineOptions};
+use patchex_scene::dataset::{
+    FrameInfo, FrameLayers, Manifest, BASE_COLOR, CUSTOM_STENCIL, FINAL_IMAGE, METALLIC,
+    MOTION_VECTOR, SCENE_DEPTH, SPECULAR, WORLD_NORMAL,
+};
+
+/// The layout the driver keeps every engine image in between calls.
+const LAYOUT: vk::ImageLayout = vk::ImageLayout::GENERAL;
+
+pub struct PluginDriver {
+    context: *mut PatchexContext,
+    library: PatchexLibrary,
+    pub engine: Engine,
+    width: u32,
+    height: u32,
+    near: f32,
+    far: f32,
+}
+
+fn header(struct_type: PatchexStructType, size: usize) -> PatchexStructHeader {
+    PatchexStructHeader {
+        struct_type,
+        struct_size: size as u32,
+        next: ptr::null(),
+    }
+}
+
+fn describe(image: &EngineImage) -> PatchexImage {
+    PatchexImage {
+        image: image.image,
+        view: image.view,
+        format: image.format,
+        width: image.width,
+        height: image.height,
+        layout: LAYOUT,
+        usage: image.usage,
+    }
+}
+
+/// Interleaves single-channel layers into one RGBA image's values.
+fn interleave(width: usize, height: usize, planes: &[Vec<f32>]) -> Vec<f32> {
+    let mut values = vec![0.0; width * height * 4];
+    for (channel, plane) in planes.iter().enumerate() {
+        for (pixel, value) in plane.iter().enumerate() {
+            values[pixel * 4 + channel] = *value;
+        }
+    }
+    values
+}
+
+/// One instant's G-buffers in engine images.
+struct UploadedFrame {
+    color: Option<EngineImage>,
+    base_color: EngineImage,
+    material: EngineImage,
+    depth: EngineImage,
+    normal: EngineImage,
+    stencil: EngineImage,
+    motion: EngineImage,
+    camera: PatchexCamera,
+}
+
+/// What one extrapolation produced.
+pub struct Extrapolated {
+    /// RGBA, linear HDR.
+    pub color: Vec<f32>,
+    pub stats: PatchexFrameStats,
+}
+
+impl PluginDriver {
+    pub fn new(manifest: &Manifest, validation: bool) -> Result<Self, String> {
+        let engine = Engine::new(&EngineOptions {
+            validation,
+            ..Default::default()
+        })?;
+        let path = PatchexLibrary::beside_current_exe()?;
+        // SAFETY: the library is built from this workspace.
+        let library = unsafe { PatchexLibrary::open(&path)? };
+        let (width, height) = (manifest.width as u32, manifest.height as u32);
+        let info = PatchexCreateInfo {
+            header: header(
+                PATCHEX_STRUCT_TYPE_CREATE_INFO,
+                size_of::<PatchexCreateInfo>(),
+            ),
+            instance: engine.instance.handle(),
+            physical_device: engine.physical_device,
+            device: engine.device.handle(),
+            get_instance_proc_addr: Some(engine.get_instance_proc_addr()),
+            get_device_proc_addr: None,
+            queue_family_index: engine.queue_family_index,
+            max_width: width,
+            max_height: height,
+            frames_in_flight: 2,
+            preset: PATCHEX_PRESET_WARP_ONLY,
+            log_callback: None,
+            log_user_data: ptr::null_mut(),
+        };
+        let mut context = ptr::null_mut();
+        // SAFETY: valid create info from a live engine.
+        let result = unsafe { (library.create)(&info, &mut context) };
+        if result != PatchexResult::Success {
+            // SAFETY: NULL asks for this thread's last error.
+            return Err(format!("patchex_create: {}", unsafe {
+                library.last_error_message(ptr::null())
+            }));
+        }
+        Ok(Self {
+            context,
+            library,
+            engine,
+            width,
+            height,
+            near: manifest.near,
+            far: manifest.far,
+        })
+    }
+
+    fn upload(&self, layers: &FrameLayers, info: &FrameInfo, with_color: bool) -> UploadedFrame {
+        let (w, h) = (self.width, self.height);
+        let (wu, hu) = (w as usize, h as usize);
+        let image = |format, values: &[f32]| {
+            let image = EngineImage::new(&self.engine, format, w, h, vk::ImageUsageFlags::SAMPLED);
+            image.upload(&self.engine, values, LAYOUT);
+            image
+        };
+        let rgb = |name: &str| {
+            let layer = layers.layer(name);
+            interleave(wu, hu, &[layer.plane(0), layer.plane(1), layer.plane(2)])
+        };
+        use vk::Format as F;
+        UploadedFrame {
+            color: with_color.then(|| image(F::R32G32B32A32_SFLOAT, &rgb(FINAL_IMAGE))),
+            base_color: image(F::R32G32B32A32_SFLOAT, &rgb(BASE_COLOR)),
+            material: image(
+                F::R32G32B32A32_SFLOAT,
+                &interleave(
+                    wu,
+                    hu,
+                    &[
+                        layers.layer(METALLIC).plane(0),
+                        layers.layer(SPECULAR).plane(0),
+                    ],
+                ),
+            ),
+            depth: image(F::R32_SFLOAT, &layers.layer(SCENE_DEPTH).plane(0)),
+            normal: image(F::R32G32B32A32_SFLOAT, &rgb(WORLD_NORMAL)),
+            stencil: image(F::R8_UINT, &layers.layer(CUSTOM_STENCIL).plane(0)),
+            motion: image(F::R32G32_SFLOAT, &layers.layer(MOTION_VECTOR).data),
+            camera: PatchexCamera {
+                view: info.view,
+                projection: info.proj,
+                jitter: [0.0, 0.0],
+                near: self.near,
+                far: self.far,
+                depth_convention: PATCHEX_DEPTH_LINEAR_VIEW_Z,
+            },
+        }
+    }
+
+    fn geometry(&self, frame: &UploadedFrame) -> PatchexGeometry {
+        PatchexGeometry {
+            depth: describe(&frame.depth),
+            normal: describe(&frame.normal),
+            normal_encoding: PATCHEX_NORMAL_SIGNED,
+            stencil: describe(&frame.stencil),
+            motion_vectors: describe(&frame.motion),
+            motion_vector_scale: [1.0, 1.0],
+            camera: frame.camera,
+        }
+    }
+
+    /// Submits `source` as frame `frame_index` and extrapolates the `target` instant from it.
+    pub fn extrapolate(
+        &self,
+        frame_index: u64,
+        source: (&FrameLayers, &FrameInfo),
+        target: (&FrameLayers, &FrameInfo),
+        alpha: f32,
+    ) -> Result<Extrapolated, String> {
+        let source = self.upload(source.0, source.1, true);
+        let target = self.upload(target.0, target.1, false);
+        let output = EngineImage::new(
+            &self.engine,
+            vk::Format::R16G16B16A16_SFLOAT,
+            self.width,
+            self.height,
+            vk::ImageUsageFlags::STORAGE,
+        );
+        output.upload(
+            &self.engine,
+            &vec![0.0; (self.width * self.height * 4) as usize],
+            LAYOUT,
+        );
+        let family = self.engine.queue_family_index;
+        let frame = PatchexFrameDesc {
+            header: header(
+                PATCHEX_STRUCT_TYPE_FRAME_DESC,
+                size_of::<PatchexFrameDesc>(),
+            ),
+            frame_index,
+            reset: 0,
+            queue_family_index: family,
+            width: self.width,
+            height: self.height,
+            color: describe(source.color.as_ref().expect("uploaded with colour")),
+            base_color: describe(&source.base_color),
+            material: describe(&source.material),
+            geometry: self.geometry(&source),
+        };
+        let extrapolate = PatchexExtrapolateDesc {
+            header: header(
+                PATCHEX_STRUCT_TYPE_EXTRAPOLATE_DESC,
+                size_of::<PatchexExtrapolateDesc>(),
+            ),
+            queue_family_index: family,
+            alpha,
+            width: self.width,
+            height: self.height,
+            base_color: describe(&target.base_color),
+            material: describe(&target.material),
+            geometry: self.geometry(&target),
+            output: describe(&output),
+        };
+        let mut results = (PatchexResult::Success, PatchexResult::Success);
+        self.engine.run(|cmd| {
+            // SAFETY: live context; the images live until the submission completes.
+            unsafe {
+                results.0 = (self.library.submit_gbuffers)(self.context, cmd, &frame);
+                results.1 = (self.library.extrapolate)(self.context, cmd, &extrapolate);
+            }
+        });
+        if results != (PatchexResult::Success, PatchexResult::Success) {
+            // SAFETY: live context.
+            return Err(format!("patchex: {}", unsafe {
+                self.library.last_error_message(self.context)
+            }));
+        }
+        // SAFETY: zeroed stats are a valid bit pattern; the header is set before the call.
+        let mut stats: PatchexFrameStats = unsafe { std::mem::zeroed() };
+        stats.header = header(
+            PATCHEX_STRUCT_TYPE_FRAME_STATS,
+            size_of::<PatchexFrameStats>(),
+        );
+        // SAFETY: live context, writable stats; the frame's fence has signalled.
+        let result =
+            unsafe { (self.library.get_frame_stats)(self.context, frame_index, &mut stats) };
+        if result != PatchexResult::Success {
+            return Err(format!("patchex_get_frame_stats returned {result:?}"));
+        }
+        Ok(Extrapolated {
+            color: output.read(&self.engine, LAYOUT),
+            stats,
+        })
+    }
+
+    pub fn validation_messages(&self) -> Vec<String> {
+        self.engine.take_validation_messages()
+    }
+}
+
+impl Drop for PluginDriver {
+    fn drop(&mut self) {
+        // SAFETY: every submission was waited on; the context is not used again.
+        unsafe {
+            let _ = self.engine.device.device_wait_idle();
+            (self.library.destroy)(self.context);
+        }
+    }
+}

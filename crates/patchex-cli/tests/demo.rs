@@ -1,0 +1,55 @@
+//! The main job end to end, small: `patchex demo` renders a real scene, extrapolates through the
+//! plugin's shared library under validation, and reports extrapolation beating frame t.
+
+use std::path::Path;
+use std::process::Command;
+
+#[test]
+fn demo_extrapolates_a_rendered_scene_and_writes_its_report() {
+    let repo = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let out = tempfile::tempdir().unwrap();
+    let output = Command::new(env!("CARGO_BIN_EXE_patchex"))
+        .arg("demo")
+        .arg(repo.join("scenes/crossing_street.toml"))
+        .args(["--frames", "6", "--size", "128x72", "--validation", "--out"])
+        .arg(out.path())
+        .output()
+        .expect("the patchex binary runs");
+    let text = format!(
+        "{}{}",
+        String::from_utf8_lossy(&output.stdout),
+        String::from_utf8_lossy(&output.stderr)
+    );
+    assert!(output.status.success(), "{text}");
+    for target in [1, 3, 5] {
+        assert!(
+            out.path()
+                .join(format!("strips/target_{target:04}.png"))
+                .exists(),
+            "{text}"
+        );
+    }
+    let summary = std::fs::read_to_string(out.path().join("summary.json")).unwrap();
+    let numbers = |key: &str| -> Vec<f64> {
+        summary
+            .split(&format!("\"{key}\": "))
+            .skip(1)
+            .map(|rest| {
+                rest.split([',', '}'])
+                    .next()
+                    .unwrap()
+                    .trim()
+                    .parse()
+                    .unwrap()
+            })
+            .collect()
+    };
+    let (extrapolated, frame_t) = (numbers("psnr_extrapolated"), numbers("psnr_frame_t"));
+    assert_eq!(extrapolated.len(), 3, "{summary}");
+    for (e, t) in extrapolated.iter().zip(&frame_t) {
+        assert!(
+            e > t,
+            "extrapolated {e:.2} dB should beat frame t {t:.2} dB\n{summary}"
+        );
+    }
+}
