@@ -87,7 +87,16 @@ fn vs_main(input: VertexInput) -> VertexOutput {
     return output;
 }
 
-fn shading_normal(input: VertexOutput, front_facing: bool) -> vec3<f32> {
+// Screen-space derivatives of the surface, taken before any branch so every quad lane
+// computes them (derivatives in divergent control flow are undefined on real GPUs).
+struct SurfaceDerivatives {
+    dp_dx: vec3<f32>,
+    dp_dy: vec3<f32>,
+    duv_dx: vec2<f32>,
+    duv_dy: vec2<f32>,
+}
+
+fn shading_normal(input: VertexOutput, front_facing: bool, sampled_normal: vec3<f32>, d: SurfaceDerivatives) -> vec3<f32> {
     var geometric = normalize(input.normal);
     if !front_facing {
         geometric = -geometric;
@@ -96,12 +105,8 @@ fn shading_normal(input: VertexOutput, front_facing: bool) -> vec3<f32> {
     var handedness = input.tangent.w;
     if handedness == 0.0 {
         // Tangent frame from screen-space derivatives (Mikkelsen, "Bump Mapping Unparametrized Surfaces").
-        let dp_dx = dpdx(input.world_position);
-        let dp_dy = dpdy(input.world_position);
-        let duv_dx = dpdx(input.uv);
-        let duv_dy = dpdy(input.uv);
-        tangent = dp_dx * duv_dy.y - dp_dy * duv_dx.y;
-        handedness = select(1.0, -1.0, duv_dx.x * duv_dy.y - duv_dy.x * duv_dx.y < 0.0);
+        tangent = d.dp_dx * d.duv_dy.y - d.dp_dy * d.duv_dx.y;
+        handedness = select(1.0, -1.0, d.duv_dx.x * d.duv_dy.y - d.duv_dy.x * d.duv_dx.y < 0.0);
     }
     let orthogonal = tangent - geometric * dot(geometric, tangent);
     if dot(orthogonal, orthogonal) < 1e-12 {
@@ -109,8 +114,7 @@ fn shading_normal(input: VertexOutput, front_facing: bool) -> vec3<f32> {
     }
     let t = normalize(orthogonal);
     let b = cross(geometric, t) * handedness;
-    let sampled = textureSample(normal_texture, material_sampler, input.uv).xyz * 2.0 - 1.0;
-    let scaled = vec3<f32>(sampled.xy * material.normal_scale, sampled.z);
+    let scaled = vec3<f32>(sampled_normal.xy * material.normal_scale, sampled_normal.z);
     let mapped = t * scaled.x + b * scaled.y + geometric * scaled.z;
     if dot(mapped, mapped) < 1e-12 {
         return geometric;
@@ -120,16 +124,27 @@ fn shading_normal(input: VertexOutput, front_facing: bool) -> vec3<f32> {
 
 @fragment
 fn fs_main(input: VertexOutput, @builtin(front_facing) front_facing: bool) -> GBuffer {
-    let base = material.base_color * input.color * textureSample(base_color_texture, material_sampler, input.uv);
+    // Every implicit-derivative sample and derivative comes first, in uniform control flow.
+    let base_sample = textureSample(base_color_texture, material_sampler, input.uv);
+    // glTF packs roughness in green and metalness in blue.
+    let metal_rough = textureSample(metallic_roughness_texture, material_sampler, input.uv);
+    let emissive_sample = textureSample(emissive_texture, material_sampler, input.uv).rgb;
+    let normal_sample = textureSample(normal_texture, material_sampler, input.uv).xyz * 2.0 - 1.0;
+    let derivatives = SurfaceDerivatives(
+        dpdx(input.world_position),
+        dpdy(input.world_position),
+        dpdx(input.uv),
+        dpdy(input.uv),
+    );
+
+    let base = material.base_color * input.color * base_sample;
     if base.a < material.alpha_cutoff {
         discard;
     }
-    // glTF packs roughness in green and metalness in blue.
-    let metal_rough = textureSample(metallic_roughness_texture, material_sampler, input.uv);
     let roughness = clamp(material.roughness * metal_rough.g, 0.03, 1.0);
     let metallic = clamp(material.metallic * metal_rough.b, 0.0, 1.0);
-    let emissive = material.emissive.rgb * textureSample(emissive_texture, material_sampler, input.uv).rgb;
-    let normal = shading_normal(input, front_facing);
+    let emissive = material.emissive.rgb * emissive_sample;
+    let normal = shading_normal(input, front_facing, normal_sample, derivatives);
 
     let prev_ndc = input.prev_clip.xy / input.prev_clip.w;
     let prev_pixel = (prev_ndc * 0.5 + 0.5) * frame.viewport.xy;
