@@ -8,14 +8,14 @@ use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 
 use crate::abi::*;
 use crate::camera::Camera;
-use crate::error::{bail, Error, PatchexResult, Result};
-use crate::inputs::{self, SourceInputs, TargetInputs};
+use crate::error::{bail, PatchexResult, Result};
+use crate::inputs::{self, GeometryInputs, SourceInputs, TargetInputs};
 use crate::passes::warp_gbuffer::WarpSettings;
 use crate::passes::{demodulate, pack_gbuffer, remodulate, warp_gbuffer, Pipelines, Texture};
 use crate::vk::barriers::{self, EngineImageAccess};
 use crate::vk::device::Gpu;
 use crate::vk::frame_ring::{FrameRecord, FrameRing, RegionRecord};
-use crate::vk::image::{ImportedImage, OwnedImage};
+use crate::vk::image::OwnedImage;
 
 pub const MAX_FRAMES_IN_FLIGHT: u32 = 8;
 /// Largest extent accepted at creation; 8K with margin.
@@ -284,35 +284,21 @@ impl Context {
         self.check_queue_family(desc.queue_family_index, "PatchexFrameDesc")?;
         let inputs = inputs::source(&self.gpu, desc, self.max_extent)?;
         let reset_reason = self.reset_reason(&inputs)?;
+        let (placeholder, placeholder_uint) = self.placeholder_textures();
         let mut access = EngineImageAccess::default();
-        let read = |access: &mut EngineImageAccess, image: &ImportedImage| -> Result<Texture> {
-            Ok(Texture {
-                view: image.view,
-                layout: access.read(image)?,
-            })
+        let demodulate_inputs = demodulate::DemodulateInputs {
+            color: access.read(&inputs.color)?,
+            base_color: access.read(&inputs.base_color)?,
+            material: access.read_optional(inputs.material.as_ref())?,
+            placeholder,
         };
-        let color = read(&mut access, &inputs.color)?;
-        let base_color = read(&mut access, &inputs.base_color)?;
-        let material = inputs
-            .material
-            .as_ref()
-            .map(|m| read(&mut access, m))
-            .transpose()?;
-        let depth = read(&mut access, &inputs.geometry.depth)?;
-        let normal = read(&mut access, &inputs.geometry.normal)?;
-        let stencil = inputs
-            .geometry
-            .stencil
-            .as_ref()
-            .map(|s| read(&mut access, s))
-            .transpose()?;
+        let pack_inputs = pack_inputs(&mut access, &inputs.geometry, placeholder_uint)?;
 
         self.ring
             .collect(&self.gpu, &mut self.allocator, inputs.frame_index);
         self.ensure_work_images(inputs.extent, inputs.frame_index)?;
 
         // Everything is validated and allocated: from here on the call cannot fail.
-        let (placeholder, placeholder_uint) = self.placeholder_textures();
         let slot = self.ring.slot_of(inputs.frame_index);
         let device = &self.gpu.device;
         let work = self.work.as_mut().expect("allocated above");
@@ -332,12 +318,7 @@ impl Context {
                 cmd,
                 self.ring.descriptor_set(slot, 0, Pipelines::DEMODULATE),
                 inputs.extent,
-                &demodulate::DemodulateInputs {
-                    color,
-                    base_color,
-                    material,
-                    placeholder,
-                },
+                &demodulate_inputs,
                 &work.source_shading,
             )
         });
@@ -349,13 +330,7 @@ impl Context {
                 self.ring.descriptor_set(slot, 0, Pipelines::PACK_GBUFFER),
                 inputs.extent,
                 &inputs.geometry.camera,
-                &pack_gbuffer::PackInputs {
-                    depth,
-                    normal,
-                    normal_encoding: inputs.geometry.normal_encoding,
-                    stencil,
-                    placeholder_uint,
-                },
+                &pack_inputs,
                 &pack_gbuffer::PackOutputs {
                     geometry: &work.source_geometry,
                     normal_id: &work.source_normal_id,
@@ -417,32 +392,13 @@ impl Context {
                 source.frame_index
             );
         }
+        let (placeholder, placeholder_uint) = self.placeholder_textures();
         let mut access = EngineImageAccess::default();
-        let read = |access: &mut EngineImageAccess, image: &ImportedImage| -> Result<Texture> {
-            Ok(Texture {
-                view: image.view,
-                layout: access.read(image)?,
-            })
-        };
-        let base_color = read(&mut access, &inputs.base_color)?;
-        let material = inputs
-            .material
-            .as_ref()
-            .map(|m| read(&mut access, m))
-            .transpose()?;
-        let depth = read(&mut access, &inputs.geometry.depth)?;
-        let normal = read(&mut access, &inputs.geometry.normal)?;
-        let stencil = inputs
-            .geometry
-            .stencil
-            .as_ref()
-            .map(|s| read(&mut access, s))
-            .transpose()?;
-        let motion = read(&mut access, &inputs.motion_vectors)?;
-        let output = Texture {
-            view: inputs.output.view,
-            layout: access.write(&inputs.output)?,
-        };
+        let pack_inputs = pack_inputs(&mut access, &inputs.geometry, placeholder_uint)?;
+        let base_color = access.read(&inputs.base_color)?;
+        let material = access.read_optional(inputs.material.as_ref())?;
+        let motion = access.read(&inputs.motion_vectors)?;
+        let output = access.write(&inputs.output)?;
 
         let warp = warp.unwrap_or(self.default_warp);
         let jitter_delta = (inputs.geometry.camera.jitter - source.camera.jitter).into();
@@ -454,7 +410,6 @@ impl Context {
 
         // Everything is validated: from here on the call cannot fail.
         let region = 1 + done;
-        let (placeholder, placeholder_uint) = self.placeholder_textures();
         let device = &self.gpu.device;
         let work = self
             .work
@@ -481,13 +436,7 @@ impl Context {
                     .descriptor_set(slot, region, Pipelines::PACK_GBUFFER),
                 inputs.extent,
                 &inputs.geometry.camera,
-                &pack_gbuffer::PackInputs {
-                    depth,
-                    normal,
-                    normal_encoding: inputs.geometry.normal_encoding,
-                    stencil,
-                    placeholder_uint,
-                },
+                &pack_inputs,
                 &pack_gbuffer::PackOutputs {
                     geometry: &work.target_geometry,
                     normal_id: &work.target_normal_id,
@@ -649,6 +598,21 @@ impl Context {
     }
 }
 
+/// Registers the reads of one instant's geometry and returns them as the pack pass's inputs.
+fn pack_inputs(
+    access: &mut EngineImageAccess,
+    geometry: &GeometryInputs,
+    placeholder_uint: Texture,
+) -> Result<pack_gbuffer::PackInputs> {
+    Ok(pack_gbuffer::PackInputs {
+        depth: access.read(&geometry.depth)?,
+        normal: access.read(&geometry.normal)?,
+        normal_encoding: geometry.normal_encoding,
+        stencil: access.read_optional(geometry.stencil.as_ref())?,
+        placeholder_uint,
+    })
+}
+
 impl Drop for Context {
     fn drop(&mut self) {
         let gpu = &self.gpu;
@@ -708,11 +672,5 @@ impl<'a> TimedRegion<'a> {
             timer.write(self.device, self.cmd, query, true);
         }
         self.stages.push(stage);
-    }
-}
-
-impl From<Error> for PatchexResult {
-    fn from(error: Error) -> Self {
-        error.code
     }
 }

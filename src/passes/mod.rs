@@ -8,29 +8,24 @@ pub mod warp_gbuffer;
 
 use ash::vk;
 
+use crate::abi::*;
 use crate::error::Result;
 use crate::shaders;
 use crate::vk::device::Gpu;
-use crate::vk::image::OwnedImage;
 use crate::vk::pipeline::ComputePipeline;
 
-/// An image a pass samples: its view and the layout it is in while the pass runs.
-#[derive(Clone, Copy, Debug)]
-pub struct Texture {
-    pub view: vk::ImageView,
-    pub layout: vk::ImageLayout,
-}
+pub use crate::vk::image::Texture;
 
-impl From<&OwnedImage> for Texture {
-    fn from(image: &OwnedImage) -> Self {
-        Self {
-            view: image.view,
-            layout: vk::ImageLayout::GENERAL,
-        }
-    }
-}
+/// Every stage a frame can run, with the name reports give it.
+pub const STAGE_NAMES: [(PatchexStage, &str); 5] = [
+    (PATCHEX_STAGE_DEMODULATE, "demodulate"),
+    (PATCHEX_STAGE_PACK_SOURCE_GBUFFER, "pack source"),
+    (PATCHEX_STAGE_PACK_TARGET_GBUFFER, "pack target"),
+    (PATCHEX_STAGE_WARP, "warp"),
+    (PATCHEX_STAGE_REMODULATE, "remodulate"),
+];
 
-/// Every pass's pipeline. `INDEX` constants give each one's place in per-frame descriptor sets.
+/// Every pass's pipeline. The associated constants give each one's place in per-frame descriptor sets.
 pub struct Pipelines {
     pub demodulate: ComputePipeline,
     pub pack_gbuffer: ComputePipeline,

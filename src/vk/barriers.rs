@@ -7,7 +7,7 @@
 use ash::vk;
 
 use crate::error::{bail, Result};
-use crate::vk::image::{ImportedImage, OwnedImage, COLOR_SUBRESOURCE};
+use crate::vk::image::{ImportedImage, OwnedImage, Texture, COLOR_SUBRESOURCE};
 
 /// Layouts in which a pass can read an image as it is.
 fn is_readable_layout(layout: vk::ImageLayout) -> bool {
@@ -35,8 +35,21 @@ pub struct EngineImageAccess {
 }
 
 impl EngineImageAccess {
-    /// Registers a sampled read; returns the layout the descriptor must name.
-    pub fn read(&mut self, image: &ImportedImage) -> Result<vk::ImageLayout> {
+    /// Registers a sampled read; returns the view with the layout the descriptor must name.
+    pub fn read(&mut self, image: &ImportedImage) -> Result<Texture> {
+        let layout = self.read_layout(image)?;
+        Ok(Texture {
+            view: image.view,
+            layout,
+        })
+    }
+
+    /// `read` of an optional input.
+    pub fn read_optional(&mut self, image: Option<&ImportedImage>) -> Result<Option<Texture>> {
+        image.map(|image| self.read(image)).transpose()
+    }
+
+    fn read_layout(&mut self, image: &ImportedImage) -> Result<vk::ImageLayout> {
         if let Some(existing) = self.uses.iter().find(|u| u.image.image == image.image) {
             if existing.written {
                 bail!(
@@ -70,7 +83,7 @@ impl EngineImageAccess {
     }
 
     /// Registers a storage write; the image is written in GENERAL layout.
-    pub fn write(&mut self, image: &ImportedImage) -> Result<vk::ImageLayout> {
+    pub fn write(&mut self, image: &ImportedImage) -> Result<Texture> {
         if self.uses.iter().any(|u| u.image.image == image.image) {
             bail!(
                 ErrorInvalidArgument,
@@ -83,7 +96,10 @@ impl EngineImageAccess {
             layout_in_pass,
             written: true,
         });
-        Ok(layout_in_pass)
+        Ok(Texture {
+            view: image.view,
+            layout: layout_in_pass,
+        })
     }
 
     /// Waits for the engine's earlier work on every image and moves it to its pass layout.

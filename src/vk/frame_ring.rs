@@ -18,8 +18,8 @@ use crate::vk::timestamps::StageTimer;
 /// Region 0 of a slot belongs to `patchex_submit_gbuffers`, region 1 + i to extrapolation i.
 pub const REGIONS_PER_SLOT: usize = 1 + PATCHEX_MAX_EXTRAPOLATIONS_PER_FRAME;
 const QUERIES_PER_REGION: u32 = 2 * PATCHEX_STAGE_SLOTS as u32;
-/// Bytes of counters per region; a multiple of every device's storage-buffer offset alignment.
-const COUNTER_STRIDE: u64 = 256;
+/// Bytes of counters a region may use (the warp's hole counters need 8).
+const COUNTER_BYTES: u64 = 64;
 
 /// What was recorded into one region, to read its results back later.
 #[derive(Clone, Debug, Default)]
@@ -49,6 +49,7 @@ pub struct FrameRing {
     pub slots: Vec<FrameSlot>,
     pub timer: Option<StageTimer>,
     pub counters: ReadbackBuffer,
+    counter_stride: u64,
     /// Images replaced by larger ones, with the frame index after which no GPU work uses them.
     retired: Vec<(u64, OwnedImage)>,
 }
@@ -72,7 +73,10 @@ impl FrameRing {
                 descriptor_count: s.descriptor_count * copies,
             })
             .collect();
-        let counters_size = COUNTER_STRIDE * (frames_in_flight * REGIONS_PER_SLOT) as u64;
+        // Each region's counters start at a storage-buffer offset the device can bind.
+        let counter_stride =
+            COUNTER_BYTES.next_multiple_of(gpu.min_storage_buffer_offset_alignment.max(1));
+        let counters_size = counter_stride * (frames_in_flight * REGIONS_PER_SLOT) as u64;
         let counters =
             ReadbackBuffer::new(gpu, allocator, "patchex frame counters", counters_size)?;
         let mut ring = Self {
@@ -81,6 +85,7 @@ impl FrameRing {
             slots: Vec::new(),
             timer: None,
             counters,
+            counter_stride,
             retired: Vec::new(),
         };
         // SAFETY: valid device; on failure everything made so far is destroyed.
@@ -138,10 +143,10 @@ impl FrameRing {
 
     /// Byte offset of the counters of `region` in `slot`.
     pub fn counter_offset(&self, slot: usize, region: usize) -> u64 {
-        COUNTER_STRIDE * (slot * REGIONS_PER_SLOT + region) as u64
+        self.counter_stride * (slot * REGIONS_PER_SLOT + region) as u64
     }
 
-    pub const COUNTER_RANGE: u64 = COUNTER_STRIDE;
+    pub const COUNTER_RANGE: u64 = COUNTER_BYTES;
 
     /// Keeps `image` alive until the GPU can no longer use it: frames up to `last_frame_using_it`
     /// may still run, so it goes once frame `last_frame_using_it + frames_in_flight` is submitted.

@@ -326,6 +326,22 @@ impl OwnedImage {
     }
 }
 
+/// An image a pass samples: its view and the layout it is in while the pass runs.
+#[derive(Clone, Copy, Debug)]
+pub struct Texture {
+    pub view: vk::ImageView,
+    pub layout: vk::ImageLayout,
+}
+
+impl From<&OwnedImage> for Texture {
+    fn from(image: &OwnedImage) -> Self {
+        Self {
+            view: image.view,
+            layout: vk::ImageLayout::GENERAL,
+        }
+    }
+}
+
 pub const COLOR_SUBRESOURCE: vk::ImageSubresourceRange = vk::ImageSubresourceRange {
     aspect_mask: vk::ImageAspectFlags::COLOR,
     base_mip_level: 0,

@@ -55,8 +55,11 @@ impl Rig {
 
     /// An engine with validation and a patchex context for frames up to `max_width` x `max_height`.
     pub fn new(max_width: u32, max_height: u32) -> Self {
-        let engine =
-            Engine::new(&EngineOptions::default()).expect("a Vulkan device with validation");
+        Self::with_options(max_width, max_height, &EngineOptions::default())
+    }
+
+    pub fn with_options(max_width: u32, max_height: u32, options: &EngineOptions) -> Self {
+        let engine = Engine::new(options).expect("a Vulkan device");
         let path = PatchexLibrary::beside_current_exe().expect("the patchex cdylib is built");
         // SAFETY: the library was built from this source tree.
         let library = unsafe { PatchexLibrary::open(&path) }.expect("patchex loads");

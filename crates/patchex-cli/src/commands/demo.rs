@@ -10,6 +10,7 @@ use std::sync::Arc;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use patchex::abi::*;
+use patchex::passes::STAGE_NAMES;
 use patchex_scene::dataset::{render_sequence, Dataset, FrameRole, SequenceOptions, FINAL_IMAGE};
 use patchex_scene::{Gpu, GpuOptions, World};
 
@@ -47,14 +48,6 @@ struct Row {
     hole_fraction: f32,
     gpu_ms: [f32; PATCHEX_STAGE_SLOTS],
 }
-
-const STAGES: [(PatchexStage, &str); 5] = [
-    (PATCHEX_STAGE_DEMODULATE, "demodulate"),
-    (PATCHEX_STAGE_PACK_SOURCE_GBUFFER, "pack source"),
-    (PATCHEX_STAGE_PACK_TARGET_GBUFFER, "pack target"),
-    (PATCHEX_STAGE_WARP, "warp"),
-    (PATCHEX_STAGE_REMODULATE, "remodulate"),
-];
 
 pub fn run(args: DemoArgs) -> CommandResult {
     let world = World::load(&args.scene, args.assets.as_deref())?;
@@ -199,11 +192,11 @@ fn summary_markdown(
         "| target | extrapolated | frame t (no extrapolation) | holes |"
     )
     .unwrap();
-    for (_, name) in STAGES {
+    for (_, name) in STAGE_NAMES {
         write!(out, " {name} ms |").unwrap();
     }
     writeln!(out).unwrap();
-    writeln!(out, "|{}", "---|".repeat(4 + STAGES.len())).unwrap();
+    writeln!(out, "|{}", "---|".repeat(4 + STAGE_NAMES.len())).unwrap();
     for row in rows {
         write!(
             out,
@@ -214,7 +207,7 @@ fn summary_markdown(
             row.hole_fraction * 100.0
         )
         .unwrap();
-        for (stage, _) in STAGES {
+        for (stage, _) in STAGE_NAMES {
             write!(out, " {:.2} |", row.gpu_ms[stage as usize]).unwrap();
         }
         writeln!(out).unwrap();
@@ -227,7 +220,7 @@ fn summary_markdown(
         mean(rows.iter().map(|r| r.hole_fraction as f64)) * 100.0
     )
     .unwrap();
-    for (stage, _) in STAGES {
+    for (stage, _) in STAGE_NAMES {
         write!(
             out,
             " {:.2} |",
@@ -244,7 +237,7 @@ fn summary_json(scene: &str, rows: &[Row]) -> String {
         .iter()
         .map(|r| {
             let stages: Vec<String> =
-                STAGES.iter().map(|(s, name)| format!("\"{name}\": {:.4}", r.gpu_ms[*s as usize])).collect();
+                STAGE_NAMES.iter().map(|(s, name)| format!("\"{name}\": {:.4}", r.gpu_ms[*s as usize])).collect();
             format!(
                 "    {{\"target\": {}, \"psnr_extrapolated\": {:.4}, \"psnr_frame_t\": {:.4}, \"hole_fraction\": {:.6}, \"gpu_ms\": {{{}}}}}",
                 r.target,

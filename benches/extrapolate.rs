@@ -1,0 +1,102 @@
+//! GPU time per stage of the warp-only preset at 360p, 720p and 1080p, from Vulkan timestamp
+//! queries, validation off. Run with `cargo bench --bench extrapolate` (set PATCHEX_DEVICE to
+//! pick a device by name). Reports medians and, since the machine may be shared and noisy,
+//! ratios between sizes measured in the same run.
+
+#[path = "../tests/support/mod.rs"]
+mod support;
+
+use glam::Vec2;
+use patchex::error::PatchexResult;
+use patchex::passes::STAGE_NAMES;
+use patchex_harness::EngineOptions;
+use support::scene::Scene;
+use support::*;
+
+const SIZES: [(usize, usize); 3] = [(640, 360), (1280, 720), (1920, 1080)];
+const WARM_UP: usize = 2;
+const RUNS: usize = 10;
+
+fn median(mut values: Vec<f32>) -> f32 {
+    values.sort_by(f32::total_cmp);
+    values[values.len() / 2]
+}
+
+/// Median GPU milliseconds per stage, and of the whole frame.
+fn measure(width: usize, height: usize) -> (Vec<f32>, f32, String) {
+    let scene = Scene::new(width, height);
+    let source = scene.render(0.0, Vec2::ZERO, -1.0 / 30.0);
+    let target = scene.render(1.0 / 60.0, Vec2::ZERO, 0.0);
+    let options = EngineOptions {
+        validation: false,
+        ..Default::default()
+    };
+    let rig = Rig::with_options(width as u32, height as u32, &options);
+    let engine = &rig.engine;
+    let family = engine.queue_family_index;
+    let (gpu_source, gpu_target) = (
+        GpuFrame::upload(engine, &source),
+        GpuFrame::upload(engine, &target),
+    );
+    let output = output_image(engine, width as u32, height as u32);
+    let mut per_stage: Vec<Vec<f32>> = vec![Vec::new(); STAGE_NAMES.len()];
+    let mut totals = Vec::new();
+    for run in 0..WARM_UP + RUNS {
+        let frame_index = run as u64 + 1;
+        engine.run(|cmd| {
+            assert_eq!(
+                rig.submit(cmd, &gpu_source.frame_desc(frame_index, family)),
+                PatchexResult::Success
+            );
+            let desc = gpu_target.extrapolate_desc(&output, 0.5, family);
+            assert_eq!(rig.extrapolate(cmd, &desc), PatchexResult::Success);
+        });
+        let (result, stats) = rig.stats(frame_index);
+        assert_eq!(result, PatchexResult::Success);
+        if run < WARM_UP {
+            continue;
+        }
+        let mut total = 0.0;
+        for (samples, (stage, _)) in per_stage.iter_mut().zip(STAGE_NAMES) {
+            let ms = stats.submit_gpu_ms[stage as usize]
+                + stats.extrapolations[0].gpu_ms[stage as usize];
+            samples.push(ms);
+            total += ms;
+        }
+        totals.push(total);
+    }
+    (
+        per_stage.into_iter().map(median).collect(),
+        median(totals),
+        engine.device_name.clone(),
+    )
+}
+
+fn main() {
+    let mut rows = Vec::new();
+    let mut device = String::new();
+    for (width, height) in SIZES {
+        let (stages, total, name) = measure(width, height);
+        device = name;
+        rows.push((width, height, stages, total));
+    }
+    println!("GPU time per stage, warp-only preset, median of {RUNS} runs after {WARM_UP} warm-up, on {device}\n");
+    print!("| size |");
+    for (_, name) in STAGE_NAMES {
+        print!(" {name} ms |");
+    }
+    println!(" total ms | total vs 360p | pixels vs 360p |");
+    println!("|{}", "---|".repeat(STAGE_NAMES.len() + 4));
+    let (base_pixels, base_total) = ((rows[0].0 * rows[0].1) as f32, rows[0].3);
+    for (width, height, stages, total) in &rows {
+        print!("| {width}x{height} |");
+        for ms in stages {
+            print!(" {ms:.2} |");
+        }
+        println!(
+            " {total:.2} | {:.2}x | {:.2}x |",
+            total / base_total,
+            (width * height) as f32 / base_pixels
+        );
+    }
+}
