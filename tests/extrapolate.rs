@@ -315,3 +315,58 @@ fn several_extrapolations_from_one_frame_report_their_own_stats() {
         assert!(psnr(&values, &target.color) > psnr(&source.color, &target.color));
     }
 }
+
+/// Frames that grow replace the plugin's working images; the old ones are destroyed only once
+/// every frame in flight that may use them has completed, as the reported device memory shows.
+#[test]
+fn growing_frames_retire_working_images_after_the_frames_in_flight() {
+    let (small, large) = ((48, 32), (WIDTH, HEIGHT));
+    let rig = Rig::new(WIDTH as u32, HEIGHT as u32);
+    let engine = &rig.engine;
+    let family = engine.queue_family_index;
+    let frames: Vec<_> = [small, large]
+        .iter()
+        .map(|&(w, h)| {
+            let scene = Scene::new(w, h);
+            let source = GpuFrame::upload(engine, &scene.render(0.0, Vec2::ZERO, -FRAME_TIME));
+            let target = GpuFrame::upload(engine, &scene.render(0.5 * FRAME_TIME, Vec2::ZERO, 0.0));
+            (source, target, output_image(engine, w as u32, h as u32))
+        })
+        .collect();
+    let mut memory = Vec::new();
+    // frames_in_flight is 2. Frame 1 is small, frames 2 to 5 large.
+    for frame_index in 1..=5u64 {
+        let (source, target, output) = &frames[(frame_index > 1) as usize];
+        engine.run(|cmd| {
+            assert_eq!(
+                rig.submit(cmd, &source.frame_desc(frame_index, family)),
+                PatchexResult::Success
+            );
+            let desc = target.extrapolate_desc(output, 0.5, family);
+            assert_eq!(
+                rig.extrapolate(cmd, &desc),
+                PatchexResult::Success,
+                "{}",
+                rig.last_error()
+            );
+        });
+        memory.push(rig.stats(frame_index).1.device_memory_bytes);
+    }
+    // Frame 2 allocates the large images and holds the small ones, which frame 1 may still be
+    // using; at frame 3 (frame 1 + 2 frames in flight) frame 1 has completed and they go.
+    let small_images = memory[1] - memory[2];
+    assert!(memory[1] > memory[0], "growth allocates: {memory:?}");
+    assert!(
+        small_images > 0,
+        "retired images are freed after the frames in flight: {memory:?}"
+    );
+    assert!(
+        memory[2] > memory[0],
+        "the large images outweigh the small ones: {memory:?}"
+    );
+    assert_eq!(
+        &memory[3..],
+        &[memory[2], memory[2]],
+        "steady state: {memory:?}"
+    );
+}
