@@ -329,6 +329,13 @@ typedef uint32_t PatchexStage;
 // Joint bilateral gather guided by the target's G-buffer (ExtraSS). The default.
 #define PATCHEX_WARP_GBUFFER_GUIDED 0
 
+// Plain motion-vector reprojection (bilinear); ghosts at disocclusions.
+#define PATCHEX_WARP_MOTION_VECTOR 1
+
+// Occlusion motion vectors (Zeng et al. 2021): disoccluded pixels borrow the neighbourhood's
+// motion that lands on matching geometry instead of ghosting the occluder.
+#define PATCHEX_WARP_OCCLUSION_MOTION_VECTOR 2
+
 #define PATCHEX_LOG_ERROR 0
 
 #define PATCHEX_LOG_WARNING 1

@@ -76,6 +76,11 @@ pub const PATCHEX_NORMAL_UNORM: PatchexNormalEncoding = 1;
 pub type PatchexWarpKind = u32;
 /// Joint bilateral gather guided by the target's G-buffer (ExtraSS). The default.
 pub const PATCHEX_WARP_GBUFFER_GUIDED: PatchexWarpKind = 0;
+/// Plain motion-vector reprojection (bilinear); ghosts at disocclusions.
+pub const PATCHEX_WARP_MOTION_VECTOR: PatchexWarpKind = 1;
+/// Occlusion motion vectors (Zeng et al. 2021): disoccluded pixels borrow the neighbourhood's
+/// motion that lands on matching geometry instead of ghosting the occluder.
+pub const PATCHEX_WARP_OCCLUSION_MOTION_VECTOR: PatchexWarpKind = 2;
 
 /// Severity passed to the log callback.
 pub type PatchexLogLevel = u32;
@@ -226,7 +231,7 @@ pub struct PatchexWarpSettings {
     /// PATCHEX_STRUCT_TYPE_WARP_SETTINGS, sizeof(PatchexWarpSettings), chain.
     pub header: PatchexStructHeader,
     pub kind: PatchexWarpKind,
-    /// Gather radius in pixels, 0 to 3 (a (2r+1)^2 kernel).
+    /// G-buffer-guided warp: gather radius in pixels, 0 to 3 (a (2r+1)^2 kernel).
     pub kernel_radius: u32,
     /// Gaussian sigma of the spatial weight, in pixels (> 0).
     pub sigma_spatial: f32,
@@ -234,8 +239,12 @@ pub struct PatchexWarpSettings {
     pub sigma_depth: f32,
     /// Tolerance on 1 - dot(normals) (> 0).
     pub sigma_normal: f32,
-    /// Tolerance on world-position distance relative to depth, for static geometry (> 0).
+    /// Tolerance on world-position distance for static geometry, in pixel footprints on the
+    /// target's surface (> 0).
     pub sigma_position: f32,
+    /// Occlusion-motion-vector warp: radius in pixels searched for a better motion vector,
+    /// 0 to 16 (every second pixel is tried).
+    pub occlusion_search_radius: u32,
 }
 
 /// Maximum number of extrapolations recorded from one submitted frame.

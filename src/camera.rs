@@ -96,6 +96,11 @@ impl Camera {
         self.view.inverse().w_axis.xyz()
     }
 
+    /// Radians one of `height` pixel rows spans at the image centre.
+    pub fn pixel_angle(&self, height: u32) -> f32 {
+        2.0 / (self.projection.y_axis.y.abs() * height as f32)
+    }
+
     /// Unit world-space direction of increasing linear depth.
     pub fn forward(&self) -> Vec3 {
         self.view

@@ -10,8 +10,8 @@ use crate::abi::*;
 use crate::camera::Camera;
 use crate::error::{bail, PatchexResult, Result};
 use crate::inputs::{self, GeometryInputs, SourceInputs, TargetInputs};
-use crate::passes::warp_gbuffer::WarpSettings;
-use crate::passes::{demodulate, pack_gbuffer, remodulate, warp_gbuffer, Pipelines, Texture};
+use crate::passes::warp::WarpSettings;
+use crate::passes::{demodulate, pack_gbuffer, remodulate, warp, Pipelines, Texture};
 use crate::vk::barriers::{self, EngineImageAccess};
 use crate::vk::device::Gpu;
 use crate::vk::frame_ring::{FrameRecord, FrameRing, RegionRecord};
@@ -400,10 +400,11 @@ impl Context {
         let motion = access.read(&inputs.motion_vectors)?;
         let output = access.write(&inputs.output)?;
 
-        let warp = warp.unwrap_or(self.default_warp);
+        let warp_settings = warp.unwrap_or(self.default_warp);
         let jitter_delta = (inputs.geometry.camera.jitter - source.camera.jitter).into();
-        let warp_params = warp.params(
+        let warp_params = warp_settings.params(
             inputs.extent,
+            &inputs.geometry.camera,
             jitter_delta,
             inputs.geometry.motion_vector_scale,
         );
@@ -415,7 +416,7 @@ impl Context {
             .work
             .as_ref()
             .expect("a submitted frame allocated the work images");
-        let counters = warp_gbuffer::CounterRange {
+        let counters = warp::CounterRange {
             buffer: self.ring.counters.buffer,
             offset: self.ring.counter_offset(slot, region),
             range: FrameRing::COUNTER_RANGE,
@@ -444,15 +445,15 @@ impl Context {
             )
         });
         barriers::compute_to_compute(device, cmd, false);
+        let (warp_pipeline, warp_index) = self.pipelines.warp(warp_settings.kind);
         timed.stage(PATCHEX_STAGE_WARP, || {
-            warp_gbuffer::record(
-                &self.pipelines.warp_gbuffer,
+            warp::record(
+                warp_pipeline,
                 device,
                 cmd,
-                self.ring
-                    .descriptor_set(slot, region, Pipelines::WARP_GBUFFER),
+                self.ring.descriptor_set(slot, region, warp_index),
                 &warp_params,
-                &warp_gbuffer::WarpInputs {
+                &warp::WarpInputs {
                     source_shading: &work.source_shading,
                     source_geometry: &work.source_geometry,
                     source_normal_id: &work.source_normal_id,
@@ -549,14 +550,13 @@ impl Context {
             stats.hole_fraction =
                 self.ring
                     .counters
-                    .read_u32(counters + warp_gbuffer::HOLE_PIXELS_OFFSET) as f32
+                    .read_u32(counters + warp::HOLE_PIXELS_OFFSET) as f32
                     / pixels;
-            stats.offscreen_fraction = self
-                .ring
-                .counters
-                .read_u32(counters + warp_gbuffer::OFFSCREEN_PIXELS_OFFSET)
-                as f32
-                / pixels;
+            stats.offscreen_fraction =
+                self.ring
+                    .counters
+                    .read_u32(counters + warp::OFFSCREEN_PIXELS_OFFSET) as f32
+                    / pixels;
         }
         *out = PatchexFrameStats {
             header: out.header,

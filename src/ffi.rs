@@ -9,7 +9,7 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 use crate::abi::*;
 use crate::context::Context;
 use crate::error::{bail, Error, PatchexResult, Result};
-use crate::passes::warp_gbuffer::WarpSettings;
+use crate::passes::warp::WarpSettings;
 
 /// A plugin context. Opaque to the engine; see `patchex_create`.
 pub struct PatchexContext {

@@ -292,6 +292,7 @@ fn extrapolate_with_invalid_warp_settings() {
         sigma_depth: 0.05,
         sigma_normal: 0.1,
         sigma_position: 0.02,
+        occlusion_search_radius: 8,
     };
     rejected_extrapolate(PatchexResult::ErrorInvalidArgument, |d| {
         d.header.next = &settings as *const PatchexWarpSettings as *const c_void
@@ -304,6 +305,22 @@ fn extrapolate_with_invalid_warp_settings() {
     rejected_extrapolate(PatchexResult::ErrorInvalidArgument, |d| {
         d.header.next = &negative as *const PatchexWarpSettings as *const c_void
     });
+    for bad in [
+        PatchexWarpSettings {
+            kernel_radius: 1,
+            kind: 9,
+            ..settings
+        },
+        PatchexWarpSettings {
+            kernel_radius: 1,
+            occlusion_search_radius: 17,
+            ..settings
+        },
+    ] {
+        rejected_extrapolate(PatchexResult::ErrorInvalidArgument, |d| {
+            d.header.next = &bad as *const PatchexWarpSettings as *const c_void
+        });
+    }
 }
 
 #[test]

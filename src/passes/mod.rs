@@ -4,7 +4,7 @@
 pub mod demodulate;
 pub mod pack_gbuffer;
 pub mod remodulate;
-pub mod warp_gbuffer;
+pub mod warp;
 
 use ash::vk;
 
@@ -30,6 +30,8 @@ pub struct Pipelines {
     pub demodulate: ComputePipeline,
     pub pack_gbuffer: ComputePipeline,
     pub warp_gbuffer: ComputePipeline,
+    pub warp_motion_vector: ComputePipeline,
+    pub warp_occlusion_motion: ComputePipeline,
     pub remodulate: ComputePipeline,
 }
 
@@ -37,7 +39,9 @@ impl Pipelines {
     pub const DEMODULATE: usize = 0;
     pub const PACK_GBUFFER: usize = 1;
     pub const WARP_GBUFFER: usize = 2;
-    pub const REMODULATE: usize = 3;
+    pub const WARP_MOTION_VECTOR: usize = 3;
+    pub const WARP_OCCLUSION_MOTION: usize = 4;
+    pub const REMODULATE: usize = 5;
 
     pub fn new(gpu: &Gpu) -> Result<Self> {
         let mut built: Vec<ComputePipeline> = Vec::new();
@@ -45,6 +49,8 @@ impl Pipelines {
             shaders::demodulate::SHADER,
             shaders::pack_gbuffer::SHADER,
             shaders::warp_gbuffer::SHADER,
+            shaders::warp_motion_vector::SHADER,
+            shaders::warp_occlusion_motion::SHADER,
             shaders::remodulate::SHADER,
         ] {
             match ComputePipeline::new(gpu, shader) {
@@ -57,25 +63,41 @@ impl Pipelines {
                 }
             }
         }
-        let [demodulate, pack_gbuffer, warp_gbuffer, remodulate] =
-            <[ComputePipeline; 4]>::try_from(built)
+        let [demodulate, pack_gbuffer, warp_gbuffer, warp_motion_vector, warp_occlusion_motion, remodulate] =
+            <[ComputePipeline; 6]>::try_from(built)
                 .ok()
-                .expect("four pipelines");
+                .expect("six pipelines");
         Ok(Self {
             demodulate,
             pack_gbuffer,
             warp_gbuffer,
+            warp_motion_vector,
+            warp_occlusion_motion,
             remodulate,
         })
     }
 
-    pub fn all(&self) -> [&ComputePipeline; 4] {
+    /// In the order of the index constants.
+    pub fn all(&self) -> [&ComputePipeline; 6] {
         [
             &self.demodulate,
             &self.pack_gbuffer,
             &self.warp_gbuffer,
+            &self.warp_motion_vector,
+            &self.warp_occlusion_motion,
             &self.remodulate,
         ]
+    }
+
+    /// The pipeline of a (validated) warp kind, and its index.
+    pub fn warp(&self, kind: PatchexWarpKind) -> (&ComputePipeline, usize) {
+        match kind {
+            PATCHEX_WARP_MOTION_VECTOR => (&self.warp_motion_vector, Self::WARP_MOTION_VECTOR),
+            PATCHEX_WARP_OCCLUSION_MOTION_VECTOR => {
+                (&self.warp_occlusion_motion, Self::WARP_OCCLUSION_MOTION)
+            }
+            _ => (&self.warp_gbuffer, Self::WARP_GBUFFER),
+        }
     }
 
     /// Descriptor counts one set of every pipeline needs together, for the descriptor pool.
@@ -100,6 +122,8 @@ impl Pipelines {
         self.demodulate.destroy(gpu);
         self.pack_gbuffer.destroy(gpu);
         self.warp_gbuffer.destroy(gpu);
+        self.warp_motion_vector.destroy(gpu);
+        self.warp_occlusion_motion.destroy(gpu);
         self.remodulate.destroy(gpu);
     }
 }

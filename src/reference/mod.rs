@@ -6,7 +6,7 @@ pub mod demodulate;
 pub mod gbuffer;
 pub mod pack_gbuffer;
 pub mod remodulate;
-pub mod warp_gbuffer;
+pub mod warp;
 
 /// One instant's inputs, as plain images: the reference side of what an engine submits.
 pub struct FrameInputs<'a> {
@@ -26,8 +26,8 @@ pub struct FrameInputs<'a> {
 pub fn extrapolate(
     source: &FrameInputs,
     target: &FrameInputs,
-    warp: &crate::passes::warp_gbuffer::WarpSettings,
-) -> (Image, warp_gbuffer::Warped) {
+    warp: &crate::passes::warp::WarpSettings,
+) -> (Image, warp::Warped) {
     use crate::passes::pack_gbuffer::params as pack_params;
     let extent = ash::vk::Extent2D {
         width: source.base_color.width as u32,
@@ -49,16 +49,24 @@ pub fn extrapolate(
     );
     let (source_packed, target_packed) = (pack(source), pack(target));
     let jitter_delta = (target.camera.jitter - source.camera.jitter).into();
-    let params = warp.params(extent, jitter_delta, target.motion_vector_scale);
-    let warped = warp_gbuffer::warp_gbuffer(
-        &warp_gbuffer::WarpSources {
+    let params = warp.params(
+        extent,
+        target.camera,
+        jitter_delta,
+        target.motion_vector_scale,
+    );
+    let warped = warp::warp(
+        warp.kind,
+        &warp::WarpSources {
             shading: &shading,
             geometry: &source_packed.geometry,
             normal_id: &source_packed.normal_id,
         },
-        &target_packed.geometry,
-        &target_packed.normal_id,
-        target.motion.expect("the target has motion vectors"),
+        &warp::WarpTarget {
+            geometry: &target_packed.geometry,
+            normal_id: &target_packed.normal_id,
+            motion: target.motion.expect("the target has motion vectors"),
+        },
         &params,
     );
     let output = remodulate::remodulate(&warped.warped, target.base_color, target.material);

@@ -1,21 +1,35 @@
-//! G-buffer-guided backward warp (ExtraSS): carries frame t's shading to the target instant with
-//! a joint bilateral gather, marks holes, and counts them.
+//! The backward warps: each carries frame t's shading to the target instant, marks holes and
+//! counts them. They share bindings and parameters (`shaders/include/warp.wgsl`) and differ in
+//! how a pixel finds its source: `warp_gbuffer.wgsl` (the default), `warp_motion_vector.wgsl`
+//! and `warp_occlusion_motion.wgsl`.
 
 use ash::vk;
 
-use crate::abi::{PatchexWarpSettings, PATCHEX_WARP_GBUFFER_GUIDED};
+use crate::abi::*;
+use crate::camera::Camera;
 use crate::error::{bail, Result};
 use crate::passes::Texture;
+use crate::shaders;
 use crate::shaders::warp_gbuffer::{binding, Params};
 use crate::vk::image::OwnedImage;
 use crate::vk::pipeline::{ComputePipeline, DescriptorWrites};
 
 pub const MAX_KERNEL_RADIUS: u32 = 3;
+pub const MAX_OCCLUSION_SEARCH_RADIUS: u32 = 16;
 
-/// The warp's tunable weights, validated.
+// The three warps take one parameter block, declared once in the shared include.
+const _: () = assert!(
+    size_of::<shaders::warp_gbuffer::Params>() == size_of::<shaders::warp_motion_vector::Params>()
+        && size_of::<shaders::warp_gbuffer::Params>()
+            == size_of::<shaders::warp_occlusion_motion::Params>()
+);
+
+/// Which warp runs and its tunable weights, validated.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct WarpSettings {
+    pub kind: PatchexWarpKind,
     pub kernel_radius: u32,
+    pub occlusion_search_radius: u32,
     pub sigma_spatial: f32,
     pub sigma_depth: f32,
     pub sigma_normal: f32,
@@ -24,26 +38,34 @@ pub struct WarpSettings {
 
 impl Default for WarpSettings {
     /// A 3x3 gather; a texel keeps most of its weight within ~5% relative depth, ~0.1 of
-    /// (1 - cos) of normal angle (about 25 degrees), and 2% of its distance in world position.
+    /// (1 - cos) of normal angle (about 25 degrees), and 1.5 pixel footprints of world position.
     fn default() -> Self {
         Self {
+            kind: PATCHEX_WARP_GBUFFER_GUIDED,
             kernel_radius: 1,
+            occlusion_search_radius: 8,
             sigma_spatial: 0.75,
             sigma_depth: 0.05,
             sigma_normal: 0.1,
-            sigma_position: 0.02,
+            sigma_position: 1.5,
         }
     }
 }
 
 impl WarpSettings {
     pub fn from_abi(settings: &PatchexWarpSettings) -> Result<Self> {
-        if settings.kind != PATCHEX_WARP_GBUFFER_GUIDED {
+        if settings.kind > PATCHEX_WARP_OCCLUSION_MOTION_VECTOR {
             bail!(
                 ErrorInvalidArgument,
-                "PatchexWarpSettings.kind {} is not available; this build has \
-                 PATCHEX_WARP_GBUFFER_GUIDED (0)",
+                "PatchexWarpSettings.kind {} is not a PATCHEX_WARP_* value",
                 settings.kind
+            );
+        }
+        if settings.occlusion_search_radius > MAX_OCCLUSION_SEARCH_RADIUS {
+            bail!(
+                ErrorInvalidArgument,
+                "PatchexWarpSettings.occlusion_search_radius {} exceeds {MAX_OCCLUSION_SEARCH_RADIUS}",
+                settings.occlusion_search_radius
             );
         }
         if settings.kernel_radius > MAX_KERNEL_RADIUS {
@@ -67,7 +89,9 @@ impl WarpSettings {
             }
         }
         Ok(Self {
+            kind: settings.kind,
             kernel_radius: settings.kernel_radius,
+            occlusion_search_radius: settings.occlusion_search_radius,
             sigma_spatial: settings.sigma_spatial,
             sigma_depth: settings.sigma_depth,
             sigma_normal: settings.sigma_normal,
@@ -75,9 +99,11 @@ impl WarpSettings {
         })
     }
 
+    /// The shaders' parameters for a target seen by `camera`.
     pub fn params(
         &self,
         extent: vk::Extent2D,
+        camera: &Camera,
         jitter_delta: [f32; 2],
         motion_scale: [f32; 2],
     ) -> Params {
@@ -90,7 +116,9 @@ impl WarpSettings {
             inv_sigma_depth: 1.0 / self.sigma_depth,
             inv_sigma_normal: 1.0 / self.sigma_normal,
             inv_sigma_position: 1.0 / self.sigma_position,
-            ..Default::default()
+            occlusion_search_radius: self.occlusion_search_radius as i32,
+            camera_position: camera.position().into(),
+            pixel_angle: camera.pixel_angle(extent.height),
         }
     }
 }

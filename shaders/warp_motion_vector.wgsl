@@ -1,0 +1,13 @@
+// Motion-vector backward warp, the classic reprojection: each target pixel takes frame t's
+// shading, bilinearly, where its motion vector points. Where the texel there shows other
+// geometry than the target pixel (it was hidden in frame t) the result ghosts; such pixels, and
+// those whose source leaves the screen, are counted as holes.
+// #import gbuffer
+// #import warp
+
+fn warp_pixel(p: vec2u) -> WarpedPixel {
+    let q = source_point(p, textureLoad(motion, p, 0).xy);
+    let agreement = agreement_at(textureLoad(target_geometry, p, 0), textureLoad(target_normal_id, p, 0), texel(q));
+    let offscreen = is_offscreen(q);
+    return WarpedPixel(bilinear_shading(q), offscreen || agreement < AGREEMENT_THRESHOLD, offscreen);
+}

@@ -1,0 +1,35 @@
+// Occlusion-motion-vector backward warp (after Zeng et al. 2021). A disoccluded pixel's own
+// motion vector points at the occluder that hid it in frame t, and reprojection ghosts the
+// occluder. Where the pixel's own vector lands on disagreeing geometry, this warp tries the motion
+// vectors of its neighbourhood (every second pixel within the search radius) and keeps the one
+// that lands on the best-agreeing surface: at a disocclusion that is the occluder's own motion,
+// which fetches the background beside the occluder in frame t instead of the occluder.
+// #import gbuffer
+// #import warp
+
+fn warp_pixel(p: vec2u) -> WarpedPixel {
+    let target_geo = textureLoad(target_geometry, p, 0);
+    let target_nid = textureLoad(target_normal_id, p, 0);
+    var q = source_point(p, textureLoad(motion, p, 0).xy);
+    var best_agreement = select(agreement_at(target_geo, target_nid, texel(q)), 0.0, is_offscreen(q));
+    if (best_agreement < AGREEMENT_THRESHOLD) {
+        let r = params.occlusion_search_radius;
+        let last = vec2i(params.extent) - 1;
+        for (var dy = -r; dy <= r; dy += 2) {
+            for (var dx = -r; dx <= r; dx += 2) {
+                let neighbour = clamp(vec2i(p) + vec2i(dx, dy), vec2i(0), last);
+                let candidate = source_point(p, textureLoad(motion, neighbour, 0).xy);
+                if (is_offscreen(candidate)) {
+                    continue;
+                }
+                let agreement = agreement_at(target_geo, target_nid, texel(candidate));
+                if (agreement > best_agreement) {
+                    best_agreement = agreement;
+                    q = candidate;
+                }
+            }
+        }
+    }
+    let offscreen = is_offscreen(q);
+    return WarpedPixel(bilinear_shading(q), offscreen || best_agreement < AGREEMENT_THRESHOLD, offscreen);
+}

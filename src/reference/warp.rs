@@ -1,0 +1,276 @@
+//! Mirror of the backward warps: `shaders/include/warp.wgsl` and the three warp passes.
+
+use glam::{IVec2, Vec2, Vec3, Vec4};
+
+use super::gbuffer::is_sky;
+use super::Image;
+use crate::abi::*;
+use crate::shaders::warp_gbuffer::Params;
+
+pub const AGREEMENT_THRESHOLD: f32 = 0.5;
+const MIN_FACING: f32 = 0.25;
+pub const BILINEAR_ACCEPT: f32 = 0.5;
+const MIN_TOTAL_WEIGHT: f32 = 1e-6;
+
+pub struct Warped {
+    /// (shading, 1 for valid or 0 for hole).
+    pub warped: Image,
+    /// The best geometry agreement each pixel found: how close it came to the hole threshold.
+    pub best_agreement: Vec<f32>,
+    /// G-buffer-guided warp only: the agreeing share of each pixel's bilinear footprint, how
+    /// close it came to switching to the bilateral gather.
+    pub bilinear_weight: Vec<f32>,
+    pub hole_pixels: u32,
+    pub offscreen_pixels: u32,
+}
+
+/// Frame t's packed images.
+pub struct WarpSources<'a> {
+    pub shading: &'a Image,
+    pub geometry: &'a Image,
+    pub normal_id: &'a Image,
+}
+
+/// The target's packed images and motion vectors.
+pub struct WarpTarget<'a> {
+    pub geometry: &'a Image,
+    pub normal_id: &'a Image,
+    pub motion: &'a Image,
+}
+
+struct WarpedPixel {
+    shading: Vec3,
+    best_agreement: f32,
+    bilinear_weight: f32,
+    offscreen: bool,
+}
+
+/// One pixel's warp: the shared helpers of `include/warp.wgsl`, bound to one target pixel.
+struct PixelWarp<'a> {
+    params: &'a Params,
+    source: &'a WarpSources<'a>,
+    target: &'a WarpTarget<'a>,
+    p: IVec2,
+    target_geo: Vec4,
+    target_nid: Vec4,
+}
+
+fn texel(image: &Image, s: IVec2) -> Vec4 {
+    Vec4::from_slice(image.clamped(s.x, s.y))
+}
+
+impl PixelWarp<'_> {
+    fn extent(&self) -> IVec2 {
+        IVec2::new(self.params.extent[0] as i32, self.params.extent[1] as i32)
+    }
+
+    fn source_point(&self, motion_at: IVec2) -> Vec2 {
+        let motion = Vec2::from_slice(self.target.motion.clamped(motion_at.x, motion_at.y));
+        self.p.as_vec2()
+            + 0.5
+            + motion * Vec2::from(self.params.motion_scale)
+            + Vec2::from(self.params.jitter_delta)
+    }
+
+    fn is_offscreen(&self, q: Vec2) -> bool {
+        let extent = self.extent().as_vec2();
+        !(q.x >= 0.0 && q.y >= 0.0 && q.x < extent.x && q.y < extent.y)
+    }
+
+    fn texel_of(&self, q: Vec2) -> IVec2 {
+        q.floor().as_ivec2().clamp(IVec2::ZERO, self.extent() - 1)
+    }
+
+    fn geometry_weight(&self, source_geo: Vec4, source_nid: Vec4) -> f32 {
+        let (target_geo, target_nid, params) = (self.target_geo, self.target_nid, self.params);
+        if target_nid.w != source_nid.w {
+            return 0.0;
+        }
+        if is_sky(target_geo.w) || is_sky(source_geo.w) {
+            return if is_sky(target_geo.w) && is_sky(source_geo.w) {
+                1.0
+            } else {
+                0.0
+            };
+        }
+        let mut weight = (-(1.0 - target_nid.truncate().dot(source_nid.truncate()))
+            * params.inv_sigma_normal)
+            .exp();
+        let e = if target_nid.w == 0.0 {
+            let view = (Vec3::from(params.camera_position) - target_geo.truncate()).normalize();
+            let facing = target_nid.truncate().dot(view).abs().max(MIN_FACING);
+            let footprint = target_geo.w * params.pixel_angle / facing;
+            target_geo.truncate().distance(source_geo.truncate()) / footprint
+                * params.inv_sigma_position
+        } else {
+            (target_geo.w - source_geo.w).abs() / target_geo.w.max(source_geo.w)
+                * params.inv_sigma_depth
+        };
+        weight *= (-e * e).exp();
+        weight
+    }
+
+    fn agreement_at(&self, s: IVec2) -> f32 {
+        self.geometry_weight(
+            texel(self.source.geometry, s),
+            texel(self.source.normal_id, s),
+        )
+    }
+
+    fn bilinear_shading(&self, q: Vec2) -> Vec3 {
+        let corner = (q - 0.5).floor().as_ivec2();
+        let f = q - 0.5 - (q - 0.5).floor();
+        let last = self.extent() - 1;
+        let at = |offset: IVec2| {
+            texel(
+                self.source.shading,
+                (corner + offset).clamp(IVec2::ZERO, last),
+            )
+            .truncate()
+        };
+        let top = at(IVec2::new(0, 0)).lerp(at(IVec2::new(1, 0)), f.x);
+        let bottom = at(IVec2::new(0, 1)).lerp(at(IVec2::new(1, 1)), f.x);
+        top.lerp(bottom, f.y)
+    }
+
+    /// Mirror of `warp_gbuffer.wgsl`.
+    fn gbuffer_guided(&self) -> WarpedPixel {
+        let extent = self.extent();
+        let q = self.source_point(self.p);
+        let corner = (q - 0.5).floor().as_ivec2();
+        let f = q - 0.5 - (q - 0.5).floor();
+        let mut shading_sum = Vec3::ZERO;
+        let mut weight_sum = 0.0;
+        let mut best_agreement: f32 = 0.0;
+        for i in 0..4 {
+            let offset = IVec2::new(i & 1, i >> 1);
+            let s = (corner + offset).clamp(IVec2::ZERO, extent - 1);
+            let agreement = self.agreement_at(s);
+            let bx = if offset.x == 1 { f.x } else { 1.0 - f.x };
+            let by = if offset.y == 1 { f.y } else { 1.0 - f.y };
+            let footprint = bx * by;
+            shading_sum += footprint * agreement * texel(self.source.shading, s).truncate();
+            weight_sum += footprint * agreement;
+            if footprint > 0.0 {
+                best_agreement = best_agreement.max(agreement);
+            }
+        }
+        let bilinear_weight = weight_sum;
+        if weight_sum < BILINEAR_ACCEPT {
+            shading_sum = Vec3::ZERO;
+            weight_sum = 0.0;
+            let centre = self.texel_of(q);
+            let r = self.params.kernel_radius;
+            for dy in -r..=r {
+                for dx in -r..=r {
+                    let s = (centre + IVec2::new(dx, dy)).clamp(IVec2::ZERO, extent - 1);
+                    let agreement = self.agreement_at(s);
+                    let d = s.as_vec2() + 0.5 - q;
+                    let weight =
+                        (-d.dot(d) * self.params.inv_two_sigma_spatial_sq).exp() * agreement;
+                    shading_sum += weight * texel(self.source.shading, s).truncate();
+                    weight_sum += weight;
+                    best_agreement = best_agreement.max(agreement);
+                }
+            }
+        }
+        let shading = if weight_sum > MIN_TOTAL_WEIGHT {
+            shading_sum / weight_sum
+        } else {
+            texel(self.source.shading, self.texel_of(q)).truncate()
+        };
+        WarpedPixel {
+            shading,
+            best_agreement,
+            bilinear_weight,
+            offscreen: self.is_offscreen(q),
+        }
+    }
+
+    /// Mirror of `warp_motion_vector.wgsl`.
+    fn motion_vector(&self) -> WarpedPixel {
+        let q = self.source_point(self.p);
+        WarpedPixel {
+            shading: self.bilinear_shading(q),
+            best_agreement: self.agreement_at(self.texel_of(q)),
+            bilinear_weight: f32::NAN,
+            offscreen: self.is_offscreen(q),
+        }
+    }
+
+    /// Mirror of `warp_occlusion_motion.wgsl`.
+    fn occlusion_motion_vector(&self) -> WarpedPixel {
+        let mut q = self.source_point(self.p);
+        let mut best_agreement = if self.is_offscreen(q) {
+            0.0
+        } else {
+            self.agreement_at(self.texel_of(q))
+        };
+        if best_agreement < AGREEMENT_THRESHOLD {
+            let r = self.params.occlusion_search_radius;
+            for dy in (-r..=r).step_by(2) {
+                for dx in (-r..=r).step_by(2) {
+                    let neighbour =
+                        (self.p + IVec2::new(dx, dy)).clamp(IVec2::ZERO, self.extent() - 1);
+                    let candidate = self.source_point(neighbour);
+                    if self.is_offscreen(candidate) {
+                        continue;
+                    }
+                    let agreement = self.agreement_at(self.texel_of(candidate));
+                    if agreement > best_agreement {
+                        best_agreement = agreement;
+                        q = candidate;
+                    }
+                }
+            }
+        }
+        WarpedPixel {
+            shading: self.bilinear_shading(q),
+            best_agreement,
+            bilinear_weight: f32::NAN,
+            offscreen: self.is_offscreen(q),
+        }
+    }
+}
+
+/// Runs the warp `kind` over the whole frame.
+pub fn warp(
+    kind: PatchexWarpKind,
+    source: &WarpSources,
+    target: &WarpTarget,
+    params: &Params,
+) -> Warped {
+    let (width, height) = (params.extent[0] as usize, params.extent[1] as usize);
+    let mut best_agreement = Vec::with_capacity(width * height);
+    let mut bilinear_weight = Vec::with_capacity(width * height);
+    let (mut hole_pixels, mut offscreen_pixels) = (0, 0);
+    let warped = Image::from_fn(width, height, 4, |x, y| {
+        let pixel = PixelWarp {
+            params,
+            source,
+            target,
+            p: IVec2::new(x as i32, y as i32),
+            target_geo: Vec4::from_slice(target.geometry.at(x, y)),
+            target_nid: Vec4::from_slice(target.normal_id.at(x, y)),
+        };
+        let result = match kind {
+            PATCHEX_WARP_MOTION_VECTOR => pixel.motion_vector(),
+            PATCHEX_WARP_OCCLUSION_MOTION_VECTOR => pixel.occlusion_motion_vector(),
+            _ => pixel.gbuffer_guided(),
+        };
+        let hole = result.offscreen || result.best_agreement < AGREEMENT_THRESHOLD;
+        hole_pixels += hole as u32;
+        offscreen_pixels += result.offscreen as u32;
+        best_agreement.push(result.best_agreement);
+        bilinear_weight.push(result.bilinear_weight);
+        let s = result.shading;
+        vec![s.x, s.y, s.z, if hole { 0.0 } else { 1.0 }]
+    });
+    Warped {
+        warped,
+        best_agreement,
+        bilinear_weight,
+        hole_pixels,
+        offscreen_pixels,
+    }
+}
