@@ -50,6 +50,17 @@ pub struct PatchexStructHeader {
     pub next: *const c_void,
 }
 
+impl PatchexStructHeader {
+    /// The header of a `T` with an empty chain, for Rust callers of the ABI (tests, tools).
+    pub fn of<T>(struct_type: PatchexStructType) -> Self {
+        Self {
+            struct_type,
+            struct_size: size_of::<T>() as u32,
+            next: std::ptr::null(),
+        }
+    }
+}
+
 /// Trade of speed against accuracy. This build has the warp-only preset; the presets with
 /// inpainting networks and shadows are added with those stages.
 pub type PatchexPreset = u32;

@@ -282,10 +282,7 @@ fn extrapolate_on_another_queue_family() {
 #[test]
 fn extrapolate_with_invalid_warp_settings() {
     let settings = PatchexWarpSettings {
-        header: header(
-            PATCHEX_STRUCT_TYPE_WARP_SETTINGS,
-            size_of::<PatchexWarpSettings>(),
-        ),
+        header: PatchexStructHeader::of::<PatchexWarpSettings>(PATCHEX_STRUCT_TYPE_WARP_SETTINGS),
         kind: PATCHEX_WARP_GBUFFER_GUIDED,
         kernel_radius: 9,
         sigma_spatial: 1.0,
@@ -393,10 +390,7 @@ fn stats_with_wrong_struct_type() {
     let case = Case::new();
     // SAFETY: zeroed stats are a valid bit pattern; the header is deliberately wrong.
     let mut stats: PatchexFrameStats = unsafe { std::mem::zeroed() };
-    stats.header = header(
-        PATCHEX_STRUCT_TYPE_FRAME_DESC,
-        size_of::<PatchexFrameStats>(),
-    );
+    stats.header = PatchexStructHeader::of::<PatchexFrameStats>(PATCHEX_STRUCT_TYPE_FRAME_DESC);
     // SAFETY: live context and writable stats.
     let result = unsafe { (case.rig.library.get_frame_stats)(case.rig.context, 1, &mut stats) };
     case.expect(result, PatchexResult::ErrorInvalidStructType);

@@ -62,10 +62,7 @@ struct Outcome {
 /// `settings` as the ABI struct chained onto an extrapolation.
 fn chained(settings: &WarpSettings) -> PatchexWarpSettings {
     PatchexWarpSettings {
-        header: header(
-            PATCHEX_STRUCT_TYPE_WARP_SETTINGS,
-            size_of::<PatchexWarpSettings>(),
-        ),
+        header: PatchexStructHeader::of::<PatchexWarpSettings>(PATCHEX_STRUCT_TYPE_WARP_SETTINGS),
         kind: settings.kind,
         kernel_radius: settings.kernel_radius,
         sigma_spatial: settings.sigma_spatial,

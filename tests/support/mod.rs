@@ -23,21 +23,10 @@ pub struct Rig {
     pub context: *mut PatchexContext,
 }
 
-pub fn header(struct_type: PatchexStructType, size: usize) -> PatchexStructHeader {
-    PatchexStructHeader {
-        struct_type,
-        struct_size: size as u32,
-        next: ptr::null(),
-    }
-}
-
 impl Rig {
     pub fn create_info(engine: &Engine, max_width: u32, max_height: u32) -> PatchexCreateInfo {
         PatchexCreateInfo {
-            header: header(
-                PATCHEX_STRUCT_TYPE_CREATE_INFO,
-                size_of::<PatchexCreateInfo>(),
-            ),
+            header: PatchexStructHeader::of::<PatchexCreateInfo>(PATCHEX_STRUCT_TYPE_CREATE_INFO),
             instance: engine.instance.handle(),
             physical_device: engine.physical_device,
             device: engine.device.handle(),
@@ -100,10 +89,8 @@ impl Rig {
     pub fn stats(&self, frame_index: u64) -> (PatchexResult, PatchexFrameStats) {
         // SAFETY: zeroed stats are a valid PatchexFrameStats bit pattern.
         let mut stats: PatchexFrameStats = unsafe { std::mem::zeroed() };
-        stats.header = header(
-            PATCHEX_STRUCT_TYPE_FRAME_STATS,
-            size_of::<PatchexFrameStats>(),
-        );
+        stats.header =
+            PatchexStructHeader::of::<PatchexFrameStats>(PATCHEX_STRUCT_TYPE_FRAME_STATS);
         // SAFETY: live context, writable stats.
         let result =
             unsafe { (self.library.get_frame_stats)(self.context, frame_index, &mut stats) };
@@ -229,10 +216,7 @@ impl GpuFrame {
 
     pub fn frame_desc(&self, frame_index: u64, queue_family_index: u32) -> PatchexFrameDesc {
         PatchexFrameDesc {
-            header: header(
-                PATCHEX_STRUCT_TYPE_FRAME_DESC,
-                size_of::<PatchexFrameDesc>(),
-            ),
+            header: PatchexStructHeader::of::<PatchexFrameDesc>(PATCHEX_STRUCT_TYPE_FRAME_DESC),
             frame_index,
             reset: 0,
             queue_family_index,
@@ -252,9 +236,8 @@ impl GpuFrame {
         queue_family_index: u32,
     ) -> PatchexExtrapolateDesc {
         PatchexExtrapolateDesc {
-            header: header(
+            header: PatchexStructHeader::of::<PatchexExtrapolateDesc>(
                 PATCHEX_STRUCT_TYPE_EXTRAPOLATE_DESC,
-                size_of::<PatchexExtrapolateDesc>(),
             ),
             queue_family_index,
             alpha,

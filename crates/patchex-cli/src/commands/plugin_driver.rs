@@ -28,14 +28,6 @@ pub struct PluginDriver {
     far: f32,
 }
 
-fn header(struct_type: PatchexStructType, size: usize) -> PatchexStructHeader {
-    PatchexStructHeader {
-        struct_type,
-        struct_size: size as u32,
-        next: ptr::null(),
-    }
-}
-
 fn describe(image: &EngineImage) -> PatchexImage {
     PatchexImage {
         image: image.image,
@@ -89,10 +81,7 @@ impl PluginDriver {
         let library = unsafe { PatchexLibrary::open(&path)? };
         let (width, height) = (manifest.width as u32, manifest.height as u32);
         let info = PatchexCreateInfo {
-            header: header(
-                PATCHEX_STRUCT_TYPE_CREATE_INFO,
-                size_of::<PatchexCreateInfo>(),
-            ),
+            header: PatchexStructHeader::of::<PatchexCreateInfo>(PATCHEX_STRUCT_TYPE_CREATE_INFO),
             instance: engine.instance.handle(),
             physical_device: engine.physical_device,
             device: engine.device.handle(),
@@ -204,10 +193,7 @@ impl PluginDriver {
         );
         let family = self.engine.queue_family_index;
         let frame = PatchexFrameDesc {
-            header: header(
-                PATCHEX_STRUCT_TYPE_FRAME_DESC,
-                size_of::<PatchexFrameDesc>(),
-            ),
+            header: PatchexStructHeader::of::<PatchexFrameDesc>(PATCHEX_STRUCT_TYPE_FRAME_DESC),
             frame_index,
             reset: 0,
             queue_family_index: family,
@@ -219,9 +205,8 @@ impl PluginDriver {
             geometry: self.geometry(&source),
         };
         let extrapolate = PatchexExtrapolateDesc {
-            header: header(
+            header: PatchexStructHeader::of::<PatchexExtrapolateDesc>(
                 PATCHEX_STRUCT_TYPE_EXTRAPOLATE_DESC,
-                size_of::<PatchexExtrapolateDesc>(),
             ),
             queue_family_index: family,
             alpha,
@@ -248,10 +233,8 @@ impl PluginDriver {
         }
         // SAFETY: zeroed stats are a valid bit pattern; the header is set before the call.
         let mut stats: PatchexFrameStats = unsafe { std::mem::zeroed() };
-        stats.header = header(
-            PATCHEX_STRUCT_TYPE_FRAME_STATS,
-            size_of::<PatchexFrameStats>(),
-        );
+        stats.header =
+            PatchexStructHeader::of::<PatchexFrameStats>(PATCHEX_STRUCT_TYPE_FRAME_STATS);
         // SAFETY: live context, writable stats; the frame's fence has signalled.
         let result =
             unsafe { (self.library.get_frame_stats)(self.context, frame_index, &mut stats) };
