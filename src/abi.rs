@@ -192,6 +192,36 @@ pub struct PatchexCreateInfo {
     pub log_user_data: *mut c_void,
 }
 
+impl PatchexCreateInfo {
+    /// Create info for Rust callers of the ABI (tests, tools): the warp-only preset, two frames
+    /// in flight, device functions through the loader, no log callback.
+    pub fn new(
+        instance: VkInstance,
+        physical_device: VkPhysicalDevice,
+        device: VkDevice,
+        get_instance_proc_addr: vk::PFN_vkGetInstanceProcAddr,
+        queue_family_index: u32,
+        max_width: u32,
+        max_height: u32,
+    ) -> Self {
+        Self {
+            header: PatchexStructHeader::of::<Self>(PATCHEX_STRUCT_TYPE_CREATE_INFO),
+            instance,
+            physical_device,
+            device,
+            get_instance_proc_addr: Some(get_instance_proc_addr),
+            get_device_proc_addr: None,
+            queue_family_index,
+            max_width,
+            max_height,
+            frames_in_flight: 2,
+            preset: PATCHEX_PRESET_WARP_ONLY,
+            log_callback: None,
+            log_user_data: std::ptr::null_mut(),
+        }
+    }
+}
+
 /// Frame t: what `patchex_submit_gbuffers` reads.
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]

@@ -25,21 +25,15 @@ pub struct Rig {
 
 impl Rig {
     pub fn create_info(engine: &Engine, max_width: u32, max_height: u32) -> PatchexCreateInfo {
-        PatchexCreateInfo {
-            header: PatchexStructHeader::of::<PatchexCreateInfo>(PATCHEX_STRUCT_TYPE_CREATE_INFO),
-            instance: engine.instance.handle(),
-            physical_device: engine.physical_device,
-            device: engine.device.handle(),
-            get_instance_proc_addr: Some(engine.get_instance_proc_addr()),
-            get_device_proc_addr: None,
-            queue_family_index: engine.queue_family_index,
+        PatchexCreateInfo::new(
+            engine.instance.handle(),
+            engine.physical_device,
+            engine.device.handle(),
+            engine.get_instance_proc_addr(),
+            engine.queue_family_index,
             max_width,
             max_height,
-            frames_in_flight: 2,
-            preset: PATCHEX_PRESET_WARP_ONLY,
-            log_callback: None,
-            log_user_data: ptr::null_mut(),
-        }
+        )
     }
 
     /// An engine with validation and a patchex context for frames up to `max_width` x `max_height`.

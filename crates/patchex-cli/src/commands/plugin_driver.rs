@@ -80,21 +80,15 @@ impl PluginDriver {
         // SAFETY: the library is built from this workspace.
         let library = unsafe { PatchexLibrary::open(&path)? };
         let (width, height) = (manifest.width as u32, manifest.height as u32);
-        let info = PatchexCreateInfo {
-            header: PatchexStructHeader::of::<PatchexCreateInfo>(PATCHEX_STRUCT_TYPE_CREATE_INFO),
-            instance: engine.instance.handle(),
-            physical_device: engine.physical_device,
-            device: engine.device.handle(),
-            get_instance_proc_addr: Some(engine.get_instance_proc_addr()),
-            get_device_proc_addr: None,
-            queue_family_index: engine.queue_family_index,
-            max_width: width,
-            max_height: height,
-            frames_in_flight: 2,
-            preset: PATCHEX_PRESET_WARP_ONLY,
-            log_callback: None,
-            log_user_data: ptr::null_mut(),
-        };
+        let info = PatchexCreateInfo::new(
+            engine.instance.handle(),
+            engine.physical_device,
+            engine.device.handle(),
+            engine.get_instance_proc_addr(),
+            engine.queue_family_index,
+            width,
+            height,
+        );
         let mut context = ptr::null_mut();
         // SAFETY: valid create info from a live engine.
         let result = unsafe { (library.create)(&info, &mut context) };
