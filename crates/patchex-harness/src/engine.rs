@@ -222,15 +222,25 @@ impl Engine {
         );
     }
 
-    pub fn memory_type(&self, bits: u32, flags: vk::MemoryPropertyFlags) -> u32 {
-        (0..self.memory_properties.memory_type_count)
+    /// Dedicated memory for `requirements` in a memory type with `flags`.
+    pub fn allocate(
+        &self,
+        requirements: vk::MemoryRequirements,
+        flags: vk::MemoryPropertyFlags,
+    ) -> vk::DeviceMemory {
+        let memory_type = (0..self.memory_properties.memory_type_count)
             .find(|&i| {
-                bits & (1 << i) != 0
+                requirements.memory_type_bits & (1 << i) != 0
                     && self.memory_properties.memory_types[i as usize]
                         .property_flags
                         .contains(flags)
             })
-            .expect("a memory type with the requested properties")
+            .expect("a memory type with the requested properties");
+        let info = vk::MemoryAllocateInfo::default()
+            .allocation_size(requirements.size)
+            .memory_type_index(memory_type);
+        // SAFETY: a plain allocation on the engine's device; its owner frees it.
+        unsafe { self.device.allocate_memory(&info, None) }.expect("vkAllocateMemory")
     }
 
     /// Allocates a primary command buffer and begins it for one submission.

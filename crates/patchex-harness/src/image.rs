@@ -69,17 +69,7 @@ impl EngineImage {
                 )
                 .expect("vkCreateImage");
             let requirements = device.get_image_memory_requirements(image);
-            let memory = device
-                .allocate_memory(
-                    &vk::MemoryAllocateInfo::default()
-                        .allocation_size(requirements.size)
-                        .memory_type_index(engine.memory_type(
-                            requirements.memory_type_bits,
-                            vk::MemoryPropertyFlags::DEVICE_LOCAL,
-                        )),
-                    None,
-                )
-                .expect("vkAllocateMemory");
+            let memory = engine.allocate(requirements, vk::MemoryPropertyFlags::DEVICE_LOCAL);
             device
                 .bind_image_memory(image, memory, 0)
                 .expect("vkBindImageMemory");
@@ -325,18 +315,10 @@ impl StagingBuffer {
                 )
                 .expect("vkCreateBuffer");
             let requirements = device.get_buffer_memory_requirements(buffer);
-            let memory = device
-                .allocate_memory(
-                    &vk::MemoryAllocateInfo::default()
-                        .allocation_size(requirements.size)
-                        .memory_type_index(engine.memory_type(
-                            requirements.memory_type_bits,
-                            vk::MemoryPropertyFlags::HOST_VISIBLE
-                                | vk::MemoryPropertyFlags::HOST_COHERENT,
-                        )),
-                    None,
-                )
-                .expect("vkAllocateMemory");
+            let memory = engine.allocate(
+                requirements,
+                vk::MemoryPropertyFlags::HOST_VISIBLE | vk::MemoryPropertyFlags::HOST_COHERENT,
+            );
             device
                 .bind_buffer_memory(buffer, memory, 0)
                 .expect("vkBindBufferMemory");
