@@ -121,14 +121,15 @@ fn compile(pass_path: &Path) -> Result<CompiledPass, String> {
             located_error(&source, line, &e.emit_to_string(&source.text))
         })?;
 
-    // A frame generator must never read or write outside an engine image.
+    // A frame generator must never read or write outside an engine image. Buffer indices are
+    // clamped instead, the one policy naga implements for atomics.
     let checked = naga::proc::BoundsCheckPolicy::ReadZeroSkipWrite;
     let mut options = spv::Options {
         // Lavapipe lacks storageInputOutput16; compute passes never need it.
         use_storage_input_output_16: false,
         bounds_check_policies: naga::proc::BoundsCheckPolicies {
             index: checked,
-            buffer: checked,
+            buffer: naga::proc::BoundsCheckPolicy::Restrict,
             image_load: checked,
             binding_array: checked,
         },

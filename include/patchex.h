@@ -49,13 +49,16 @@
 #include <vulkan/vulkan.h>
 
 // Version of this ABI, returned by `patchex_abi_version`; bumped on any incompatible change.
-#define PATCHEX_ABI_VERSION 1
+#define PATCHEX_ABI_VERSION 2
 
 // Maximum number of extrapolations recorded from one submitted frame.
 #define PATCHEX_MAX_EXTRAPOLATIONS_PER_FRAME 4
 
 // Size of the `gpu_ms` arrays; stages added later take indices below it.
 #define PATCHEX_STAGE_SLOTS 16
+
+// Rectangles reported per extrapolation; the GPU segments every object id regardless.
+#define PATCHEX_MAX_REPORTED_OBJECTS 16
 
 // Result of every `patchex_*` call. Zero is success, positive values are non-error statuses,
 // negative values are errors; each error says what was wrong through `patchex_last_error`.
@@ -135,7 +138,7 @@ typedef void (*PatchexLogCallback)(void *user_data, PatchexLogLevel level, const
 // Arguments of `patchex_create`.
 typedef struct PatchexCreateInfo {
   // PATCHEX_STRUCT_TYPE_CREATE_INFO, sizeof(PatchexCreateInfo), optional chain
-  // (PatchexWarpSettings sets the context's default warp).
+  // (PatchexWarpSettings and PatchexSegmentationSettings set the context's defaults).
   struct PatchexStructHeader header;
   VkInstance instance;
   VkPhysicalDevice physical_device;
@@ -244,7 +247,8 @@ typedef struct PatchexFrameDesc {
 // The target instant: what `patchex_extrapolate` reads and writes.
 typedef struct PatchexExtrapolateDesc {
   // PATCHEX_STRUCT_TYPE_EXTRAPOLATE_DESC, sizeof(PatchexExtrapolateDesc), optional chain
-  // (PatchexWarpSettings overrides the context's warp for this call).
+  // (PatchexWarpSettings and PatchexSegmentationSettings override the context's defaults
+  // for this call; PatchexDiagnostics asks for the per-pixel intermediate results).
   struct PatchexStructHeader header;
   uint32_t queue_family_index;
   // Position of the target between frame t (0) and frame t+1 (1), in (0, 1].
@@ -262,6 +266,22 @@ typedef struct PatchexExtrapolateDesc {
 // Why the history before a submitted frame was dropped.
 typedef uint32_t PatchexResetReason;
 
+// One dynamic object's near-background rectangle, in pixels of the target image.
+typedef struct PatchexRegionRect {
+  // The object's stencil id (1 to 255).
+  uint32_t object_id;
+  // Target pixels showing the object.
+  uint32_t pixel_count;
+  // The grown rectangle, clamped to the image: x to x + width, y to y + height.
+  uint32_t x;
+  uint32_t y;
+  uint32_t width;
+  uint32_t height;
+  // Mean |motion| of the object's pixels, in pixels.
+  float mean_motion_x;
+  float mean_motion_y;
+} PatchexRegionRect;
+
 // What one extrapolation did.
 typedef struct PatchexExtrapolationStats {
   float alpha;
@@ -270,6 +290,14 @@ typedef struct PatchexExtrapolationStats {
   float hole_fraction;
   // Fraction of target pixels whose source fell off-screen.
   float offscreen_fraction;
+  // Fraction of target pixels in the foreground-interaction region (dynamic objects).
+  float fi_fraction;
+  // Fraction of target pixels in the near-background region.
+  float near_be_fraction;
+  // Dynamic objects (distinct non-zero stencil ids) in the target.
+  uint32_t object_count;
+  // The first min(object_count, PATCHEX_MAX_REPORTED_OBJECTS) objects' rectangles, by id.
+  struct PatchexRegionRect rects[PATCHEX_MAX_REPORTED_OBJECTS];
   // GPU milliseconds per stage (index PATCHEX_STAGE_*), 0 for stages that did not run.
   float gpu_ms[PATCHEX_STAGE_SLOTS];
 } PatchexExtrapolationStats;
@@ -307,6 +335,10 @@ typedef uint32_t PatchexStage;
 #define PATCHEX_STRUCT_TYPE_WARP_SETTINGS 4
 
 #define PATCHEX_STRUCT_TYPE_FRAME_STATS 5
+
+#define PATCHEX_STRUCT_TYPE_SEGMENTATION_SETTINGS 6
+
+#define PATCHEX_STRUCT_TYPE_DIAGNOSTICS 7
 
 // Demodulate, G-buffer-guided warp, remodulate. Holes keep the warp's nearest colour.
 #define PATCHEX_PRESET_WARP_ONLY 0
@@ -351,6 +383,14 @@ typedef uint32_t PatchexStage;
 #define PATCHEX_STAGE_WARP 3
 
 #define PATCHEX_STAGE_REMODULATE 4
+
+// Foveated segmentation: object bounds, grown rectangles, region masks.
+#define PATCHEX_STAGE_SEGMENT 5
+
+#define PATCHEX_STAGE_LBP 6
+
+// Only when a PatchexDiagnostics image is chained.
+#define PATCHEX_STAGE_DIAGNOSTICS 7
 
 #define PATCHEX_RESET_NONE 0
 

@@ -26,7 +26,7 @@ pub type PFN_vkGetInstanceProcAddr = Option<vk::PFN_vkGetInstanceProcAddr>;
 pub type PFN_vkGetDeviceProcAddr = Option<vk::PFN_vkGetDeviceProcAddr>;
 
 /// Version of this ABI, returned by `patchex_abi_version`; bumped on any incompatible change.
-pub const PATCHEX_ABI_VERSION: u32 = 1;
+pub const PATCHEX_ABI_VERSION: u32 = 2;
 
 /// 0 or 1; any other value is rejected as an invalid argument.
 pub type PatchexBool = u32;
@@ -38,6 +38,8 @@ pub const PATCHEX_STRUCT_TYPE_FRAME_DESC: PatchexStructType = 2;
 pub const PATCHEX_STRUCT_TYPE_EXTRAPOLATE_DESC: PatchexStructType = 3;
 pub const PATCHEX_STRUCT_TYPE_WARP_SETTINGS: PatchexStructType = 4;
 pub const PATCHEX_STRUCT_TYPE_FRAME_STATS: PatchexStructType = 5;
+pub const PATCHEX_STRUCT_TYPE_SEGMENTATION_SETTINGS: PatchexStructType = 6;
+pub const PATCHEX_STRUCT_TYPE_DIAGNOSTICS: PatchexStructType = 7;
 
 /// The first fields of every versioned struct, read before the rest.
 #[repr(C)]
@@ -170,7 +172,7 @@ pub struct PatchexGeometry {
 #[derive(Clone, Copy, Debug)]
 pub struct PatchexCreateInfo {
     /// PATCHEX_STRUCT_TYPE_CREATE_INFO, sizeof(PatchexCreateInfo), optional chain
-    /// (PatchexWarpSettings sets the context's default warp).
+    /// (PatchexWarpSettings and PatchexSegmentationSettings set the context's defaults).
     pub header: PatchexStructHeader,
     pub instance: VkInstance,
     pub physical_device: VkPhysicalDevice,
@@ -250,7 +252,8 @@ pub struct PatchexFrameDesc {
 #[derive(Clone, Copy, Debug)]
 pub struct PatchexExtrapolateDesc {
     /// PATCHEX_STRUCT_TYPE_EXTRAPOLATE_DESC, sizeof(PatchexExtrapolateDesc), optional chain
-    /// (PatchexWarpSettings overrides the context's warp for this call).
+    /// (PatchexWarpSettings and PatchexSegmentationSettings override the context's defaults
+    /// for this call; PatchexDiagnostics asks for the per-pixel intermediate results).
     pub header: PatchexStructHeader,
     pub queue_family_index: u32,
     /// Position of the target between frame t (0) and frame t+1 (1), in (0, 1].
@@ -288,6 +291,33 @@ pub struct PatchexWarpSettings {
     pub occlusion_search_radius: u32,
 }
 
+/// Chainable on PatchexCreateInfo (context default) or PatchexExtrapolateDesc (this call).
+/// Foveated segmentation (PatchEX Algorithm 1): the near-background region of a dynamic object
+/// is its bounding rectangle grown by `growth_x * mean|v_x|` left and right and by
+/// `growth_y * mean|v_y|` above and below, where v is the motion of the object's pixels.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct PatchexSegmentationSettings {
+    /// PATCHEX_STRUCT_TYPE_SEGMENTATION_SETTINGS, sizeof(PatchexSegmentationSettings), chain.
+    pub header: PatchexStructHeader,
+    /// k_x, finite and 0 to 64. The default is fitted by `patchex calibrate`.
+    pub growth_x: f32,
+    /// k_y, finite and 0 to 64.
+    pub growth_y: f32,
+}
+
+/// Chainable on PatchexExtrapolateDesc: an engine image that receives per-pixel intermediate
+/// results, for debug views and evaluation. R16G16B16A16_SFLOAT with STORAGE usage, the size of
+/// the output. R = hole (1, the warp's colour is a guess) or valid (0); G = region (0 far
+/// background, 0.5 near background, 1 foreground interaction); B = LBP code / 255; A = 1.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct PatchexDiagnostics {
+    /// PATCHEX_STRUCT_TYPE_DIAGNOSTICS, sizeof(PatchexDiagnostics), chain.
+    pub header: PatchexStructHeader,
+    pub image: PatchexImage,
+}
+
 /// Maximum number of extrapolations recorded from one submitted frame.
 pub const PATCHEX_MAX_EXTRAPOLATIONS_PER_FRAME: usize = 4;
 
@@ -298,6 +328,11 @@ pub const PATCHEX_STAGE_PACK_SOURCE_GBUFFER: PatchexStage = 1;
 pub const PATCHEX_STAGE_PACK_TARGET_GBUFFER: PatchexStage = 2;
 pub const PATCHEX_STAGE_WARP: PatchexStage = 3;
 pub const PATCHEX_STAGE_REMODULATE: PatchexStage = 4;
+/// Foveated segmentation: object bounds, grown rectangles, region masks.
+pub const PATCHEX_STAGE_SEGMENT: PatchexStage = 5;
+pub const PATCHEX_STAGE_LBP: PatchexStage = 6;
+/// Only when a PatchexDiagnostics image is chained.
+pub const PATCHEX_STAGE_DIAGNOSTICS: PatchexStage = 7;
 /// Size of the `gpu_ms` arrays; stages added later take indices below it.
 pub const PATCHEX_STAGE_SLOTS: usize = 16;
 
@@ -307,6 +342,27 @@ pub const PATCHEX_RESET_NONE: PatchexResetReason = 0;
 pub const PATCHEX_RESET_FIRST_FRAME: PatchexResetReason = 1;
 pub const PATCHEX_RESET_REQUESTED: PatchexResetReason = 2;
 pub const PATCHEX_RESET_FRAME_GAP: PatchexResetReason = 3;
+
+/// Rectangles reported per extrapolation; the GPU segments every object id regardless.
+pub const PATCHEX_MAX_REPORTED_OBJECTS: usize = 16;
+
+/// One dynamic object's near-background rectangle, in pixels of the target image.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PatchexRegionRect {
+    /// The object's stencil id (1 to 255).
+    pub object_id: u32,
+    /// Target pixels showing the object.
+    pub pixel_count: u32,
+    /// The grown rectangle, clamped to the image: x to x + width, y to y + height.
+    pub x: u32,
+    pub y: u32,
+    pub width: u32,
+    pub height: u32,
+    /// Mean |motion| of the object's pixels, in pixels.
+    pub mean_motion_x: f32,
+    pub mean_motion_y: f32,
+}
 
 /// What one extrapolation did.
 #[repr(C)]
@@ -318,6 +374,14 @@ pub struct PatchexExtrapolationStats {
     pub hole_fraction: f32,
     /// Fraction of target pixels whose source fell off-screen.
     pub offscreen_fraction: f32,
+    /// Fraction of target pixels in the foreground-interaction region (dynamic objects).
+    pub fi_fraction: f32,
+    /// Fraction of target pixels in the near-background region.
+    pub near_be_fraction: f32,
+    /// Dynamic objects (distinct non-zero stencil ids) in the target.
+    pub object_count: u32,
+    /// The first min(object_count, PATCHEX_MAX_REPORTED_OBJECTS) objects' rectangles, by id.
+    pub rects: [PatchexRegionRect; PATCHEX_MAX_REPORTED_OBJECTS],
     /// GPU milliseconds per stage (index PATCHEX_STAGE_*), 0 for stages that did not run.
     pub gpu_ms: [f32; PATCHEX_STAGE_SLOTS],
 }

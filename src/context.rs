@@ -10,14 +10,23 @@ use crate::abi::*;
 use crate::camera::Camera;
 use crate::error::{bail, PatchexResult, Result};
 use crate::inputs::{self, GeometryInputs, SourceInputs, TargetInputs};
+use crate::passes::segmentation::{self, SegmentationSettings};
 use crate::passes::warp::WarpSettings;
-use crate::passes::{demodulate, pack_gbuffer, remodulate, warp, Pipelines, Texture};
+use crate::passes::{
+    demodulate, diagnostics, lbp, pack_gbuffer, remodulate, warp, Pipelines, Texture,
+};
 use crate::vk::barriers::{self, EngineImageAccess};
 use crate::vk::device::Gpu;
 use crate::vk::frame_ring::{FrameRecord, FrameRing, RegionRecord};
-use crate::vk::image::OwnedImage;
+use crate::vk::image::{ImageRole, ImportedImage, OwnedImage};
 
 pub const MAX_FRAMES_IN_FLIGHT: u32 = 8;
+
+/// Where each pass's counters sit in an extrapolation's range of the frame counters. Both
+/// offsets are multiples of 256, the largest storage-buffer offset alignment Vulkan allows.
+const WARP_COUNTERS_OFFSET: u64 = 0;
+const OBJECT_TABLE_OFFSET: u64 = 256;
+pub const COUNTER_BYTES: u64 = OBJECT_TABLE_OFFSET + segmentation::TABLE_BYTES;
 /// Largest extent accepted at creation; 8K with margin.
 pub const MAX_EXTENT: u32 = 16384;
 
@@ -30,6 +39,9 @@ struct WorkImages {
     target_geometry: OwnedImage,
     target_normal_id: OwnedImage,
     warped: OwnedImage,
+    /// Region of each target pixel (segmentation::REGION_*).
+    regions: OwnedImage,
+    lbp: OwnedImage,
 }
 
 impl WorkImages {
@@ -42,6 +54,8 @@ impl WorkImages {
             ("patchex target geometry", F::R32G32B32A32_SFLOAT),
             ("patchex target normal+id", F::R16G16B16A16_SFLOAT),
             ("patchex warped shading", F::R32G32B32A32_SFLOAT),
+            ("patchex regions", F::R32_UINT),
+            ("patchex lbp", F::R32_SFLOAT),
         ];
         let mut made: Vec<OwnedImage> = Vec::with_capacity(specs.len());
         for (name, format) in specs {
@@ -62,8 +76,10 @@ impl WorkImages {
                 }
             }
         }
-        let [source_shading, source_geometry, source_normal_id, target_geometry, target_normal_id, warped] =
-            <[OwnedImage; 6]>::try_from(made).ok().expect("six images");
+        let [source_shading, source_geometry, source_normal_id, target_geometry, target_normal_id, warped, regions, lbp] =
+            <[OwnedImage; 8]>::try_from(made)
+                .ok()
+                .expect("eight images");
         Ok(Self {
             extent,
             source_shading,
@@ -72,6 +88,8 @@ impl WorkImages {
             target_geometry,
             target_normal_id,
             warped,
+            regions,
+            lbp,
         })
     }
 
@@ -83,10 +101,25 @@ impl WorkImages {
             self.target_geometry,
             self.target_normal_id,
             self.warped,
+            self.regions,
+            self.lbp,
         ]
     }
 
-    fn all_mut(&mut self) -> [&mut OwnedImage; 6] {
+    fn all(&self) -> [&OwnedImage; 8] {
+        [
+            &self.source_shading,
+            &self.source_geometry,
+            &self.source_normal_id,
+            &self.target_geometry,
+            &self.target_normal_id,
+            &self.warped,
+            &self.regions,
+            &self.lbp,
+        ]
+    }
+
+    fn all_mut(&mut self) -> [&mut OwnedImage; 8] {
         [
             &mut self.source_shading,
             &mut self.source_geometry,
@@ -94,6 +127,8 @@ impl WorkImages {
             &mut self.target_geometry,
             &mut self.target_normal_id,
             &mut self.warped,
+            &mut self.regions,
+            &mut self.lbp,
         ]
     }
 }
@@ -111,6 +146,14 @@ struct SourceFrame {
     camera: Camera,
 }
 
+/// Extension structs chained on a create info or an extrapolate call, validated.
+#[derive(Default)]
+pub struct Extensions {
+    pub warp: Option<WarpSettings>,
+    pub segmentation: Option<SegmentationSettings>,
+    pub diagnostics: Option<PatchexImage>,
+}
+
 pub struct Context {
     gpu: Gpu,
     allocator: ManuallyDrop<Allocator>,
@@ -120,13 +163,14 @@ pub struct Context {
     work: Option<WorkImages>,
     max_extent: vk::Extent2D,
     default_warp: WarpSettings,
+    default_segmentation: SegmentationSettings,
     source: Option<SourceFrame>,
 }
 
 impl Context {
     /// # Safety
     /// The handles in `info` must be live objects of one Vulkan instance.
-    pub unsafe fn new(info: &PatchexCreateInfo, warp: Option<WarpSettings>) -> Result<Self> {
+    pub unsafe fn new(info: &PatchexCreateInfo, defaults: Extensions) -> Result<Self> {
         if info.preset != PATCHEX_PRESET_WARP_ONLY {
             bail!(
                 ErrorInvalidArgument,
@@ -191,7 +235,8 @@ impl Context {
                 width: info.max_width,
                 height: info.max_height,
             },
-            default_warp: warp.unwrap_or_default(),
+            default_warp: defaults.warp.unwrap_or_default(),
+            default_segmentation: defaults.segmentation.unwrap_or_default(),
             source: None,
         };
         let one = vk::Extent2D {
@@ -313,7 +358,7 @@ impl Context {
         let mut timed = TimedRegion::begin(&self.ring, device, cmd, slot, 0);
         timed.stage(PATCHEX_STAGE_DEMODULATE, || {
             demodulate::record(
-                &self.pipelines.demodulate,
+                self.pipelines.get(Pipelines::DEMODULATE),
                 device,
                 cmd,
                 self.ring.descriptor_set(slot, 0, Pipelines::DEMODULATE),
@@ -324,7 +369,7 @@ impl Context {
         });
         timed.stage(PATCHEX_STAGE_PACK_SOURCE_GBUFFER, || {
             pack_gbuffer::record(
-                &self.pipelines.pack_gbuffer,
+                self.pipelines.get(Pipelines::PACK_GBUFFER),
                 device,
                 cmd,
                 self.ring.descriptor_set(slot, 0, Pipelines::PACK_GBUFFER),
@@ -360,7 +405,7 @@ impl Context {
         &mut self,
         cmd: vk::CommandBuffer,
         desc: &PatchexExtrapolateDesc,
-        warp: Option<WarpSettings>,
+        extensions: Extensions,
     ) -> Result<()> {
         self.check_queue_family(desc.queue_family_index, "PatchexExtrapolateDesc")?;
         let Some(source) = &self.source else {
@@ -399,8 +444,18 @@ impl Context {
         let material = access.read_optional(inputs.material.as_ref())?;
         let motion = access.read(&inputs.motion_vectors)?;
         let output = access.write(&inputs.output)?;
+        let diagnostics_image = match &extensions.diagnostics {
+            Some(image) => Some(access.write(&ImportedImage::import_required(
+                &self.gpu,
+                image,
+                &ImageRole::output("PatchexDiagnostics.image"),
+                inputs.extent,
+            )?)?),
+            None => None,
+        };
 
-        let warp_settings = warp.unwrap_or(self.default_warp);
+        let warp_settings = extensions.warp.unwrap_or(self.default_warp);
+        let segmentation_settings = extensions.segmentation.unwrap_or(self.default_segmentation);
         let jitter_delta = (inputs.geometry.camera.jitter - source.camera.jitter).into();
         let warp_params = warp_settings.params(
             inputs.extent,
@@ -416,21 +471,34 @@ impl Context {
             .work
             .as_ref()
             .expect("a submitted frame allocated the work images");
+        let counters_offset = self.ring.counter_offset(slot, region);
         let counters = warp::CounterRange {
             buffer: self.ring.counters.buffer,
-            offset: self.ring.counter_offset(slot, region),
-            range: FrameRing::COUNTER_RANGE,
+            offset: counters_offset + WARP_COUNTERS_OFFSET,
+            range: warp::COUNTER_BYTES,
+        };
+        let object_table = segmentation::TableRange {
+            buffer: self.ring.counters.buffer,
+            offset: counters_offset + OBJECT_TABLE_OFFSET,
         };
         access.acquire(device, cmd);
         barriers::compute_to_transfer(device, cmd);
         // SAFETY: cmd is recording; the range lies inside the counters buffer.
-        unsafe { device.cmd_fill_buffer(cmd, counters.buffer, counters.offset, counters.range, 0) };
+        unsafe {
+            device.cmd_fill_buffer(
+                cmd,
+                self.ring.counters.buffer,
+                counters_offset,
+                FrameRing::COUNTER_RANGE,
+                0,
+            )
+        };
         let mut timed = TimedRegion::begin(&self.ring, device, cmd, slot, region);
         barriers::compute_to_compute(device, cmd, true);
 
         timed.stage(PATCHEX_STAGE_PACK_TARGET_GBUFFER, || {
             pack_gbuffer::record(
-                &self.pipelines.pack_gbuffer,
+                self.pipelines.get(Pipelines::PACK_GBUFFER),
                 device,
                 cmd,
                 self.ring
@@ -445,10 +513,10 @@ impl Context {
             )
         });
         barriers::compute_to_compute(device, cmd, false);
-        let (warp_pipeline, warp_index) = self.pipelines.warp(warp_settings.kind);
+        let warp_index = Pipelines::warp(warp_settings.kind);
         timed.stage(PATCHEX_STAGE_WARP, || {
             warp::record(
-                warp_pipeline,
+                self.pipelines.get(warp_index),
                 device,
                 cmd,
                 self.ring.descriptor_set(slot, region, warp_index),
@@ -465,10 +533,47 @@ impl Context {
                 &counters,
             )
         });
+        timed.stage(PATCHEX_STAGE_SEGMENT, || {
+            segmentation::record(
+                &segmentation::SegmentationPipelines {
+                    object_bounds: self.pipelines.get(Pipelines::OBJECT_BOUNDS),
+                    grow_regions: self.pipelines.get(Pipelines::GROW_REGIONS),
+                    region_masks: self.pipelines.get(Pipelines::REGION_MASKS),
+                },
+                [
+                    Pipelines::OBJECT_BOUNDS,
+                    Pipelines::GROW_REGIONS,
+                    Pipelines::REGION_MASKS,
+                ]
+                .map(|index| self.ring.descriptor_set(slot, region, index)),
+                device,
+                cmd,
+                inputs.extent,
+                &segmentation_settings,
+                &segmentation::SegmentationInputs {
+                    target_normal_id: &work.target_normal_id,
+                    motion,
+                    motion_scale: inputs.geometry.motion_vector_scale,
+                },
+                &object_table,
+                &work.regions,
+            )
+        });
+        timed.stage(PATCHEX_STAGE_LBP, || {
+            lbp::record(
+                self.pipelines.get(Pipelines::LBP),
+                device,
+                cmd,
+                self.ring.descriptor_set(slot, region, Pipelines::LBP),
+                inputs.extent,
+                &work.warped,
+                &work.lbp,
+            )
+        });
         barriers::compute_to_compute(device, cmd, false);
         timed.stage(PATCHEX_STAGE_REMODULATE, || {
             remodulate::record(
-                &self.pipelines.remodulate,
+                self.pipelines.get(Pipelines::REMODULATE),
                 device,
                 cmd,
                 self.ring
@@ -483,6 +588,24 @@ impl Context {
                 output,
             )
         });
+        if let Some(diagnostics_image) = diagnostics_image {
+            timed.stage(PATCHEX_STAGE_DIAGNOSTICS, || {
+                diagnostics::record(
+                    self.pipelines.get(Pipelines::WRITE_DIAGNOSTICS),
+                    device,
+                    cmd,
+                    self.ring
+                        .descriptor_set(slot, region, Pipelines::WRITE_DIAGNOSTICS),
+                    inputs.extent,
+                    &diagnostics::DiagnosticsInputs {
+                        warped: &work.warped,
+                        regions: &work.regions,
+                        lbp: &work.lbp,
+                    },
+                    diagnostics_image,
+                )
+            });
+        }
         let stages = timed.stages;
         barriers::compute_to_host(device, cmd);
         access.release(device, cmd);
@@ -557,6 +680,14 @@ impl Context {
                     .counters
                     .read_u32(counters + warp::OFFSCREEN_PIXELS_OFFSET) as f32
                     / pixels;
+            let segmented =
+                segmentation::read_back(&self.ring.counters, counters + OBJECT_TABLE_OFFSET);
+            stats.fi_fraction = segmented.fi_pixels as f32 / pixels;
+            stats.near_be_fraction = segmented.near_be_pixels as f32 / pixels;
+            stats.object_count = segmented.rects.len() as u32;
+            for (reported, rect) in stats.rects.iter_mut().zip(&segmented.rects) {
+                *reported = *rect;
+            }
         }
         *out = PatchexFrameStats {
             header: out.header,
@@ -578,19 +709,10 @@ impl Context {
     }
 
     fn device_memory_bytes(&self) -> u64 {
-        let work: u64 = self.work.as_ref().map_or(0, |w| {
-            [
-                &w.source_shading,
-                &w.source_geometry,
-                &w.source_normal_id,
-                &w.target_geometry,
-                &w.target_normal_id,
-                &w.warped,
-            ]
-            .iter()
-            .map(|image| image.size_bytes())
-            .sum()
-        });
+        let work: u64 = self
+            .work
+            .as_ref()
+            .map_or(0, |w| w.all().iter().map(|image| image.size_bytes()).sum());
         work + self.ring.retired_bytes()
             + self.ring.counters.size_bytes()
             + self.placeholders.float.size_bytes()

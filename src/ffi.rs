@@ -7,8 +7,9 @@ use std::ffi::{c_char, c_void, CString};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
 use crate::abi::*;
-use crate::context::Context;
+use crate::context::{Context, Extensions};
 use crate::error::{bail, Error, PatchexResult, Result};
+use crate::passes::segmentation::SegmentationSettings;
 use crate::passes::warp::WarpSettings;
 
 /// A plugin context. Opaque to the engine; see `patchex_create`.
@@ -84,37 +85,59 @@ unsafe fn read_versioned<T: Copy>(
 /// Longest `next` chain followed; a longer one is taken for a cycle.
 const MAX_CHAIN_LENGTH: usize = 16;
 
-/// Walks a `next` chain and returns the warp settings in it, if any. `accepts_warp` is false
-/// for structs that take no extension; any unknown link is an error, so a caller never believes
-/// an extension was honoured when it was not.
+/// Walks a `next` chain and returns the extensions in it. `accepted` lists the struct types
+/// the chained-to struct takes, each at most once; any other link is an error, so a caller never
+/// believes an extension was honoured when it was not.
 ///
 /// # Safety
 /// Every link is null or points to a readable struct starting with a `PatchexStructHeader`.
 unsafe fn read_chain(
     mut next: *const c_void,
-    accepts_warp: bool,
+    accepted: &[PatchexStructType],
     what: &str,
-) -> Result<Option<WarpSettings>> {
-    let mut warp = None;
+) -> Result<Extensions> {
+    let mut extensions = Extensions::default();
+    let mut seen: Vec<PatchexStructType> = Vec::new();
     for _ in 0..MAX_CHAIN_LENGTH {
         if next.is_null() {
-            return Ok(warp);
+            return Ok(extensions);
         }
         let header = next.cast::<PatchexStructHeader>().read();
-        match header.struct_type {
-            PATCHEX_STRUCT_TYPE_WARP_SETTINGS if accepts_warp && warp.is_none() => {
+        let kind = header.struct_type;
+        if !accepted.contains(&kind) || seen.contains(&kind) {
+            bail!(
+                ErrorInvalidStructType,
+                "{what}.header.next chains struct_type {kind}, which this struct does not take \
+                 (or takes only once)"
+            );
+        }
+        seen.push(kind);
+        match kind {
+            PATCHEX_STRUCT_TYPE_WARP_SETTINGS => {
                 let settings = read_versioned(
                     next.cast::<PatchexWarpSettings>(),
-                    PATCHEX_STRUCT_TYPE_WARP_SETTINGS,
+                    kind,
                     "PatchexWarpSettings",
                 )?;
-                warp = Some(WarpSettings::from_abi(&settings)?);
+                extensions.warp = Some(WarpSettings::from_abi(&settings)?);
             }
-            other => bail!(
-                ErrorInvalidStructType,
-                "{what}.header.next chains struct_type {other}, which this struct does not take \
-                 (or takes only once)"
-            ),
+            PATCHEX_STRUCT_TYPE_SEGMENTATION_SETTINGS => {
+                let settings = read_versioned(
+                    next.cast::<PatchexSegmentationSettings>(),
+                    kind,
+                    "PatchexSegmentationSettings",
+                )?;
+                extensions.segmentation = Some(SegmentationSettings::from_abi(&settings)?);
+            }
+            PATCHEX_STRUCT_TYPE_DIAGNOSTICS => {
+                let diagnostics = read_versioned(
+                    next.cast::<PatchexDiagnostics>(),
+                    kind,
+                    "PatchexDiagnostics",
+                )?;
+                extensions.diagnostics = Some(diagnostics.image);
+            }
+            _ => unreachable!("every accepted struct type is handled"),
         }
         next = header.next;
     }
@@ -230,8 +253,15 @@ pub unsafe extern "C" fn patchex_create(
             log_callback: info.log_callback,
             log_user_data: info.log_user_data,
         };
-        let created = read_chain(info.header.next, true, "PatchexCreateInfo")
-            .and_then(|warp| Context::new(&info, warp));
+        let created = read_chain(
+            info.header.next,
+            &[
+                PATCHEX_STRUCT_TYPE_WARP_SETTINGS,
+                PATCHEX_STRUCT_TYPE_SEGMENTATION_SETTINGS,
+            ],
+            "PatchexCreateInfo",
+        )
+        .and_then(|defaults| Context::new(&info, defaults));
         match created {
             Ok(context) => Ok(PatchexContext {
                 context: Some(context),
@@ -297,7 +327,7 @@ pub unsafe extern "C" fn patchex_submit_gbuffers(
             bail!(ErrorNullPointer, "command_buffer is VK_NULL_HANDLE");
         }
         let desc = read_versioned(desc, PATCHEX_STRUCT_TYPE_FRAME_DESC, "PatchexFrameDesc")?;
-        read_chain(desc.header.next, false, "PatchexFrameDesc")?;
+        read_chain(desc.header.next, &[], "PatchexFrameDesc")?;
         context.submit(command_buffer, &desc)?;
         Ok(PatchexResult::Success)
     })
@@ -325,8 +355,16 @@ pub unsafe extern "C" fn patchex_extrapolate(
             PATCHEX_STRUCT_TYPE_EXTRAPOLATE_DESC,
             "PatchexExtrapolateDesc",
         )?;
-        let warp = read_chain(desc.header.next, true, "PatchexExtrapolateDesc")?;
-        context.extrapolate(command_buffer, &desc, warp)?;
+        let extensions = read_chain(
+            desc.header.next,
+            &[
+                PATCHEX_STRUCT_TYPE_WARP_SETTINGS,
+                PATCHEX_STRUCT_TYPE_SEGMENTATION_SETTINGS,
+                PATCHEX_STRUCT_TYPE_DIAGNOSTICS,
+            ],
+            "PatchexExtrapolateDesc",
+        )?;
+        context.extrapolate(command_buffer, &desc, extensions)?;
         Ok(PatchexResult::Success)
     })
 }

@@ -321,6 +321,57 @@ fn extrapolate_with_invalid_warp_settings() {
 }
 
 #[test]
+fn extrapolate_with_invalid_segmentation_settings() {
+    for (growth_x, growth_y) in [(f32::NAN, 1.0), (1.0, -0.5), (1.0, 65.0)] {
+        let settings = PatchexSegmentationSettings {
+            header: PatchexStructHeader::of::<PatchexSegmentationSettings>(
+                PATCHEX_STRUCT_TYPE_SEGMENTATION_SETTINGS,
+            ),
+            growth_x,
+            growth_y,
+        };
+        rejected_extrapolate(PatchexResult::ErrorInvalidArgument, |d| {
+            d.header.next = &settings as *const PatchexSegmentationSettings as *const c_void
+        });
+    }
+}
+
+#[test]
+fn extrapolate_with_bad_diagnostics_image() {
+    let diagnostics = |d: &PatchexExtrapolateDesc, format| PatchexDiagnostics {
+        header: PatchexStructHeader::of::<PatchexDiagnostics>(PATCHEX_STRUCT_TYPE_DIAGNOSTICS),
+        image: PatchexImage { format, ..d.output },
+    };
+    // The output image itself: one image cannot take both results.
+    let mut aliased = None;
+    rejected_extrapolate(PatchexResult::ErrorInvalidArgument, |d| {
+        let chained = aliased.insert(diagnostics(d, d.output.format));
+        d.header.next = chained as *const PatchexDiagnostics as *const c_void
+    });
+    let mut wrong_format = None;
+    rejected_extrapolate(PatchexResult::ErrorUnsupportedFormat, |d| {
+        let chained = wrong_format.insert(diagnostics(d, vk::Format::R8G8B8A8_UNORM));
+        d.header.next = chained as *const PatchexDiagnostics as *const c_void
+    });
+}
+
+#[test]
+fn extrapolate_with_one_extension_chained_twice() {
+    let second = PatchexSegmentationSettings {
+        header: PatchexStructHeader::of::<PatchexSegmentationSettings>(
+            PATCHEX_STRUCT_TYPE_SEGMENTATION_SETTINGS,
+        ),
+        growth_x: 1.0,
+        growth_y: 1.0,
+    };
+    let mut first = second;
+    first.header.next = &second as *const PatchexSegmentationSettings as *const c_void;
+    rejected_extrapolate(PatchexResult::ErrorInvalidStructType, |d| {
+        d.header.next = &first as *const PatchexSegmentationSettings as *const c_void
+    });
+}
+
+#[test]
 fn extrapolate_before_any_submit() {
     let case = Case::new();
     case.rig.engine.run(|cmd| {

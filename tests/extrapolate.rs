@@ -1,23 +1,14 @@
-//! End-to-end extrapolation on lavapipe through the C ABI, compared with the plain-Rust
-//! reference of the same passes.
-//!
-//! Tolerance: the GPU and the reference run the same f32 arithmetic, but exp(), fused
-//! multiply-adds and the order of matrix products differ in the last bits, and both round the
-//! result to the RGBA16F output (one f16 step is 2^-10 relative). A pixel matches when it is
-//! within 2e-3 relative (two f16 steps) plus 1e-4 absolute. The warp has two thresholds (the
-//! agreeing share of the bilinear footprint, and the best agreement for holes); a last-bit
-//! difference can flip a pixel whose reference value lies within 1e-4 of one, so only such
-//! pixels may differ beyond the tolerance, and the test reports how many there were.
+//! End-to-end extrapolation on lavapipe through the C ABI on the analytic scene, compared with
+//! the plain-Rust reference of the same passes (tolerances in `support/pipeline.rs`).
 
 mod support;
 
 use glam::Vec2;
 use patchex::abi::*;
-use patchex::camera::Camera;
 use patchex::error::PatchexResult;
 use patchex::passes::warp::WarpSettings;
-use patchex::reference::warp::{AGREEMENT_THRESHOLD, BILINEAR_ACCEPT};
-use patchex::reference::{self, FrameInputs, Image};
+use patchex::reference::Image;
+use support::pipeline::{assert_matches_reference, psnr, run_plugin, Chained};
 use support::scene::{Frame, Scene};
 use support::*;
 
@@ -25,171 +16,6 @@ const WIDTH: usize = 96;
 const HEIGHT: usize = 64;
 /// Rendered frames are 1/30 s apart; the target sits halfway (alpha 0.5).
 const FRAME_TIME: f32 = 1.0 / 30.0;
-const NEAR_THRESHOLD: f32 = 1e-4;
-
-fn inputs<'a>(frame: &'a Frame, camera: &'a Camera) -> FrameInputs<'a> {
-    FrameInputs {
-        color: Some(&frame.color),
-        base_color: &frame.base_color,
-        material: Some(&frame.material),
-        depth: &frame.depth,
-        normal: &frame.normal,
-        stencil: Some(&frame.stencil),
-        motion: Some(&frame.motion),
-        camera,
-        normal_encoding: PATCHEX_NORMAL_SIGNED,
-        motion_vector_scale: [1.0, 1.0],
-    }
-}
-
-fn psnr(a: &Image, b: &Image) -> f64 {
-    let mut squared = 0.0;
-    let mut count = 0;
-    for (pa, pb) in a.data.chunks(4).zip(b.data.chunks(4)) {
-        for c in 0..3 {
-            squared += ((pa[c] - pb[c]) as f64).powi(2);
-            count += 1;
-        }
-    }
-    10.0 * (1.0 / (squared / count as f64)).log10()
-}
-
-struct Outcome {
-    output: Image,
-    stats: PatchexFrameStats,
-}
-
-/// `settings` as the ABI struct chained onto an extrapolation.
-fn chained(settings: &WarpSettings) -> PatchexWarpSettings {
-    PatchexWarpSettings {
-        header: PatchexStructHeader::of::<PatchexWarpSettings>(PATCHEX_STRUCT_TYPE_WARP_SETTINGS),
-        kind: settings.kind,
-        kernel_radius: settings.kernel_radius,
-        sigma_spatial: settings.sigma_spatial,
-        sigma_depth: settings.sigma_depth,
-        sigma_normal: settings.sigma_normal,
-        sigma_position: settings.sigma_position,
-        occlusion_search_radius: settings.occlusion_search_radius,
-    }
-}
-
-/// Submits `source` as frame 1 and extrapolates `target` from it on the GPU, with `warp`
-/// chained onto the call when given (the context's default otherwise).
-fn run_plugin(
-    rig: &Rig,
-    source: &Frame,
-    target: &Frame,
-    alpha: f32,
-    warp: Option<&WarpSettings>,
-) -> Outcome {
-    let warp = warp.map(chained);
-    let engine = &rig.engine;
-    let family = engine.queue_family_index;
-    let gpu_source = GpuFrame::upload(engine, source);
-    let gpu_target = GpuFrame::upload(engine, target);
-    let output = output_image(engine, WIDTH as u32, HEIGHT as u32);
-    engine.run(|cmd| {
-        assert_eq!(
-            rig.submit(cmd, &gpu_source.frame_desc(1, family)),
-            PatchexResult::Success,
-            "{}",
-            rig.last_error()
-        );
-        let mut desc = gpu_target.extrapolate_desc(&output, alpha, family);
-        if let Some(warp) = &warp {
-            desc.header.next = warp as *const PatchexWarpSettings as *const std::ffi::c_void;
-        }
-        assert_eq!(
-            rig.extrapolate(cmd, &desc),
-            PatchexResult::Success,
-            "{}",
-            rig.last_error()
-        );
-    });
-    // Every engine image is read back in the layout it was handed in: validation reports any
-    // image the plugin left in another layout.
-    let output_values = output.read(engine, OUTPUT_LAYOUT);
-    gpu_source.color.read(engine, COLOR_LAYOUT);
-    gpu_source.depth.read(engine, DEPTH_LAYOUT);
-    gpu_target.motion.read(engine, MOTION_LAYOUT);
-    gpu_target.normal.read(engine, GBUFFER_LAYOUT);
-    let (result, stats) = rig.stats(1);
-    assert_eq!(result, PatchexResult::Success, "{}", rig.last_error());
-    Outcome {
-        output: Image {
-            width: WIDTH,
-            height: HEIGHT,
-            channels: 4,
-            data: output_values,
-        },
-        stats,
-    }
-}
-
-/// Compares the plugin with the reference; returns the number of pixels excused as lying at a
-/// threshold.
-fn assert_matches_reference(
-    scene: &Scene,
-    source: &Frame,
-    target: &Frame,
-    outcome: &Outcome,
-    warp: &WarpSettings,
-) -> usize {
-    let source_camera = Camera::from_abi(&source.camera, "source").unwrap();
-    let target_camera = Camera::from_abi(&target.camera, "target").unwrap();
-    let (expected, warped) = reference::extrapolate(
-        &inputs(source, &source_camera),
-        &inputs(target, &target_camera),
-        warp,
-    );
-    let mut excused = 0;
-    let mut worst = (0.0f32, 0, 0);
-    for y in 0..scene.height {
-        for x in 0..scene.width {
-            let i = y * scene.width + x;
-            let at_threshold = (warped.bilinear_weight[i] - BILINEAR_ACCEPT).abs() < NEAR_THRESHOLD
-                || (warped.best_agreement[i] - AGREEMENT_THRESHOLD).abs() < NEAR_THRESHOLD;
-            let (got, want) = (outcome.output.at(x, y), expected.at(x, y));
-            let error = (0..3)
-                .map(|c| (got[c] - want[c]).abs() / (2e-3 * want[c].abs() + 1e-4))
-                .fold(0.0, f32::max);
-            if error > 1.0 {
-                assert!(
-                    at_threshold,
-                    "pixel ({x}, {y}): plugin {got:?}, reference {want:?}"
-                );
-                excused += 1;
-            }
-            if error > worst.0 {
-                worst = (error, x, y);
-            }
-        }
-    }
-    let pixels = (scene.width * scene.height) as f32;
-    let stats = &outcome.stats.extrapolations[0];
-    let near_hole_threshold = warped
-        .best_agreement
-        .iter()
-        .filter(|a| (**a - AGREEMENT_THRESHOLD).abs() < NEAR_THRESHOLD)
-        .count();
-    let hole_difference = (stats.hole_fraction * pixels - warped.hole_pixels as f32).abs();
-    assert!(
-        hole_difference <= near_hole_threshold as f32,
-        "holes: plugin {} pixels, reference {}",
-        stats.hole_fraction * pixels,
-        warped.hole_pixels
-    );
-    assert_eq!(
-        stats.offscreen_fraction * pixels,
-        warped.offscreen_pixels as f32
-    );
-    println!(
-        "worst error {:.3} of tolerance at {:?}; {excused} pixel(s) at a threshold",
-        worst.0,
-        (worst.1, worst.2)
-    );
-    excused
-}
 
 fn two_frame_case(scene: &Scene) -> (Frame, Frame) {
     let source = scene.render(0.0, Vec2::new(0.25, -0.25), -FRAME_TIME);
@@ -202,8 +28,8 @@ fn extrapolation_matches_reference_on_a_moving_textured_sphere() {
     let scene = Scene::new(WIDTH, HEIGHT);
     let (source, target) = two_frame_case(&scene);
     let rig = Rig::new(WIDTH as u32, HEIGHT as u32);
-    let outcome = run_plugin(&rig, &source, &target, 0.5, None);
-    assert_matches_reference(&scene, &source, &target, &outcome, &WarpSettings::default());
+    let outcome = run_plugin(&rig, &source, &target, 0.5, &Chained::default());
+    assert_matches_reference(&source, &target, &outcome, &Chained::default());
 
     // The case is real: the sphere moves and uncovers ground, and warping beats showing frame t.
     let stats = &outcome.stats.extrapolations[0];
@@ -227,8 +53,8 @@ fn extrapolation_matches_reference_with_reversed_infinite_depth() {
     scene.depth_convention = PATCHEX_DEPTH_HARDWARE_REVERSED;
     let (source, target) = two_frame_case(&scene);
     let rig = Rig::new(WIDTH as u32, HEIGHT as u32);
-    let outcome = run_plugin(&rig, &source, &target, 0.5, None);
-    assert_matches_reference(&scene, &source, &target, &outcome, &WarpSettings::default());
+    let outcome = run_plugin(&rig, &source, &target, 0.5, &Chained::default());
+    assert_matches_reference(&source, &target, &outcome, &Chained::default());
 }
 
 #[test]
@@ -237,8 +63,8 @@ fn extrapolation_matches_reference_with_linear_view_depth() {
     scene.depth_convention = PATCHEX_DEPTH_LINEAR_VIEW_Z;
     let (source, target) = two_frame_case(&scene);
     let rig = Rig::new(WIDTH as u32, HEIGHT as u32);
-    let outcome = run_plugin(&rig, &source, &target, 0.5, None);
-    assert_matches_reference(&scene, &source, &target, &outcome, &WarpSettings::default());
+    let outcome = run_plugin(&rig, &source, &target, 0.5, &Chained::default());
+    assert_matches_reference(&source, &target, &outcome, &Chained::default());
 }
 
 /// Each warp kind on the same moving case: the plugin matches the reference, and their quality
@@ -255,13 +81,16 @@ fn every_warp_kind_matches_its_reference() {
         PATCHEX_WARP_OCCLUSION_MOTION_VECTOR,
         PATCHEX_WARP_GBUFFER_GUIDED,
     ] {
-        let warp = WarpSettings {
-            kind,
-            ..WarpSettings::default()
+        let chained = Chained {
+            warp: Some(WarpSettings {
+                kind,
+                ..WarpSettings::default()
+            }),
+            ..Chained::default()
         };
         let rig = Rig::new(WIDTH as u32, HEIGHT as u32);
-        let outcome = run_plugin(&rig, &source, &target, 0.5, Some(&warp));
-        assert_matches_reference(&scene, &source, &target, &outcome, &warp);
+        let outcome = run_plugin(&rig, &source, &target, 0.5, &chained);
+        assert_matches_reference(&source, &target, &outcome, &chained);
         let quality = psnr(&outcome.output, &target.color);
         println!(
             "warp kind {kind}: PSNR {quality:.2} dB, holes {:.4}",
@@ -284,7 +113,7 @@ fn zero_motion_gives_back_the_submitted_frame() {
     let frame = scene.render(0.0, Vec2::ZERO, -FRAME_TIME);
     assert!(frame.motion.data.iter().all(|m| *m == 0.0));
     let rig = Rig::new(WIDTH as u32, HEIGHT as u32);
-    let outcome = run_plugin(&rig, &frame, &frame, 0.5, None);
+    let outcome = run_plugin(&rig, &frame, &frame, 0.5, &Chained::default());
     for (got, want) in outcome
         .output
         .data

@@ -2,8 +2,11 @@
 //! the math lives in `shaders/` and, as the tests' oracle, in `crate::reference`.
 
 pub mod demodulate;
+pub mod diagnostics;
+pub mod lbp;
 pub mod pack_gbuffer;
 pub mod remodulate;
+pub mod segmentation;
 pub mod warp;
 
 use ash::vk;
@@ -17,22 +20,21 @@ use crate::vk::pipeline::ComputePipeline;
 pub use crate::vk::image::Texture;
 
 /// Every stage a frame can run, with the name reports give it.
-pub const STAGE_NAMES: [(PatchexStage, &str); 5] = [
+pub const STAGE_NAMES: [(PatchexStage, &str); 8] = [
     (PATCHEX_STAGE_DEMODULATE, "demodulate"),
     (PATCHEX_STAGE_PACK_SOURCE_GBUFFER, "pack source"),
     (PATCHEX_STAGE_PACK_TARGET_GBUFFER, "pack target"),
     (PATCHEX_STAGE_WARP, "warp"),
+    (PATCHEX_STAGE_SEGMENT, "segment"),
+    (PATCHEX_STAGE_LBP, "lbp"),
     (PATCHEX_STAGE_REMODULATE, "remodulate"),
+    (PATCHEX_STAGE_DIAGNOSTICS, "diagnostics"),
 ];
 
-/// Every pass's pipeline. The associated constants give each one's place in per-frame descriptor sets.
+/// Every pass's pipeline, at the index of its constant, which is also its place in the
+/// per-frame descriptor sets.
 pub struct Pipelines {
-    pub demodulate: ComputePipeline,
-    pub pack_gbuffer: ComputePipeline,
-    pub warp_gbuffer: ComputePipeline,
-    pub warp_motion_vector: ComputePipeline,
-    pub warp_occlusion_motion: ComputePipeline,
-    pub remodulate: ComputePipeline,
+    built: Vec<ComputePipeline>,
 }
 
 impl Pipelines {
@@ -41,62 +43,56 @@ impl Pipelines {
     pub const WARP_GBUFFER: usize = 2;
     pub const WARP_MOTION_VECTOR: usize = 3;
     pub const WARP_OCCLUSION_MOTION: usize = 4;
-    pub const REMODULATE: usize = 5;
+    pub const OBJECT_BOUNDS: usize = 5;
+    pub const GROW_REGIONS: usize = 6;
+    pub const REGION_MASKS: usize = 7;
+    pub const LBP: usize = 8;
+    pub const REMODULATE: usize = 9;
+    pub const WRITE_DIAGNOSTICS: usize = 10;
+
+    const SHADERS: [shaders::ShaderInfo; 11] = [
+        shaders::demodulate::SHADER,
+        shaders::pack_gbuffer::SHADER,
+        shaders::warp_gbuffer::SHADER,
+        shaders::warp_motion_vector::SHADER,
+        shaders::warp_occlusion_motion::SHADER,
+        shaders::object_bounds::SHADER,
+        shaders::grow_regions::SHADER,
+        shaders::region_masks::SHADER,
+        shaders::lbp::SHADER,
+        shaders::remodulate::SHADER,
+        shaders::write_diagnostics::SHADER,
+    ];
 
     pub fn new(gpu: &Gpu) -> Result<Self> {
-        let mut built: Vec<ComputePipeline> = Vec::new();
-        for shader in [
-            shaders::demodulate::SHADER,
-            shaders::pack_gbuffer::SHADER,
-            shaders::warp_gbuffer::SHADER,
-            shaders::warp_motion_vector::SHADER,
-            shaders::warp_occlusion_motion::SHADER,
-            shaders::remodulate::SHADER,
-        ] {
+        let mut pipelines = Self { built: Vec::new() };
+        for shader in Self::SHADERS {
             match ComputePipeline::new(gpu, shader) {
-                Ok(pipeline) => built.push(pipeline),
+                Ok(pipeline) => pipelines.built.push(pipeline),
                 Err(error) => {
-                    for mut pipeline in built {
-                        pipeline.destroy(gpu);
-                    }
+                    pipelines.destroy(gpu);
                     return Err(error);
                 }
             }
         }
-        let [demodulate, pack_gbuffer, warp_gbuffer, warp_motion_vector, warp_occlusion_motion, remodulate] =
-            <[ComputePipeline; 6]>::try_from(built)
-                .ok()
-                .expect("six pipelines");
-        Ok(Self {
-            demodulate,
-            pack_gbuffer,
-            warp_gbuffer,
-            warp_motion_vector,
-            warp_occlusion_motion,
-            remodulate,
-        })
+        Ok(pipelines)
+    }
+
+    pub fn get(&self, index: usize) -> &ComputePipeline {
+        &self.built[index]
     }
 
     /// In the order of the index constants.
-    pub fn all(&self) -> [&ComputePipeline; 6] {
-        [
-            &self.demodulate,
-            &self.pack_gbuffer,
-            &self.warp_gbuffer,
-            &self.warp_motion_vector,
-            &self.warp_occlusion_motion,
-            &self.remodulate,
-        ]
+    pub fn all(&self) -> &[ComputePipeline] {
+        &self.built
     }
 
-    /// The pipeline of a (validated) warp kind, and its index.
-    pub fn warp(&self, kind: PatchexWarpKind) -> (&ComputePipeline, usize) {
+    /// The index of a (validated) warp kind's pipeline.
+    pub fn warp(kind: PatchexWarpKind) -> usize {
         match kind {
-            PATCHEX_WARP_MOTION_VECTOR => (&self.warp_motion_vector, Self::WARP_MOTION_VECTOR),
-            PATCHEX_WARP_OCCLUSION_MOTION_VECTOR => {
-                (&self.warp_occlusion_motion, Self::WARP_OCCLUSION_MOTION)
-            }
-            _ => (&self.warp_gbuffer, Self::WARP_GBUFFER),
+            PATCHEX_WARP_MOTION_VECTOR => Self::WARP_MOTION_VECTOR,
+            PATCHEX_WARP_OCCLUSION_MOTION_VECTOR => Self::WARP_OCCLUSION_MOTION,
+            _ => Self::WARP_GBUFFER,
         }
     }
 
@@ -119,11 +115,8 @@ impl Pipelines {
     }
 
     pub fn destroy(&mut self, gpu: &Gpu) {
-        self.demodulate.destroy(gpu);
-        self.pack_gbuffer.destroy(gpu);
-        self.warp_gbuffer.destroy(gpu);
-        self.warp_motion_vector.destroy(gpu);
-        self.warp_occlusion_motion.destroy(gpu);
-        self.remodulate.destroy(gpu);
+        for mut pipeline in self.built.drain(..) {
+            pipeline.destroy(gpu);
+        }
     }
 }

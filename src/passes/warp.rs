@@ -142,6 +142,7 @@ pub struct CounterRange {
 /// Byte offsets of the counters in `CounterRange`, as `WarpCounters` in the shader declares them.
 pub const HOLE_PIXELS_OFFSET: u64 = 0;
 pub const OFFSCREEN_PIXELS_OFFSET: u64 = 4;
+pub const COUNTER_BYTES: u64 = 8;
 
 #[allow(clippy::too_many_arguments)]
 pub fn record(

@@ -4,8 +4,10 @@
 
 pub mod demodulate;
 pub mod gbuffer;
+pub mod lbp;
 pub mod pack_gbuffer;
 pub mod remodulate;
+pub mod segmentation;
 pub mod warp;
 
 /// One instant's inputs, as plain images: the reference side of what an engine submits.
@@ -22,12 +24,22 @@ pub struct FrameInputs<'a> {
     pub motion_vector_scale: [f32; 2],
 }
 
-/// The whole warp-only extrapolation, pass by pass, as the plugin records it.
+/// Every intermediate result of one extrapolation.
+pub struct Extrapolation {
+    /// The engine's output image.
+    pub output: Image,
+    pub warped: warp::Warped,
+    pub segmented: segmentation::Segmented,
+    pub lbp: Image,
+}
+
+/// The whole extrapolation, pass by pass, as the plugin records it.
 pub fn extrapolate(
     source: &FrameInputs,
     target: &FrameInputs,
     warp: &crate::passes::warp::WarpSettings,
-) -> (Image, warp::Warped) {
+    segmentation: &crate::passes::segmentation::SegmentationSettings,
+) -> Extrapolation {
     use crate::passes::pack_gbuffer::params as pack_params;
     let extent = ash::vk::Extent2D {
         width: source.base_color.width as u32,
@@ -55,6 +67,7 @@ pub fn extrapolate(
         jitter_delta,
         target.motion_vector_scale,
     );
+    let motion = target.motion.expect("the target has motion vectors");
     let warped = warp::warp(
         warp.kind,
         &warp::WarpSources {
@@ -65,12 +78,24 @@ pub fn extrapolate(
         &warp::WarpTarget {
             geometry: &target_packed.geometry,
             normal_id: &target_packed.normal_id,
-            motion: target.motion.expect("the target has motion vectors"),
+            motion,
         },
         &params,
     );
+    let segmented = segmentation::segment(
+        &target_packed.normal_id,
+        motion,
+        target.motion_vector_scale,
+        segmentation.growth,
+    );
+    let lbp = lbp::lbp(&warped.warped);
     let output = remodulate::remodulate(&warped.warped, target.base_color, target.material);
-    (output, warped)
+    Extrapolation {
+        output,
+        warped,
+        segmented,
+        lbp,
+    }
 }
 
 /// A float image in row-major order with interleaved channels.

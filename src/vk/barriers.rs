@@ -87,7 +87,7 @@ impl EngineImageAccess {
         if self.uses.iter().any(|u| u.image.image == image.image) {
             bail!(
                 ErrorInvalidArgument,
-                "the output image is also passed as an input"
+                "an image the plugin writes is also passed as another input or output"
             );
         }
         let layout_in_pass = vk::ImageLayout::GENERAL;

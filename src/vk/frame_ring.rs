@@ -18,8 +18,7 @@ use crate::vk::timestamps::StageTimer;
 /// Region 0 of a slot belongs to `patchex_submit_gbuffers`, region 1 + i to extrapolation i.
 pub const REGIONS_PER_SLOT: usize = 1 + PATCHEX_MAX_EXTRAPOLATIONS_PER_FRAME;
 const QUERIES_PER_REGION: u32 = 2 * PATCHEX_STAGE_SLOTS as u32;
-/// Bytes of counters a region may use (the warp's hole counters need 8).
-const COUNTER_BYTES: u64 = 64;
+use crate::context::COUNTER_BYTES;
 
 /// What was recorded into one region, to read its results back later.
 #[derive(Clone, Debug, Default)]

@@ -3,6 +3,8 @@
 //! descriptors an engine would fill in.
 #![allow(dead_code)]
 
+pub mod pipeline;
+pub mod rendered;
 pub mod scene;
 
 use std::ptr;

@@ -1,0 +1,54 @@
+// Segmentation, step 3 of 3: each target pixel's region. FI where a dynamic object covers it,
+// near-BE where it lies inside a grown rectangle but shows the background, far-BE elsewhere.
+// Counts the FI and near-BE pixels.
+// #import segmentation
+
+struct Params {
+    extent: vec2u,
+}
+var<immediate> params: Params;
+
+@group(0) @binding(0) var target_normal_id: texture_2d<f32>;
+@group(0) @binding(1) var<storage, read_write> segmentation: Segmentation;
+@group(0) @binding(2) var regions: texture_storage_2d<r32uint, write>;
+
+var<workgroup> group_fi: atomic<u32>;
+var<workgroup> group_near_be: atomic<u32>;
+
+fn region_of(p: vec2u) -> u32 {
+    if (textureLoad(target_normal_id, p, 0).w != 0.0) {
+        return REGION_FI;
+    }
+    let count = atomicLoad(&segmentation.rect_count);
+    for (var i = 0u; i < count; i++) {
+        let rect = segmentation.rects[i];
+        if (all(p >= vec2u(rect.left, rect.top)) && all(p < vec2u(rect.right, rect.bottom))) {
+            return REGION_NEAR_BE;
+        }
+    }
+    return REGION_FAR_BE;
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_index) lane: u32) {
+    if (lane == 0u) {
+        atomicStore(&group_fi, 0u);
+        atomicStore(&group_near_be, 0u);
+    }
+    workgroupBarrier();
+    let p = id.xy;
+    if (all(p < params.extent)) {
+        let region = region_of(p);
+        textureStore(regions, p, vec4u(region, 0u, 0u, 0u));
+        if (region == REGION_FI) {
+            atomicAdd(&group_fi, 1u);
+        } else if (region == REGION_NEAR_BE) {
+            atomicAdd(&group_near_be, 1u);
+        }
+    }
+    workgroupBarrier();
+    if (lane == 0u) {
+        atomicAdd(&segmentation.fi_pixels, atomicLoad(&group_fi));
+        atomicAdd(&segmentation.near_be_pixels, atomicLoad(&group_near_be));
+    }
+}

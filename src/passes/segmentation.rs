@@ -1,0 +1,207 @@
+//! Foveated segmentation (PatchEX section 4, Algorithm 1), three dispatches over one object table
+//! in the frame's host-visible counters (`shaders/include/segmentation.wgsl`):
+//! `object_bounds` accumulates each dynamic object's bounds and motion, `grow_regions` turns them
+//! into grown rectangles, `region_masks` labels every pixel FI, near-BE or far-BE.
+
+use ash::vk;
+
+use crate::abi::*;
+use crate::error::{bail, Result};
+use crate::passes::Texture;
+use crate::shaders;
+use crate::vk::barriers;
+use crate::vk::buffer::ReadbackBuffer;
+use crate::vk::image::OwnedImage;
+use crate::vk::pipeline::{ComputePipeline, DescriptorWrites};
+
+/// Largest growth factor accepted; beyond it every rectangle is the whole screen anyway.
+pub const MAX_GROWTH: f32 = 64.0;
+
+/// k_x and k_y of Algorithm 1, validated.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SegmentationSettings {
+    pub growth: [f32; 2],
+}
+
+impl Default for SegmentationSettings {
+    /// Fitted by `patchex calibrate` on the project's scenes (see the README).
+    fn default() -> Self {
+        Self { growth: [2.0, 2.0] }
+    }
+}
+
+impl SegmentationSettings {
+    pub fn from_abi(settings: &PatchexSegmentationSettings) -> Result<Self> {
+        for (name, k) in [
+            ("growth_x", settings.growth_x),
+            ("growth_y", settings.growth_y),
+        ] {
+            if !(k.is_finite() && (0.0..=MAX_GROWTH).contains(&k)) {
+                bail!(
+                    ErrorInvalidArgument,
+                    "PatchexSegmentationSettings.{name} {k} must be finite and 0 to {MAX_GROWTH}"
+                );
+            }
+        }
+        Ok(Self {
+            growth: [settings.growth_x, settings.growth_y],
+        })
+    }
+}
+
+/// Layout of `Segmentation` in `include/segmentation.wgsl`.
+pub const MAX_OBJECTS: usize = 256;
+const RECT_COUNT_OFFSET: u64 = 0;
+const FI_PIXELS_OFFSET: u64 = 4;
+const NEAR_BE_PIXELS_OFFSET: u64 = 8;
+const RECTS_OFFSET: u64 = 16;
+const RECT_BYTES: u64 = 32;
+const OBJECT_BYTES: u64 = 36;
+pub const TABLE_BYTES: u64 = RECTS_OFFSET + MAX_OBJECTS as u64 * (RECT_BYTES + OBJECT_BYTES);
+
+/// Region ids in the region mask, as the shaders write them.
+pub const REGION_FAR_BE: u32 = 0;
+pub const REGION_NEAR_BE: u32 = 1;
+pub const REGION_FI: u32 = 2;
+
+/// Where one extrapolation's object table lives.
+pub struct TableRange {
+    pub buffer: vk::Buffer,
+    pub offset: u64,
+}
+
+pub struct SegmentationInputs<'a> {
+    pub target_normal_id: &'a OwnedImage,
+    pub motion: Texture,
+    pub motion_scale: [f32; 2],
+}
+
+pub struct SegmentationPipelines<'a> {
+    pub object_bounds: &'a ComputePipeline,
+    pub grow_regions: &'a ComputePipeline,
+    pub region_masks: &'a ComputePipeline,
+}
+
+/// Records the three dispatches. The table must be zero-filled and visible to compute.
+#[allow(clippy::too_many_arguments)]
+pub fn record(
+    pipelines: &SegmentationPipelines,
+    sets: [vk::DescriptorSet; 3],
+    device: &ash::Device,
+    cmd: vk::CommandBuffer,
+    extent: vk::Extent2D,
+    settings: &SegmentationSettings,
+    inputs: &SegmentationInputs,
+    table: &TableRange,
+    regions: &OwnedImage,
+) {
+    let general = vk::ImageLayout::GENERAL;
+    let extent_params = [extent.width, extent.height];
+
+    use shaders::object_bounds as bounds;
+    DescriptorWrites::new(pipelines.object_bounds)
+        .image(
+            bounds::binding::TARGET_NORMAL_ID,
+            inputs.target_normal_id.view,
+            general,
+        )
+        .image(
+            bounds::binding::MOTION,
+            inputs.motion.view,
+            inputs.motion.layout,
+        )
+        .buffer(
+            bounds::binding::SEGMENTATION,
+            table.buffer,
+            table.offset,
+            TABLE_BYTES,
+        )
+        .update(device, sets[0]);
+    let params = bounds::Params {
+        extent: extent_params,
+        motion_scale: inputs.motion_scale,
+    };
+    pipelines
+        .object_bounds
+        .dispatch(device, cmd, sets[0], &params, extent);
+    barriers::compute_to_compute(device, cmd, false);
+
+    use shaders::grow_regions as grow;
+    DescriptorWrites::new(pipelines.grow_regions)
+        .buffer(
+            grow::binding::SEGMENTATION,
+            table.buffer,
+            table.offset,
+            TABLE_BYTES,
+        )
+        .update(device, sets[1]);
+    let params = grow::Params {
+        extent: extent_params,
+        growth: settings.growth,
+    };
+    let one_per_object = vk::Extent2D {
+        width: MAX_OBJECTS as u32,
+        height: 1,
+    };
+    pipelines
+        .grow_regions
+        .dispatch(device, cmd, sets[1], &params, one_per_object);
+    barriers::compute_to_compute(device, cmd, false);
+
+    use shaders::region_masks as masks;
+    DescriptorWrites::new(pipelines.region_masks)
+        .image(
+            masks::binding::TARGET_NORMAL_ID,
+            inputs.target_normal_id.view,
+            general,
+        )
+        .buffer(
+            masks::binding::SEGMENTATION,
+            table.buffer,
+            table.offset,
+            TABLE_BYTES,
+        )
+        .image(masks::binding::REGIONS, regions.view, general)
+        .update(device, sets[2]);
+    let params = masks::Params {
+        extent: extent_params,
+    };
+    pipelines
+        .region_masks
+        .dispatch(device, cmd, sets[2], &params, extent);
+}
+
+/// What the host reads back from a finished object table.
+pub struct SegmentationResult {
+    pub fi_pixels: u32,
+    pub near_be_pixels: u32,
+    /// Every object's rectangle, sorted by object id.
+    pub rects: Vec<PatchexRegionRect>,
+}
+
+pub fn read_back(counters: &ReadbackBuffer, offset: u64) -> SegmentationResult {
+    let word = |at: u64| counters.read_u32(offset + at);
+    let count = (word(RECT_COUNT_OFFSET) as usize).min(MAX_OBJECTS);
+    let mut rects: Vec<PatchexRegionRect> = (0..count as u64)
+        .map(|i| {
+            let field = |k: u64| word(RECTS_OFFSET + i * RECT_BYTES + 4 * k);
+            let (left, top, right, bottom) = (field(2), field(3), field(4), field(5));
+            PatchexRegionRect {
+                object_id: field(0),
+                pixel_count: field(1),
+                x: left,
+                y: top,
+                width: right.saturating_sub(left),
+                height: bottom.saturating_sub(top),
+                mean_motion_x: f32::from_bits(field(6)),
+                mean_motion_y: f32::from_bits(field(7)),
+            }
+        })
+        .collect();
+    rects.sort_by_key(|r| r.object_id);
+    SegmentationResult {
+        fi_pixels: word(FI_PIXELS_OFFSET),
+        near_be_pixels: word(NEAR_BE_PIXELS_OFFSET),
+        rects,
+    }
+}

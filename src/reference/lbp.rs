@@ -1,0 +1,36 @@
+//! Mirror of `shaders/lbp.wgsl`.
+
+use glam::Vec3;
+
+use super::Image;
+
+pub const LUMINANCE: Vec3 = Vec3::new(0.2126, 0.7152, 0.0722);
+/// Clockwise from the top-left; neighbour k sets bit k.
+pub const NEIGHBOURS: [(i32, i32); 8] = [
+    (-1, -1),
+    (0, -1),
+    (1, -1),
+    (1, 0),
+    (1, 1),
+    (0, 1),
+    (-1, 1),
+    (-1, 0),
+];
+
+pub fn luminance(image: &Image, x: i32, y: i32) -> f32 {
+    Vec3::from_slice(image.clamped(x, y)).dot(LUMINANCE)
+}
+
+/// LBP codes of `warped`'s luminance, as code / 255 in one channel.
+pub fn lbp(warped: &Image) -> Image {
+    Image::from_fn(warped.width, warped.height, 1, |x, y| {
+        let (x, y) = (x as i32, y as i32);
+        let centre = luminance(warped, x, y);
+        let code = NEIGHBOURS
+            .iter()
+            .enumerate()
+            .filter(|(_, (dx, dy))| luminance(warped, x + dx, y + dy) >= centre)
+            .fold(0u32, |code, (k, _)| code | 1 << k);
+        vec![code as f32 / 255.0]
+    })
+}

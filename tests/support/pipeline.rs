@@ -1,0 +1,296 @@
+//! One extrapolation through the C ABI with every intermediate result read back (through a
+//! chained `PatchexDiagnostics` image), and its comparison with the plain-Rust reference.
+//!
+//! Tolerance: the GPU and the reference run the same f32 arithmetic, but exp(), fused
+//! multiply-adds and the order of matrix products differ in the last bits, and both round the
+//! result to the RGBA16F output (one f16 step is 2^-10 relative). A pixel matches when it is
+//! within 2e-3 relative (two f16 steps) plus 1e-4 absolute. The warp has two thresholds (the
+//! agreeing share of the bilinear footprint, and the best agreement for holes); a last-bit
+//! difference can flip a pixel whose reference value lies within 1e-4 of one, so only such
+//! pixels may differ beyond the tolerance, and the check reports how many there were. Holes
+//! follow the same rule. Regions, rectangles and pixel counts are integer results of integer
+//! atomics and must match exactly. An LBP bit compares two luminances, so it may differ only
+//! where those lie within the colour tolerance of each other or next to an excused pixel.
+
+use std::ffi::c_void;
+
+use patchex::abi::*;
+use patchex::camera::Camera;
+use patchex::error::PatchexResult;
+use patchex::passes::segmentation::SegmentationSettings;
+use patchex::passes::warp::WarpSettings;
+use patchex::reference::lbp::{luminance, NEIGHBOURS};
+use patchex::reference::warp::{AGREEMENT_THRESHOLD, BILINEAR_ACCEPT};
+use patchex::reference::{self, Extrapolation, FrameInputs, Image};
+
+use super::scene::Frame;
+use super::*;
+
+const NEAR_THRESHOLD: f32 = 1e-4;
+
+pub fn inputs<'a>(frame: &'a Frame, camera: &'a Camera) -> FrameInputs<'a> {
+    FrameInputs {
+        color: Some(&frame.color),
+        base_color: &frame.base_color,
+        material: Some(&frame.material),
+        depth: &frame.depth,
+        normal: &frame.normal,
+        stencil: Some(&frame.stencil),
+        motion: Some(&frame.motion),
+        camera,
+        normal_encoding: PATCHEX_NORMAL_SIGNED,
+        motion_vector_scale: [1.0, 1.0],
+    }
+}
+
+/// PSNR of the RGB channels, for values in [0, 1].
+pub fn psnr(a: &Image, b: &Image) -> f64 {
+    let mut squared = 0.0;
+    let mut count = 0;
+    for (pa, pb) in a.data.chunks(4).zip(b.data.chunks(4)) {
+        for c in 0..3 {
+            squared += ((pa[c] - pb[c]) as f64).powi(2);
+            count += 1;
+        }
+    }
+    10.0 * (1.0 / (squared / count as f64)).log10()
+}
+
+pub struct Outcome {
+    pub output: Image,
+    /// The `PatchexDiagnostics` image: hole, region / 2, LBP code / 255.
+    pub diagnostics: Image,
+    pub stats: PatchexFrameStats,
+}
+
+/// What a test chains onto the extrapolation; `None` leaves the context's default.
+#[derive(Default)]
+pub struct Chained {
+    pub warp: Option<WarpSettings>,
+    pub segmentation: Option<SegmentationSettings>,
+}
+
+fn warp_struct(settings: &WarpSettings) -> PatchexWarpSettings {
+    PatchexWarpSettings {
+        header: PatchexStructHeader::of::<PatchexWarpSettings>(PATCHEX_STRUCT_TYPE_WARP_SETTINGS),
+        kind: settings.kind,
+        kernel_radius: settings.kernel_radius,
+        sigma_spatial: settings.sigma_spatial,
+        sigma_depth: settings.sigma_depth,
+        sigma_normal: settings.sigma_normal,
+        sigma_position: settings.sigma_position,
+        occlusion_search_radius: settings.occlusion_search_radius,
+    }
+}
+
+fn segmentation_struct(settings: &SegmentationSettings) -> PatchexSegmentationSettings {
+    PatchexSegmentationSettings {
+        header: PatchexStructHeader::of::<PatchexSegmentationSettings>(
+            PATCHEX_STRUCT_TYPE_SEGMENTATION_SETTINGS,
+        ),
+        growth_x: settings.growth[0],
+        growth_y: settings.growth[1],
+    }
+}
+
+fn read_image(engine: &Engine, image: &EngineImage, width: usize, height: usize) -> Image {
+    Image {
+        width,
+        height,
+        channels: 4,
+        data: image.read(engine, OUTPUT_LAYOUT),
+    }
+}
+
+/// Submits `source` as frame 1 and extrapolates `target` from it on the GPU.
+pub fn run_plugin(
+    rig: &Rig,
+    source: &Frame,
+    target: &Frame,
+    alpha: f32,
+    chained: &Chained,
+) -> Outcome {
+    let (width, height) = (source.color.width, source.color.height);
+    let engine = &rig.engine;
+    let family = engine.queue_family_index;
+    let gpu_source = GpuFrame::upload(engine, source);
+    let gpu_target = GpuFrame::upload(engine, target);
+    let output = output_image(engine, width as u32, height as u32);
+    let diagnostics_image = output_image(engine, width as u32, height as u32);
+
+    // The chain, linked back to front: diagnostics, then whatever settings the test gives.
+    let segmentation = chained.segmentation.as_ref().map(segmentation_struct);
+    let mut warp = chained.warp.as_ref().map(warp_struct);
+    let mut next: *const c_void = std::ptr::null();
+    if let Some(segmentation) = &segmentation {
+        next = segmentation as *const _ as *const c_void;
+    }
+    if let Some(warp) = &mut warp {
+        warp.header.next = next;
+        next = warp as *const _ as *const c_void;
+    }
+    let mut diagnostics = PatchexDiagnostics {
+        header: PatchexStructHeader::of::<PatchexDiagnostics>(PATCHEX_STRUCT_TYPE_DIAGNOSTICS),
+        image: describe(&diagnostics_image, OUTPUT_LAYOUT),
+    };
+    diagnostics.header.next = next;
+
+    engine.run(|cmd| {
+        assert_eq!(
+            rig.submit(cmd, &gpu_source.frame_desc(1, family)),
+            PatchexResult::Success,
+            "{}",
+            rig.last_error()
+        );
+        let mut desc = gpu_target.extrapolate_desc(&output, alpha, family);
+        desc.header.next = &diagnostics as *const _ as *const c_void;
+        assert_eq!(
+            rig.extrapolate(cmd, &desc),
+            PatchexResult::Success,
+            "{}",
+            rig.last_error()
+        );
+    });
+    // Every engine image is read back in the layout it was handed in: validation reports any
+    // image the plugin left in another layout.
+    let output = read_image(engine, &output, width, height);
+    let diagnostics = read_image(engine, &diagnostics_image, width, height);
+    gpu_source.color.read(engine, COLOR_LAYOUT);
+    gpu_source.depth.read(engine, DEPTH_LAYOUT);
+    gpu_target.motion.read(engine, MOTION_LAYOUT);
+    gpu_target.normal.read(engine, GBUFFER_LAYOUT);
+    let (result, stats) = rig.stats(1);
+    assert_eq!(result, PatchexResult::Success, "{}", rig.last_error());
+    Outcome {
+        output,
+        diagnostics,
+        stats,
+    }
+}
+
+/// Compares every result of the plugin with the reference; returns the reference's results and
+/// the number of pixels excused as lying at a threshold.
+pub fn assert_matches_reference(
+    source: &Frame,
+    target: &Frame,
+    outcome: &Outcome,
+    chained: &Chained,
+) -> (Extrapolation, usize) {
+    let (width, height) = (source.color.width, source.color.height);
+    let source_camera = Camera::from_abi(&source.camera, "source").unwrap();
+    let target_camera = Camera::from_abi(&target.camera, "target").unwrap();
+    let expected = reference::extrapolate(
+        &inputs(source, &source_camera),
+        &inputs(target, &target_camera),
+        &chained.warp.unwrap_or_default(),
+        &chained.segmentation.unwrap_or_default(),
+    );
+    let warped = &expected.warped;
+    let at_threshold = |x: usize, y: usize| {
+        let i = y * width + x;
+        (warped.bilinear_weight[i] - BILINEAR_ACCEPT).abs() < NEAR_THRESHOLD
+            || (warped.best_agreement[i] - AGREEMENT_THRESHOLD).abs() < NEAR_THRESHOLD
+    };
+    let mut excused = 0;
+    let mut worst = (0.0f32, 0, 0);
+    for y in 0..height {
+        for x in 0..width {
+            let (got, want) = (outcome.output.at(x, y), expected.output.at(x, y));
+            let error = (0..3)
+                .map(|c| (got[c] - want[c]).abs() / (2e-3 * want[c].abs() + 1e-4))
+                .fold(0.0, f32::max);
+            let hole_differs = outcome.diagnostics.at(x, y)[0] != 1.0 - warped.warped.at(x, y)[3];
+            if error > 1.0 || hole_differs {
+                assert!(
+                    at_threshold(x, y),
+                    "pixel ({x}, {y}): plugin {got:?}, reference {want:?}, hole differs: \
+                     {hole_differs}"
+                );
+                excused += 1;
+            }
+            if error > worst.0 {
+                worst = (error, x, y);
+            }
+        }
+    }
+    let pixels = (width * height) as f32;
+    let stats = &outcome.stats.extrapolations[0];
+    let hole_difference = (stats.hole_fraction * pixels - warped.hole_pixels as f32).abs();
+    assert!(
+        hole_difference <= excused as f32,
+        "holes: plugin {} pixels, reference {}",
+        stats.hole_fraction * pixels,
+        warped.hole_pixels
+    );
+    assert_eq!(
+        stats.offscreen_fraction * pixels,
+        warped.offscreen_pixels as f32
+    );
+
+    // Segmentation: exact.
+    let segmented = &expected.segmented;
+    for y in 0..height {
+        for x in 0..width {
+            assert_eq!(
+                outcome.diagnostics.at(x, y)[1] * 2.0,
+                segmented.regions.at(x, y)[0],
+                "region of pixel ({x}, {y})"
+            );
+        }
+    }
+    assert_eq!(stats.object_count as usize, segmented.rects.len());
+    let reported = segmented.rects.len().min(PATCHEX_MAX_REPORTED_OBJECTS);
+    assert_eq!(&stats.rects[..reported], &segmented.rects[..reported]);
+    assert_eq!(stats.fi_fraction * pixels, segmented.fi_pixels as f32);
+    assert_eq!(
+        stats.near_be_fraction * pixels,
+        segmented.near_be_pixels as f32
+    );
+
+    // LBP: bits may differ only at near-ties.
+    let mut lbp_ties = 0;
+    for y in 0..height {
+        for x in 0..width {
+            let got = (outcome.diagnostics.at(x, y)[2] * 255.0).round() as u32;
+            let want = (expected.lbp.at(x, y)[0] * 255.0).round() as u32;
+            if got == want {
+                continue;
+            }
+            let (xi, yi) = (x as i32, y as i32);
+            let centre = luminance(&warped.warped, xi, yi);
+            let near_excused = (-1..=1).any(|dy| {
+                (-1..=1).any(|dx| {
+                    let (nx, ny) = (xi + dx, yi + dy);
+                    nx >= 0
+                        && ny >= 0
+                        && (nx as usize) < width
+                        && (ny as usize) < height
+                        && at_threshold(nx as usize, ny as usize)
+                })
+            });
+            for (k, (dx, dy)) in NEIGHBOURS.iter().enumerate() {
+                if (got ^ want) & (1 << k) != 0 {
+                    let neighbour = luminance(&warped.warped, xi + dx, yi + dy);
+                    let tie = (neighbour - centre).abs()
+                        <= 4e-3 * centre.abs().max(neighbour.abs()) + 2e-4;
+                    assert!(
+                        tie || near_excused,
+                        "LBP bit {k} of pixel ({x}, {y}): plugin {got:#010b}, reference \
+                         {want:#010b}, luminances {centre} and {neighbour}"
+                    );
+                }
+            }
+            lbp_ties += 1;
+        }
+    }
+    println!(
+        "worst colour error {:.3} of tolerance at {:?}; {excused} pixel(s) at a warp threshold, \
+         {lbp_ties} LBP code(s) at a near-tie; {} object(s), FI {:.4}, near-BE {:.4}",
+        worst.0,
+        (worst.1, worst.2),
+        segmented.rects.len(),
+        stats.fi_fraction,
+        stats.near_be_fraction
+    );
+    (expected, excused)
+}

@@ -1,0 +1,90 @@
+//! Frames made by the project's scene renderer (`crates/patchex-scene`), as the tests' `Frame`:
+//! real characters, skinning, textures and shadows, at a small size.
+
+use std::path::Path;
+use std::sync::Arc;
+
+use patchex::abi::*;
+use patchex::reference::Image;
+use patchex_scene::dataset::{
+    render_sequence, SequenceOptions, BASE_COLOR, CUSTOM_STENCIL, FINAL_IMAGE, METALLIC,
+    MOTION_VECTOR, ROUGHNESS, SCENE_DEPTH, SPECULAR, WORLD_NORMAL,
+};
+use patchex_scene::{Dataset, FrameLayers, Gpu, GpuOptions, Manifest, World};
+
+use super::scene::Frame;
+
+pub struct RenderedSequence {
+    pub manifest: Manifest,
+    pub frames: Vec<Frame>,
+}
+
+/// Renders `frames` frames of `scenes/<scene_file>` at `width` x `height` under validation.
+pub fn render(scene_file: &str, frames: usize, width: u32, height: u32) -> RenderedSequence {
+    let repo = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let world = World::load(&repo.join("scenes").join(scene_file), None).expect("scene loads");
+    let gpu = Arc::new(Gpu::new(GpuOptions { validation: true }).expect("renderer device"));
+    let dir = tempfile::tempdir().expect("temporary folder");
+    let options = SequenceOptions {
+        frames,
+        width,
+        height,
+        out_dir: dir.path().to_path_buf(),
+    };
+    render_sequence(&gpu, &world, &options, &mut |_, _| {}).expect("scene renders");
+    let messages = gpu.take_validation_messages();
+    assert!(messages.is_empty(), "renderer validation: {messages:?}");
+    let dataset = Dataset::open(dir.path()).expect("dataset opens");
+    let frames = (0..frames)
+        .map(|index| {
+            let layers = dataset.read_frame(index).expect("frame reads");
+            frame(&layers, &dataset.manifest, index)
+        })
+        .collect();
+    RenderedSequence {
+        manifest: dataset.manifest,
+        frames,
+    }
+}
+
+/// Channels of `names` (layer, channel) gathered into one image.
+fn gather(layers: &FrameLayers, names: &[(&str, usize)]) -> Image {
+    Image::from_fn(layers.width, layers.height, names.len(), |x, y| {
+        names
+            .iter()
+            .map(|(name, channel)| layers.layer(name).value(x, y, *channel))
+            .collect()
+    })
+}
+
+fn rgba(layers: &FrameLayers, name: &str) -> Image {
+    let mut image = gather(layers, &[(name, 0), (name, 1), (name, 2), (name, 0)]);
+    for pixel in image.data.chunks_mut(4) {
+        pixel[3] = 1.0;
+    }
+    image
+}
+
+fn frame(layers: &FrameLayers, manifest: &Manifest, index: usize) -> Frame {
+    let info = &manifest.frames[index];
+    Frame {
+        color: rgba(layers, FINAL_IMAGE),
+        base_color: rgba(layers, BASE_COLOR),
+        material: gather(
+            layers,
+            &[(METALLIC, 0), (SPECULAR, 0), (ROUGHNESS, 0), (ROUGHNESS, 0)],
+        ),
+        depth: gather(layers, &[(SCENE_DEPTH, 0)]),
+        normal: rgba(layers, WORLD_NORMAL),
+        stencil: gather(layers, &[(CUSTOM_STENCIL, 0)]),
+        motion: gather(layers, &[(MOTION_VECTOR, 0), (MOTION_VECTOR, 1)]),
+        camera: PatchexCamera {
+            view: info.view,
+            projection: info.proj,
+            jitter: [0.0, 0.0],
+            near: manifest.near,
+            far: manifest.far,
+            depth_convention: PATCHEX_DEPTH_LINEAR_VIEW_Z,
+        },
+    }
+}
