@@ -18,6 +18,9 @@ enum Command {
     /// The main job: render a scene, extrapolate every target instant through the plugin,
     /// and write picture strips and a quality/GPU-time table.
     Demo(commands::demo::DemoArgs),
+    /// Score every method against the rendered ground truth of datasets: PSNR, SSIM and FLIP
+    /// over the frame, holes, FI and near-BE, and GPU time; writes tables and picture strips.
+    Eval(commands::eval::EvalArgs),
     /// Render a scene file into a G-buffer dataset sequence.
     Render(commands::render::RenderArgs),
     /// Make a contact sheet PNG of one dataset frame: colour and every G-buffer layer.
@@ -30,6 +33,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Demo(args) => commands::demo::run(args),
+        Command::Eval(args) => commands::eval::run(args),
         Command::Render(args) => commands::render::run(args),
         Command::Sheet(args) => commands::sheet::run(args),
         Command::Inspect(args) => commands::inspect::run(args),

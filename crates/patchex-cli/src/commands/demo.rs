@@ -104,6 +104,7 @@ pub fn run(args: DemoArgs) -> CommandResult {
             (&source_layers, &manifest.frames[target - 1]),
             (&target_layers, &manifest.frames[target]),
             0.5,
+            None,
         )?;
         let (width, height) = (manifest.width, manifest.height);
         let frame_t = tone_map(&source_layers.layer(FINAL_IMAGE).data, 3);

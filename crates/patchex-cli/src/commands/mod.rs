@@ -1,5 +1,8 @@
 pub mod demo;
+pub mod eval;
 pub mod inspect;
+pub mod interpolate;
+pub mod metrics;
 pub mod picture;
 pub mod plugin_driver;
 pub mod render;

@@ -1,4 +1,4 @@
-//! Tone mapping, PSNR and picture strips for the demo.
+//! Tone mapping, PSNR and picture strips for the demo and the evaluation.
 
 use std::path::Path;
 
@@ -31,6 +31,13 @@ pub fn psnr(a: &[f32], b: &[f32]) -> f64 {
     }
 }
 
+/// RGB in [0, 1] to 8-bit.
+pub fn to_rgb8(rgb: &[f32]) -> Vec<u8> {
+    rgb.iter()
+        .map(|v| (v.clamp(0.0, 1.0) * 255.0 + 0.5) as u8)
+        .collect()
+}
+
 /// Writes [frame t | extrapolated | ground truth | 4x absolute error] side by side.
 pub fn write_strip(
     path: &Path,
@@ -45,22 +52,31 @@ pub fn write_strip(
         .zip(truth)
         .map(|(x, y)| ((x - y).abs() * 4.0).min(1.0))
         .collect();
-    let panels = [frame_t, extrapolated, truth, &error];
-    let strip_width = width * panels.len();
-    let mut bytes = vec![0u8; strip_width * height * 3];
-    for (panel_index, panel) in panels.iter().enumerate() {
+    let panels = [frame_t, extrapolated, truth, &error].map(to_rgb8);
+    write_grid(path, width, height, 4, &panels)
+}
+
+/// Writes 8-bit RGB panels of `width` x `height` into a PNG grid, `columns` panels per row.
+pub fn write_grid(
+    path: &Path,
+    width: usize,
+    height: usize,
+    columns: usize,
+    panels: &[Vec<u8>],
+) -> Result<(), Box<dyn std::error::Error>> {
+    let rows = panels.len().div_ceil(columns);
+    let grid_width = width * columns;
+    let mut bytes = vec![0u8; grid_width * height * rows * 3];
+    for (index, panel) in panels.iter().enumerate() {
+        let (column, row) = (index % columns, index / columns);
         for y in 0..height {
-            for x in 0..width {
-                let from = (y * width + x) * 3;
-                let to = (y * strip_width + panel_index * width + x) * 3;
-                for c in 0..3 {
-                    bytes[to + c] = (panel[from + c].clamp(0.0, 1.0) * 255.0 + 0.5) as u8;
-                }
-            }
+            let from = y * width * 3;
+            let to = ((row * height + y) * grid_width + column * width) * 3;
+            bytes[to..to + width * 3].copy_from_slice(&panel[from..from + width * 3]);
         }
     }
     let file = std::io::BufWriter::new(std::fs::File::create(path)?);
-    let mut encoder = png::Encoder::new(file, strip_width as u32, height as u32);
+    let mut encoder = png::Encoder::new(file, grid_width as u32, (height * rows) as u32);
     encoder.set_color(png::ColorType::Rgb);
     encoder.set_depth(png::BitDepth::Eight);
     encoder.write_header()?.write_image_data(&bytes)?;

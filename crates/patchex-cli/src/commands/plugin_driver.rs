@@ -2,6 +2,7 @@
 //! images, calls `patchex_submit_gbuffers` and `patchex_extrapolate` through the C ABI of the
 //! loaded shared library, and reads the output back.
 
+use std::ffi::c_void;
 use std::ptr;
 
 use ash::vk;
@@ -9,6 +10,7 @@ use patchex::abi::*;
 use patchex::error::PatchexResult;
 use patchex::ffi::PatchexContext;
 use patchex::loader::PatchexLibrary;
+use patchex::passes::warp::WarpSettings;
 use patchex_harness::{Engine, EngineImage, EngineOptions};
 use patchex_scene::dataset::{
     FrameInfo, FrameLayers, Manifest, BASE_COLOR, CUSTOM_STENCIL, FINAL_IMAGE, METALLIC,
@@ -67,6 +69,8 @@ struct UploadedFrame {
 pub struct Extrapolated {
     /// RGBA, linear HDR.
     pub color: Vec<f32>,
+    /// RGBA, as `PatchexDiagnostics` describes: hole, region / 2, LBP code / 255.
+    pub diagnostics: Vec<f32>,
     pub stats: PatchexFrameStats,
 }
 
@@ -163,28 +167,59 @@ impl PluginDriver {
         }
     }
 
-    /// Submits `source` as frame `frame_index` and extrapolates the `target` instant from it.
-    pub fn extrapolate(
-        &self,
-        frame_index: u64,
-        source: (&FrameLayers, &FrameInfo),
-        target: (&FrameLayers, &FrameInfo),
-        alpha: f32,
-    ) -> Result<Extrapolated, String> {
-        let source = self.upload(source.0, source.1, true);
-        let target = self.upload(target.0, target.1, false);
-        let output = EngineImage::new(
+    /// An RGBA16F storage image the plugin writes.
+    fn output_image(&self) -> EngineImage {
+        let image = EngineImage::new(
             &self.engine,
             vk::Format::R16G16B16A16_SFLOAT,
             self.width,
             self.height,
             vk::ImageUsageFlags::STORAGE,
         );
-        output.upload(
+        image.upload(
             &self.engine,
             &vec![0.0; (self.width * self.height * 4) as usize],
             LAYOUT,
         );
+        image
+    }
+
+    /// Submits `source` as frame `frame_index` and extrapolates the `target` instant from it,
+    /// with the context's default warp or `warp`.
+    pub fn extrapolate(
+        &self,
+        frame_index: u64,
+        source: (&FrameLayers, &FrameInfo),
+        target: (&FrameLayers, &FrameInfo),
+        alpha: f32,
+        warp: Option<PatchexWarpKind>,
+    ) -> Result<Extrapolated, String> {
+        let source = self.upload(source.0, source.1, true);
+        let target = self.upload(target.0, target.1, false);
+        let output = self.output_image();
+        let diagnostics_image = self.output_image();
+        let warp_settings = warp.map(|kind| {
+            let defaults = WarpSettings::default();
+            PatchexWarpSettings {
+                header: PatchexStructHeader::of::<PatchexWarpSettings>(
+                    PATCHEX_STRUCT_TYPE_WARP_SETTINGS,
+                ),
+                kind,
+                kernel_radius: defaults.kernel_radius,
+                sigma_spatial: defaults.sigma_spatial,
+                sigma_depth: defaults.sigma_depth,
+                sigma_normal: defaults.sigma_normal,
+                sigma_position: defaults.sigma_position,
+                occlusion_search_radius: defaults.occlusion_search_radius,
+            }
+        });
+        let mut diagnostics = PatchexDiagnostics {
+            header: PatchexStructHeader::of::<PatchexDiagnostics>(PATCHEX_STRUCT_TYPE_DIAGNOSTICS),
+            image: describe(&diagnostics_image),
+        };
+        if let Some(settings) = &warp_settings {
+            diagnostics.header.next = settings as *const PatchexWarpSettings as *const c_void;
+        }
         let family = self.engine.queue_family_index;
         let frame = PatchexFrameDesc {
             header: PatchexStructHeader::of::<PatchexFrameDesc>(PATCHEX_STRUCT_TYPE_FRAME_DESC),
@@ -198,7 +233,7 @@ impl PluginDriver {
             material: describe(&source.material),
             geometry: self.geometry(&source),
         };
-        let extrapolate = PatchexExtrapolateDesc {
+        let mut extrapolate = PatchexExtrapolateDesc {
             header: PatchexStructHeader::of::<PatchexExtrapolateDesc>(
                 PATCHEX_STRUCT_TYPE_EXTRAPOLATE_DESC,
             ),
@@ -211,6 +246,7 @@ impl PluginDriver {
             geometry: self.geometry(&target),
             output: describe(&output),
         };
+        extrapolate.header.next = &diagnostics as *const PatchexDiagnostics as *const c_void;
         let mut results = (PatchexResult::Success, PatchexResult::Success);
         self.engine.run(|cmd| {
             // SAFETY: live context; the images live until the submission completes.
@@ -237,6 +273,7 @@ impl PluginDriver {
         }
         Ok(Extrapolated {
             color: output.read(&self.engine, LAYOUT),
+            diagnostics: diagnostics_image.read(&self.engine, LAYOUT),
             stats,
         })
     }

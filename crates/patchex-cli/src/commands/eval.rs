@@ -1,0 +1,482 @@
+//! `patchex eval DATASET... [--methods ...]`: extrapolates every target frame of each dataset
+//! with each method and scores it against the rendered ground truth: PSNR, SSIM and FLIP on
+//! the tone-mapped result, over the whole frame and over holes, FI and near-BE separately, plus
+//! GPU time from timestamp queries. Writes eval.md, eval.json and a picture strip per dataset.
+//!
+//! Every method is scored over the same pixels: the regions are the plugin's (they depend only
+//! on the target's G-buffers), and the holes are those of the default G-buffer-guided warp.
+
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use clap::{Args, ValueEnum};
+use indicatif::{ProgressBar, ProgressStyle};
+use nv_flip::{magma_lut, FlipImageFloat};
+use patchex::abi::*;
+use patchex::passes::segmentation::{REGION_FI, REGION_NEAR_BE};
+use patchex_scene::dataset::{Dataset, FrameRole, FINAL_IMAGE};
+use serde_json::json;
+
+use super::interpolate::interpolate;
+use super::metrics::{error_maps, ErrorMaps, Pooled};
+use super::picture::{to_rgb8, tone_map, write_grid};
+use super::plugin_driver::PluginDriver;
+use super::CommandResult;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, ValueEnum)]
+pub enum Method {
+    /// Frame t shown again: no extrapolation.
+    Copy,
+    MotionVector,
+    OcclusionMotion,
+    Gbuffer,
+    /// Bidirectional interpolation with frame t+1: the upper reference, a frame of latency.
+    Interpolation,
+}
+
+impl Method {
+    fn label(self) -> &'static str {
+        match self {
+            Method::Copy => "copy of frame t",
+            Method::MotionVector => "motion-vector warp",
+            Method::OcclusionMotion => "occlusion-motion-vector warp",
+            Method::Gbuffer => "G-buffer-guided warp (default)",
+            Method::Interpolation => "interpolation (uses frame t+1)",
+        }
+    }
+
+    fn warp_kind(self) -> Option<PatchexWarpKind> {
+        match self {
+            Method::MotionVector => Some(PATCHEX_WARP_MOTION_VECTOR),
+            Method::OcclusionMotion => Some(PATCHEX_WARP_OCCLUSION_MOTION_VECTOR),
+            Method::Gbuffer => Some(PATCHEX_WARP_GBUFFER_GUIDED),
+            Method::Copy | Method::Interpolation => None,
+        }
+    }
+}
+
+#[derive(Args)]
+pub struct EvalArgs {
+    /// Dataset folders written by `patchex render`.
+    #[arg(required = true)]
+    datasets: Vec<PathBuf>,
+    /// Methods to compare.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "copy,motion-vector,occlusion-motion,gbuffer,interpolation"
+    )]
+    methods: Vec<Method>,
+    /// Output folder: eval.md, eval.json, strips/.
+    #[arg(long, default_value = "out/eval")]
+    out: PathBuf,
+    /// Dataset frame shown in each strip; the middle target by default.
+    #[arg(long)]
+    strip_frame: Option<usize>,
+    /// Run the plugin under the Vulkan validation layer; fail on any message.
+    #[arg(long)]
+    validation: bool,
+}
+
+/// Regions every score is pooled over.
+const REGIONS: [&str; 4] = ["frame", "holes", "FI", "near-BE"];
+
+/// Scores and times of one method on one dataset (or on all).
+#[derive(Clone, Default)]
+struct MethodResult {
+    pooled: [Pooled; 4],
+    /// GPU ms per stage (submit and extrapolation), summed over the timed targets.
+    gpu_ms: [f64; PATCHEX_STAGE_SLOTS],
+    timed_targets: usize,
+}
+
+impl MethodResult {
+    fn add(&mut self, maps: &ErrorMaps, holes: &[bool], regions: &[u32]) {
+        for pixel in 0..holes.len() {
+            self.pooled[0].add(maps, pixel);
+            if holes[pixel] {
+                self.pooled[1].add(maps, pixel);
+            }
+            match regions[pixel] {
+                REGION_FI => self.pooled[2].add(maps, pixel),
+                REGION_NEAR_BE => self.pooled[3].add(maps, pixel),
+                _ => {}
+            }
+        }
+    }
+
+    fn add_time(&mut self, stats: &PatchexFrameStats) {
+        let stages = stats
+            .submit_gpu_ms
+            .iter()
+            .zip(stats.extrapolations[0].gpu_ms);
+        for (total, (submit, extrapolate)) in self.gpu_ms.iter_mut().zip(stages) {
+            *total += (submit + extrapolate) as f64;
+        }
+        self.timed_targets += 1;
+    }
+
+    fn merge(&mut self, other: &MethodResult) {
+        for (mine, theirs) in self.pooled.iter_mut().zip(&other.pooled) {
+            mine.merge(theirs);
+        }
+        for (mine, theirs) in self.gpu_ms.iter_mut().zip(&other.gpu_ms) {
+            *mine += theirs;
+        }
+        self.timed_targets += other.timed_targets;
+    }
+
+    fn mean_gpu_ms(&self) -> Option<f64> {
+        (self.timed_targets > 0)
+            .then(|| self.gpu_ms.iter().sum::<f64>() / self.timed_targets as f64)
+    }
+}
+
+struct DatasetResult {
+    scene: String,
+    width: usize,
+    height: usize,
+    targets: usize,
+    methods: BTreeMap<Method, MethodResult>,
+    /// Pixels per region, over all targets.
+    region_pixels: [u64; 4],
+}
+
+pub fn run(args: EvalArgs) -> CommandResult {
+    let mut methods = args.methods.clone();
+    methods.sort();
+    methods.dedup();
+    std::fs::create_dir_all(args.out.join("strips"))?;
+    let mut results = Vec::new();
+    for dataset_dir in &args.datasets {
+        results.push(evaluate(dataset_dir, &methods, &args)?);
+    }
+    let markdown = report_markdown(&results, &methods);
+    std::fs::write(args.out.join("eval.md"), &markdown)?;
+    std::fs::write(
+        args.out.join("eval.json"),
+        serde_json::to_string_pretty(&report_json(&results, &methods))? + "\n",
+    )?;
+    println!("{markdown}");
+    println!("written: {}", args.out.display());
+    Ok(())
+}
+
+fn evaluate(
+    dir: &Path,
+    methods: &[Method],
+    args: &EvalArgs,
+) -> Result<DatasetResult, Box<dyn std::error::Error>> {
+    let dataset = Dataset::open(dir)?;
+    let manifest = &dataset.manifest;
+    let (width, height) = (manifest.width, manifest.height);
+    // Targets with a rendered frame on both sides, so interpolation has its future frame.
+    let targets: Vec<usize> = manifest
+        .frames
+        .iter()
+        .filter(|f| f.role == FrameRole::Target && f.index + 1 < manifest.frames.len())
+        .map(|f| f.index)
+        .collect();
+    if targets.is_empty() {
+        return Err(format!(
+            "{}: no target frame between two rendered frames",
+            dir.display()
+        )
+        .into());
+    }
+    let strip_frame = args.strip_frame.unwrap_or(targets[targets.len() / 2]);
+    let driver = PluginDriver::new(manifest, args.validation)?;
+    let bar = ProgressBar::new(targets.len() as u64);
+    bar.set_style(
+        ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len}, {elapsed}")?
+            .progress_chars("=> "),
+    );
+    bar.set_message(format!("evaluating {}", manifest.scene));
+
+    let mut result = DatasetResult {
+        scene: manifest.scene.clone(),
+        width,
+        height,
+        targets: targets.len(),
+        methods: methods
+            .iter()
+            .map(|m| (*m, MethodResult::default()))
+            .collect(),
+        region_pixels: [0; 4],
+    };
+    let mut frame_index = 0;
+    for (n, &target) in targets.iter().enumerate() {
+        let previous = dataset.read_frame(target - 1)?;
+        let current = dataset.read_frame(target)?;
+        let next = dataset.read_frame(target + 1)?;
+        let truth = tone_map(&current.layer(FINAL_IMAGE).data, 3);
+        let mut run_plugin = |kind| {
+            frame_index += 1;
+            driver.extrapolate(
+                frame_index,
+                (&previous, &manifest.frames[target - 1]),
+                (&current, &manifest.frames[target]),
+                0.5,
+                Some(kind),
+            )
+        };
+        // The default warp's diagnostics give every method's regions and holes.
+        let reference = run_plugin(PATCHEX_WARP_GBUFFER_GUIDED)?;
+        let holes: Vec<bool> = reference
+            .diagnostics
+            .chunks(4)
+            .map(|d| d[0] > 0.5)
+            .collect();
+        let regions: Vec<u32> = reference
+            .diagnostics
+            .chunks(4)
+            .map(|d| (d[1] * 2.0).round() as u32)
+            .collect();
+        result.region_pixels[0] += holes.len() as u64;
+        result.region_pixels[1] += holes.iter().filter(|h| **h).count() as u64;
+        result.region_pixels[2] += regions.iter().filter(|r| **r == REGION_FI).count() as u64;
+        result.region_pixels[3] += regions.iter().filter(|r| **r == REGION_NEAR_BE).count() as u64;
+
+        let mut strip_outputs = Vec::new();
+        for &method in methods {
+            let (output, stats) = match method.warp_kind() {
+                Some(PATCHEX_WARP_GBUFFER_GUIDED) => {
+                    (tone_map(&reference.color, 4), Some(reference.stats))
+                }
+                Some(kind) => {
+                    let run = run_plugin(kind)?;
+                    (tone_map(&run.color, 4), Some(run.stats))
+                }
+                None if method == Method::Copy => {
+                    (tone_map(&previous.layer(FINAL_IMAGE).data, 3), None)
+                }
+                None => (tone_map(&interpolate(&previous, &current, &next), 3), None),
+            };
+            let maps = error_maps(&truth, &output, width, height);
+            let method_result = result
+                .methods
+                .get_mut(&method)
+                .expect("every method has a result");
+            method_result.add(&maps, &holes, &regions);
+            // The first target's times include the driver's lazy shader compilation.
+            if let (Some(stats), true) = (stats, n > 0) {
+                method_result.add_time(&stats);
+            }
+            if target == strip_frame {
+                strip_outputs.push((output, maps.flip));
+            }
+        }
+        if target == strip_frame {
+            let path = args
+                .out
+                .join("strips")
+                .join(format!("{}.png", manifest.scene));
+            write_method_strip(
+                &path,
+                width,
+                height,
+                &truth,
+                &holes,
+                &regions,
+                &strip_outputs,
+            )?;
+        }
+        bar.inc(1);
+    }
+    bar.finish();
+    let messages = driver.validation_messages();
+    if args.validation && !messages.is_empty() {
+        return Err(format!(
+            "plugin: {} validation messages, first: {}",
+            messages.len(),
+            messages[0]
+        )
+        .into());
+    }
+    Ok(result)
+}
+
+/// Row 1: ground truth, then each method's output. Row 2: the masks (far-BE dimmed, near-BE
+/// tinted yellow, FI tinted blue, holes red), then each method's FLIP error map (magma).
+fn write_method_strip(
+    path: &Path,
+    width: usize,
+    height: usize,
+    truth: &[f32],
+    holes: &[bool],
+    regions: &[u32],
+    outputs: &[(Vec<f32>, Vec<f32>)],
+) -> CommandResult {
+    let masks: Vec<f32> = truth
+        .chunks(3)
+        .zip(holes.iter().zip(regions))
+        .flat_map(|(rgb, (hole, region))| {
+            let grey = (rgb[0] + rgb[1] + rgb[2]) / 3.0;
+            match (*hole, *region) {
+                (true, _) => [1.0, 0.1, 0.1],
+                (false, REGION_FI) => [0.3 * grey, 0.5 * grey + 0.2, 0.6 + 0.4 * grey],
+                (false, REGION_NEAR_BE) => [0.6 + 0.4 * grey, 0.55 + 0.4 * grey, 0.2 * grey],
+                _ => [0.35 * grey; 3],
+            }
+        })
+        .collect();
+    let mut top = vec![to_rgb8(truth)];
+    let mut bottom = vec![to_rgb8(&masks)];
+    for (output, flip) in outputs {
+        top.push(to_rgb8(output));
+        let error = FlipImageFloat::with_data(width as u32, height as u32, flip);
+        bottom.push(error.apply_color_lut(&magma_lut()).to_vec());
+    }
+    let columns = top.len();
+    top.extend(bottom);
+    write_grid(path, width, height, columns, &top)
+}
+
+fn all_scenes(results: &[DatasetResult], methods: &[Method]) -> BTreeMap<Method, MethodResult> {
+    let mut total: BTreeMap<Method, MethodResult> = methods
+        .iter()
+        .map(|m| (*m, MethodResult::default()))
+        .collect();
+    for result in results {
+        for (method, scores) in &result.methods {
+            total.get_mut(method).expect("same methods").merge(scores);
+        }
+    }
+    total
+}
+
+fn method_table(out: &mut String, methods: &BTreeMap<Method, MethodResult>) {
+    writeln!(
+        out,
+        "| method | PSNR dB: frame / holes / FI / near-BE | SSIM: frame / holes / FI / near-BE | \
+         FLIP: frame / holes / FI / near-BE | GPU ms |\n|---|---|---|---|---|"
+    )
+    .unwrap();
+    for (method, result) in methods {
+        let scores: Vec<_> = result.pooled.iter().map(|p| p.scores()).collect();
+        let column = |pick: fn(&super::metrics::Scores) -> f64, digits: usize| {
+            scores
+                .iter()
+                .map(|s| s.map_or("-".to_owned(), |s| format!("{:.*}", digits, pick(&s))))
+                .collect::<Vec<_>>()
+                .join(" / ")
+        };
+        writeln!(
+            out,
+            "| {} | {} | {} | {} | {} |",
+            method.label(),
+            column(|s| s.psnr, 2),
+            column(|s| s.ssim, 4),
+            column(|s| s.flip, 4),
+            result
+                .mean_gpu_ms()
+                .map_or("-".to_owned(), |ms| format!("{ms:.1}")),
+        )
+        .unwrap();
+    }
+}
+
+fn coverage(region_pixels: &[u64; 4]) -> String {
+    let share = |i: usize| 100.0 * region_pixels[i] as f64 / region_pixels[0].max(1) as f64;
+    format!(
+        "holes {:.2}%, FI {:.2}%, near-BE {:.2}% of the pixels",
+        share(1),
+        share(2),
+        share(3)
+    )
+}
+
+fn report_markdown(results: &[DatasetResult], methods: &[Method]) -> String {
+    let mut out = String::new();
+    writeln!(
+        out,
+        "Scores of tone-mapped frames against the rendered ground truth at alpha 0.5 (PSNR, SSIM: \
+         higher is better; FLIP: lower is better), pooled over every target pixel of each region. \
+         Regions come from the plugin's segmentation and the holes from its default warp, the \
+         same pixels for every method. GPU ms: submit plus extrapolation per frame, from \
+         timestamp queries, leaving out the first target (lazy shader compilation). The \
+         interpolation row uses frame t+1: it shows what extrapolation aims at, at the cost of a \
+         frame of latency.\n"
+    )
+    .unwrap();
+    let mut total_pixels = [0u64; 4];
+    for result in results {
+        for (total, pixels) in total_pixels.iter_mut().zip(result.region_pixels) {
+            *total += pixels;
+        }
+    }
+    if results.len() > 1 {
+        writeln!(out, "### All scenes ({})\n", coverage(&total_pixels)).unwrap();
+        method_table(&mut out, &all_scenes(results, methods));
+        writeln!(out).unwrap();
+    }
+    for result in results {
+        writeln!(
+            out,
+            "### {} ({}x{}, {} targets; {})\n",
+            result.scene,
+            result.width,
+            result.height,
+            result.targets,
+            coverage(&result.region_pixels)
+        )
+        .unwrap();
+        method_table(&mut out, &result.methods);
+        writeln!(out).unwrap();
+    }
+    out
+}
+
+fn report_json(results: &[DatasetResult], methods: &[Method]) -> serde_json::Value {
+    let method_json = |methods: &BTreeMap<Method, MethodResult>| {
+        methods
+            .iter()
+            .map(|(method, result)| {
+                let regions: serde_json::Map<String, serde_json::Value> = REGIONS
+                    .iter()
+                    .zip(&result.pooled)
+                    .map(|(name, pooled)| {
+                        let scores = pooled.scores().map(|s| {
+                            json!({"psnr": finite(s.psnr), "ssim": s.ssim, "flip": s.flip, "pixels": pooled.pixels})
+                        });
+                        (name.to_string(), scores.unwrap_or(serde_json::Value::Null))
+                    })
+                    .collect();
+                json!({
+                    "method": format!("{method:?}"),
+                    "label": method.label(),
+                    "uses_future_frame": *method == Method::Interpolation,
+                    "regions": regions,
+                    "gpu_ms": result.mean_gpu_ms(),
+                })
+            })
+            .collect::<Vec<_>>()
+    };
+    json!({
+        "alpha": 0.5,
+        "all_scenes": method_json(&all_scenes(results, methods)),
+        "scenes": results.iter().map(|r| json!({
+            "scene": r.scene,
+            "width": r.width,
+            "height": r.height,
+            "targets": r.targets,
+            "region_pixels": dict(&r.region_pixels),
+            "methods": method_json(&r.methods),
+        })).collect::<Vec<_>>(),
+    })
+}
+
+/// JSON has no infinity: a perfect PSNR is written as null.
+fn finite(value: f64) -> Option<f64> {
+    value.is_finite().then_some(value)
+}
+
+fn dict(region_pixels: &[u64; 4]) -> serde_json::Value {
+    REGIONS
+        .iter()
+        .zip(region_pixels)
+        .map(|(name, pixels)| (name.to_string(), json!(pixels)))
+        .collect::<serde_json::Map<_, _>>()
+        .into()
+}

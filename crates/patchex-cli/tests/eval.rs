@@ -1,0 +1,84 @@
+//! `patchex eval` end to end, small: every method scored over the frame and each region, the
+//! tables and the strip written, the plugin under validation.
+
+use std::path::Path;
+use std::process::Command;
+
+fn run(args: &[&str]) -> String {
+    let output = Command::new(env!("CARGO_BIN_EXE_patchex"))
+        .args(args)
+        .output()
+        .expect("the patchex binary runs");
+    let text = format!(
+        "{}{}",
+        String::from_utf8_lossy(&output.stdout),
+        String::from_utf8_lossy(&output.stderr)
+    );
+    assert!(output.status.success(), "patchex {args:?}:\n{text}");
+    text
+}
+
+#[test]
+fn eval_scores_every_method_over_every_region() {
+    let repo = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let out = tempfile::tempdir().unwrap();
+    let dataset = out.path().join("crossing");
+    let report = out.path().join("eval");
+    let scene = repo.join("scenes/crossing_street.toml");
+    run(&[
+        "render",
+        scene.to_str().unwrap(),
+        "--frames",
+        "5",
+        "--size",
+        "160x90",
+        "--out",
+        dataset.to_str().unwrap(),
+    ]);
+    run(&[
+        "eval",
+        dataset.to_str().unwrap(),
+        "--validation",
+        "--out",
+        report.to_str().unwrap(),
+    ]);
+    assert!(report.join("strips/crossing_street.png").exists());
+    assert!(std::fs::read_to_string(report.join("eval.md"))
+        .unwrap()
+        .contains("interpolation (uses frame t+1)"));
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(report.join("eval.json")).unwrap()).unwrap();
+    let methods = json["scenes"][0]["methods"].as_array().unwrap();
+    let names: Vec<&str> = methods
+        .iter()
+        .map(|m| m["method"].as_str().unwrap())
+        .collect();
+    assert_eq!(
+        names,
+        [
+            "Copy",
+            "MotionVector",
+            "OcclusionMotion",
+            "Gbuffer",
+            "Interpolation"
+        ]
+    );
+    let score = |method: usize, region: &str, metric: &str| {
+        methods[method]["regions"][region][metric]
+            .as_f64()
+            .unwrap_or_else(|| panic!("{metric} over {region}: {}", methods[method]))
+    };
+    for method in 0..methods.len() {
+        for region in ["frame", "holes", "FI", "near-BE"] {
+            let (ssim, flip) = (score(method, region, "ssim"), score(method, region, "flip"));
+            assert!((-1.0..=1.0).contains(&ssim) && (0.0..=1.0).contains(&flip));
+        }
+    }
+    // The default warp beats showing frame t again, on every metric over the frame.
+    let (copy, gbuffer) = (0, 3);
+    assert!(score(gbuffer, "frame", "psnr") > score(copy, "frame", "psnr"));
+    assert!(score(gbuffer, "frame", "ssim") > score(copy, "frame", "ssim"));
+    assert!(score(gbuffer, "frame", "flip") < score(copy, "frame", "flip"));
+    assert!(methods[gbuffer]["gpu_ms"].as_f64().unwrap() > 0.0);
+    assert!(methods[copy]["gpu_ms"].is_null());
+}
