@@ -18,6 +18,9 @@ enum Command {
     /// The main job: render a scene, extrapolate every target instant through the plugin,
     /// and write picture strips and a quality/GPU-time table.
     Demo(commands::demo::DemoArgs),
+    /// Fit k_x and k_y of the near-background growth (Algorithm 1) from temporal-variation
+    /// analysis of datasets, and print the correlation of extension with motion.
+    Calibrate(commands::calibrate::CalibrateArgs),
     /// Score every method against the rendered ground truth of datasets: PSNR, SSIM and FLIP
     /// over the frame, holes, FI and near-BE, and GPU time; writes tables and picture strips.
     Eval(commands::eval::EvalArgs),
@@ -33,6 +36,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Demo(args) => commands::demo::run(args),
+        Command::Calibrate(args) => commands::calibrate::run(args),
         Command::Eval(args) => commands::eval::run(args),
         Command::Render(args) => commands::render::run(args),
         Command::Sheet(args) => commands::sheet::run(args),

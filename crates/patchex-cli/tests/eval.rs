@@ -82,3 +82,39 @@ fn eval_scores_every_method_over_every_region() {
     assert!(methods[gbuffer]["gpu_ms"].as_f64().unwrap() > 0.0);
     assert!(methods[copy]["gpu_ms"].is_null());
 }
+
+/// Calibration on characters walking across a street: the extension of the high-variation
+/// region beside each character grows with its horizontal motion, as the paper found.
+#[test]
+fn calibrate_fits_growth_that_follows_motion() {
+    let repo = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let out = tempfile::tempdir().unwrap();
+    let dataset = out.path().join("crossing");
+    let report = out.path().join("calibration.json");
+    let scene = repo.join("scenes/crossing_street.toml");
+    run(&[
+        "render",
+        scene.to_str().unwrap(),
+        "--frames",
+        "5",
+        "--size",
+        "480x270",
+        "--out",
+        dataset.to_str().unwrap(),
+    ]);
+    let printed = run(&[
+        "calibrate",
+        dataset.to_str().unwrap(),
+        "--json",
+        report.to_str().unwrap(),
+    ]);
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    let (k_x, r_x) = (
+        json["k_x"].as_f64().unwrap(),
+        json["correlation_x"].as_f64().unwrap(),
+    );
+    assert!(json["samples"].as_array().unwrap().len() >= 6, "{printed}");
+    assert!(r_x > 0.3, "motion predicts the extension: {printed}");
+    assert!((1.0..8.0).contains(&k_x), "{printed}");
+}

@@ -1,3 +1,4 @@
+pub mod calibrate;
 pub mod demo;
 pub mod eval;
 pub mod inspect;
