@@ -6,7 +6,8 @@
  *   patchex_extrapolate(ctx, cmd, {target instant F + alpha: its G-buffer, output image})
  *     (up to PATCHEX_MAX_EXTRAPOLATIONS_PER_FRAME times, e.g. alpha 1/3 then 2/3)
  *   ... engine submits cmd, waits on its fence later ...
- *   patchex_get_frame_stats(ctx, F, &stats) once that fence has signalled.
+ *   patchex_get_frame_stats(ctx, F, &stats) once that fence has signalled: GPU time per
+ *     stage, hole fraction, and each dynamic object's near-background rectangle.
  *
  * WHAT IS RECORDED. Each call records compute dispatches, pipeline barriers, timestamp queries
  * and (extrapolate) one vkCmdFillBuffer into the engine's command buffer, outside any render
