@@ -105,6 +105,7 @@ pub fn run(args: DemoArgs) -> CommandResult {
             (&target_layers, &manifest.frames[target]),
             0.5,
             None,
+            false,
         )?;
         let (width, height) = (manifest.width, manifest.height);
         let frame_t = tone_map(&source_layers.layer(FINAL_IMAGE).data, 3);
@@ -169,6 +170,14 @@ fn merged_stage_times(stats: &PatchexFrameStats) -> [f32; PATCHEX_STAGE_SLOTS] {
     merged
 }
 
+/// The stages some target ran, in pipeline order.
+fn stages_that_ran(rows: &[Row]) -> Vec<(PatchexStage, &'static str)> {
+    STAGE_NAMES
+        .into_iter()
+        .filter(|(stage, _)| rows.iter().any(|r| r.gpu_ms[*stage as usize] > 0.0))
+        .collect()
+}
+
 fn mean(values: impl Iterator<Item = f64>) -> f64 {
     let (sum, count) = values.fold((0.0, 0), |(s, c), v| (s + v, c + 1));
     sum / count.max(1) as f64
@@ -199,11 +208,12 @@ fn summary_markdown(
         "| target | extrapolated | frame t (no extrapolation) | holes |"
     )
     .unwrap();
-    for (_, name) in STAGE_NAMES {
+    let stages = stages_that_ran(rows);
+    for (_, name) in &stages {
         write!(out, " {name} ms |").unwrap();
     }
     writeln!(out).unwrap();
-    writeln!(out, "|{}", "---|".repeat(4 + STAGE_NAMES.len())).unwrap();
+    writeln!(out, "|{}", "---|".repeat(4 + stages.len())).unwrap();
     for row in rows {
         write!(
             out,
@@ -214,7 +224,7 @@ fn summary_markdown(
             row.hole_fraction * 100.0
         )
         .unwrap();
-        for (stage, _) in STAGE_NAMES {
+        for &(stage, _) in &stages {
             write!(out, " {:.2} |", row.gpu_ms[stage as usize]).unwrap();
         }
         writeln!(out).unwrap();
@@ -228,7 +238,7 @@ fn summary_markdown(
     )
     .unwrap();
     let warm = if rows.len() > 1 { &rows[1..] } else { rows };
-    for (stage, _) in STAGE_NAMES {
+    for &(stage, _) in &stages {
         write!(
             out,
             " {:.2} |",
@@ -245,7 +255,7 @@ fn summary_json(scene: &str, rows: &[Row]) -> String {
         .iter()
         .map(|r| {
             let stages: Vec<String> =
-                STAGE_NAMES.iter().map(|(s, name)| format!("\"{name}\": {:.4}", r.gpu_ms[*s as usize])).collect();
+                stages_that_ran(rows).iter().map(|(s, name)| format!("\"{name}\": {:.4}", r.gpu_ms[*s as usize])).collect();
             format!(
                 "    {{\"target\": {}, \"psnr_extrapolated\": {:.4}, \"psnr_frame_t\": {:.4}, \"hole_fraction\": {:.6}, \"gpu_ms\": {{{}}}}}",
                 r.target,

@@ -106,13 +106,18 @@ impl MethodResult {
         }
     }
 
+    /// Adds a frame's GPU times, leaving out the diagnostics copy an engine would not run.
     fn add_time(&mut self, stats: &PatchexFrameStats) {
         let stages = stats
             .submit_gpu_ms
             .iter()
             .zip(stats.extrapolations[0].gpu_ms);
-        for (total, (submit, extrapolate)) in self.gpu_ms.iter_mut().zip(stages) {
-            *total += (submit + extrapolate) as f64;
+        for (stage, (total, (submit, extrapolate))) in
+            self.gpu_ms.iter_mut().zip(stages).enumerate()
+        {
+            if stage != PATCHEX_STAGE_DIAGNOSTICS as usize {
+                *total += (submit + extrapolate) as f64;
+            }
         }
         self.timed_targets += 1;
     }
@@ -211,7 +216,7 @@ fn evaluate(
         let current = dataset.read_frame(target)?;
         let next = dataset.read_frame(target + 1)?;
         let truth = tone_map(&current.layer(FINAL_IMAGE).data, 3);
-        let mut run_plugin = |kind| {
+        let mut run_plugin = |kind, with_diagnostics| {
             frame_index += 1;
             driver.extrapolate(
                 frame_index,
@@ -219,17 +224,14 @@ fn evaluate(
                 (&current, &manifest.frames[target]),
                 0.5,
                 Some(kind),
+                with_diagnostics,
             )
         };
         // The default warp's diagnostics give every method's regions and holes.
-        let reference = run_plugin(PATCHEX_WARP_GBUFFER_GUIDED)?;
-        let holes: Vec<bool> = reference
-            .diagnostics
-            .chunks(4)
-            .map(|d| d[0] > 0.5)
-            .collect();
-        let regions: Vec<u32> = reference
-            .diagnostics
+        let reference = run_plugin(PATCHEX_WARP_GBUFFER_GUIDED, true)?;
+        let diagnostics = reference.diagnostics.as_ref().expect("asked for");
+        let holes: Vec<bool> = diagnostics.chunks(4).map(|d| d[0] > 0.5).collect();
+        let regions: Vec<u32> = diagnostics
             .chunks(4)
             .map(|d| (d[1] * 2.0).round() as u32)
             .collect();
@@ -245,7 +247,7 @@ fn evaluate(
                     (tone_map(&reference.color, 4), Some(reference.stats))
                 }
                 Some(kind) => {
-                    let run = run_plugin(kind)?;
+                    let run = run_plugin(kind, false)?;
                     (tone_map(&run.color, 4), Some(run.stats))
                 }
                 None if method == Method::Copy => {

@@ -69,8 +69,8 @@ struct UploadedFrame {
 pub struct Extrapolated {
     /// RGBA, linear HDR.
     pub color: Vec<f32>,
-    /// RGBA, as `PatchexDiagnostics` describes: hole, region / 2, LBP code / 255.
-    pub diagnostics: Vec<f32>,
+    /// RGBA, as `PatchexDiagnostics` describes: hole, region / 2, LBP code / 255; when asked.
+    pub diagnostics: Option<Vec<f32>>,
     pub stats: PatchexFrameStats,
 }
 
@@ -185,7 +185,7 @@ impl PluginDriver {
     }
 
     /// Submits `source` as frame `frame_index` and extrapolates the `target` instant from it,
-    /// with the context's default warp or `warp`.
+    /// with the context's default warp or `warp`, and the diagnostics image if asked.
     pub fn extrapolate(
         &self,
         frame_index: u64,
@@ -193,11 +193,12 @@ impl PluginDriver {
         target: (&FrameLayers, &FrameInfo),
         alpha: f32,
         warp: Option<PatchexWarpKind>,
+        with_diagnostics: bool,
     ) -> Result<Extrapolated, String> {
         let source = self.upload(source.0, source.1, true);
         let target = self.upload(target.0, target.1, false);
         let output = self.output_image();
-        let diagnostics_image = self.output_image();
+        let diagnostics_image = with_diagnostics.then(|| self.output_image());
         let warp_settings = warp.map(|kind| {
             let defaults = WarpSettings::default();
             PatchexWarpSettings {
@@ -213,12 +214,20 @@ impl PluginDriver {
                 occlusion_search_radius: defaults.occlusion_search_radius,
             }
         });
-        let mut diagnostics = PatchexDiagnostics {
-            header: PatchexStructHeader::of::<PatchexDiagnostics>(PATCHEX_STRUCT_TYPE_DIAGNOSTICS),
-            image: describe(&diagnostics_image),
-        };
+        // The chain, back to front: warp settings, then diagnostics.
+        let mut next: *const c_void = ptr::null();
         if let Some(settings) = &warp_settings {
-            diagnostics.header.next = settings as *const PatchexWarpSettings as *const c_void;
+            next = settings as *const PatchexWarpSettings as *const c_void;
+        }
+        let diagnostics = diagnostics_image.as_ref().map(|image| PatchexDiagnostics {
+            header: PatchexStructHeader {
+                next,
+                ..PatchexStructHeader::of::<PatchexDiagnostics>(PATCHEX_STRUCT_TYPE_DIAGNOSTICS)
+            },
+            image: describe(image),
+        });
+        if let Some(diagnostics) = &diagnostics {
+            next = diagnostics as *const PatchexDiagnostics as *const c_void;
         }
         let family = self.engine.queue_family_index;
         let frame = PatchexFrameDesc {
@@ -246,7 +255,7 @@ impl PluginDriver {
             geometry: self.geometry(&target),
             output: describe(&output),
         };
-        extrapolate.header.next = &diagnostics as *const PatchexDiagnostics as *const c_void;
+        extrapolate.header.next = next;
         let mut results = (PatchexResult::Success, PatchexResult::Success);
         self.engine.run(|cmd| {
             // SAFETY: live context; the images live until the submission completes.
@@ -273,7 +282,7 @@ impl PluginDriver {
         }
         Ok(Extrapolated {
             color: output.read(&self.engine, LAYOUT),
-            diagnostics: diagnostics_image.read(&self.engine, LAYOUT),
+            diagnostics: diagnostics_image.map(|image| image.read(&self.engine, LAYOUT)),
             stats,
         })
     }
