@@ -7,6 +7,7 @@
 mod support;
 
 use glam::Vec2;
+use patchex::abi::{PatchexStage, PATCHEX_STAGE_DIAGNOSTICS};
 use patchex::error::PatchexResult;
 use patchex::passes::STAGE_NAMES;
 use patchex_harness::EngineOptions;
@@ -39,7 +40,7 @@ fn measure(width: usize, height: usize) -> (Vec<f32>, f32, String) {
         GpuFrame::upload(engine, &target),
     );
     let output = output_image(engine, width as u32, height as u32);
-    let mut per_stage: Vec<Vec<f32>> = vec![Vec::new(); STAGE_NAMES.len()];
+    let mut per_stage: Vec<Vec<f32>> = vec![Vec::new(); timed_stages().len()];
     let mut totals = Vec::new();
     for run in 0..WARM_UP + RUNS {
         let frame_index = run as u64 + 1;
@@ -57,7 +58,7 @@ fn measure(width: usize, height: usize) -> (Vec<f32>, f32, String) {
             continue;
         }
         let mut total = 0.0;
-        for (samples, (stage, _)) in per_stage.iter_mut().zip(STAGE_NAMES) {
+        for (samples, (stage, _)) in per_stage.iter_mut().zip(timed_stages()) {
             let ms = stats.submit_gpu_ms[stage as usize]
                 + stats.extrapolations[0].gpu_ms[stage as usize];
             samples.push(ms);
@@ -72,6 +73,14 @@ fn measure(width: usize, height: usize) -> (Vec<f32>, f32, String) {
     )
 }
 
+/// Every stage the benchmark's frames run: all but the diagnostics copy, which it does not ask for.
+fn timed_stages() -> Vec<(PatchexStage, &'static str)> {
+    STAGE_NAMES
+        .into_iter()
+        .filter(|(stage, _)| *stage != PATCHEX_STAGE_DIAGNOSTICS)
+        .collect()
+}
+
 fn main() {
     let mut rows = Vec::new();
     let mut device = String::new();
@@ -82,11 +91,11 @@ fn main() {
     }
     println!("GPU time per stage, warp-only preset, median of {RUNS} runs after {WARM_UP} warm-up, on {device}\n");
     print!("| size |");
-    for (_, name) in STAGE_NAMES {
+    for (_, name) in timed_stages() {
         print!(" {name} ms |");
     }
     println!(" total ms | total vs 360p | pixels vs 360p |");
-    println!("|{}", "---|".repeat(STAGE_NAMES.len() + 4));
+    println!("|{}", "---|".repeat(timed_stages().len() + 4));
     let (base_pixels, base_total) = ((rows[0].0 * rows[0].1) as f32, rows[0].3);
     for (width, height, stages, total) in &rows {
         print!("| {width}x{height} |");

@@ -260,3 +260,45 @@ fn growing_frames_retire_working_images_after_the_frames_in_flight() {
         "steady state: {memory:?}"
     );
 }
+
+/// The demodulation rule where its denominator vanishes: black albedo, near-black albedo and
+/// black metal (whose specular term is 0 too) all meet the 0.01 floor of the modulation factor,
+/// so shading stays finite and remodulating with the same G-buffer gives the colour back.
+#[test]
+fn black_and_metallic_surfaces_demodulate_and_remodulate_safely() {
+    let mut scene = Scene::new(WIDTH, HEIGHT);
+    scene.sphere_speed = 0.0;
+    scene.camera_speed = 0.0;
+    let mut frame = scene.render(0.0, Vec2::ZERO, -FRAME_TIME);
+    for y in 0..HEIGHT {
+        for x in 0..WIDTH {
+            // Three bands: black dielectric, near-black (1e-6) dielectric, black metal.
+            let band = x * 3 / WIDTH;
+            let albedo = if band == 1 { 1e-6 } else { 0.0 };
+            frame.base_color.set(x, y, &[albedo, albedo, albedo, 1.0]);
+            let mut material = frame.material.at(x, y).to_vec();
+            material[0] = if band == 2 { 1.0 } else { 0.0 };
+            frame.material.set(x, y, &material);
+            // What a renderer may still show there: a specular highlight or emission.
+            let glow = 0.05 + 0.5 * ((x + y) % 7) as f32 / 7.0;
+            frame.color.set(x, y, &[glow, 0.5 * glow, 0.25 * glow, 1.0]);
+        }
+    }
+    let rig = Rig::new(WIDTH as u32, HEIGHT as u32);
+    let outcome = run_plugin(&rig, &frame, &frame, 0.5, &Chained::default());
+    assert_matches_reference(&frame, &frame, &outcome, &Chained::default());
+    for (got, want) in outcome
+        .output
+        .data
+        .chunks(4)
+        .zip(frame.color.data.chunks(4))
+    {
+        for c in 0..3 {
+            assert!(got[c].is_finite());
+            assert!(
+                (got[c] - want[c]).abs() <= want[c].abs() * 9.77e-4 + 1e-6,
+                "{got:?} vs {want:?}"
+            );
+        }
+    }
+}
