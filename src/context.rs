@@ -22,13 +22,14 @@ use crate::vk::image::{ImageRole, ImportedImage, OwnedImage};
 
 pub const MAX_FRAMES_IN_FLIGHT: u32 = 8;
 
+/// Largest extent accepted at creation; 8K with margin.
+pub const MAX_EXTENT: u32 = 16384;
+
 /// Where each pass's counters sit in an extrapolation's range of the frame counters. Both
 /// offsets are multiples of 256, the largest storage-buffer offset alignment Vulkan allows.
 const WARP_COUNTERS_OFFSET: u64 = 0;
 const OBJECT_TABLE_OFFSET: u64 = 256;
 pub const COUNTER_BYTES: u64 = OBJECT_TABLE_OFFSET + segmentation::TABLE_BYTES;
-/// Largest extent accepted at creation; 8K with margin.
-pub const MAX_EXTENT: u32 = 16384;
 
 /// The plugin's working images, all at one extent (the largest frame seen so far).
 struct WorkImages {

@@ -1,7 +1,7 @@
 //! `patchex eval` end to end, small: every method scored over the frame and each region, the
 //! tables and the strip written, the plugin under validation.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::Command;
 
 fn run(args: &[&str]) -> String {
@@ -18,23 +18,28 @@ fn run(args: &[&str]) -> String {
     text
 }
 
-#[test]
-fn eval_scores_every_method_over_every_region() {
-    let repo = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-    let out = tempfile::tempdir().unwrap();
-    let dataset = out.path().join("crossing");
-    let report = out.path().join("eval");
-    let scene = repo.join("scenes/crossing_street.toml");
+/// Renders 5 frames of crossing_street (two targets between rendered frames) into `out`.
+fn render_crossing_street(out: &Path, size: &str) -> PathBuf {
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/crossing_street.toml");
+    let dataset = out.join("crossing");
     run(&[
         "render",
         scene.to_str().unwrap(),
         "--frames",
         "5",
         "--size",
-        "160x90",
+        size,
         "--out",
         dataset.to_str().unwrap(),
     ]);
+    dataset
+}
+
+#[test]
+fn eval_scores_every_method_over_every_region() {
+    let out = tempfile::tempdir().unwrap();
+    let dataset = render_crossing_street(out.path(), "160x90");
+    let report = out.path().join("eval");
     run(&[
         "eval",
         dataset.to_str().unwrap(),
@@ -80,6 +85,11 @@ fn eval_scores_every_method_over_every_region() {
     assert!(score(gbuffer, "frame", "ssim") > score(copy, "frame", "ssim"));
     assert!(score(gbuffer, "frame", "flip") < score(copy, "frame", "flip"));
     assert!(methods[gbuffer]["gpu_ms"].as_f64().unwrap() > 0.0);
+    let stages = &methods[gbuffer]["gpu_ms_per_stage"];
+    for stage in ["warp", "segment", "lbp", "remodulate"] {
+        assert!(stages[stage].as_f64().unwrap() > 0.0, "{stages}");
+    }
+    assert!(stages.get("diagnostics").is_none(), "{stages}");
     assert!(methods[copy]["gpu_ms"].is_null());
 }
 
@@ -87,21 +97,9 @@ fn eval_scores_every_method_over_every_region() {
 /// region beside each character grows with its horizontal motion, as the paper found.
 #[test]
 fn calibrate_fits_growth_that_follows_motion() {
-    let repo = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
     let out = tempfile::tempdir().unwrap();
-    let dataset = out.path().join("crossing");
+    let dataset = render_crossing_street(out.path(), "480x270");
     let report = out.path().join("calibration.json");
-    let scene = repo.join("scenes/crossing_street.toml");
-    run(&[
-        "render",
-        scene.to_str().unwrap(),
-        "--frames",
-        "5",
-        "--size",
-        "480x270",
-        "--out",
-        dataset.to_str().unwrap(),
-    ]);
     let printed = run(&[
         "calibrate",
         dataset.to_str().unwrap(),

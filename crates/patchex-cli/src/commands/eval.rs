@@ -15,6 +15,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use nv_flip::{magma_lut, FlipImageFloat};
 use patchex::abi::*;
 use patchex::passes::segmentation::{REGION_FI, REGION_NEAR_BE};
+use patchex::passes::STAGE_NAMES;
 use patchex_scene::dataset::{Dataset, FrameRole, FINAL_IMAGE};
 use serde_json::json;
 
@@ -136,6 +137,17 @@ impl MethodResult {
         (self.timed_targets > 0)
             .then(|| self.gpu_ms.iter().sum::<f64>() / self.timed_targets as f64)
     }
+
+    fn mean_stage_ms(&self, stage: PatchexStage) -> f64 {
+        self.gpu_ms[stage as usize] / self.timed_targets.max(1) as f64
+    }
+}
+
+/// The stages an engine runs, in pipeline order: all but the diagnostics copy.
+fn timed_stages() -> impl Iterator<Item = (PatchexStage, &'static str)> {
+    STAGE_NAMES
+        .into_iter()
+        .filter(|(stage, _)| *stage != PATCHEX_STAGE_DIAGNOSTICS)
 }
 
 struct DatasetResult {
@@ -379,6 +391,30 @@ fn method_table(out: &mut String, methods: &BTreeMap<Method, MethodResult>) {
     }
 }
 
+/// Mean GPU ms per stage of the methods that run on the GPU.
+fn stage_table(out: &mut String, methods: &BTreeMap<Method, MethodResult>) {
+    write!(out, "| method |").unwrap();
+    for (_, name) in timed_stages() {
+        write!(out, " {name} |").unwrap();
+    }
+    writeln!(
+        out,
+        " total |\n|---|{}---|",
+        "---|".repeat(timed_stages().count())
+    )
+    .unwrap();
+    for (method, result) in methods {
+        let Some(total) = result.mean_gpu_ms() else {
+            continue;
+        };
+        write!(out, "| {} |", method.label()).unwrap();
+        for (stage, _) in timed_stages() {
+            write!(out, " {:.1} |", result.mean_stage_ms(stage)).unwrap();
+        }
+        writeln!(out, " {total:.1} |").unwrap();
+    }
+}
+
 fn coverage(region_pixels: &[u64; 4]) -> String {
     let share = |i: usize| 100.0 * region_pixels[i] as f64 / region_pixels[0].max(1) as f64;
     format!(
@@ -410,7 +446,10 @@ fn report_markdown(results: &[DatasetResult], methods: &[Method]) -> String {
     }
     if results.len() > 1 {
         writeln!(out, "### All scenes ({})\n", coverage(&total_pixels)).unwrap();
-        method_table(&mut out, &all_scenes(results, methods));
+        let all = all_scenes(results, methods);
+        method_table(&mut out, &all);
+        writeln!(out, "\nGPU ms per stage:\n").unwrap();
+        stage_table(&mut out, &all);
         writeln!(out).unwrap();
     }
     for result in results {
@@ -425,6 +464,8 @@ fn report_markdown(results: &[DatasetResult], methods: &[Method]) -> String {
         )
         .unwrap();
         method_table(&mut out, &result.methods);
+        writeln!(out, "\nGPU ms per stage:\n").unwrap();
+        stage_table(&mut out, &result.methods);
         writeln!(out).unwrap();
     }
     out
@@ -451,6 +492,11 @@ fn report_json(results: &[DatasetResult], methods: &[Method]) -> serde_json::Val
                     "uses_future_frame": *method == Method::Interpolation,
                     "regions": regions,
                     "gpu_ms": result.mean_gpu_ms(),
+                    "gpu_ms_per_stage": result.mean_gpu_ms().map(|_| {
+                        timed_stages()
+                            .map(|(stage, name)| (name.to_owned(), json!(result.mean_stage_ms(stage))))
+                            .collect::<serde_json::Map<_, _>>()
+                    }),
                 })
             })
             .collect::<Vec<_>>()
