@@ -291,6 +291,10 @@ typedef struct PatchexExtrapolationStats {
   float hole_fraction;
   // Fraction of target pixels whose source fell off-screen.
   float offscreen_fraction;
+  // Target pixels whose base colour or material had to be sanitised (as for
+  // `source_sanitized_pixels`), or whose result exceeded the largest half float and was
+  // clamped to it.
+  uint32_t sanitized_pixels;
   // Fraction of target pixels in the foreground-interaction region (dynamic objects).
   float fi_fraction;
   // Fraction of target pixels in the near-background region.
@@ -315,6 +319,10 @@ typedef struct PatchexFrameStats {
   PatchexBool timings_valid;
   // GPU milliseconds of the submit stages (index PATCHEX_STAGE_*).
   float submit_gpu_ms[PATCHEX_STAGE_SLOTS];
+  // Pixels of frame t with an input patchex had to sanitise: a colour that is NaN, infinite
+  // or beyond the largest half float (65504), or a base colour, metallic or specular value
+  // that is NaN or outside [0, 1]. NaN becomes 0, everything else the nearest usable value.
+  uint32_t source_sanitized_pixels;
   uint32_t extrapolation_count;
   struct PatchexExtrapolationStats extrapolations[PATCHEX_MAX_EXTRAPOLATIONS_PER_FRAME];
   // Device memory the context holds now, in bytes.

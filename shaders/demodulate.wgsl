@@ -1,5 +1,6 @@
 // Divides frame t's colour by its modulation factor, leaving shading that varies smoothly across
 // textures and so warps and inpaints well: F' = F / (albedo + 0.08 * specular * (1 - metallic)).
+// Unusable inputs are sanitised first and counted (gbuffer.wgsl).
 // #import gbuffer
 
 struct Params {
@@ -12,14 +13,27 @@ var<immediate> params: Params;
 @group(0) @binding(1) var base_color: texture_2d<f32>;
 @group(0) @binding(2) var material: texture_2d<f32>;
 @group(0) @binding(3) var demodulated: texture_storage_2d<rgba32float, write>;
+@group(0) @binding(4) var<storage, read_write> counters: SanitizeCounters;
+
+var<workgroup> group_sanitized: atomic<u32>;
 
 @compute @workgroup_size(8, 8, 1)
-fn main(@builtin(global_invocation_id) id: vec3u) {
-    let p = id.xy;
-    if (any(p >= params.extent)) {
-        return;
+fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_index) lane: u32) {
+    if (lane == 0u) {
+        atomicStore(&group_sanitized, 0u);
     }
-    let ms = metallic_specular(material, p, params.has_material);
-    let factor = modulation(textureLoad(base_color, p, 0).rgb, ms.x, ms.y);
-    textureStore(demodulated, p, vec4f(textureLoad(color, p, 0).rgb / factor, 1.0));
+    workgroupBarrier();
+    let p = id.xy;
+    if (all(p < params.extent)) {
+        let m = pixel_modulation(base_color, material, p, params.has_material);
+        let color = sanitize_color(textureLoad(color, p, 0).rgb);
+        textureStore(demodulated, p, vec4f(color.value / m.factor, 1.0));
+        if (m.changed || color.changed) {
+            atomicAdd(&group_sanitized, 1u);
+        }
+    }
+    workgroupBarrier();
+    if (lane == 0u) {
+        atomicAdd(&counters.sanitized_pixels, atomicLoad(&group_sanitized));
+    }
 }

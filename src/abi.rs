@@ -374,6 +374,10 @@ pub struct PatchexExtrapolationStats {
     pub hole_fraction: f32,
     /// Fraction of target pixels whose source fell off-screen.
     pub offscreen_fraction: f32,
+    /// Target pixels whose base colour or material had to be sanitised (as for
+    /// `source_sanitized_pixels`), or whose result exceeded the largest half float and was
+    /// clamped to it.
+    pub sanitized_pixels: u32,
     /// Fraction of target pixels in the foreground-interaction region (dynamic objects).
     pub fi_fraction: f32,
     /// Fraction of target pixels in the near-background region.
@@ -400,6 +404,10 @@ pub struct PatchexFrameStats {
     pub timings_valid: PatchexBool,
     /// GPU milliseconds of the submit stages (index PATCHEX_STAGE_*).
     pub submit_gpu_ms: [f32; PATCHEX_STAGE_SLOTS],
+    /// Pixels of frame t with an input patchex had to sanitise: a colour that is NaN, infinite
+    /// or beyond the largest half float (65504), or a base colour, metallic or specular value
+    /// that is NaN or outside [0, 1]. NaN becomes 0, everything else the nearest usable value.
+    pub source_sanitized_pixels: u32,
     pub extrapolation_count: u32,
     pub extrapolations: [PatchexExtrapolationStats; PATCHEX_MAX_EXTRAPOLATIONS_PER_FRAME],
     /// Device memory the context holds now, in bytes.

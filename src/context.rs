@@ -13,7 +13,8 @@ use crate::inputs::{self, GeometryInputs, SourceInputs, TargetInputs};
 use crate::passes::segmentation::{self, SegmentationSettings};
 use crate::passes::warp::WarpSettings;
 use crate::passes::{
-    demodulate, diagnostics, lbp, pack_gbuffer, remodulate, warp, Pipelines, Texture,
+    demodulate, diagnostics, lbp, pack_gbuffer, remodulate, warp, CounterRange, Pipelines, Texture,
+    SANITIZE_COUNTER_BYTES,
 };
 use crate::vk::barriers::{self, EngineImageAccess};
 use crate::vk::device::Gpu;
@@ -28,7 +29,9 @@ pub const MAX_EXTENT: u32 = 16384;
 /// Where each pass's counters sit in an extrapolation's range of the frame counters. Both
 /// offsets are multiples of 256, the largest storage-buffer offset alignment Vulkan allows.
 const WARP_COUNTERS_OFFSET: u64 = 0;
-const OBJECT_TABLE_OFFSET: u64 = 256;
+/// Submit: demodulation's; extrapolation: remodulation's.
+const SANITIZE_COUNTERS_OFFSET: u64 = 256;
+const OBJECT_TABLE_OFFSET: u64 = 512;
 pub const COUNTER_BYTES: u64 = OBJECT_TABLE_OFFSET + segmentation::TABLE_BYTES;
 
 /// The plugin's working images, all at one extent (the largest frame seen so far).
@@ -353,8 +356,20 @@ impl Context {
         owned.push(&mut self.placeholders.uint);
         barriers::initialize_owned(device, cmd, &mut owned);
         let work = self.work.as_ref().expect("allocated above");
+        let counters_offset = self.ring.counter_offset(slot, 0);
         access.acquire(device, cmd);
-        barriers::compute_to_compute(device, cmd, false);
+        barriers::compute_to_transfer(device, cmd);
+        // SAFETY: cmd is recording; the range lies inside the counters buffer.
+        unsafe {
+            device.cmd_fill_buffer(
+                cmd,
+                self.ring.counters.buffer,
+                counters_offset,
+                FrameRing::COUNTER_RANGE,
+                0,
+            )
+        };
+        barriers::compute_to_compute(device, cmd, true);
 
         let mut timed = TimedRegion::begin(&self.ring, device, cmd, slot, 0);
         timed.stage(PATCHEX_STAGE_DEMODULATE, || {
@@ -366,6 +381,11 @@ impl Context {
                 inputs.extent,
                 &demodulate_inputs,
                 &work.source_shading,
+                &CounterRange {
+                    buffer: self.ring.counters.buffer,
+                    offset: counters_offset + SANITIZE_COUNTERS_OFFSET,
+                    range: SANITIZE_COUNTER_BYTES,
+                },
             )
         });
         timed.stage(PATCHEX_STAGE_PACK_SOURCE_GBUFFER, || {
@@ -384,6 +404,7 @@ impl Context {
             )
         });
         let stages = timed.stages;
+        barriers::compute_to_host(device, cmd);
         access.release(device, cmd);
 
         self.ring.slots[slot].record = Some(FrameRecord {
@@ -473,7 +494,7 @@ impl Context {
             .as_ref()
             .expect("a submitted frame allocated the work images");
         let counters_offset = self.ring.counter_offset(slot, region);
-        let counters = warp::CounterRange {
+        let counters = CounterRange {
             buffer: self.ring.counters.buffer,
             offset: counters_offset + WARP_COUNTERS_OFFSET,
             range: warp::COUNTER_BYTES,
@@ -587,6 +608,11 @@ impl Context {
                     placeholder,
                 },
                 output,
+                &CounterRange {
+                    buffer: self.ring.counters.buffer,
+                    offset: counters_offset + SANITIZE_COUNTERS_OFFSET,
+                    range: SANITIZE_COUNTER_BYTES,
+                },
             )
         });
         if let Some(diagnostics_image) = diagnostics_image {
@@ -683,6 +709,10 @@ impl Context {
                     / pixels;
             let segmented =
                 segmentation::read_back(&self.ring.counters, counters + OBJECT_TABLE_OFFSET);
+            stats.sanitized_pixels = self
+                .ring
+                .counters
+                .read_u32(counters + SANITIZE_COUNTERS_OFFSET);
             stats.fi_fraction = segmented.fi_pixels as f32 / pixels;
             stats.near_be_fraction = segmented.near_be_pixels as f32 / pixels;
             stats.object_count = segmented.rects.len() as u32;
@@ -698,6 +728,10 @@ impl Context {
             reset_reason: record.reset_reason,
             timings_valid: self.ring.timer.is_some() as u32,
             submit_gpu_ms,
+            source_sanitized_pixels: self
+                .ring
+                .counters
+                .read_u32(self.ring.counter_offset(slot, 0) + SANITIZE_COUNTERS_OFFSET),
             extrapolation_count: record.extrapolations.len() as u32,
             extrapolations,
             device_memory_bytes: self.device_memory_bytes(),

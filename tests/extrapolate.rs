@@ -302,3 +302,44 @@ fn black_and_metallic_surfaces_demodulate_and_remodulate_safely() {
         }
     }
 }
+
+/// What an engine may get wrong, in every channel the demodulation and remodulation read: NaN,
+/// infinities, colours beyond the largest half float, base colour and material outside [0, 1].
+/// The output stays finite, matches the reference, and the statistics count every pixel that
+/// was sanitised.
+#[test]
+fn unusable_inputs_are_sanitised_counted_and_never_reach_the_output() {
+    let scene = Scene::new(WIDTH, HEIGHT);
+    let (mut source, mut target) = two_frame_case(&scene);
+    let bad = [
+        f32::NAN,
+        f32::INFINITY,
+        f32::NEG_INFINITY,
+        1e30,
+        f32::MAX,
+        -5.0,
+        3.0,
+    ];
+    for (i, value) in bad.iter().enumerate() {
+        // Frame t: one row of colours, one of base colours, one of metallic values; the
+        // target: one row of base colours, one of specular values.
+        let x = 5 + 11 * i;
+        source.color.set(x, 10, &[*value, 0.5, 0.5, 1.0]);
+        source.base_color.set(x, 20, &[0.5, *value, 0.5, 1.0]);
+        let mut material = source.material.at(x, 30).to_vec();
+        material[0] = *value;
+        source.material.set(x, 30, &material);
+        target.base_color.set(x, 40, &[0.5, 0.5, *value, 1.0]);
+        let mut material = target.material.at(x, 50).to_vec();
+        material[1] = *value;
+        target.material.set(x, 50, &material);
+    }
+    let rig = Rig::new(WIDTH as u32, HEIGHT as u32);
+    let outcome = run_plugin(&rig, &source, &target, 0.5, &Chained::default());
+    let (expected, _) = assert_matches_reference(&source, &target, &outcome, &Chained::default());
+    assert!(outcome.output.data.iter().all(|v| v.is_finite()));
+    // Frame t: 5 of the 7 colours (-5 and 3 are usable, if odd, colours), all 7 base colours
+    // and all 7 metallic values. The target: 7 base colours and 7 specular values.
+    assert_eq!(expected.source_sanitized, 5 + 7 + 7);
+    assert_eq!(expected.target_sanitized, 7 + 7);
+}

@@ -52,7 +52,10 @@ fn run_sequence() -> Vec<Vec<f32>> {
 #[test]
 fn contexts_on_several_threads_match_a_single_threaded_run() {
     let alone = run_sequence();
-    assert_ne!(alone[0], alone[1], "the sphere moves: each frame has its own output");
+    assert_ne!(
+        alone[0], alone[1],
+        "the sphere moves: each frame has its own output"
+    );
     let together: Vec<Vec<Vec<f32>>> = std::thread::scope(|scope| {
         let runs: Vec<_> = (0..THREADS).map(|_| scope.spawn(run_sequence)).collect();
         runs.into_iter()

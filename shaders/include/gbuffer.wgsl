@@ -8,6 +8,9 @@ const MIN_MODULATION: f32 = 0.01;
 // Linear depth stored for pixels that hit no geometry (sky, far plane, infinite far).
 const SKY_DEPTH: f32 = 1e30;
 
+// Largest value of the RGBA16F output, and so the largest colour worth keeping.
+const MAX_HALF: f32 = 65504.0;
+
 // Values of `has_material` and `has_stencil`.
 const ABSENT: u32 = 0u;
 
@@ -29,4 +32,44 @@ fn metallic_specular(material: texture_2d<f32>, p: vec2u, has_material: u32) -> 
 
 fn is_sky(linear_depth: f32) -> bool {
     return linear_depth >= 0.5 * SKY_DEPTH;
+}
+
+// Inputs an engine may get wrong: NaN, infinities, colours beyond what the output can hold,
+// material values outside [0, 1]. Each is replaced by the nearest usable value (NaN by 0) and
+// the pixel counted, so the output stays finite and the statistics say what was changed.
+// src/reference/gbuffer.rs mirrors these rules.
+struct Sanitized {
+    value: vec3f,
+    changed: bool,
+}
+
+// Written so that NaN fails every comparison and takes 0.
+fn sanitize(v: vec3f, low: f32, high: f32) -> Sanitized {
+    let usable = v >= vec3f(low) & v <= vec3f(high);
+    let clamped = select(vec3f(0.0), clamp(v, vec3f(low), vec3f(high)), v == v);
+    return Sanitized(select(clamped, v, usable), !all(usable));
+}
+
+fn sanitize_color(v: vec3f) -> Sanitized {
+    return sanitize(v, -MAX_HALF, MAX_HALF);
+}
+
+fn sanitize_unit(v: vec3f) -> Sanitized {
+    return sanitize(v, 0.0, 1.0);
+}
+
+// A pixel's modulation factor from its (sanitised) base colour and material.
+struct Modulation {
+    factor: vec3f,
+    changed: bool,
+}
+
+fn pixel_modulation(base_color: texture_2d<f32>, material: texture_2d<f32>, p: vec2u, has_material: u32) -> Modulation {
+    let base = sanitize_unit(textureLoad(base_color, p, 0).rgb);
+    let ms = sanitize_unit(vec3f(metallic_specular(material, p, has_material), 0.0));
+    return Modulation(modulation(base.value, ms.value.x, ms.value.y), base.changed || ms.changed);
+}
+
+struct SanitizeCounters {
+    sanitized_pixels: atomic<u32>,
 }

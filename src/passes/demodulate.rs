@@ -1,9 +1,9 @@
 //! Demodulation of frame t: reads its colour and material G-buffer, writes the shading the
-//! rest of the pipeline warps.
+//! rest of the pipeline warps, and counts the pixels whose inputs it had to sanitise.
 
 use ash::vk;
 
-use crate::passes::Texture;
+use crate::passes::{CounterRange, Texture};
 use crate::shaders::demodulate::{binding, Params};
 use crate::vk::image::OwnedImage;
 use crate::vk::pipeline::{ComputePipeline, DescriptorWrites};
@@ -16,6 +16,7 @@ pub struct DemodulateInputs {
     pub placeholder: Texture,
 }
 
+#[allow(clippy::too_many_arguments)]
 pub fn record(
     pipeline: &ComputePipeline,
     device: &ash::Device,
@@ -24,6 +25,7 @@ pub fn record(
     extent: vk::Extent2D,
     inputs: &DemodulateInputs,
     shading: &OwnedImage,
+    counters: &CounterRange,
 ) {
     let material = inputs.material.unwrap_or(inputs.placeholder);
     DescriptorWrites::new(pipeline)
@@ -35,6 +37,12 @@ pub fn record(
         )
         .image(binding::MATERIAL, material.view, material.layout)
         .image(binding::DEMODULATED, shading.view, vk::ImageLayout::GENERAL)
+        .buffer(
+            binding::COUNTERS,
+            counters.buffer,
+            counters.offset,
+            counters.range,
+        )
         .update(device, set);
     let params = Params {
         extent: [extent.width, extent.height],

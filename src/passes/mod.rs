@@ -19,6 +19,16 @@ use crate::vk::pipeline::ComputePipeline;
 
 pub use crate::vk::image::Texture;
 
+/// Where a pass's counters live in the frame's host-visible counter buffer.
+pub struct CounterRange {
+    pub buffer: vk::Buffer,
+    pub offset: u64,
+    pub range: u64,
+}
+
+/// Byte size of `SanitizeCounters` in `shaders/include/gbuffer.wgsl`.
+pub const SANITIZE_COUNTER_BYTES: u64 = 4;
+
 /// Every stage a frame can run, with the name reports give it.
 pub const STAGE_NAMES: [(PatchexStage, &str); 8] = [
     (PATCHEX_STAGE_DEMODULATE, "demodulate"),

@@ -1,9 +1,10 @@
 //! Remodulation: multiplies the extrapolated shading by the target instant's own material and
-//! writes the engine's output image.
+//! writes the engine's output image, counting the pixels whose inputs or result it had to
+//! sanitise.
 
 use ash::vk;
 
-use crate::passes::Texture;
+use crate::passes::{CounterRange, Texture};
 use crate::shaders::remodulate::{binding, Params};
 use crate::vk::pipeline::{ComputePipeline, DescriptorWrites};
 
@@ -14,6 +15,7 @@ pub struct RemodulateInputs {
     pub placeholder: Texture,
 }
 
+#[allow(clippy::too_many_arguments)]
 pub fn record(
     pipeline: &ComputePipeline,
     device: &ash::Device,
@@ -22,6 +24,7 @@ pub fn record(
     extent: vk::Extent2D,
     inputs: &RemodulateInputs,
     output: Texture,
+    counters: &CounterRange,
 ) {
     let material = inputs.material.unwrap_or(inputs.placeholder);
     DescriptorWrites::new(pipeline)
@@ -33,6 +36,12 @@ pub fn record(
         )
         .image(binding::MATERIAL, material.view, material.layout)
         .image(binding::OUTPUT, output.view, output.layout)
+        .buffer(
+            binding::COUNTERS,
+            counters.buffer,
+            counters.offset,
+            counters.range,
+        )
         .update(device, set);
     let params = Params {
         extent: [extent.width, extent.height],

@@ -8,7 +8,7 @@ use ash::vk;
 use crate::abi::*;
 use crate::camera::Camera;
 use crate::error::{bail, Result};
-use crate::passes::Texture;
+use crate::passes::{CounterRange, Texture};
 use crate::shaders;
 use crate::shaders::warp_gbuffer::{binding, Params};
 use crate::vk::image::OwnedImage;
@@ -130,13 +130,6 @@ pub struct WarpInputs<'a> {
     pub target_geometry: &'a OwnedImage,
     pub target_normal_id: &'a OwnedImage,
     pub motion: Texture,
-}
-
-/// Where the hole counters of this warp live.
-pub struct CounterRange {
-    pub buffer: vk::Buffer,
-    pub offset: u64,
-    pub range: u64,
 }
 
 /// Byte offsets of the counters in `CounterRange`, as `WarpCounters` in the shader declares them.

@@ -2,14 +2,18 @@
 
 use glam::Vec3;
 
-use super::gbuffer::{metallic_specular, modulation};
+use super::gbuffer::{pixel_modulation, sanitize_color};
 use super::Image;
 
-pub fn demodulate(color: &Image, base_color: &Image, material: Option<&Image>) -> Image {
-    Image::from_fn(color.width, color.height, 4, |x, y| {
-        let (metallic, specular) = metallic_specular(material, x, y);
-        let factor = modulation(Vec3::from_slice(base_color.at(x, y)), metallic, specular);
-        let shading = Vec3::from_slice(color.at(x, y)) / factor;
+/// Frame t's shading, and the number of pixels whose inputs were sanitised.
+pub fn demodulate(color: &Image, base_color: &Image, material: Option<&Image>) -> (Image, u32) {
+    let mut sanitized = 0;
+    let shading = Image::from_fn(color.width, color.height, 4, |x, y| {
+        let (factor, material_changed) = pixel_modulation(base_color, material, x, y);
+        let (color, color_changed) = sanitize_color(Vec3::from_slice(color.at(x, y)));
+        sanitized += (material_changed || color_changed) as u32;
+        let shading = color / factor;
         vec![shading.x, shading.y, shading.z, 1.0]
-    })
+    });
+    (shading, sanitized)
 }

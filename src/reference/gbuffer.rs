@@ -22,3 +22,41 @@ pub fn metallic_specular(material: Option<&Image>, x: usize, y: usize) -> (f32, 
 pub fn is_sky(linear_depth: f32) -> bool {
     linear_depth >= 0.5 * SKY_DEPTH
 }
+
+/// Largest value of the RGBA16F output.
+pub const MAX_HALF: f32 = 65504.0;
+
+/// `sanitize` of `include/gbuffer.wgsl`: components outside [low, high] take the nearest bound,
+/// NaN takes 0; returns whether any changed.
+pub fn sanitize(v: Vec3, low: f32, high: f32) -> (Vec3, bool) {
+    let fix = |c: f32| {
+        if (low..=high).contains(&c) {
+            c
+        } else if c.is_nan() {
+            0.0
+        } else {
+            c.clamp(low, high)
+        }
+    };
+    let fixed = Vec3::new(fix(v.x), fix(v.y), fix(v.z));
+    let changed = !v.cmpge(Vec3::splat(low)).all() || !v.cmple(Vec3::splat(high)).all();
+    (fixed, changed)
+}
+
+pub fn sanitize_color(v: Vec3) -> (Vec3, bool) {
+    sanitize(v, -MAX_HALF, MAX_HALF)
+}
+
+/// `pixel_modulation`: the modulation factor from sanitised base colour and material, and
+/// whether either was sanitised.
+pub fn pixel_modulation(
+    base_color: &Image,
+    material: Option<&Image>,
+    x: usize,
+    y: usize,
+) -> (Vec3, bool) {
+    let (base, base_changed) = sanitize(Vec3::from_slice(base_color.at(x, y)), 0.0, 1.0);
+    let (metallic, specular) = metallic_specular(material, x, y);
+    let (ms, ms_changed) = sanitize(Vec3::new(metallic, specular, 0.0), 0.0, 1.0);
+    (modulation(base, ms.x, ms.y), base_changed || ms_changed)
+}

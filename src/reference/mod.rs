@@ -31,6 +31,9 @@ pub struct Extrapolation {
     pub warped: warp::Warped,
     pub segmented: segmentation::Segmented,
     pub lbp: Image,
+    /// Pixels of frame t and of the target whose inputs (or result) were sanitised.
+    pub source_sanitized: u32,
+    pub target_sanitized: u32,
 }
 
 /// The whole extrapolation, pass by pass, as the plugin records it.
@@ -54,7 +57,7 @@ pub fn extrapolate(
         );
         pack_gbuffer::pack_gbuffer(frame.depth, frame.normal, frame.stencil, &params)
     };
-    let shading = demodulate::demodulate(
+    let (shading, source_sanitized) = demodulate::demodulate(
         source.color.expect("frame t has colour"),
         source.base_color,
         source.material,
@@ -89,12 +92,15 @@ pub fn extrapolate(
         segmentation.growth,
     );
     let lbp = lbp::lbp(&warped.warped);
-    let output = remodulate::remodulate(&warped.warped, target.base_color, target.material);
+    let (output, target_sanitized) =
+        remodulate::remodulate(&warped.warped, target.base_color, target.material);
     Extrapolation {
         output,
         warped,
         segmented,
         lbp,
+        source_sanitized,
+        target_sanitized,
     }
 }
 

@@ -2,19 +2,22 @@
 
 use glam::Vec3;
 
-use super::gbuffer::{metallic_specular, modulation};
+use super::gbuffer::{pixel_modulation, sanitize_color};
 use super::{round_to_f16, Image};
 
-pub fn remodulate(shading: &Image, base_color: &Image, material: Option<&Image>) -> Image {
-    Image::from_fn(shading.width, shading.height, 4, |x, y| {
-        let (metallic, specular) = metallic_specular(material, x, y);
-        let factor = modulation(Vec3::from_slice(base_color.at(x, y)), metallic, specular);
-        let color = Vec3::from_slice(shading.at(x, y)) * factor;
+/// The output image, and the number of pixels whose inputs or result were sanitised.
+pub fn remodulate(shading: &Image, base_color: &Image, material: Option<&Image>) -> (Image, u32) {
+    let mut sanitized = 0;
+    let output = Image::from_fn(shading.width, shading.height, 4, |x, y| {
+        let (factor, material_changed) = pixel_modulation(base_color, material, x, y);
+        let (color, color_changed) = sanitize_color(Vec3::from_slice(shading.at(x, y)) * factor);
+        sanitized += (material_changed || color_changed) as u32;
         vec![
             round_to_f16(color.x),
             round_to_f16(color.y),
             round_to_f16(color.z),
             1.0,
         ]
-    })
+    });
+    (output, sanitized)
 }

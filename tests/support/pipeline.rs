@@ -227,6 +227,13 @@ pub fn assert_matches_reference(
         warped.offscreen_pixels as f32
     );
 
+    // Sanitising: the same pixels counted.
+    assert_eq!(
+        outcome.stats.source_sanitized_pixels,
+        expected.source_sanitized
+    );
+    assert_eq!(stats.sanitized_pixels, expected.target_sanitized);
+
     // Segmentation: exact.
     let segmented = &expected.segmented;
     for y in 0..height {
