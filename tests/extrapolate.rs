@@ -343,3 +343,17 @@ fn unusable_inputs_are_sanitised_counted_and_never_reach_the_output() {
     assert_eq!(expected.source_sanitized, 5 + 7 + 7);
     assert_eq!(expected.target_sanitized, 7 + 7);
 }
+
+/// Sizes that do not fill whole 8x8 workgroups, down to a single pixel: every pass clamps its
+/// neighbourhoods at the image edge and skips invocations outside it, as the reference does.
+#[test]
+fn one_pixel_and_odd_sizes_match_the_reference() {
+    for (width, height) in [(1, 1), (7, 5), (33, 17)] {
+        let scene = Scene::new(width, height);
+        let (source, target) = two_frame_case(&scene);
+        let rig = Rig::new(width as u32, height as u32);
+        let outcome = run_plugin(&rig, &source, &target, 0.5, &Chained::default());
+        assert_matches_reference(&source, &target, &outcome, &Chained::default());
+        assert!(outcome.output.data.iter().all(|v| v.is_finite()));
+    }
+}
