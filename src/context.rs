@@ -13,7 +13,7 @@ use crate::inputs::{self, GeometryInputs, SourceInputs, TargetInputs};
 use crate::passes::segmentation::{self, SegmentationSettings};
 use crate::passes::warp::WarpSettings;
 use crate::passes::{
-    demodulate, diagnostics, lbp, pack_gbuffer, remodulate, warp, CounterRange, Pipelines, Texture,
+    demodulate, diagnostics, lbp, pack_gbuffer, remodulate, warp, Pipelines, Texture,
     SANITIZE_COUNTER_BYTES,
 };
 use crate::vk::barriers::{self, EngineImageAccess};
@@ -356,19 +356,8 @@ impl Context {
         owned.push(&mut self.placeholders.uint);
         barriers::initialize_owned(device, cmd, &mut owned);
         let work = self.work.as_ref().expect("allocated above");
-        let counters_offset = self.ring.counter_offset(slot, 0);
         access.acquire(device, cmd);
-        barriers::compute_to_transfer(device, cmd);
-        // SAFETY: cmd is recording; the range lies inside the counters buffer.
-        unsafe {
-            device.cmd_fill_buffer(
-                cmd,
-                self.ring.counters.buffer,
-                counters_offset,
-                FrameRing::COUNTER_RANGE,
-                0,
-            )
-        };
+        self.ring.clear_counters(device, cmd, slot, 0);
         barriers::compute_to_compute(device, cmd, true);
 
         let mut timed = TimedRegion::begin(&self.ring, device, cmd, slot, 0);
@@ -381,11 +370,9 @@ impl Context {
                 inputs.extent,
                 &demodulate_inputs,
                 &work.source_shading,
-                &CounterRange {
-                    buffer: self.ring.counters.buffer,
-                    offset: counters_offset + SANITIZE_COUNTERS_OFFSET,
-                    range: SANITIZE_COUNTER_BYTES,
-                },
+                &self
+                    .ring
+                    .counter_range(slot, 0, SANITIZE_COUNTERS_OFFSET, SANITIZE_COUNTER_BYTES),
             )
         });
         timed.stage(PATCHEX_STAGE_PACK_SOURCE_GBUFFER, || {
@@ -493,28 +480,14 @@ impl Context {
             .work
             .as_ref()
             .expect("a submitted frame allocated the work images");
-        let counters_offset = self.ring.counter_offset(slot, region);
-        let counters = CounterRange {
-            buffer: self.ring.counters.buffer,
-            offset: counters_offset + WARP_COUNTERS_OFFSET,
-            range: warp::COUNTER_BYTES,
-        };
-        let object_table = segmentation::TableRange {
-            buffer: self.ring.counters.buffer,
-            offset: counters_offset + OBJECT_TABLE_OFFSET,
-        };
+        let counters =
+            self.ring
+                .counter_range(slot, region, WARP_COUNTERS_OFFSET, warp::COUNTER_BYTES);
+        let object_table =
+            self.ring
+                .counter_range(slot, region, OBJECT_TABLE_OFFSET, segmentation::TABLE_BYTES);
         access.acquire(device, cmd);
-        barriers::compute_to_transfer(device, cmd);
-        // SAFETY: cmd is recording; the range lies inside the counters buffer.
-        unsafe {
-            device.cmd_fill_buffer(
-                cmd,
-                self.ring.counters.buffer,
-                counters_offset,
-                FrameRing::COUNTER_RANGE,
-                0,
-            )
-        };
+        self.ring.clear_counters(device, cmd, slot, region);
         let mut timed = TimedRegion::begin(&self.ring, device, cmd, slot, region);
         barriers::compute_to_compute(device, cmd, true);
 
@@ -608,11 +581,12 @@ impl Context {
                     placeholder,
                 },
                 output,
-                &CounterRange {
-                    buffer: self.ring.counters.buffer,
-                    offset: counters_offset + SANITIZE_COUNTERS_OFFSET,
-                    range: SANITIZE_COUNTER_BYTES,
-                },
+                &self.ring.counter_range(
+                    slot,
+                    region,
+                    SANITIZE_COUNTERS_OFFSET,
+                    SANITIZE_COUNTER_BYTES,
+                ),
             )
         });
         if let Some(diagnostics_image) = diagnostics_image {

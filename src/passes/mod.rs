@@ -17,14 +17,8 @@ use crate::shaders;
 use crate::vk::device::Gpu;
 use crate::vk::pipeline::ComputePipeline;
 
+pub use crate::vk::buffer::CounterRange;
 pub use crate::vk::image::Texture;
-
-/// Where a pass's counters live in the frame's host-visible counter buffer.
-pub struct CounterRange {
-    pub buffer: vk::Buffer,
-    pub offset: u64,
-    pub range: u64,
-}
 
 /// Byte size of `SanitizeCounters` in `shaders/include/gbuffer.wgsl`.
 pub const SANITIZE_COUNTER_BYTES: u64 = 4;

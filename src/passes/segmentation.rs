@@ -7,7 +7,7 @@ use ash::vk;
 
 use crate::abi::*;
 use crate::error::{bail, Result};
-use crate::passes::Texture;
+use crate::passes::{CounterRange, Texture};
 use crate::shaders;
 use crate::vk::barriers;
 use crate::vk::buffer::ReadbackBuffer;
@@ -65,12 +65,6 @@ pub const REGION_FAR_BE: u32 = 0;
 pub const REGION_NEAR_BE: u32 = 1;
 pub const REGION_FI: u32 = 2;
 
-/// Where one extrapolation's object table lives.
-pub struct TableRange {
-    pub buffer: vk::Buffer,
-    pub offset: u64,
-}
-
 pub struct SegmentationInputs<'a> {
     pub target_normal_id: &'a OwnedImage,
     pub motion: Texture,
@@ -93,7 +87,7 @@ pub fn record(
     extent: vk::Extent2D,
     settings: &SegmentationSettings,
     inputs: &SegmentationInputs,
-    table: &TableRange,
+    table: &CounterRange,
     regions: &OwnedImage,
 ) {
     let general = vk::ImageLayout::GENERAL;
@@ -115,7 +109,7 @@ pub fn record(
             bounds::binding::SEGMENTATION,
             table.buffer,
             table.offset,
-            TABLE_BYTES,
+            table.range,
         )
         .update(device, sets[0]);
     let params = bounds::Params {
@@ -133,7 +127,7 @@ pub fn record(
             grow::binding::SEGMENTATION,
             table.buffer,
             table.offset,
-            TABLE_BYTES,
+            table.range,
         )
         .update(device, sets[1]);
     let params = grow::Params {
@@ -160,7 +154,7 @@ pub fn record(
             masks::binding::SEGMENTATION,
             table.buffer,
             table.offset,
-            TABLE_BYTES,
+            table.range,
         )
         .image(masks::binding::REGIONS, regions.view, general)
         .update(device, sets[2]);

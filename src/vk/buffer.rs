@@ -82,3 +82,10 @@ impl ReadbackBuffer {
         }
     }
 }
+
+/// Where a pass's counters live in the frame's host-visible counter buffer.
+pub struct CounterRange {
+    pub buffer: vk::Buffer,
+    pub offset: u64,
+    pub range: u64,
+}

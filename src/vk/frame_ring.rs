@@ -10,7 +10,8 @@ use gpu_allocator::vulkan::Allocator;
 
 use crate::abi::{PatchexResetReason, PATCHEX_MAX_EXTRAPOLATIONS_PER_FRAME, PATCHEX_STAGE_SLOTS};
 use crate::error::Result;
-use crate::vk::buffer::ReadbackBuffer;
+use crate::vk::barriers;
+use crate::vk::buffer::{CounterRange, ReadbackBuffer};
 use crate::vk::device::Gpu;
 use crate::vk::image::OwnedImage;
 use crate::vk::timestamps::StageTimer;
@@ -140,12 +141,47 @@ impl FrameRing {
         (self.query(slot, region, 0), QUERIES_PER_REGION)
     }
 
+    /// `bytes` of counters at `offset` within the counters of `region` in `slot`.
+    pub fn counter_range(
+        &self,
+        slot: usize,
+        region: usize,
+        offset: u64,
+        bytes: u64,
+    ) -> CounterRange {
+        CounterRange {
+            buffer: self.counters.buffer,
+            offset: self.counter_offset(slot, region) + offset,
+            range: bytes,
+        }
+    }
+
+    /// Records the zeroing of `region`'s counters in `slot`, after earlier compute work on them.
+    /// The caller orders the fill before the passes that count (`compute_to_compute(.., true)`).
+    pub fn clear_counters(
+        &self,
+        device: &ash::Device,
+        cmd: vk::CommandBuffer,
+        slot: usize,
+        region: usize,
+    ) {
+        barriers::compute_to_transfer(device, cmd);
+        // SAFETY: cmd is recording; the range lies inside the counters buffer.
+        unsafe {
+            device.cmd_fill_buffer(
+                cmd,
+                self.counters.buffer,
+                self.counter_offset(slot, region),
+                COUNTER_BYTES,
+                0,
+            )
+        };
+    }
+
     /// Byte offset of the counters of `region` in `slot`.
     pub fn counter_offset(&self, slot: usize, region: usize) -> u64 {
         self.counter_stride * (slot * REGIONS_PER_SLOT + region) as u64
     }
-
-    pub const COUNTER_RANGE: u64 = COUNTER_BYTES;
 
     /// Keeps `image` alive until the GPU can no longer use it: frames up to `last_frame_using_it`
     /// may still run, so it goes once frame `last_frame_using_it + frames_in_flight` is submitted.
