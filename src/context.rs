@@ -49,20 +49,38 @@ struct WorkImages {
 }
 
 impl WorkImages {
+    /// Name and format of each image, in field order.
+    const SPECS: [(&'static str, vk::Format); 8] = [
+        ("patchex source shading", vk::Format::R32G32B32A32_SFLOAT),
+        ("patchex source geometry", vk::Format::R32G32B32A32_SFLOAT),
+        ("patchex source normal+id", vk::Format::R16G16B16A16_SFLOAT),
+        ("patchex target geometry", vk::Format::R32G32B32A32_SFLOAT),
+        ("patchex target normal+id", vk::Format::R16G16B16A16_SFLOAT),
+        ("patchex warped shading", vk::Format::R32G32B32A32_SFLOAT),
+        ("patchex regions", vk::Format::R32_UINT),
+        ("patchex lbp", vk::Format::R32_SFLOAT),
+    ];
+
+    /// Vulkan requires storage-image support for every one of these formats, but a device that
+    /// lacks it must be refused at creation rather than fail later.
+    fn check_formats(gpu: &Gpu) -> Result<()> {
+        let needed = vk::FormatFeatureFlags::STORAGE_IMAGE | vk::FormatFeatureFlags::SAMPLED_IMAGE;
+        for (name, format) in Self::SPECS {
+            let features = gpu.format_features(format);
+            if !features.contains(needed) {
+                bail!(
+                    ErrorMissingDeviceFeature,
+                    "the device lacks {:?} for {format:?}, the format of the {name} image",
+                    needed & !features
+                );
+            }
+        }
+        Ok(())
+    }
+
     fn new(gpu: &Gpu, allocator: &mut Allocator, extent: vk::Extent2D) -> Result<Self> {
-        use vk::Format as F;
-        let specs = [
-            ("patchex source shading", F::R32G32B32A32_SFLOAT),
-            ("patchex source geometry", F::R32G32B32A32_SFLOAT),
-            ("patchex source normal+id", F::R16G16B16A16_SFLOAT),
-            ("patchex target geometry", F::R32G32B32A32_SFLOAT),
-            ("patchex target normal+id", F::R16G16B16A16_SFLOAT),
-            ("patchex warped shading", F::R32G32B32A32_SFLOAT),
-            ("patchex regions", F::R32_UINT),
-            ("patchex lbp", F::R32_SFLOAT),
-        ];
-        let mut made: Vec<OwnedImage> = Vec::with_capacity(specs.len());
-        for (name, format) in specs {
+        let mut made: Vec<OwnedImage> = Vec::with_capacity(Self::SPECS.len());
+        for (name, format) in Self::SPECS {
             match OwnedImage::new(
                 gpu,
                 allocator,
@@ -202,6 +220,7 @@ impl Context {
             );
         }
         let gpu = Gpu::load(info)?;
+        WorkImages::check_formats(&gpu)?;
         let mut allocator = Allocator::new(&AllocatorCreateDesc {
             instance: gpu.instance.clone(),
             device: gpu.device.clone(),

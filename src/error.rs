@@ -110,6 +110,13 @@ impl Error {
             message: message.into(),
         }
     }
+
+    /// Prefixes the message with what the plugin was doing, so that a failed Vulkan call says
+    /// which object it was making.
+    pub fn during(mut self, what: impl fmt::Display) -> Self {
+        self.message = format!("{what}: {}", self.message);
+        self
+    }
 }
 
 impl fmt::Display for Error {

@@ -4,7 +4,7 @@ use ash::vk;
 use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme, Allocator};
 use gpu_allocator::MemoryLocation;
 
-use crate::error::{bail, Result};
+use crate::error::{bail, Error, Result};
 use crate::vk::device::Gpu;
 
 pub struct ReadbackBuffer {
@@ -20,9 +20,12 @@ impl ReadbackBuffer {
             .size(size)
             .usage(vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST)
             .sharing_mode(vk::SharingMode::EXCLUSIVE);
+        let during = |error: Error| error.during(format_args!("creating the {name} buffer"));
         // SAFETY: valid device; handles made here are destroyed on every error path.
         unsafe {
-            let buffer = device.create_buffer(&info, None)?;
+            let buffer = device
+                .create_buffer(&info, None)
+                .map_err(|e| during(e.into()))?;
             let allocation = match allocator.allocate(&AllocationCreateDesc {
                 name,
                 requirements: device.get_buffer_memory_requirements(buffer),
@@ -33,7 +36,7 @@ impl ReadbackBuffer {
                 Ok(allocation) => allocation,
                 Err(error) => {
                     device.destroy_buffer(buffer, None);
-                    return Err(error.into());
+                    return Err(during(error.into()));
                 }
             };
             let mut readback = Self {
@@ -53,7 +56,7 @@ impl ReadbackBuffer {
                 device.bind_buffer_memory(buffer, allocation.memory(), allocation.offset())
             {
                 readback.destroy(gpu, allocator);
-                return Err(error.into());
+                return Err(during(error.into()));
             }
             Ok(readback)
         }

@@ -119,7 +119,7 @@ impl FrameRing {
             Ok(()) => Ok(ring),
             Err(error) => {
                 ring.destroy(gpu, allocator);
-                Err(error)
+                Err(error.during("creating the frame ring's descriptor sets and queries"))
             }
         }
     }

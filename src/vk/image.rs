@@ -5,7 +5,7 @@ use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme, 
 use gpu_allocator::MemoryLocation;
 
 use crate::abi::PatchexImage;
-use crate::error::{bail, Result};
+use crate::error::{bail, Error, Result};
 use crate::vk::device::Gpu;
 
 /// What one input or output of a call accepts.
@@ -246,9 +246,17 @@ impl OwnedImage {
             .tiling(vk::ImageTiling::OPTIMAL)
             .usage(usage)
             .initial_layout(vk::ImageLayout::UNDEFINED);
+        let during = |error: Error| {
+            error.during(format_args!(
+                "creating the {name} image ({}x{} {format:?})",
+                extent.width, extent.height
+            ))
+        };
         // SAFETY: valid device and create info; every handle made here is destroyed on error.
         unsafe {
-            let image = device.create_image(&info, None)?;
+            let image = device
+                .create_image(&info, None)
+                .map_err(|e| during(e.into()))?;
             let requirements = device.get_image_memory_requirements(image);
             let allocation = match allocator.allocate(&AllocationCreateDesc {
                 name,
@@ -260,7 +268,7 @@ impl OwnedImage {
                 Ok(allocation) => allocation,
                 Err(error) => {
                     device.destroy_image(image, None);
-                    return Err(error.into());
+                    return Err(during(error.into()));
                 }
             };
             let mut owned = Self {
@@ -290,7 +298,7 @@ impl OwnedImage {
                 Ok(view) => owned.view = view,
                 Err(error) => {
                     owned.destroy(gpu, allocator);
-                    return Err(error.into());
+                    return Err(during(error.into()));
                 }
             }
             Ok(owned)

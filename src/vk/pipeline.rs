@@ -93,7 +93,7 @@ impl ComputePipeline {
             Ok(()) => Ok(pipeline),
             Err(error) => {
                 pipeline.destroy(gpu);
-                Err(error)
+                Err(error.during(format_args!("creating the {} pipeline", shader.name)))
             }
         }
     }

@@ -15,6 +15,7 @@ use patchex::error::PatchexResult;
 use patchex::ffi::PatchexContext;
 use patchex::loader::PatchexLibrary;
 use patchex::reference::Image;
+use patchex_harness::intercept::Intercept;
 use patchex_harness::{Engine, EngineImage, EngineOptions};
 
 use scene::Frame;
@@ -23,6 +24,8 @@ pub struct Rig {
     pub engine: Engine,
     pub library: PatchexLibrary,
     pub context: *mut PatchexContext,
+    /// Present when the plugin was handed the intercepting function table.
+    pub intercept: Option<Intercept>,
 }
 
 impl Rig {
@@ -44,22 +47,41 @@ impl Rig {
     }
 
     pub fn with_options(max_width: u32, max_height: u32, options: &EngineOptions) -> Self {
-        let engine = Engine::new(options).expect("a Vulkan device");
-        let path = PatchexLibrary::beside_current_exe().expect("the patchex cdylib is built");
-        // SAFETY: the library was built from this source tree.
-        let library = unsafe { PatchexLibrary::open(&path) }.expect("patchex loads");
-        let info = Self::create_info(&engine, max_width, max_height);
-        let mut context = ptr::null_mut();
-        // SAFETY: valid create info and out pointer.
-        let result = unsafe { (library.create)(&info, &mut context) };
-        // SAFETY: NULL asks for this thread's last error.
-        let message = unsafe { library.last_error_message(ptr::null()) };
-        assert_eq!(result, PatchexResult::Success, "{message}");
+        Self::on_engine(
+            Engine::new(options).expect("a Vulkan device"),
+            None,
+            max_width,
+            max_height,
+        )
+    }
+
+    /// A rig whose plugin loads Vulkan through an [`Intercept`], which counts its objects and
+    /// can fail its creation calls.
+    pub fn intercepted(max_width: u32, max_height: u32) -> Self {
+        let engine = Engine::new(&EngineOptions::default()).expect("a Vulkan device");
+        let intercept = Intercept::install(&engine);
+        Self::on_engine(engine, Some(intercept), max_width, max_height)
+    }
+
+    fn on_engine(
+        engine: Engine,
+        intercept: Option<Intercept>,
+        max_width: u32,
+        max_height: u32,
+    ) -> Self {
+        let library = open_library();
+        let mut info = Self::create_info(&engine, max_width, max_height);
+        if let Some(intercept) = &intercept {
+            info.get_instance_proc_addr = Some(intercept.get_instance_proc_addr());
+            info.get_device_proc_addr = Some(intercept.get_device_proc_addr());
+        }
+        let context = create(&library, &info).unwrap_or_else(|(_, message)| panic!("{message}"));
         engine.assert_validation_clean();
         Self {
             engine,
             library,
             context,
+            intercept,
         }
     }
 
@@ -108,6 +130,28 @@ impl Drop for Rig {
             self.engine.assert_validation_clean();
         }
     }
+}
+
+/// The patchex shared library built from this tree, loaded as an engine loads it.
+pub fn open_library() -> PatchexLibrary {
+    let path = PatchexLibrary::beside_current_exe().expect("the patchex cdylib is built");
+    // SAFETY: the library was built from this source tree.
+    unsafe { PatchexLibrary::open(&path) }.expect("patchex loads")
+}
+
+/// `patchex_create`; on failure, its result and message.
+pub fn create(
+    library: &PatchexLibrary,
+    info: &PatchexCreateInfo,
+) -> Result<*mut PatchexContext, (PatchexResult, String)> {
+    let mut context = ptr::null_mut();
+    // SAFETY: valid create info and out pointer.
+    let result = unsafe { (library.create)(info, &mut context) };
+    if result == PatchexResult::Success {
+        return Ok(context);
+    }
+    // SAFETY: NULL asks for this thread's last error.
+    Err((result, unsafe { library.last_error_message(ptr::null()) }))
 }
 
 /// An engine image holding `image`'s values, left in `layout`.

@@ -6,6 +6,7 @@
 
 mod engine;
 mod image;
+pub mod intercept;
 
 pub use engine::{Engine, EngineOptions};
 pub use image::EngineImage;
