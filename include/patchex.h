@@ -28,16 +28,24 @@
  * LIFETIMES. Inputs are read when the command buffer executes and are not needed afterwards:
  * patchex copies what it keeps from frame t. Command buffers must be submitted in the order
  * they were recorded. When the engine records frame F, the GPU must have finished everything
- * recorded for frame F - frames_in_flight.
+ * recorded for frame F - frames_in_flight. Handles cannot be checked for liveness: an image
+ * or view destroyed before the call, or before its command buffer has executed, is undefined
+ * behaviour, as for any Vulkan use of it. Destroy every context before its device.
  *
  * THREADING. A context is not internally synchronised: calls on one context must not overlap
- * (one render thread, or external locking). Different contexts may be used from different
- * threads at once. patchex_result_string and patchex_abi_version may be called from any thread.
+ * (one render thread, or external locking); it may move between threads between calls.
+ * Different contexts may be used from different threads at once, on one device or on several;
+ * contexts on one device share their compiled pipelines, and patchex_create and
+ * patchex_destroy may run concurrently. The engine keeps Vulkan's own rules: a command buffer
+ * and its pool are used by one thread at a time, and submissions to a shared queue are
+ * serialised. patchex_result_string and patchex_abi_version may be called from any thread;
+ * patchex_last_error(NULL) reports the calling thread's last failure that had no context.
  *
  * ERRORS. Every function returns a PatchexResult (negative: error); patchex_last_error gives
  * the message, also passed to the log callback. A failed call records nothing and leaves the
- * context usable, except PATCHEX_RESULT_ERROR_INTERNAL, after which only patchex_destroy is
- * valid.
+ * context as it was before the call, usable; this includes PATCHEX_RESULT_ERROR_OUT_OF_MEMORY
+ * from a driver allocation, and a failed patchex_create leaves no object behind. The exception
+ * is PATCHEX_RESULT_ERROR_INTERNAL, after which only patchex_destroy is valid.
  */
 
 

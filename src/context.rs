@@ -2,6 +2,7 @@
 //! and the state between `submit` (frame t) and `extrapolate` (its target instants).
 
 use std::mem::ManuallyDrop;
+use std::sync::Arc;
 
 use ash::vk;
 use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
@@ -179,7 +180,7 @@ pub struct Extensions {
 pub struct Context {
     gpu: Gpu,
     allocator: ManuallyDrop<Allocator>,
-    pipelines: Pipelines,
+    pipelines: Arc<Pipelines>,
     ring: FrameRing,
     placeholders: Placeholders,
     work: Option<WorkImages>,
@@ -229,21 +230,15 @@ impl Context {
             buffer_device_address: false,
             allocation_sizes: Default::default(),
         })?;
-        let mut pipelines = Pipelines::new(&gpu)?;
+        let pipelines = Pipelines::shared(&gpu)?;
         let set_layouts: Vec<_> = pipelines.all().iter().map(|p| p.set_layout).collect();
-        let ring = match FrameRing::new(
+        let ring = FrameRing::new(
             &gpu,
             &mut allocator,
             info.frames_in_flight as usize,
             &set_layouts,
             &pipelines.pool_sizes(),
-        ) {
-            Ok(ring) => ring,
-            Err(error) => {
-                pipelines.destroy(&gpu);
-                return Err(error);
-            }
-        };
+        )?;
         let mut context = Self {
             gpu,
             allocator: ManuallyDrop::new(allocator),
@@ -774,7 +769,6 @@ impl Drop for Context {
         self.placeholders.float.destroy(gpu, &mut self.allocator);
         self.placeholders.uint.destroy(gpu, &mut self.allocator);
         self.ring.destroy(gpu, &mut self.allocator);
-        self.pipelines.destroy(gpu);
         // SAFETY: every allocation was freed above; the allocator is not used again.
         unsafe { ManuallyDrop::drop(&mut self.allocator) };
     }

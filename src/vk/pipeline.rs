@@ -92,7 +92,7 @@ impl ComputePipeline {
         match built {
             Ok(()) => Ok(pipeline),
             Err(error) => {
-                pipeline.destroy(gpu);
+                pipeline.destroy(device);
                 Err(error.during(format_args!("creating the {} pipeline", shader.name)))
             }
         }
@@ -140,13 +140,12 @@ impl ComputePipeline {
         }
     }
 
-    pub fn destroy(&mut self, gpu: &Gpu) {
+    pub fn destroy(&mut self, device: &ash::Device) {
         // SAFETY: the pipeline is no longer used by pending work (destroy contract).
         unsafe {
-            gpu.device.destroy_pipeline(self.pipeline, None);
-            gpu.device.destroy_pipeline_layout(self.layout, None);
-            gpu.device
-                .destroy_descriptor_set_layout(self.set_layout, None);
+            device.destroy_pipeline(self.pipeline, None);
+            device.destroy_pipeline_layout(self.layout, None);
+            device.destroy_descriptor_set_layout(self.set_layout, None);
         }
         self.pipeline = vk::Pipeline::null();
         self.layout = vk::PipelineLayout::null();

@@ -35,6 +35,8 @@ pub struct Engine {
     pub queue_family_index: u32,
     pub device_name: String,
     command_pool: vk::CommandPool,
+    /// Held around every vkQueueSubmit: threads share the one queue.
+    queue_lock: Mutex<()>,
     debug: Option<(ash::ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
     /// Boxed so its address, handed to the messenger, stays put.
     messages: Box<Mutex<Vec<String>>>,
@@ -194,6 +196,7 @@ impl Engine {
                 queue_family_index,
                 device_name,
                 command_pool,
+                queue_lock: Mutex::new(()),
                 debug,
                 messages,
                 memory_properties,
@@ -243,15 +246,54 @@ impl Engine {
         unsafe { self.device.allocate_memory(&info, None) }.expect("vkAllocateMemory")
     }
 
-    /// Allocates a primary command buffer and begins it for one submission.
+    /// Allocates a primary command buffer from the engine's own pool and begins it. The pool
+    /// belongs to the thread that made the engine; other threads use [`Engine::thread_pool`].
     pub fn begin(&self) -> vk::CommandBuffer {
-        // SAFETY: the pool belongs to this device.
+        self.begin_in(self.command_pool)
+    }
+
+    /// Ends, submits and waits for `cmd` (from [`Engine::begin`]), then frees it.
+    pub fn submit_and_wait(&self, cmd: vk::CommandBuffer) {
+        self.submit_and_wait_in(self.command_pool, cmd);
+    }
+
+    /// Ends and frees `cmd` without submitting it (nothing worth running was recorded).
+    pub fn discard(&self, cmd: vk::CommandBuffer) {
+        // SAFETY: cmd was begun by `begin` and never submitted.
+        unsafe {
+            self.device
+                .end_command_buffer(cmd)
+                .expect("vkEndCommandBuffer");
+            self.device.free_command_buffers(self.command_pool, &[cmd]);
+        }
+    }
+
+    /// Records `record` into a fresh command buffer, submits it and waits.
+    pub fn run(&self, record: impl FnOnce(vk::CommandBuffer)) {
+        let cmd = self.begin();
+        record(cmd);
+        self.submit_and_wait(cmd);
+    }
+
+    /// A command pool for another thread, as an engine gives each of its render threads one.
+    pub fn thread_pool(&self) -> ThreadPool<'_> {
+        let info = vk::CommandPoolCreateInfo::default()
+            .queue_family_index(self.queue_family_index)
+            .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
+        // SAFETY: a plain object on the engine's device, destroyed when the pool is dropped.
+        let pool =
+            unsafe { self.device.create_command_pool(&info, None) }.expect("vkCreateCommandPool");
+        ThreadPool { engine: self, pool }
+    }
+
+    fn begin_in(&self, pool: vk::CommandPool) -> vk::CommandBuffer {
+        // SAFETY: the pool belongs to this device and to the calling thread.
         unsafe {
             let cmd = self
                 .device
                 .allocate_command_buffers(
                     &vk::CommandBufferAllocateInfo::default()
-                        .command_pool(self.command_pool)
+                        .command_pool(pool)
                         .level(vk::CommandBufferLevel::PRIMARY)
                         .command_buffer_count(1),
                 )
@@ -267,9 +309,9 @@ impl Engine {
         }
     }
 
-    /// Ends, submits and waits for `cmd`, then frees it.
-    pub fn submit_and_wait(&self, cmd: vk::CommandBuffer) {
-        // SAFETY: cmd was begun by `begin`; waiting on the fence makes freeing it safe.
+    fn submit_and_wait_in(&self, pool: vk::CommandPool, cmd: vk::CommandBuffer) {
+        // SAFETY: cmd was begun from `pool`; the queue is used under its lock, as Vulkan asks
+        // of a queue shared by threads; waiting on the fence makes freeing cmd safe.
         unsafe {
             self.device
                 .end_command_buffer(cmd)
@@ -278,26 +320,44 @@ impl Engine {
                 .device
                 .create_fence(&vk::FenceCreateInfo::default(), None)
                 .expect("vkCreateFence");
-            self.device
-                .queue_submit(
-                    self.queue,
-                    &[vk::SubmitInfo::default().command_buffers(&[cmd])],
-                    fence,
-                )
-                .expect("vkQueueSubmit");
+            {
+                let _queue = self.queue_lock.lock().unwrap_or_else(|p| p.into_inner());
+                self.device
+                    .queue_submit(
+                        self.queue,
+                        &[vk::SubmitInfo::default().command_buffers(&[cmd])],
+                        fence,
+                    )
+                    .expect("vkQueueSubmit");
+            }
             self.device
                 .wait_for_fences(&[fence], true, u64::MAX)
                 .expect("vkWaitForFences");
             self.device.destroy_fence(fence, None);
-            self.device.free_command_buffers(self.command_pool, &[cmd]);
+            self.device.free_command_buffers(pool, &[cmd]);
         }
     }
+}
 
-    /// Records `record` into a fresh command buffer, submits it and waits.
+/// A command pool owned by one thread; its submissions share the engine's queue.
+pub struct ThreadPool<'a> {
+    engine: &'a Engine,
+    pool: vk::CommandPool,
+}
+
+impl ThreadPool<'_> {
+    /// Records `record` into a fresh command buffer of this pool, submits it and waits.
     pub fn run(&self, record: impl FnOnce(vk::CommandBuffer)) {
-        let cmd = self.begin();
+        let cmd = self.engine.begin_in(self.pool);
         record(cmd);
-        self.submit_and_wait(cmd);
+        self.engine.submit_and_wait_in(self.pool, cmd);
+    }
+}
+
+impl Drop for ThreadPool<'_> {
+    fn drop(&mut self) {
+        // SAFETY: every submission from the pool was waited on.
+        unsafe { self.engine.device.destroy_command_pool(self.pool, None) };
     }
 }
 
