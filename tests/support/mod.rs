@@ -58,7 +58,15 @@ impl Rig {
     /// A rig whose plugin loads Vulkan through an [`Intercept`], which counts its objects and
     /// can fail its creation calls.
     pub fn intercepted(max_width: u32, max_height: u32) -> Self {
-        let engine = Engine::new(&EngineOptions::default()).expect("a Vulkan device");
+        Self::intercepted_with_options(max_width, max_height, &EngineOptions::default())
+    }
+
+    pub fn intercepted_with_options(
+        max_width: u32,
+        max_height: u32,
+        options: &EngineOptions,
+    ) -> Self {
+        let engine = Engine::new(options).expect("a Vulkan device");
         let intercept = Intercept::install(&engine);
         Self::on_engine(engine, Some(intercept), max_width, max_height)
     }

@@ -339,6 +339,116 @@ impl Engine {
     }
 }
 
+/// A render loop's frames in flight: one command buffer and fence per slot, reused, as an
+/// engine records frame F while the GPU still runs frame F - 1.
+pub struct FrameLoop<'a> {
+    engine: &'a Engine,
+    pool: vk::CommandPool,
+    slots: Vec<(vk::CommandBuffer, vk::Fence)>,
+}
+
+impl<'a> FrameLoop<'a> {
+    pub fn new(engine: &'a Engine, frames_in_flight: usize) -> Self {
+        // SAFETY: plain objects on the engine's device, destroyed when the loop is dropped.
+        unsafe {
+            let device = &engine.device;
+            let pool = device
+                .create_command_pool(
+                    &vk::CommandPoolCreateInfo::default()
+                        .queue_family_index(engine.queue_family_index)
+                        .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER),
+                    None,
+                )
+                .expect("vkCreateCommandPool");
+            let buffers = device
+                .allocate_command_buffers(
+                    &vk::CommandBufferAllocateInfo::default()
+                        .command_pool(pool)
+                        .level(vk::CommandBufferLevel::PRIMARY)
+                        .command_buffer_count(frames_in_flight as u32),
+                )
+                .expect("vkAllocateCommandBuffers");
+            let slots = buffers
+                .into_iter()
+                .map(|cmd| {
+                    let signalled =
+                        vk::FenceCreateInfo::default().flags(vk::FenceCreateFlags::SIGNALED);
+                    let fence = device
+                        .create_fence(&signalled, None)
+                        .expect("vkCreateFence");
+                    (cmd, fence)
+                })
+                .collect();
+            Self {
+                engine,
+                pool,
+                slots,
+            }
+        }
+    }
+
+    /// Waits until frame `index - frames_in_flight` has finished, then records frame `index`
+    /// into that slot's command buffer and submits it without waiting.
+    pub fn frame(&mut self, index: u64, record: impl FnOnce(vk::CommandBuffer)) {
+        let (cmd, fence) = self.slots[index as usize % self.slots.len()];
+        let device = &self.engine.device;
+        // SAFETY: the fence guards the slot's command buffer; the queue is used under its lock.
+        unsafe {
+            device
+                .wait_for_fences(&[fence], true, u64::MAX)
+                .expect("vkWaitForFences");
+            device.reset_fences(&[fence]).expect("vkResetFences");
+            device
+                .begin_command_buffer(
+                    cmd,
+                    &vk::CommandBufferBeginInfo::default()
+                        .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT),
+                )
+                .expect("vkBeginCommandBuffer");
+            record(cmd);
+            device.end_command_buffer(cmd).expect("vkEndCommandBuffer");
+            let _queue = self
+                .engine
+                .queue_lock
+                .lock()
+                .unwrap_or_else(|p| p.into_inner());
+            device
+                .queue_submit(
+                    self.engine.queue,
+                    &[vk::SubmitInfo::default().command_buffers(&[cmd])],
+                    fence,
+                )
+                .expect("vkQueueSubmit");
+        }
+    }
+
+    /// Waits until frame `index` has finished on the GPU.
+    pub fn wait(&self, index: u64) {
+        let (_, fence) = self.slots[index as usize % self.slots.len()];
+        // SAFETY: a fence of this loop.
+        unsafe {
+            self.engine
+                .device
+                .wait_for_fences(&[fence], true, u64::MAX)
+                .expect("vkWaitForFences");
+        }
+    }
+}
+
+impl Drop for FrameLoop<'_> {
+    fn drop(&mut self) {
+        let device = &self.engine.device;
+        // SAFETY: waiting for every slot first; the objects are this loop's.
+        unsafe {
+            for &(_, fence) in &self.slots {
+                let _ = device.wait_for_fences(&[fence], true, u64::MAX);
+                device.destroy_fence(fence, None);
+            }
+            device.destroy_command_pool(self.pool, None);
+        }
+    }
+}
+
 /// A command pool owned by one thread; its submissions share the engine's queue.
 pub struct ThreadPool<'a> {
     engine: &'a Engine,

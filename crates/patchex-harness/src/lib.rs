@@ -8,5 +8,5 @@ mod engine;
 mod image;
 pub mod intercept;
 
-pub use engine::{Engine, EngineOptions, ThreadPool};
+pub use engine::{Engine, EngineOptions, FrameLoop, ThreadPool};
 pub use image::EngineImage;
