@@ -29,8 +29,9 @@ const SAMPLE_EVERY: u64 = 500;
 const FRAMES_IN_FLIGHT: usize = 2;
 /// Distinct frames of the moving sphere cycled through at each size.
 const FRAMES_PER_SIZE: usize = 4;
-/// Heap growth tolerated between the baseline and the end: allocator bookkeeping, not a trend.
-const HEAP_SLACK_BYTES: i64 = 256 * 1024;
+/// Heap growth tolerated over the second half of the run: 64 KiB, under 15 bytes a frame
+/// over 5,000 frames, where a leak of one small allocation a frame would show.
+const HEAP_SLACK_BYTES: i64 = 64 * 1024;
 
 #[repr(C)]
 #[derive(Default)]
@@ -212,11 +213,14 @@ fn main() {
                 failures.push(format!("device memory changed at frame {}", s.frame));
             }
         }
-        let heap_growth = last.heap_bytes - first.heap_bytes;
+        // The heap may take a one-off step (a driver or layer cache filling): what must not
+        // happen is a trend, so its growth is judged over the second half of the run.
+        let middle = steady[steady.len() / 2];
+        let heap_growth = last.heap_bytes - middle.heap_bytes;
         if heap_growth > HEAP_SLACK_BYTES {
             failures.push(format!(
                 "heap grew by {heap_growth} B from frame {} to {}",
-                first.frame, last.frame
+                middle.frame, last.frame
             ));
         }
     } else {
@@ -273,7 +277,11 @@ fn main() {
         );
     }
     let verdict = if failures.is_empty() {
-        format!("\nFlat from frame {baseline_frame} on: objects and device memory exactly, heap within {} KiB.\n", HEAP_SLACK_BYTES / 1024)
+        format!(
+            "\nFlat: live objects and device memory identical at every sample from frame \
+             {baseline_frame} on; heap growth over the second half within {} KiB.\n",
+            HEAP_SLACK_BYTES / 1024
+        )
     } else {
         format!("\nFAILED:\n- {}\n", failures.join("\n- "))
     };

@@ -24,7 +24,7 @@ use libfuzzer_sys::fuzz_target;
 use patchex::abi::*;
 use patchex::error::PatchexResult;
 use patchex::ffi::*;
-use patchex_harness::{Engine, EngineImage, EngineOptions};
+use patchex_harness::{Engine, EngineImage, EngineOptions, FrameLoop};
 
 const WIDTH: u32 = 16;
 const HEIGHT: u32 = 12;
@@ -121,7 +121,11 @@ const OUTPUT: usize = 9;
 const DIAGNOSTICS: usize = 10;
 
 struct World {
-    engine: Engine,
+    /// Lives as long as the process, so that the frame loop may borrow it.
+    engine: &'static Engine,
+    frames: Option<FrameLoop<'static>>,
+    /// Inputs run so far: the frame loop's frame index.
+    inputs: u64,
     pool: Vec<EngineImage>,
     context: *mut PatchexContext,
     /// Index of the next frame to submit in order.
@@ -159,17 +163,19 @@ fn fill(index: usize, format: vk::Format, width: u32, height: u32) -> Vec<f32> {
 
 impl World {
     fn new() -> Self {
-        let engine = Engine::new(&EngineOptions {
-            validation: true,
-            device_name: None,
-        })
-        .expect("a Vulkan device (lavapipe)");
+        let engine: &'static Engine = Box::leak(Box::new(
+            Engine::new(&EngineOptions {
+                validation: true,
+                device_name: None,
+            })
+            .expect("a Vulkan device (lavapipe)"),
+        ));
         let pool: Vec<EngineImage> = POOL
             .iter()
             .enumerate()
             .map(|(index, &(format, usage, layout, width, height))| {
-                let image = EngineImage::new(&engine, format, width, height, usage);
-                image.upload(&engine, &fill(index, format, width, height), layout);
+                let image = EngineImage::new(engine, format, width, height, usage);
+                image.upload(engine, &fill(index, format, width, height), layout);
                 image
             })
             .collect();
@@ -204,7 +210,7 @@ impl World {
         };
         let info = PatchexCreateInfo {
             frames_in_flight: FRAMES_IN_FLIGHT,
-            ..create_info(&engine)
+            ..create_info(engine)
         };
         let mut context = ptr::null_mut();
         // SAFETY: valid create info and out pointer.
@@ -218,6 +224,8 @@ impl World {
         engine.assert_validation_clean();
         Self {
             engine,
+            frames: Some(FrameLoop::new(engine, 1)),
+            inputs: 0,
             pool,
             context,
             next_frame: 1,
@@ -532,7 +540,7 @@ fn fuzz_submit(u: &mut Unstructured, world: &mut World, cmd: vk::CommandBuffer) 
     Ok(result == PatchexResult::Success)
 }
 
-fn fuzz_extrapolate(u: &mut Unstructured, world: &World, cmd: vk::CommandBuffer) -> Result<bool> {
+fn fuzz_extrapolate(u: &mut Unstructured, world: &World, cmd: vk::CommandBuffer) -> Result<()> {
     let (width, height) = extent(u)?;
     let (_links, head) = chain(u, world)?;
     let mut header = header(
@@ -555,7 +563,7 @@ fn fuzz_extrapolate(u: &mut Unstructured, world: &World, cmd: vk::CommandBuffer)
     // SAFETY: as for the submit.
     let result = unsafe { patchex_extrapolate(world.context, cmd, &desc) };
     check(result, world.context, "patchex_extrapolate");
-    Ok(result == PatchexResult::Success)
+    Ok(())
 }
 
 fn fuzz_stats(u: &mut Unstructured, world: &World) -> Result<()> {
@@ -599,37 +607,38 @@ fn fuzz_nulls(u: &mut Unstructured, world: &World, cmd: vk::CommandBuffer) -> Re
 }
 
 fn run(u: &mut Unstructured, world: &mut World) -> Result<()> {
-    let cmd = world.engine.begin();
     let mut submits = 0;
-    let mut recorded = false;
-    let outcome = (|| -> Result<()> {
-        for _ in 0..MAX_CALLS_PER_INPUT {
-            if u.is_empty() {
-                break;
-            }
-            match u.int_in_range(0..=5)? {
-                0 => fuzz_create(u, world)?,
-                // The engine's side of the frames-in-flight contract: one command buffer holds
-                // at most FRAMES_IN_FLIGHT frames.
-                1 | 2 if submits < FRAMES_IN_FLIGHT => {
-                    if fuzz_submit(u, world, cmd)? {
-                        submits += 1;
-                        recorded = true;
-                    }
+    let mut outcome = Ok(());
+    // One reused command buffer and fence, as a render loop has: allocating them per input
+    // grows the validation layer's bookkeeping without end.
+    let mut frames = world.frames.take().expect("the world's frame loop");
+    world.inputs += 1;
+    frames.frame(world.inputs, |cmd| {
+        outcome = (|| -> Result<()> {
+            for _ in 0..MAX_CALLS_PER_INPUT {
+                if u.is_empty() {
+                    break;
                 }
-                3 => recorded |= fuzz_extrapolate(u, world, cmd)?,
-                4 => fuzz_stats(u, world)?,
-                _ => fuzz_nulls(u, world, cmd)?,
+                match u.int_in_range(0..=5)? {
+                    0 => fuzz_create(u, world)?,
+                    // The engine's side of the frames-in-flight contract: one command buffer
+                    // holds at most FRAMES_IN_FLIGHT frames.
+                    1 | 2 if submits < FRAMES_IN_FLIGHT => {
+                        if fuzz_submit(u, world, cmd)? {
+                            submits += 1;
+                        }
+                    }
+                    3 => fuzz_extrapolate(u, world, cmd)?,
+                    4 => fuzz_stats(u, world)?,
+                    _ => fuzz_nulls(u, world, cmd)?,
+                }
             }
-        }
-        Ok(())
-    })();
+            Ok(())
+        })();
+    });
     // Executing what was recorded lets validation check the GPU side too.
-    if recorded {
-        world.engine.submit_and_wait(cmd);
-    } else {
-        world.engine.discard(cmd);
-    }
+    frames.wait(world.inputs);
+    world.frames = Some(frames);
     let messages = world.engine.take_validation_messages();
     assert!(messages.is_empty(), "validation:\n{}", messages.join("\n"));
     outcome

@@ -257,17 +257,6 @@ impl Engine {
         self.submit_and_wait_in(self.command_pool, cmd);
     }
 
-    /// Ends and frees `cmd` without submitting it (nothing worth running was recorded).
-    pub fn discard(&self, cmd: vk::CommandBuffer) {
-        // SAFETY: cmd was begun by `begin` and never submitted.
-        unsafe {
-            self.device
-                .end_command_buffer(cmd)
-                .expect("vkEndCommandBuffer");
-            self.device.free_command_buffers(self.command_pool, &[cmd]);
-        }
-    }
-
     /// Records `record` into a fresh command buffer, submits it and waits.
     pub fn run(&self, record: impl FnOnce(vk::CommandBuffer)) {
         let cmd = self.begin();
