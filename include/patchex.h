@@ -58,7 +58,7 @@
 #include <vulkan/vulkan.h>
 
 // Version of this ABI, returned by `patchex_abi_version`; bumped on any incompatible change.
-#define PATCHEX_ABI_VERSION 2
+#define PATCHEX_ABI_VERSION 3
 
 // Maximum number of extrapolations recorded from one submitted frame.
 #define PATCHEX_MAX_EXTRAPOLATIONS_PER_FRAME 4
@@ -68,6 +68,13 @@
 
 // Rectangles reported per extrapolation; the GPU segments every object id regardless.
 #define PATCHEX_MAX_REPORTED_OBJECTS 16
+
+#define PATCHEX_CAMERA_CUT_DEGREES 30.0
+
+// Relative change of the vertical focal length (zoom) taken for a cut.
+#define PATCHEX_CAMERA_CUT_ZOOM 0.25
+
+#define PATCHEX_MAX_TRUSTED_HOLE_FRACTION 0.25
 
 // Result of every `patchex_*` call. Zero is success, positive values are non-error statuses,
 // negative values are errors; each error says what was wrong through `patchex_last_error`.
@@ -79,6 +86,9 @@ enum PatchexResult
   PATCHEX_RESULT_SUCCESS = 0,
   // The GPU has not finished the queried frame yet; ask again after the engine's fence.
   PATCHEX_RESULT_NOT_READY = 1,
+  // The extrapolation was recorded, but its target is a camera cut from frame t: render
+  // this instant instead of showing it (PATCHEX_RENDER_INSTEAD_CAMERA_CUT).
+  PATCHEX_RESULT_RENDER_INSTEAD = 2,
   PATCHEX_RESULT_ERROR_NULL_POINTER = -1,
   // A struct's `struct_type` is not the one this argument (or chain link) takes.
   PATCHEX_RESULT_ERROR_INVALID_STRUCT_TYPE = -2,
@@ -291,6 +301,9 @@ typedef struct PatchexRegionRect {
   float mean_motion_y;
 } PatchexRegionRect;
 
+// Bits of `PatchexExtrapolationStats.render_instead_reasons`.
+typedef uint32_t PatchexRenderInsteadReasons;
+
 // What one extrapolation did.
 typedef struct PatchexExtrapolationStats {
   float alpha;
@@ -313,6 +326,9 @@ typedef struct PatchexExtrapolationStats {
   struct PatchexRegionRect rects[PATCHEX_MAX_REPORTED_OBJECTS];
   // GPU milliseconds per stage (index PATCHEX_STAGE_*), 0 for stages that did not run.
   float gpu_ms[PATCHEX_STAGE_SLOTS];
+  // 0 when the extrapolated frame can be trusted; otherwise the PATCHEX_RENDER_INSTEAD_*
+  // reasons to render this instant instead of showing the extrapolation.
+  PatchexRenderInsteadReasons render_instead_reasons;
 } PatchexExtrapolationStats;
 
 // Filled by `patchex_get_frame_stats`; the caller sets the header.
@@ -417,6 +433,15 @@ typedef uint32_t PatchexStage;
 
 #define PATCHEX_RESET_FRAME_GAP 3
 
+// The target camera looks more than PATCHEX_CAMERA_CUT_DEGREES away from frame t's, or its
+// field of view differs by more than PATCHEX_CAMERA_CUT_ZOOM: a camera cut. Known when the
+// call is recorded, so `patchex_extrapolate` also returns PATCHEX_RESULT_RENDER_INSTEAD.
+#define PATCHEX_RENDER_INSTEAD_CAMERA_CUT 1
+
+// More than PATCHEX_MAX_TRUSTED_HOLE_FRACTION of the frame is hole: disoccluded, or coming
+// from outside frame t's view. Known once the GPU has run the frame.
+#define PATCHEX_RENDER_INSTEAD_DISOCCLUSION 2
+
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
@@ -465,6 +490,8 @@ PatchexResult patchex_submit_gbuffers(struct PatchexContext *context,
 // Records one extrapolation from the last submitted frame to the target instant described by
 // `desc` into `command_buffer`, writing `desc->output`. Up to
 // PATCHEX_MAX_EXTRAPOLATIONS_PER_FRAME calls per submitted frame (alpha 1/3 then 2/3, say).
+// Returns PATCHEX_RESULT_RENDER_INSTEAD (positive: the output is still written) when the
+// target is a camera cut from frame t, which no extrapolation can bridge.
 //
 // # Safety
 // As for `patchex_submit_gbuffers`; the command buffer must execute after the one holding the

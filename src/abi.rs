@@ -26,7 +26,7 @@ pub type PFN_vkGetInstanceProcAddr = Option<vk::PFN_vkGetInstanceProcAddr>;
 pub type PFN_vkGetDeviceProcAddr = Option<vk::PFN_vkGetDeviceProcAddr>;
 
 /// Version of this ABI, returned by `patchex_abi_version`; bumped on any incompatible change.
-pub const PATCHEX_ABI_VERSION: u32 = 2;
+pub const PATCHEX_ABI_VERSION: u32 = 3;
 
 /// 0 or 1; any other value is rejected as an invalid argument.
 pub type PatchexBool = u32;
@@ -388,7 +388,24 @@ pub struct PatchexExtrapolationStats {
     pub rects: [PatchexRegionRect; PATCHEX_MAX_REPORTED_OBJECTS],
     /// GPU milliseconds per stage (index PATCHEX_STAGE_*), 0 for stages that did not run.
     pub gpu_ms: [f32; PATCHEX_STAGE_SLOTS],
+    /// 0 when the extrapolated frame can be trusted; otherwise the PATCHEX_RENDER_INSTEAD_*
+    /// reasons to render this instant instead of showing the extrapolation.
+    pub render_instead_reasons: PatchexRenderInsteadReasons,
 }
+
+/// Bits of `PatchexExtrapolationStats.render_instead_reasons`.
+pub type PatchexRenderInsteadReasons = u32;
+/// The target camera looks more than PATCHEX_CAMERA_CUT_DEGREES away from frame t's, or its
+/// field of view differs by more than PATCHEX_CAMERA_CUT_ZOOM: a camera cut. Known when the
+/// call is recorded, so `patchex_extrapolate` also returns PATCHEX_RESULT_RENDER_INSTEAD.
+pub const PATCHEX_RENDER_INSTEAD_CAMERA_CUT: PatchexRenderInsteadReasons = 1;
+/// More than PATCHEX_MAX_TRUSTED_HOLE_FRACTION of the frame is hole: disoccluded, or coming
+/// from outside frame t's view. Known once the GPU has run the frame.
+pub const PATCHEX_RENDER_INSTEAD_DISOCCLUSION: PatchexRenderInsteadReasons = 2;
+pub const PATCHEX_CAMERA_CUT_DEGREES: f32 = 30.0;
+/// Relative change of the vertical focal length (zoom) taken for a cut.
+pub const PATCHEX_CAMERA_CUT_ZOOM: f32 = 0.25;
+pub const PATCHEX_MAX_TRUSTED_HOLE_FRACTION: f32 = 0.25;
 
 /// Filled by `patchex_get_frame_stats`; the caller sets the header.
 #[repr(C)]

@@ -101,6 +101,16 @@ impl Camera {
         2.0 / (self.projection.y_axis.y.abs() * height as f32)
     }
 
+    /// Whether `self` is a camera cut from `earlier`: it looks more than
+    /// PATCHEX_CAMERA_CUT_DEGREES away, or zooms by more than PATCHEX_CAMERA_CUT_ZOOM. A cut by
+    /// translation alone shows up as disocclusion instead.
+    pub fn is_cut_from(&self, earlier: &Camera) -> bool {
+        let turned = self.forward().dot(earlier.forward())
+            < crate::abi::PATCHEX_CAMERA_CUT_DEGREES.to_radians().cos();
+        let zoom = self.projection.y_axis.y.abs() / earlier.projection.y_axis.y.abs();
+        turned || (zoom - 1.0).abs() > crate::abi::PATCHEX_CAMERA_CUT_ZOOM
+    }
+
     /// Unit world-space direction of increasing linear depth.
     pub fn forward(&self) -> Vec3 {
         self.view

@@ -412,7 +412,11 @@ impl Context {
             frame_index: inputs.frame_index,
             extent: inputs.extent,
             reset_reason,
-            submit: RegionRecord { stages, alpha: 0.0 },
+            submit: RegionRecord {
+                stages,
+                alpha: 0.0,
+                camera_cut: false,
+            },
             extrapolations: Vec::new(),
         });
         self.source = Some(SourceFrame {
@@ -423,13 +427,14 @@ impl Context {
         Ok(())
     }
 
-    /// Records one extrapolation from the last submitted frame into `cmd`.
+    /// Records one extrapolation from the last submitted frame into `cmd`; `RenderInstead` when
+    /// the target is a camera cut.
     pub fn extrapolate(
         &mut self,
         cmd: vk::CommandBuffer,
         desc: &PatchexExtrapolateDesc,
         extensions: Extensions,
-    ) -> Result<()> {
+    ) -> Result<PatchexResult> {
         self.check_queue_family(desc.queue_family_index, "PatchexExtrapolateDesc")?;
         let Some(source) = &self.source else {
             bail!(
@@ -629,11 +634,17 @@ impl Context {
             .record
             .as_mut()
             .expect("the submit recorded this slot");
+        let camera_cut = inputs.geometry.camera.is_cut_from(&source.camera);
         record.extrapolations.push(RegionRecord {
             stages,
             alpha: inputs.alpha,
+            camera_cut,
         });
-        Ok(())
+        Ok(if camera_cut {
+            PatchexResult::RenderInstead
+        } else {
+            PatchexResult::Success
+        })
     }
 
     /// Fills `out` for `frame_index`; `NotReady` while the GPU has not finished it.
@@ -701,6 +712,12 @@ impl Context {
                 .ring
                 .counters
                 .read_u32(counters + SANITIZE_COUNTERS_OFFSET);
+            if region_record.camera_cut {
+                stats.render_instead_reasons |= PATCHEX_RENDER_INSTEAD_CAMERA_CUT;
+            }
+            if stats.hole_fraction > PATCHEX_MAX_TRUSTED_HOLE_FRACTION {
+                stats.render_instead_reasons |= PATCHEX_RENDER_INSTEAD_DISOCCLUSION;
+            }
             stats.fi_fraction = segmented.fi_pixels as f32 / pixels;
             stats.near_be_fraction = segmented.near_be_pixels as f32 / pixels;
             stats.object_count = segmented.rects.len() as u32;

@@ -12,6 +12,9 @@ pub enum PatchexResult {
     Success = 0,
     /// The GPU has not finished the queried frame yet; ask again after the engine's fence.
     NotReady = 1,
+    /// The extrapolation was recorded, but its target is a camera cut from frame t: render
+    /// this instant instead of showing it (PATCHEX_RENDER_INSTEAD_CAMERA_CUT).
+    RenderInstead = 2,
     ErrorNullPointer = -1,
     /// A struct's `struct_type` is not the one this argument (or chain link) takes.
     ErrorInvalidStructType = -2,
@@ -49,6 +52,9 @@ impl PatchexResult {
         match self {
             Self::Success => c"success",
             Self::NotReady => c"not ready: the GPU has not finished that frame",
+            Self::RenderInstead => {
+                c"recorded, but the target is a camera cut: render this frame instead"
+            }
             Self::ErrorNullPointer => c"a required pointer or handle is null",
             Self::ErrorInvalidStructType => c"a struct has the wrong struct_type",
             Self::ErrorStructVersion => c"a struct's struct_size matches no known version",
@@ -72,9 +78,10 @@ impl PatchexResult {
 
     /// Every result code, for `patchex_result_string` and tests.
     /// cbindgen:ignore
-    pub const ALL: [PatchexResult; 20] = [
+    pub const ALL: [PatchexResult; 21] = [
         Self::Success,
         Self::NotReady,
+        Self::RenderInstead,
         Self::ErrorNullPointer,
         Self::ErrorInvalidStructType,
         Self::ErrorStructVersion,

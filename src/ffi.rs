@@ -336,6 +336,8 @@ pub unsafe extern "C" fn patchex_submit_gbuffers(
 /// Records one extrapolation from the last submitted frame to the target instant described by
 /// `desc` into `command_buffer`, writing `desc->output`. Up to
 /// PATCHEX_MAX_EXTRAPOLATIONS_PER_FRAME calls per submitted frame (alpha 1/3 then 2/3, say).
+/// Returns PATCHEX_RESULT_RENDER_INSTEAD (positive: the output is still written) when the
+/// target is a camera cut from frame t, which no extrapolation can bridge.
 ///
 /// # Safety
 /// As for `patchex_submit_gbuffers`; the command buffer must execute after the one holding the
@@ -364,8 +366,7 @@ pub unsafe extern "C" fn patchex_extrapolate(
             ],
             "PatchexExtrapolateDesc",
         )?;
-        context.extrapolate(command_buffer, &desc, extensions)?;
-        Ok(PatchexResult::Success)
+        context.extrapolate(command_buffer, &desc, extensions)
     })
 }
 

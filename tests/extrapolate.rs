@@ -357,3 +357,52 @@ fn one_pixel_and_odd_sizes_match_the_reference() {
         assert!(outcome.output.data.iter().all(|v| v.is_finite()));
     }
 }
+
+#[test]
+fn a_camera_cut_asks_the_engine_to_render_instead() {
+    let scene = Scene::new(WIDTH, HEIGHT);
+    let mut turned = Scene::new(WIDTH, HEIGHT);
+    turned.camera_turn = 90f32.to_radians();
+    let rig = Rig::new(WIDTH as u32, HEIGHT as u32);
+    let engine = &rig.engine;
+    let family = engine.queue_family_index;
+    let output = output_image(engine, WIDTH as u32, HEIGHT as u32);
+    let source = GpuFrame::upload(engine, &scene.render(0.0, Vec2::ZERO, -FRAME_TIME));
+    let ahead = GpuFrame::upload(engine, &scene.render(0.5 * FRAME_TIME, Vec2::ZERO, 0.0));
+    let cut = GpuFrame::upload(engine, &turned.render(0.5 * FRAME_TIME, Vec2::ZERO, 0.0));
+    engine.run(|cmd| {
+        assert_eq!(
+            rig.submit(cmd, &source.frame_desc(1, family)),
+            PatchexResult::Success
+        );
+        let results = [&ahead, &cut]
+            .map(|target| rig.extrapolate(cmd, &target.extrapolate_desc(&output, 0.5, family)));
+        assert_eq!(
+            results,
+            [PatchexResult::Success, PatchexResult::RenderInstead],
+            "the turned camera is a cut, known when recording"
+        );
+    });
+    let (result, stats) = rig.stats(1);
+    assert_eq!(result, PatchexResult::Success);
+    let [trusted, cut] = [stats.extrapolations[0], stats.extrapolations[1]];
+    assert_eq!(
+        trusted.render_instead_reasons, 0,
+        "an ordinary target is trusted (holes {})",
+        trusted.hole_fraction
+    );
+    assert_ne!(
+        cut.render_instead_reasons & PATCHEX_RENDER_INSTEAD_CAMERA_CUT,
+        0
+    );
+    // Looking elsewhere, most of the target has nothing to come from in frame t.
+    assert!(
+        cut.hole_fraction > PATCHEX_MAX_TRUSTED_HOLE_FRACTION,
+        "{}",
+        cut.hole_fraction
+    );
+    assert_ne!(
+        cut.render_instead_reasons & PATCHEX_RENDER_INSTEAD_DISOCCLUSION,
+        0
+    );
+}

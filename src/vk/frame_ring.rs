@@ -26,6 +26,8 @@ use crate::context::COUNTER_BYTES;
 pub struct RegionRecord {
     pub stages: Vec<u32>,
     pub alpha: f32,
+    /// The target was a camera cut from frame t.
+    pub camera_cut: bool,
 }
 
 #[derive(Clone, Debug)]

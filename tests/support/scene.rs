@@ -17,6 +17,8 @@ pub struct Scene {
     pub sphere_speed: f32,
     /// Metres per second of the camera along +x.
     pub camera_speed: f32,
+    /// Radians the camera's look direction is turned about the vertical (a cut when large).
+    pub camera_turn: f32,
 }
 
 /// One instant's G-buffers, as an engine would hand them over.
@@ -53,6 +55,7 @@ impl Scene {
             depth_convention: PATCHEX_DEPTH_HARDWARE,
             sphere_speed: 6.0,
             camera_speed: 1.5,
+            camera_turn: 0.0,
         }
     }
 
@@ -62,11 +65,9 @@ impl Scene {
 
     fn view(&self, time: f32) -> Mat4 {
         let eye = Vec3::new(self.camera_speed * time, 1.6, 4.0);
-        look_at_mat4(
-            eye,
-            Vec3::new(self.camera_speed * time * 0.5, 0.4, 0.0),
-            Vec3::Y,
-        )
+        let look = Vec3::new(self.camera_speed * time * 0.5, 0.4, 0.0) - eye;
+        let look = glam::Quat::from_rotation_y(self.camera_turn) * look;
+        look_at_mat4(eye, eye + look, Vec3::Y)
     }
 
     /// Vulkan clip space (y down); `jitter` moves the sample positions by that many pixels.
