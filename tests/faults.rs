@@ -97,33 +97,28 @@ fn create_fails_cleanly_whichever_allocation_fails() {
 
 #[test]
 fn submit_recovers_from_an_allocation_failure_and_steady_frames_allocate_nothing() {
-    let clean = Rig::new(WIDTH, HEIGHT);
+    // An undisturbed run gives the expected output and the creation calls of the first
+    // submit, the one that allocates the working images.
+    let clean = Rig::intercepted(WIDTH, HEIGHT);
+    let clean_intercept = clean.intercept.as_ref().expect("intercepted");
     let (source, target) = frame_pair(&clean.engine, WIDTH, HEIGHT, 1);
     let clean_output = output_image(&clean.engine, WIDTH, HEIGHT);
+    let created_by_create = clean_intercept.creation_calls().len();
     run_frame(&clean, 1, &source, &target, &clean_output);
+    let submit_calls = clean_intercept.creation_calls()[created_by_create..].to_vec();
+    assert!(
+        submit_calls.contains(&ObjectKind::Image),
+        "the first submit allocates the working images: {submit_calls:?}"
+    );
     let want = clean_output.read(&clean.engine, OUTPUT_LAYOUT);
 
+    // Fail each of those calls in turn on another context.
     let rig = Rig::intercepted(WIDTH, HEIGHT);
     let intercept = rig.intercept.as_ref().expect("intercepted");
     let (source, target) = frame_pair(&rig.engine, WIDTH, HEIGHT, 1);
     let output = output_image(&rig.engine, WIDTH, HEIGHT);
     let before = intercept.live();
     let calls_before = intercept.creation_calls().len();
-
-    // The first submit allocates the working images: learn its calls on a second rig, then
-    // fail each of them in turn on this one.
-    let probe = Rig::intercepted(WIDTH, HEIGHT);
-    let probe_intercept = probe.intercept.as_ref().expect("intercepted");
-    let probe_start = probe_intercept.creation_calls().len();
-    let (probe_source, probe_target) = frame_pair(&probe.engine, WIDTH, HEIGHT, 1);
-    let probe_output = output_image(&probe.engine, WIDTH, HEIGHT);
-    run_frame(&probe, 1, &probe_source, &probe_target, &probe_output);
-    let submit_calls = probe_intercept.creation_calls()[probe_start..].to_vec();
-    assert!(
-        submit_calls.contains(&ObjectKind::Image),
-        "the first submit allocates the working images: {submit_calls:?}"
-    );
-
     for (index, kind) in submit_calls.into_iter().enumerate() {
         intercept.fail_creation_call(Some(index));
         let (submitted, _) = run_frame(&rig, 1, &source, &target, &output);

@@ -209,6 +209,13 @@ macro_rules! single_object {
             result
         }
 
+        destroy_wrapper!($destroy, $kind, $handle);
+    };
+}
+
+/// The wrapper of a vkDestroy*/vkFree* function.
+macro_rules! destroy_wrapper {
+    ($destroy:ident, $kind:ident, $handle:ty) => {
         unsafe extern "system" fn $destroy(
             device: vk::Device,
             handle: $handle,
@@ -219,6 +226,9 @@ macro_rules! single_object {
         }
     };
 }
+
+destroy_wrapper!(free_memory, Memory, vk::DeviceMemory);
+destroy_wrapper!(destroy_pipeline, Pipeline, vk::Pipeline);
 
 const HOST: vk::Result = vk::Result::ERROR_OUT_OF_HOST_MEMORY;
 const DEVICE: vk::Result = vk::Result::ERROR_OUT_OF_DEVICE_MEMORY;
@@ -308,15 +318,6 @@ unsafe extern "system" fn allocate_memory(
     result
 }
 
-unsafe extern "system" fn free_memory(
-    device: vk::Device,
-    memory: vk::DeviceMemory,
-    allocator: *const vk::AllocationCallbacks<'_>,
-) {
-    (real(device).free_memory)(device, memory, allocator);
-    destroyed(device, ObjectKind::Memory, memory.as_raw());
-}
-
 unsafe extern "system" fn create_compute_pipelines(
     device: vk::Device,
     cache: vk::PipelineCache,
@@ -337,15 +338,6 @@ unsafe extern "system" fn create_compute_pipelines(
     let handles = (0..count as usize).map(|i| (*out.add(i)).as_raw());
     created(device, ObjectKind::Pipeline, handles.collect::<Vec<_>>());
     result
-}
-
-unsafe extern "system" fn destroy_pipeline(
-    device: vk::Device,
-    pipeline: vk::Pipeline,
-    allocator: *const vk::AllocationCallbacks<'_>,
-) {
-    (real(device).destroy_pipeline)(device, pipeline, allocator);
-    destroyed(device, ObjectKind::Pipeline, pipeline.as_raw());
 }
 
 unsafe extern "system" fn allocate_descriptor_sets(
