@@ -64,7 +64,9 @@ pub fn segment(
                 v.min(Vec2::splat(MAX_COUNTED_MOTION))
             };
             for axis in 0..2 {
-                o.motion_units[axis] += (counted[axis] * MOTION_UNITS_PER_PIXEL).round() as u64;
+                // WGSL's round() breaks ties to even; half-float motion lands on ties often.
+                o.motion_units[axis] +=
+                    (counted[axis] * MOTION_UNITS_PER_PIXEL).round_ties_even() as u64;
             }
         }
     }

@@ -124,7 +124,7 @@ impl PixelWarp<'_> {
         let at = |offset: IVec2| {
             texel(
                 self.source.shading,
-                (corner + offset).clamp(IVec2::ZERO, last),
+                corner.wrapping_add(offset).clamp(IVec2::ZERO, last),
             )
             .truncate()
         };
@@ -137,6 +137,8 @@ impl PixelWarp<'_> {
     fn gbuffer_guided(&self) -> WarpedPixel {
         let extent = self.extent();
         let q = self.source_point(self.p);
+        // A huge motion vector saturates the conversion to i32: the neighbours' offsets wrap,
+        // as WGSL's integer arithmetic does, and the clamp brings them back into the image.
         let corner = (q - 0.5).floor().as_ivec2();
         let f = q - 0.5 - (q - 0.5).floor();
         let mut shading_sum = Vec3::ZERO;
@@ -144,7 +146,7 @@ impl PixelWarp<'_> {
         let mut best_agreement: f32 = 0.0;
         for i in 0..4 {
             let offset = IVec2::new(i & 1, i >> 1);
-            let s = (corner + offset).clamp(IVec2::ZERO, extent - 1);
+            let s = corner.wrapping_add(offset).clamp(IVec2::ZERO, extent - 1);
             let agreement = self.agreement_at(s);
             let bx = if offset.x == 1 { f.x } else { 1.0 - f.x };
             let by = if offset.y == 1 { f.y } else { 1.0 - f.y };
@@ -163,7 +165,9 @@ impl PixelWarp<'_> {
             let r = self.params.kernel_radius;
             for dy in -r..=r {
                 for dx in -r..=r {
-                    let s = (centre + IVec2::new(dx, dy)).clamp(IVec2::ZERO, extent - 1);
+                    let s = centre
+                        .wrapping_add(IVec2::new(dx, dy))
+                        .clamp(IVec2::ZERO, extent - 1);
                     let agreement = self.agreement_at(s);
                     let d = s.as_vec2() + 0.5 - q;
                     let weight =

@@ -219,31 +219,29 @@ pub const MOTION_LAYOUT: vk::ImageLayout = vk::ImageLayout::GENERAL;
 pub const OUTPUT_LAYOUT: vk::ImageLayout = vk::ImageLayout::TRANSFER_SRC_OPTIMAL;
 
 impl GpuFrame {
+    /// Every G-buffer in a 32-bit float format.
     pub fn upload(engine: &Engine, frame: &Frame) -> Self {
         use vk::Format as F;
+        Self::upload_as(engine, frame, F::R32G32B32A32_SFLOAT, F::R32G32_SFLOAT)
+    }
+
+    /// Colour, base colour, material, normals and motion vectors in half floats, as many
+    /// engines keep them (depth stays 32-bit).
+    pub fn upload_half(engine: &Engine, frame: &Frame) -> Self {
+        use vk::Format as F;
+        Self::upload_as(engine, frame, F::R16G16B16A16_SFLOAT, F::R16G16_SFLOAT)
+    }
+
+    fn upload_as(engine: &Engine, frame: &Frame, rgba: vk::Format, rg: vk::Format) -> Self {
+        use vk::Format as F;
         Self {
-            color: upload(engine, &frame.color, F::R32G32B32A32_SFLOAT, COLOR_LAYOUT),
-            base_color: upload(
-                engine,
-                &frame.base_color,
-                F::R32G32B32A32_SFLOAT,
-                GBUFFER_LAYOUT,
-            ),
-            material: upload(
-                engine,
-                &frame.material,
-                F::R32G32B32A32_SFLOAT,
-                GBUFFER_LAYOUT,
-            ),
+            color: upload(engine, &frame.color, rgba, COLOR_LAYOUT),
+            base_color: upload(engine, &frame.base_color, rgba, GBUFFER_LAYOUT),
+            material: upload(engine, &frame.material, rgba, GBUFFER_LAYOUT),
             depth: upload(engine, &frame.depth, F::R32_SFLOAT, DEPTH_LAYOUT),
-            normal: upload(
-                engine,
-                &frame.normal,
-                F::R32G32B32A32_SFLOAT,
-                GBUFFER_LAYOUT,
-            ),
+            normal: upload(engine, &frame.normal, rgba, GBUFFER_LAYOUT),
             stencil: upload(engine, &frame.stencil, F::R8_UINT, GBUFFER_LAYOUT),
-            motion: upload(engine, &frame.motion, F::R32G32_SFLOAT, MOTION_LAYOUT),
+            motion: upload(engine, &frame.motion, rg, MOTION_LAYOUT),
             camera: frame.camera,
             width: frame.color.width as u32,
             height: frame.color.height as u32,

@@ -22,6 +22,7 @@ pub struct Scene {
 }
 
 /// One instant's G-buffers, as an engine would hand them over.
+#[derive(Clone)]
 pub struct Frame {
     pub color: Image,
     pub base_color: Image,

@@ -1,0 +1,206 @@
+//! Numerical extremes, each run on lavapipe under validation and compared with the plain-Rust
+//! reference: broken geometry (NaN and infinite depth, normals and motion), depth exactly at the
+//! near and far planes in every convention, sub-pixel and far off-screen motion, frames of the
+//! largest width and height, a frame that is all foreground or has no dynamic object, alpha
+//! near 0 and exactly 1, and half-float inputs against float ones. (Colour and material
+//! extremes, black and metallic surfaces, 1x1 and odd sizes and a camera cut are in
+//! `tests/extrapolate.rs`.)
+
+mod support;
+
+use glam::Vec2;
+use patchex::abi::*;
+use patchex::context::MAX_EXTENT;
+use patchex::reference::Image;
+use support::pipeline::{assert_matches_reference, psnr, run_plugin, run_plugin_on, Chained};
+use support::scene::{Frame, Scene};
+use support::*;
+
+const WIDTH: usize = 64;
+const HEIGHT: usize = 48;
+const FRAME_TIME: f32 = 1.0 / 30.0;
+
+/// Frame t, and the target `alpha` of a frame time later.
+fn frames(scene: &Scene, alpha: f32) -> (Frame, Frame) {
+    let source = scene.render(0.0, Vec2::new(0.25, -0.25), -FRAME_TIME);
+    let target = scene.render(alpha * FRAME_TIME, Vec2::new(-0.125, 0.375), 0.0);
+    (source, target)
+}
+
+/// Runs the case, checks it against the reference, and that the output is finite.
+fn run_and_compare(source: &Frame, target: &Frame, alpha: f32) -> PatchexExtrapolationStats {
+    let rig = Rig::new(source.color.width as u32, source.color.height as u32);
+    let outcome = run_plugin(&rig, source, target, alpha, &Chained::default());
+    assert_matches_reference(source, target, &outcome, &Chained::default());
+    assert!(outcome.output.data.iter().all(|v| v.is_finite()));
+    outcome.stats.extrapolations[0]
+}
+
+fn fill(image: &mut Image, value: &[f32]) {
+    for pixel in image.data.chunks_mut(image.channels) {
+        pixel.copy_from_slice(&value[..image.channels]);
+    }
+}
+
+#[test]
+fn nan_and_infinite_geometry_never_reaches_the_output() {
+    let scene = Scene::new(WIDTH, HEIGHT);
+    let (mut source, mut target) = frames(&scene, 0.5);
+    let bad = [f32::NAN, f32::INFINITY, f32::NEG_INFINITY, 1e30, -1e30];
+    for (i, &value) in bad.iter().enumerate() {
+        let x = 4 + 12 * i;
+        for frame in [&mut source, &mut target] {
+            frame.depth.set(x, 8, &[value]);
+            frame.normal.set(x, 16, &[value, 0.0, value, 0.0]);
+            frame.normal.set(x + 1, 16, &[0.0; 4]);
+            frame.motion.set(x, 24, &[value, 1.0]);
+            frame.motion.set(x + 1, 24, &[0.0, value]);
+        }
+    }
+    run_and_compare(&source, &target, 0.5);
+}
+
+#[test]
+fn depth_at_the_near_and_far_planes_in_every_convention() {
+    for convention in [
+        PATCHEX_DEPTH_HARDWARE,
+        PATCHEX_DEPTH_HARDWARE_REVERSED,
+        PATCHEX_DEPTH_LINEAR_VIEW_Z,
+    ] {
+        let mut scene = Scene::new(WIDTH, HEIGHT);
+        scene.depth_convention = convention;
+        let (mut source, mut target) = frames(&scene, 0.5);
+        let camera = source.camera;
+        // (near plane, far plane): reversed depth has its far plane at infinity, 0.
+        let planes = match convention {
+            PATCHEX_DEPTH_HARDWARE => [0.0, 1.0],
+            PATCHEX_DEPTH_HARDWARE_REVERSED => [1.0, 0.0],
+            _ => [camera.near, camera.far],
+        };
+        for frame in [&mut source, &mut target] {
+            for x in 0..WIDTH {
+                frame.depth.set(x, 10, &[planes[0]]);
+                frame.depth.set(x, 30, &[planes[1]]);
+            }
+        }
+        run_and_compare(&source, &target, 0.5);
+    }
+}
+
+#[test]
+fn sub_pixel_motion_matches_the_reference() {
+    let mut scene = Scene::new(WIDTH, HEIGHT);
+    scene.sphere_speed = 0.1;
+    scene.camera_speed = 0.05;
+    let (source, target) = frames(&scene, 0.5);
+    let largest = target
+        .motion
+        .data
+        .iter()
+        .fold(0.0f32, |m, v| m.max(v.abs()));
+    assert!(
+        largest > 0.0 && largest < 1.0,
+        "sub-pixel motion: {largest}"
+    );
+    run_and_compare(&source, &target, 0.5);
+}
+
+#[test]
+fn motion_far_off_screen_makes_the_frame_a_hole_and_says_so() {
+    let scene = Scene::new(WIDTH, HEIGHT);
+    let (source, mut target) = frames(&scene, 0.5);
+    for value in &mut target.motion.data {
+        *value = if *value == 0.0 { 1e7 } else { *value * 1e7 };
+    }
+    let stats = run_and_compare(&source, &target, 0.5);
+    assert_eq!(stats.offscreen_fraction, 1.0);
+    assert_eq!(stats.hole_fraction, 1.0);
+    assert_ne!(
+        stats.render_instead_reasons & PATCHEX_RENDER_INSTEAD_DISOCCLUSION,
+        0
+    );
+}
+
+/// A row and a column of the largest extent a context accepts: the dispatches' group counts
+/// and the edge clamping at that size. (A full 16384x16384 frame needs 24 GB of working images,
+/// more than this machine has.)
+#[test]
+fn frames_of_the_largest_width_and_height() {
+    for (width, height) in [(MAX_EXTENT as usize, 1), (1, MAX_EXTENT as usize)] {
+        let scene = Scene::new(width, height);
+        let (source, target) = frames(&scene, 0.5);
+        run_and_compare(&source, &target, 0.5);
+    }
+}
+
+#[test]
+fn a_frame_all_foreground_and_one_without_dynamic_objects() {
+    let scene = Scene::new(WIDTH, HEIGHT);
+    let (mut source, mut target) = frames(&scene, 0.5);
+    for frame in [&mut source, &mut target] {
+        fill(&mut frame.stencil, &[1.0]);
+    }
+    let stats = run_and_compare(&source, &target, 0.5);
+    assert_eq!(stats.object_count, 1);
+    assert_eq!(stats.fi_fraction, 1.0);
+
+    for frame in [&mut source, &mut target] {
+        fill(&mut frame.stencil, &[0.0]);
+    }
+    let stats = run_and_compare(&source, &target, 0.5);
+    assert_eq!(stats.object_count, 0);
+    assert_eq!((stats.fi_fraction, stats.near_be_fraction), (0.0, 0.0));
+}
+
+#[test]
+fn alpha_near_zero_and_exactly_one() {
+    let scene = Scene::new(WIDTH, HEIGHT);
+    for alpha in [1e-6, 1.0] {
+        let (source, target) = frames(&scene, alpha);
+        let stats = run_and_compare(&source, &target, alpha);
+        assert_eq!(stats.alpha, alpha);
+    }
+}
+
+/// Half-float G-buffers give the same result as float G-buffers holding the same (rounded)
+/// values, and differ from the unrounded float path only by the rounding of the inputs.
+#[test]
+fn half_float_inputs_match_the_reference_and_the_float_path() {
+    let scene = Scene::new(WIDTH, HEIGHT);
+    let (source, target) = frames(&scene, 0.5);
+    let round = |frame: &Frame| {
+        let mut rounded = frame.clone();
+        for image in [
+            &mut rounded.color,
+            &mut rounded.base_color,
+            &mut rounded.material,
+            &mut rounded.normal,
+            &mut rounded.motion,
+        ] {
+            for value in &mut image.data {
+                *value = half::f16::from_f32(*value).to_f32();
+            }
+        }
+        rounded
+    };
+    let (half_source, half_target) = (round(&source), round(&target));
+
+    let rig = Rig::new(WIDTH as u32, HEIGHT as u32);
+    let half = run_plugin_on(
+        &rig,
+        &GpuFrame::upload_half(&rig.engine, &source),
+        &GpuFrame::upload_half(&rig.engine, &target),
+        0.5,
+        &Chained::default(),
+    );
+    assert_matches_reference(&half_source, &half_target, &half, &Chained::default());
+
+    let float_rig = Rig::new(WIDTH as u32, HEIGHT as u32);
+    let float = run_plugin(&float_rig, &source, &target, 0.5, &Chained::default());
+    let agreement = psnr(&half.output, &float.output);
+    println!("half-float against float inputs: PSNR {agreement:.1} dB");
+    assert!(
+        agreement > 60.0,
+        "half-float inputs stay within input rounding of the float path: {agreement:.1} dB"
+    );
+}
