@@ -336,6 +336,9 @@ fn emit(pass: &CompiledPass) -> String {
 }
 
 fn main() {
+    // The shared library names itself, so that what links it records "libpatchex.so" and finds
+    // it wherever it is installed.
+    println!("cargo:rustc-cdylib-link-arg=-Wl,-soname,libpatchex.so");
     println!("cargo:rerun-if-changed={SHADER_DIR}");
     println!("cargo:rerun-if-changed={INCLUDE_DIR}");
     let mut passes: Vec<PathBuf> = fs::read_dir(SHADER_DIR)

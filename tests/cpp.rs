@@ -1,46 +1,76 @@
-//! Builds the C++17 engine program in tests/cpp against include/patchex.h and the built shared
-//! library, as a C++ engine would, and runs it under the validation layers.
+//! The C++ engine in examples/cpp-engine, built the way a C++ user builds against patchex:
+//! the library installed into a prefix with scripts/install.sh, found by CMake's
+//! find_package (and by pkg-config), then run for 30 frames under the validation layers.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use patchex::loader::PatchexLibrary;
 
-#[test]
-fn cpp_engine_extrapolates_through_the_header() {
-    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
-    let library = PatchexLibrary::beside_current_exe().expect("the patchex cdylib is built");
-    let library_dir = library.parent().unwrap();
-    let binary = library_dir.join("cpp-extrapolate-once");
-    let compiled = Command::new("g++")
-        // Vulkan's `VkFoo info{VK_STRUCTURE_TYPE_FOO}` idiom leaves the other fields zeroed.
-        .args([
-            "-std=c++17",
-            "-Wall",
-            "-Wextra",
-            "-Werror",
-            "-Wno-missing-field-initializers",
-            "-O1",
-        ])
-        .arg("-I")
-        .arg(root.join("include"))
-        .arg(root.join("tests/cpp/extrapolate_once.cpp"))
-        .arg("-o")
-        .arg(&binary)
-        .arg(format!("-L{}", library_dir.display()))
-        .arg(format!("-Wl,-rpath,{}", library_dir.display()))
-        .args(["-lpatchex", "-lvulkan"])
-        .status()
-        .expect("g++ runs");
-    assert!(
-        compiled.success(),
-        "the C++ engine compiles against include/patchex.h"
+fn run(command: &mut Command, what: &str) -> String {
+    let output = command.output().unwrap_or_else(|e| panic!("{what}: {e}"));
+    let text = format!(
+        "{}{}",
+        String::from_utf8_lossy(&output.stdout),
+        String::from_utf8_lossy(&output.stderr)
     );
-    let run = Command::new(&binary).output().expect("the C++ engine runs");
-    let stdout = String::from_utf8_lossy(&run.stdout);
-    println!("{stdout}{}", String::from_utf8_lossy(&run.stderr));
-    assert!(run.status.success(), "the C++ engine reports failure");
-    assert!(stdout.contains("ok (0 validation messages)"));
+    assert!(output.status.success(), "{what} failed:\n{text}");
+    text
+}
+
+/// Installs the library built for these tests into `prefix`.
+fn install(root: &Path, prefix: &Path) {
+    let library = PatchexLibrary::beside_current_exe().expect("the patchex cdylib is built");
+    run(
+        Command::new(root.join("scripts/install.sh"))
+            .arg(prefix)
+            .arg(library),
+        "scripts/install.sh",
+    );
+}
+
+#[test]
+fn cpp_engine_renders_and_extrapolates_30_frames_on_its_render_thread() {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let scratch = tempfile::tempdir().expect("a scratch directory");
+    let (prefix, build) = (scratch.path().join("prefix"), scratch.path().join("build"));
+    install(&root, &prefix);
+
+    let flags = run(
+        Command::new("pkg-config")
+            .args(["--cflags", "--libs", "patchex"])
+            .env("PKG_CONFIG_PATH", prefix.join("lib/pkgconfig")),
+        "pkg-config",
+    );
+    assert!(
+        flags.contains("-lpatchex") && flags.contains(&format!("{}/include", prefix.display())),
+        "pkg-config finds the installed patchex: {flags}"
+    );
+
+    run(
+        Command::new("cmake")
+            .arg("-S")
+            .arg(root.join("examples/cpp-engine"))
+            .arg("-B")
+            .arg(&build)
+            .arg(format!("-DCMAKE_PREFIX_PATH={}", prefix.display())),
+        "cmake configure",
+    );
+    run(
+        Command::new("cmake").arg("--build").arg(&build),
+        "cmake --build",
+    );
+    let output = run(
+        Command::new(build.join("patchex-cpp-engine")).args(["--frames", "30"]),
+        "the C++ engine",
+    );
+    println!("{output}");
+    assert_eq!(
+        output.matches("PSNR").count(),
+        2 * 30 + 1,
+        "a PSNR per extrapolated frame and the mean"
+    );
+    assert!(output.contains("ok (0 validation messages)"));
 }
 
 /// The shared library exports the patchex_* entry points and nothing else of its own.

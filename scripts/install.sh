@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# Installs the patchex library for C and C++ engines: the shared library, the header, a
+# pkg-config file and a CMake package config.
+#   scripts/install.sh PREFIX [LIBRARY]
+# LIBRARY defaults to a release build (built here); PREFIX then holds
+#   lib/libpatchex.so  include/patchex.h  lib/pkgconfig/patchex.pc  lib/cmake/patchex/
+# Use it with PKG_CONFIG_PATH=PREFIX/lib/pkgconfig or CMAKE_PREFIX_PATH=PREFIX.
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+prefix="${1:?usage: scripts/install.sh PREFIX [LIBRARY]}"
+library="${2:-}"
+if [ -z "$library" ]; then
+    (cd "$root" && cargo build --release -p patchex)
+    library="$root/target/release/libpatchex.so"
+fi
+mkdir -p "$prefix"
+prefix="$(cd "$prefix" && pwd)"
+version="$(sed -n 's/^version = "\(.*\)"/\1/p' "$root/Cargo.toml" | head -1)"
+install -Dm755 "$library" "$prefix/lib/libpatchex.so"
+install -Dm644 "$root/include/patchex.h" "$prefix/include/patchex.h"
+mkdir -p "$prefix/lib/pkgconfig" "$prefix/lib/cmake/patchex"
+sed -e "s|@PREFIX@|$prefix|" -e "s|@VERSION@|$version|" \
+    "$root/packaging/patchex.pc.in" > "$prefix/lib/pkgconfig/patchex.pc"
+install -m644 "$root/packaging/patchexConfig.cmake" "$prefix/lib/cmake/patchex/patchexConfig.cmake"
+cat > "$prefix/lib/cmake/patchex/patchexConfigVersion.cmake" <<VERSION
+set(PACKAGE_VERSION "$version")
+if(PACKAGE_FIND_VERSION VERSION_GREATER PACKAGE_VERSION)
+  set(PACKAGE_VERSION_COMPATIBLE FALSE)
+else()
+  set(PACKAGE_VERSION_COMPATIBLE TRUE)
+endif()
+VERSION
+echo "installed patchex $version into $prefix"
