@@ -60,6 +60,27 @@
 // Version of this ABI, returned by `patchex_abi_version`; bumped on any incompatible change.
 #define PATCHEX_ABI_VERSION 3
 
+// The warp settings a context uses unless told otherwise: a 3x3 gather; a texel keeps most of
+// its weight within ~5% relative depth, ~0.1 of (1 - cos) of normal angle (about 25 degrees),
+// and 1.5 pixel footprints of world position.
+#define PATCHEX_DEFAULT_KERNEL_RADIUS 1
+
+#define PATCHEX_DEFAULT_SIGMA_SPATIAL 0.75
+
+#define PATCHEX_DEFAULT_SIGMA_DEPTH 0.05
+
+#define PATCHEX_DEFAULT_SIGMA_NORMAL 0.1
+
+#define PATCHEX_DEFAULT_SIGMA_POSITION 1.5
+
+#define PATCHEX_DEFAULT_OCCLUSION_SEARCH_RADIUS 8
+
+// The segmentation's default k_x and k_y, fitted by `patchex calibrate` on the project's seven
+// scenes at 640x360: k_x 1.92 (r 0.31), k_y 3.12 (r 0.50).
+#define PATCHEX_DEFAULT_GROWTH_X 1.9
+
+#define PATCHEX_DEFAULT_GROWTH_Y 3.1
+
 // Maximum number of extrapolations recorded from one submitted frame.
 #define PATCHEX_MAX_EXTRAPOLATIONS_PER_FRAME 4
 

@@ -268,6 +268,20 @@ pub struct PatchexExtrapolateDesc {
     pub output: PatchexImage,
 }
 
+/// The warp settings a context uses unless told otherwise: a 3x3 gather; a texel keeps most of
+/// its weight within ~5% relative depth, ~0.1 of (1 - cos) of normal angle (about 25 degrees),
+/// and 1.5 pixel footprints of world position.
+pub const PATCHEX_DEFAULT_KERNEL_RADIUS: u32 = 1;
+pub const PATCHEX_DEFAULT_SIGMA_SPATIAL: f32 = 0.75;
+pub const PATCHEX_DEFAULT_SIGMA_DEPTH: f32 = 0.05;
+pub const PATCHEX_DEFAULT_SIGMA_NORMAL: f32 = 0.1;
+pub const PATCHEX_DEFAULT_SIGMA_POSITION: f32 = 1.5;
+pub const PATCHEX_DEFAULT_OCCLUSION_SEARCH_RADIUS: u32 = 8;
+/// The segmentation's default k_x and k_y, fitted by `patchex calibrate` on the project's seven
+/// scenes at 640x360: k_x 1.92 (r 0.31), k_y 3.12 (r 0.50).
+pub const PATCHEX_DEFAULT_GROWTH_X: f32 = 1.9;
+pub const PATCHEX_DEFAULT_GROWTH_Y: f32 = 3.1;
+
 /// Chainable on PatchexCreateInfo (context default) or PatchexExtrapolateDesc (this call).
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]

@@ -24,10 +24,11 @@ pub struct SegmentationSettings {
 }
 
 impl Default for SegmentationSettings {
-    /// Fitted by `patchex calibrate` on the project's seven scenes at 640x360 (README,
-    /// "Calibration"): k_x 1.92 (r 0.31), k_y 3.12 (r 0.50).
+    /// PATCHEX_DEFAULT_GROWTH_X and _Y, fitted by `patchex calibrate` (README, "Calibration").
     fn default() -> Self {
-        Self { growth: [1.9, 3.1] }
+        Self {
+            growth: [PATCHEX_DEFAULT_GROWTH_X, PATCHEX_DEFAULT_GROWTH_Y],
+        }
     }
 }
 

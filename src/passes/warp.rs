@@ -37,17 +37,16 @@ pub struct WarpSettings {
 }
 
 impl Default for WarpSettings {
-    /// A 3x3 gather; a texel keeps most of its weight within ~5% relative depth, ~0.1 of
-    /// (1 - cos) of normal angle (about 25 degrees), and 1.5 pixel footprints of world position.
+    /// The PATCHEX_DEFAULT_* values of the header.
     fn default() -> Self {
         Self {
             kind: PATCHEX_WARP_GBUFFER_GUIDED,
-            kernel_radius: 1,
-            occlusion_search_radius: 8,
-            sigma_spatial: 0.75,
-            sigma_depth: 0.05,
-            sigma_normal: 0.1,
-            sigma_position: 1.5,
+            kernel_radius: PATCHEX_DEFAULT_KERNEL_RADIUS,
+            occlusion_search_radius: PATCHEX_DEFAULT_OCCLUSION_SEARCH_RADIUS,
+            sigma_spatial: PATCHEX_DEFAULT_SIGMA_SPATIAL,
+            sigma_depth: PATCHEX_DEFAULT_SIGMA_DEPTH,
+            sigma_normal: PATCHEX_DEFAULT_SIGMA_NORMAL,
+            sigma_position: PATCHEX_DEFAULT_SIGMA_POSITION,
         }
     }
 }
