@@ -2,10 +2,13 @@
 #include "PatchexViewExtension.h"
 
 #include "Interfaces/IPluginManager.h"
+#include "Misc/CoreDelegates.h"
 #include "Misc/Paths.h"
 #include "Modules/ModuleManager.h"
 #include "SceneViewExtension.h"
 #include "ShaderCore.h"
+
+#include <type_traits>
 
 DEFINE_LOG_CATEGORY(LogPatchex);
 
