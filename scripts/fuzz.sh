@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Fuzzes the C ABI with libFuzzer and AddressSanitizer on lavapipe, validation on:
-#   scripts/fuzz.sh [RUNS] [extra libFuzzer flags]      (default 1000000 runs)
-# Not part of the test command: it needs the nightly toolchain and takes about half an hour
-# for a million runs on two cores. Findings land in fuzz/artifacts/abi_calls/.
+#   [FUZZ_JOBS=N] scripts/fuzz.sh [RUNS] [extra libFuzzer flags]   (default 1000000 runs)
+# With FUZZ_JOBS=N, N processes each make RUNS runs (their logs: fuzz/fuzz-*.log). Not part of
+# the test command: it needs the nightly toolchain, and one process makes about 250 runs a
+# second here. Findings land in fuzz/artifacts/abi_calls/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
@@ -16,5 +17,8 @@ mkdir -p corpus/abi_calls
 # during submissions), a hundredfold slowdown: leaks are checked by the soak and the object
 # counting tests instead; the driver's own allocations are suppressed at exit.
 export LSAN_OPTIONS="suppressions=$PWD/lsan.supp:print_suppressions=0"
+jobs="${FUZZ_JOBS:-1}"
+parallel=()
+[ "$jobs" -gt 1 ] && parallel=(-jobs="$jobs" -workers="$jobs")
 cargo +nightly fuzz run abi_calls corpus/abi_calls -- \
-    -runs="$RUNS" -detect_leaks=0 -rss_limit_mb=4096 -print_final_stats=1 "$@"
+    -runs="$RUNS" -detect_leaks=0 -rss_limit_mb=4096 -print_final_stats=1 "${parallel[@]}" "$@"

@@ -504,9 +504,22 @@ fn fuzz_create(u: &mut Unstructured, world: &World) -> Result<()> {
     Ok(())
 }
 
-fn fuzz_submit(u: &mut Unstructured, world: &mut World, cmd: vk::CommandBuffer) -> Result<bool> {
+/// `follows`: the last frame this command buffer holds, if any. The engine's side of the
+/// frames-in-flight contract is that, when it records frame F, frame F - FRAMES_IN_FLIGHT has
+/// finished: frames sharing a command buffer must be consecutive, and at most
+/// FRAMES_IN_FLIGHT of them. (A first fuzzer run broke this with frames 5 and 7 in one command
+/// buffer, which share a slot: the validation layer caught the harness, not the plugin.)
+fn fuzz_submit(
+    u: &mut Unstructured,
+    world: &mut World,
+    cmd: vk::CommandBuffer,
+    follows: Option<u64>,
+) -> Result<bool> {
     let (width, height) = extent(u)?;
-    let frame_index = mostly(u, world.next_frame, |u| u.arbitrary())?;
+    let frame_index = match follows {
+        Some(previous) => previous + 1,
+        None => mostly(u, world.next_frame, |u| u.arbitrary())?,
+    };
     let desc = PatchexFrameDesc {
         header: header(
             u,
@@ -607,7 +620,9 @@ fn fuzz_nulls(u: &mut Unstructured, world: &World, cmd: vk::CommandBuffer) -> Re
 }
 
 fn run(u: &mut Unstructured, world: &mut World) -> Result<()> {
-    let mut submits = 0;
+    // Frames this command buffer holds: at most FRAMES_IN_FLIGHT, consecutive (see fuzz_submit).
+    let mut frames_recorded = 0;
+    let mut last_recorded: Option<u64> = None;
     let mut outcome = Ok(());
     // One reused command buffer and fence, as a render loop has: allocating them per input
     // grows the validation layer's bookkeeping without end.
@@ -621,11 +636,10 @@ fn run(u: &mut Unstructured, world: &mut World) -> Result<()> {
                 }
                 match u.int_in_range(0..=5)? {
                     0 => fuzz_create(u, world)?,
-                    // The engine's side of the frames-in-flight contract: one command buffer
-                    // holds at most FRAMES_IN_FLIGHT frames.
-                    1 | 2 if submits < FRAMES_IN_FLIGHT => {
-                        if fuzz_submit(u, world, cmd)? {
-                            submits += 1;
+                    1 | 2 if frames_recorded < FRAMES_IN_FLIGHT => {
+                        if fuzz_submit(u, world, cmd, last_recorded)? {
+                            frames_recorded += 1;
+                            last_recorded = Some(world.next_frame - 1);
                         }
                     }
                     3 => fuzz_extrapolate(u, world, cmd)?,
