@@ -504,22 +504,26 @@ fn fuzz_create(u: &mut Unstructured, world: &World) -> Result<()> {
     Ok(())
 }
 
-/// `follows`: the last frame this command buffer holds, if any. The engine's side of the
-/// frames-in-flight contract is that, when it records frame F, frame F - FRAMES_IN_FLIGHT has
-/// finished: frames sharing a command buffer must be consecutive, and at most
-/// FRAMES_IN_FLIGHT of them. (A first fuzzer run broke this with frames 5 and 7 in one command
-/// buffer, which share a slot: the validation layer caught the harness, not the plugin.)
+/// `oldest`: the oldest frame this command buffer already holds work for, if any. The engine's
+/// side of the frames-in-flight contract is that when it records frame F, everything recorded
+/// for frame F - FRAMES_IN_FLIGHT has finished; within one command buffer that allows only the
+/// next frame, and only while it is within FRAMES_IN_FLIGHT of `oldest`. (Runs that broke this,
+/// with frames 5 and 7, or an extrapolation from 5 followed by frame 7, in one command buffer,
+/// had the validation layer catch the harness, not the plugin.) Returns the submitted index.
 fn fuzz_submit(
     u: &mut Unstructured,
     world: &mut World,
     cmd: vk::CommandBuffer,
-    follows: Option<u64>,
-) -> Result<bool> {
-    let (width, height) = extent(u)?;
-    let frame_index = match follows {
-        Some(previous) => previous + 1,
+    oldest: Option<u64>,
+) -> Result<Option<u64>> {
+    let frame_index = match oldest {
+        Some(oldest) if world.next_frame >= oldest + u64::from(FRAMES_IN_FLIGHT) => {
+            return Ok(None)
+        }
+        Some(_) => world.next_frame,
         None => mostly(u, world.next_frame, |u| u.arbitrary())?,
     };
+    let (width, height) = extent(u)?;
     let desc = PatchexFrameDesc {
         header: header(
             u,
@@ -547,13 +551,19 @@ fn fuzz_submit(
     // SAFETY: the context is live, cmd is recording, and every image in desc is a live pool image.
     let result = unsafe { patchex_submit_gbuffers(world.context, cmd, &desc) };
     check(result, world.context, "patchex_submit_gbuffers");
-    if result == PatchexResult::Success {
-        world.next_frame = frame_index.saturating_add(1);
+    if result != PatchexResult::Success {
+        return Ok(None);
     }
-    Ok(result == PatchexResult::Success)
+    world.next_frame = frame_index.saturating_add(1);
+    Ok(Some(frame_index))
 }
 
-fn fuzz_extrapolate(u: &mut Unstructured, world: &World, cmd: vk::CommandBuffer) -> Result<()> {
+/// Returns the frame extrapolated from, when the call recorded something.
+fn fuzz_extrapolate(
+    u: &mut Unstructured,
+    world: &World,
+    cmd: vk::CommandBuffer,
+) -> Result<Option<u64>> {
     let (width, height) = extent(u)?;
     let (_links, head) = chain(u, world)?;
     let mut header = header(
@@ -576,7 +586,7 @@ fn fuzz_extrapolate(u: &mut Unstructured, world: &World, cmd: vk::CommandBuffer)
     // SAFETY: as for the submit.
     let result = unsafe { patchex_extrapolate(world.context, cmd, &desc) };
     check(result, world.context, "patchex_extrapolate");
-    Ok(())
+    Ok(((result as i32) >= 0).then(|| world.next_frame - 1))
 }
 
 fn fuzz_stats(u: &mut Unstructured, world: &World) -> Result<()> {
@@ -620,9 +630,8 @@ fn fuzz_nulls(u: &mut Unstructured, world: &World, cmd: vk::CommandBuffer) -> Re
 }
 
 fn run(u: &mut Unstructured, world: &mut World) -> Result<()> {
-    // Frames this command buffer holds: at most FRAMES_IN_FLIGHT, consecutive (see fuzz_submit).
-    let mut frames_recorded = 0;
-    let mut last_recorded: Option<u64> = None;
+    // The oldest frame this command buffer holds work for (see fuzz_submit).
+    let mut oldest: Option<u64> = None;
     let mut outcome = Ok(());
     // One reused command buffer and fence, as a render loop has: allocating them per input
     // grows the validation layer's bookkeeping without end.
@@ -636,13 +645,16 @@ fn run(u: &mut Unstructured, world: &mut World) -> Result<()> {
                 }
                 match u.int_in_range(0..=5)? {
                     0 => fuzz_create(u, world)?,
-                    1 | 2 if frames_recorded < FRAMES_IN_FLIGHT => {
-                        if fuzz_submit(u, world, cmd, last_recorded)? {
-                            frames_recorded += 1;
-                            last_recorded = Some(world.next_frame - 1);
+                    1 | 2 => {
+                        if let Some(frame) = fuzz_submit(u, world, cmd, oldest)? {
+                            oldest.get_or_insert(frame);
                         }
                     }
-                    3 => fuzz_extrapolate(u, world, cmd)?,
+                    3 => {
+                        if let Some(frame) = fuzz_extrapolate(u, world, cmd)? {
+                            oldest.get_or_insert(frame);
+                        }
+                    }
                     4 => fuzz_stats(u, world)?,
                     _ => fuzz_nulls(u, world, cmd)?,
                 }
