@@ -28,7 +28,8 @@
  * LIFETIMES. Inputs are read when the command buffer executes and are not needed afterwards:
  * patchex copies what it keeps from frame t. Command buffers must be submitted in the order
  * they were recorded. When the engine records frame F, the GPU must have finished everything
- * recorded for frame F - frames_in_flight. Handles cannot be checked for liveness: an image
+ * recorded for frame F - frames_in_flight (its submit and its extrapolations): so one command
+ * buffer may hold work for at most frames_in_flight consecutive frames. Handles cannot be checked for liveness: an image
  * or view destroyed before the call, or before its command buffer has executed, is undefined
  * behaviour, as for any Vulkan use of it. Destroy every context before its device.
  *
