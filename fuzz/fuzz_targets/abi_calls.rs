@@ -517,7 +517,7 @@ fn fuzz_submit(
     oldest: Option<u64>,
 ) -> Result<Option<u64>> {
     let frame_index = match oldest {
-        Some(oldest) if world.next_frame >= oldest + u64::from(FRAMES_IN_FLIGHT) => {
+        Some(oldest) if world.next_frame >= oldest.saturating_add(u64::from(FRAMES_IN_FLIGHT)) => {
             return Ok(None)
         }
         Some(_) => world.next_frame,
