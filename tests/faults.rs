@@ -7,27 +7,13 @@
 mod support;
 
 use ash::vk;
-use glam::Vec2;
 use patchex::error::PatchexResult;
 use patchex_harness::intercept::{Intercept, ObjectKind};
 use patchex_harness::{Engine, EngineImage, EngineOptions};
-use support::scene::Scene;
 use support::*;
 
 const WIDTH: u32 = 32;
 const HEIGHT: u32 = 24;
-
-/// Frame `index` of the moving sphere and its halfway target, as engine images.
-fn frame_pair(engine: &Engine, width: u32, height: u32, index: u64) -> (GpuFrame, GpuFrame) {
-    let scene = Scene::new(width as usize, height as usize);
-    let time = index as f32 / 30.0;
-    let source = scene.render(time, Vec2::ZERO, time - 1.0 / 30.0);
-    let target = scene.render(time + 1.0 / 60.0, Vec2::ZERO, time);
-    (
-        GpuFrame::upload(engine, &source),
-        GpuFrame::upload(engine, &target),
-    )
-}
 
 /// Submits `source` as frame `index` and extrapolates `target` into `output` in one command
 /// buffer; returns both results.
@@ -54,9 +40,7 @@ fn create_fails_cleanly_whichever_allocation_fails() {
     let engine = Engine::new(&EngineOptions::default()).expect("a Vulkan device");
     let intercept = Intercept::install(&engine);
     let library = open_library();
-    let mut info = Rig::create_info(&engine, WIDTH, HEIGHT);
-    info.get_instance_proc_addr = Some(intercept.get_instance_proc_addr());
-    info.get_device_proc_addr = Some(intercept.get_device_proc_addr());
+    let info = Rig::create_info_through(&engine, &intercept, WIDTH, HEIGHT);
 
     let context = create(&library, &info).expect("a clean create succeeds");
     let calls = intercept.creation_calls();
@@ -145,9 +129,7 @@ fn submit_recovers_from_an_allocation_failure_and_steady_frames_allocate_nothing
     );
     let got = output.read(&rig.engine, OUTPUT_LAYOUT);
     assert!(
-        got.iter()
-            .zip(&want)
-            .all(|(a, b)| a.to_bits() == b.to_bits()),
+        same_bits(&got, &want),
         "the recovered context's output equals an undisturbed context's"
     );
 
@@ -230,9 +212,7 @@ fn a_device_without_storage_for_half_floats_is_refused_at_create() {
         vk::FormatFeatureFlags::STORAGE_IMAGE,
     );
     let library = open_library();
-    let mut info = Rig::create_info(&engine, WIDTH, HEIGHT);
-    info.get_instance_proc_addr = Some(intercept.get_instance_proc_addr());
-    info.get_device_proc_addr = Some(intercept.get_device_proc_addr());
+    let info = Rig::create_info_through(&engine, &intercept, WIDTH, HEIGHT);
     let (result, message) = create(&library, &info).expect_err("refused");
     assert_eq!(
         result,
@@ -270,9 +250,7 @@ fn inputs_may_be_destroyed_once_their_command_buffer_completed() {
     });
     let got = output.read(&rig.engine, OUTPUT_LAYOUT);
     assert!(
-        got.iter()
-            .zip(&want)
-            .all(|(a, b)| a.to_bits() == b.to_bits()),
+        same_bits(&got, &want),
         "the extrapolation does not depend on the destroyed inputs"
     );
 }

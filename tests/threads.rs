@@ -6,31 +6,15 @@
 
 mod support;
 
-use glam::Vec2;
 use patchex::error::PatchexResult;
 use patchex_harness::intercept::{Intercept, ObjectKind};
 use patchex_harness::{Engine, EngineImage, EngineOptions};
-use support::scene::Scene;
 use support::*;
 
 const WIDTH: usize = 64;
 const HEIGHT: usize = 48;
 const THREADS: usize = 3;
 const FRAMES: u64 = 4;
-
-/// Frame `index` of the moving sphere and its halfway target, as engine images.
-fn frame_pair(engine: &Engine, index: u64) -> (GpuFrame, GpuFrame) {
-    let scene = Scene::new(WIDTH, HEIGHT);
-    let time = index as f32 / 30.0;
-    (
-        GpuFrame::upload(engine, &scene.render(time, Vec2::ZERO, time - 1.0 / 30.0)),
-        GpuFrame::upload(engine, &scene.render(time + 1.0 / 60.0, Vec2::ZERO, time)),
-    )
-}
-
-fn same_bits(a: &[f32], b: &[f32]) -> bool {
-    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
-}
 
 /// Extrapolates FRAMES frames of the moving sphere on a fresh engine and context; returns each
 /// output image's values.
@@ -41,7 +25,7 @@ fn run_sequence() -> Vec<Vec<f32>> {
     let output = output_image(engine, WIDTH as u32, HEIGHT as u32);
     (1..=FRAMES)
         .map(|frame_index| {
-            let (source, target) = frame_pair(engine, frame_index);
+            let (source, target) = frame_pair(engine, WIDTH as u32, HEIGHT as u32, frame_index);
             engine.run(|cmd| {
                 assert_eq!(
                     rig.submit(cmd, &source.frame_desc(frame_index, family)),
@@ -93,7 +77,7 @@ fn contexts_on_several_threads_of_one_device_match_a_single_threaded_run() {
     let family = engine.queue_family_index;
     // The engine's thread uploads every frame and makes each thread's outputs.
     let frames: Vec<(GpuFrame, GpuFrame)> = (1..=FRAMES)
-        .map(|index| frame_pair(&engine, index))
+        .map(|index| frame_pair(&engine, WIDTH as u32, HEIGHT as u32, index))
         .collect();
     let outputs: Vec<Vec<EngineImage>> = (0..THREADS)
         .map(|_| {
@@ -107,9 +91,7 @@ fn contexts_on_several_threads_of_one_device_match_a_single_threaded_run() {
         for thread_outputs in &outputs {
             let (engine, library, intercept, frames) = (&engine, &library, &intercept, &frames);
             scope.spawn(move || {
-                let mut info = Rig::create_info(engine, WIDTH as u32, HEIGHT as u32);
-                info.get_instance_proc_addr = Some(intercept.get_instance_proc_addr());
-                info.get_device_proc_addr = Some(intercept.get_device_proc_addr());
+                let info = Rig::create_info_through(engine, intercept, WIDTH as u32, HEIGHT as u32);
                 let context =
                     create(library, &info).unwrap_or_else(|(_, message)| panic!("{message}"));
                 let pool = engine.thread_pool();

@@ -41,6 +41,19 @@ impl Rig {
         )
     }
 
+    /// As [`Rig::create_info`], with the plugin loading Vulkan through `intercept`.
+    pub fn create_info_through(
+        engine: &Engine,
+        intercept: &Intercept,
+        max_width: u32,
+        max_height: u32,
+    ) -> PatchexCreateInfo {
+        let mut info = Self::create_info(engine, max_width, max_height);
+        info.get_instance_proc_addr = Some(intercept.get_instance_proc_addr());
+        info.get_device_proc_addr = Some(intercept.get_device_proc_addr());
+        info
+    }
+
     /// An engine with validation and a patchex context for frames up to `max_width` x `max_height`.
     pub fn new(max_width: u32, max_height: u32) -> Self {
         Self::with_options(max_width, max_height, &EngineOptions::default())
@@ -78,11 +91,10 @@ impl Rig {
         max_height: u32,
     ) -> Self {
         let library = open_library();
-        let mut info = Self::create_info(&engine, max_width, max_height);
-        if let Some(intercept) = &intercept {
-            info.get_instance_proc_addr = Some(intercept.get_instance_proc_addr());
-            info.get_device_proc_addr = Some(intercept.get_device_proc_addr());
-        }
+        let info = match &intercept {
+            Some(intercept) => Self::create_info_through(&engine, intercept, max_width, max_height),
+            None => Self::create_info(&engine, max_width, max_height),
+        };
         let context = create(&library, &info).unwrap_or_else(|(_, message)| panic!("{message}"));
         engine.assert_validation_clean();
         Self {
@@ -160,6 +172,23 @@ pub fn create(
     }
     // SAFETY: NULL asks for this thread's last error.
     Err((result, unsafe { library.last_error_message(ptr::null()) }))
+}
+
+/// Frame `index` of the analytic scene's moving sphere and its halfway target, as engine images.
+pub fn frame_pair(engine: &Engine, width: u32, height: u32, index: u64) -> (GpuFrame, GpuFrame) {
+    let scene = scene::Scene::new(width as usize, height as usize);
+    let time = index as f32 / 30.0;
+    let source = scene.render(time, glam::Vec2::ZERO, time - 1.0 / 30.0);
+    let target = scene.render(time + 1.0 / 60.0, glam::Vec2::ZERO, time);
+    (
+        GpuFrame::upload(engine, &source),
+        GpuFrame::upload(engine, &target),
+    )
+}
+
+/// Whether two images hold the same values bit for bit.
+pub fn same_bits(a: &[f32], b: &[f32]) -> bool {
+    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
 }
 
 /// An engine image holding `image`'s values, left in `layout`.

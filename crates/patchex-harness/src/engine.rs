@@ -266,13 +266,35 @@ impl Engine {
 
     /// A command pool for another thread, as an engine gives each of its render threads one.
     pub fn thread_pool(&self) -> ThreadPool<'_> {
+        ThreadPool {
+            engine: self,
+            pool: self.create_command_pool(),
+        }
+    }
+
+    /// A pool of resettable command buffers on the engine's queue family; its owner destroys it.
+    fn create_command_pool(&self) -> vk::CommandPool {
         let info = vk::CommandPoolCreateInfo::default()
             .queue_family_index(self.queue_family_index)
             .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
-        // SAFETY: a plain object on the engine's device, destroyed when the pool is dropped.
-        let pool =
-            unsafe { self.device.create_command_pool(&info, None) }.expect("vkCreateCommandPool");
-        ThreadPool { engine: self, pool }
+        // SAFETY: a plain object on the engine's device.
+        unsafe { self.device.create_command_pool(&info, None) }.expect("vkCreateCommandPool")
+    }
+
+    /// Submits `cmd` (ended) to the queue, signalling `fence`, under the queue's lock: Vulkan
+    /// asks that threads sharing a queue serialise their submissions.
+    fn submit(&self, cmd: vk::CommandBuffer, fence: vk::Fence) {
+        let _queue = self.queue_lock.lock().unwrap_or_else(|p| p.into_inner());
+        // SAFETY: cmd is executable and fence unsignalled; the lock guards the queue.
+        unsafe {
+            self.device
+                .queue_submit(
+                    self.queue,
+                    &[vk::SubmitInfo::default().command_buffers(&[cmd])],
+                    fence,
+                )
+                .expect("vkQueueSubmit");
+        }
     }
 
     fn begin_in(&self, pool: vk::CommandPool) -> vk::CommandBuffer {
@@ -299,8 +321,7 @@ impl Engine {
     }
 
     fn submit_and_wait_in(&self, pool: vk::CommandPool, cmd: vk::CommandBuffer) {
-        // SAFETY: cmd was begun from `pool`; the queue is used under its lock, as Vulkan asks
-        // of a queue shared by threads; waiting on the fence makes freeing cmd safe.
+        // SAFETY: cmd was begun from `pool`; waiting on the fence makes freeing cmd safe.
         unsafe {
             self.device
                 .end_command_buffer(cmd)
@@ -309,16 +330,7 @@ impl Engine {
                 .device
                 .create_fence(&vk::FenceCreateInfo::default(), None)
                 .expect("vkCreateFence");
-            {
-                let _queue = self.queue_lock.lock().unwrap_or_else(|p| p.into_inner());
-                self.device
-                    .queue_submit(
-                        self.queue,
-                        &[vk::SubmitInfo::default().command_buffers(&[cmd])],
-                        fence,
-                    )
-                    .expect("vkQueueSubmit");
-            }
+            self.submit(cmd, fence);
             self.device
                 .wait_for_fences(&[fence], true, u64::MAX)
                 .expect("vkWaitForFences");
@@ -338,17 +350,10 @@ pub struct FrameLoop<'a> {
 
 impl<'a> FrameLoop<'a> {
     pub fn new(engine: &'a Engine, frames_in_flight: usize) -> Self {
+        let pool = engine.create_command_pool();
         // SAFETY: plain objects on the engine's device, destroyed when the loop is dropped.
         unsafe {
             let device = &engine.device;
-            let pool = device
-                .create_command_pool(
-                    &vk::CommandPoolCreateInfo::default()
-                        .queue_family_index(engine.queue_family_index)
-                        .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER),
-                    None,
-                )
-                .expect("vkCreateCommandPool");
             let buffers = device
                 .allocate_command_buffers(
                     &vk::CommandBufferAllocateInfo::default()
@@ -381,7 +386,7 @@ impl<'a> FrameLoop<'a> {
     pub fn frame(&mut self, index: u64, record: impl FnOnce(vk::CommandBuffer)) {
         let (cmd, fence) = self.slots[index as usize % self.slots.len()];
         let device = &self.engine.device;
-        // SAFETY: the fence guards the slot's command buffer; the queue is used under its lock.
+        // SAFETY: the fence guards the slot's command buffer.
         unsafe {
             device
                 .wait_for_fences(&[fence], true, u64::MAX)
@@ -396,19 +401,8 @@ impl<'a> FrameLoop<'a> {
                 .expect("vkBeginCommandBuffer");
             record(cmd);
             device.end_command_buffer(cmd).expect("vkEndCommandBuffer");
-            let _queue = self
-                .engine
-                .queue_lock
-                .lock()
-                .unwrap_or_else(|p| p.into_inner());
-            device
-                .queue_submit(
-                    self.engine.queue,
-                    &[vk::SubmitInfo::default().command_buffers(&[cmd])],
-                    fence,
-                )
-                .expect("vkQueueSubmit");
         }
+        self.engine.submit(cmd, fence);
     }
 
     /// Waits until frame `index` has finished on the GPU.
