@@ -82,6 +82,19 @@
 
 #define PATCHEX_DEFAULT_GROWTH_Y 3.1
 
+// Farneback optical-flow settings a context uses unless told otherwise: three pyramid levels
+// (motion up to about 4 * window_radius pixels), three iterations per level, a 15x15 window,
+// and a 5x5 polynomial fit with sigma 1.1 (Farneback's own choice for that size).
+#define PATCHEX_DEFAULT_FLOW_LEVELS 3
+
+#define PATCHEX_DEFAULT_FLOW_ITERATIONS 3
+
+#define PATCHEX_DEFAULT_FLOW_WINDOW_RADIUS 7
+
+#define PATCHEX_DEFAULT_FLOW_POLY_RADIUS 2
+
+#define PATCHEX_DEFAULT_FLOW_POLY_SIGMA 1.1
+
 // Maximum number of extrapolations recorded from one submitted frame.
 #define PATCHEX_MAX_EXTRAPOLATIONS_PER_FRAME 4
 
@@ -179,7 +192,8 @@ typedef void (*PatchexLogCallback)(void *user_data, PatchexLogLevel level, const
 // Arguments of `patchex_create`.
 typedef struct PatchexCreateInfo {
   // PATCHEX_STRUCT_TYPE_CREATE_INFO, sizeof(PatchexCreateInfo), optional chain
-  // (PatchexWarpSettings and PatchexSegmentationSettings set the context's defaults).
+  // (PatchexWarpSettings, PatchexSegmentationSettings and PatchexShadowFlowSettings set the
+  // context's defaults).
   struct PatchexStructHeader header;
   VkInstance instance;
   VkPhysicalDevice physical_device;
@@ -266,7 +280,9 @@ typedef struct PatchexGeometry {
 
 // Frame t: what `patchex_submit_gbuffers` reads.
 typedef struct PatchexFrameDesc {
-  // PATCHEX_STRUCT_TYPE_FRAME_DESC, sizeof(PatchexFrameDesc), chain (none defined yet).
+  // PATCHEX_STRUCT_TYPE_FRAME_DESC, sizeof(PatchexFrameDesc), optional chain
+  // (PatchexShadowInput turns the shadow sub-task on for this frame; PatchexShadowFlowSettings
+  // overrides the context's flow settings for it).
   struct PatchexStructHeader header;
   // Strictly increasing. A gap (not previous + 1) resets history like `reset`.
   uint64_t frame_index;
@@ -289,7 +305,8 @@ typedef struct PatchexFrameDesc {
 typedef struct PatchexExtrapolateDesc {
   // PATCHEX_STRUCT_TYPE_EXTRAPOLATE_DESC, sizeof(PatchexExtrapolateDesc), optional chain
   // (PatchexWarpSettings and PatchexSegmentationSettings override the context's defaults
-  // for this call; PatchexDiagnostics asks for the per-pixel intermediate results).
+  // for this call; PatchexDiagnostics and PatchexShadowDiagnostics ask for the per-pixel
+  // intermediate results).
   struct PatchexStructHeader header;
   uint32_t queue_family_index;
   // Position of the target between frame t (0) and frame t+1 (1), in (0, 1].
@@ -395,6 +412,12 @@ typedef uint32_t PatchexStage;
 
 #define PATCHEX_STRUCT_TYPE_DIAGNOSTICS 7
 
+#define PATCHEX_STRUCT_TYPE_SHADOW_INPUT 8
+
+#define PATCHEX_STRUCT_TYPE_SHADOW_FLOW_SETTINGS 9
+
+#define PATCHEX_STRUCT_TYPE_SHADOW_DIAGNOSTICS 10
+
 // Demodulate, G-buffer-guided warp, remodulate. Holes keep the warp's nearest colour.
 #define PATCHEX_PRESET_WARP_ONLY 0
 
@@ -429,6 +452,7 @@ typedef uint32_t PatchexStage;
 
 #define PATCHEX_LOG_INFO 2
 
+// Demodulation of frame t; with a PatchexShadowInput, the shadow separation in its place.
 #define PATCHEX_STAGE_DEMODULATE 0
 
 #define PATCHEX_STAGE_PACK_SOURCE_GBUFFER 1
@@ -446,6 +470,12 @@ typedef uint32_t PatchexStage;
 
 // Only when a PatchexDiagnostics image is chained.
 #define PATCHEX_STAGE_DIAGNOSTICS 7
+
+// Submit, with a PatchexShadowInput: mask pyramid, polynomial expansion and Farneback flow.
+#define PATCHEX_STAGE_SHADOW_FLOW 8
+
+// Extrapolation of a frame with a shadow input: the shadow layer's warp.
+#define PATCHEX_STAGE_SHADOW_WARP 9
 
 #define PATCHEX_RESET_NONE 0
 

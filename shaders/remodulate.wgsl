@@ -1,10 +1,13 @@
 // Multiplies the extrapolated shading by the target instant's own modulation factor and writes the
 // engine's output image: texture detail comes from the target's G-buffer, not from the warp.
+// With a shadow input, the warped shadow layer is added back to the shading first.
 // #import gbuffer
 
 struct Params {
     extent: vec2u,
     has_material: u32,
+    // With a shadow input: the warped shadow layer is added back first (separate_shadows.wgsl).
+    has_shadow_layer: u32,
 }
 var<immediate> params: Params;
 
@@ -13,6 +16,7 @@ var<immediate> params: Params;
 @group(0) @binding(2) var material: texture_2d<f32>;
 @group(0) @binding(3) var output: texture_storage_2d<rgba16float, write>;
 @group(0) @binding(4) var<storage, read_write> counters: SanitizeCounters;
+@group(0) @binding(5) var shadow_layer: texture_2d<f32>;
 
 var<workgroup> group_sanitized: atomic<u32>;
 
@@ -26,7 +30,12 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
     if (all(p < params.extent)) {
         let m = pixel_modulation(base_color, material, p, params.has_material);
         // The product can exceed what RGBA16F holds; clamp it there and count the pixel.
-        let color = sanitize_color(textureLoad(shading, p, 0).rgb * m.factor);
+        var shading_rgb = textureLoad(shading, p, 0).rgb;
+        if (params.has_shadow_layer != ABSENT) {
+            // A shadow moved onto an already darker surface cannot take more light than is there.
+            shading_rgb = max(shading_rgb + textureLoad(shadow_layer, p, 0).rgb, vec3f(0.0));
+        }
+        let color = sanitize_color(shading_rgb * m.factor);
         textureStore(output, p, vec4f(color.value, 1.0));
         if (m.changed || color.changed) {
             atomicAdd(&group_sanitized, 1u);

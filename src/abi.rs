@@ -40,6 +40,9 @@ pub const PATCHEX_STRUCT_TYPE_WARP_SETTINGS: PatchexStructType = 4;
 pub const PATCHEX_STRUCT_TYPE_FRAME_STATS: PatchexStructType = 5;
 pub const PATCHEX_STRUCT_TYPE_SEGMENTATION_SETTINGS: PatchexStructType = 6;
 pub const PATCHEX_STRUCT_TYPE_DIAGNOSTICS: PatchexStructType = 7;
+pub const PATCHEX_STRUCT_TYPE_SHADOW_INPUT: PatchexStructType = 8;
+pub const PATCHEX_STRUCT_TYPE_SHADOW_FLOW_SETTINGS: PatchexStructType = 9;
+pub const PATCHEX_STRUCT_TYPE_SHADOW_DIAGNOSTICS: PatchexStructType = 10;
 
 /// The first fields of every versioned struct, read before the rest.
 #[repr(C)]
@@ -172,7 +175,8 @@ pub struct PatchexGeometry {
 #[derive(Clone, Copy, Debug)]
 pub struct PatchexCreateInfo {
     /// PATCHEX_STRUCT_TYPE_CREATE_INFO, sizeof(PatchexCreateInfo), optional chain
-    /// (PatchexWarpSettings and PatchexSegmentationSettings set the context's defaults).
+    /// (PatchexWarpSettings, PatchexSegmentationSettings and PatchexShadowFlowSettings set the
+    /// context's defaults).
     pub header: PatchexStructHeader,
     pub instance: VkInstance,
     pub physical_device: VkPhysicalDevice,
@@ -228,7 +232,9 @@ impl PatchexCreateInfo {
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
 pub struct PatchexFrameDesc {
-    /// PATCHEX_STRUCT_TYPE_FRAME_DESC, sizeof(PatchexFrameDesc), chain (none defined yet).
+    /// PATCHEX_STRUCT_TYPE_FRAME_DESC, sizeof(PatchexFrameDesc), optional chain
+    /// (PatchexShadowInput turns the shadow sub-task on for this frame; PatchexShadowFlowSettings
+    /// overrides the context's flow settings for it).
     pub header: PatchexStructHeader,
     /// Strictly increasing. A gap (not previous + 1) resets history like `reset`.
     pub frame_index: u64,
@@ -253,7 +259,8 @@ pub struct PatchexFrameDesc {
 pub struct PatchexExtrapolateDesc {
     /// PATCHEX_STRUCT_TYPE_EXTRAPOLATE_DESC, sizeof(PatchexExtrapolateDesc), optional chain
     /// (PatchexWarpSettings and PatchexSegmentationSettings override the context's defaults
-    /// for this call; PatchexDiagnostics asks for the per-pixel intermediate results).
+    /// for this call; PatchexDiagnostics and PatchexShadowDiagnostics ask for the per-pixel
+    /// intermediate results).
     pub header: PatchexStructHeader,
     pub queue_family_index: u32,
     /// Position of the target between frame t (0) and frame t+1 (1), in (0, 1].
@@ -320,6 +327,65 @@ pub struct PatchexSegmentationSettings {
     pub growth_y: f32,
 }
 
+/// Chainable on PatchexFrameDesc: the shadows cast by dynamic objects in frame t. Warping moves
+/// what is painted on surfaces, but a moving character's shadow moves over ground whose motion
+/// vectors are zero; with this input patchex takes that shadow out of frame t, estimates its
+/// motion from the masks of frames t-1 and t (Farneback dense optical flow), moves it to the
+/// target instant with the occlusion-motion-vector warp, and puts it back. Without it the
+/// shadow sub-task does not run and costs nothing.
+///
+/// Separation, per pixel of frame t, with m the demodulation factor of the frame's colour:
+/// shading = color_without_dynamic_shadows / m, shadow layer = (color - color_without_dynamic_
+/// shadows) / m. Nothing is divided by the mask, so a fully shadowed pixel (mask 0) is as
+/// stable as a lit one, and shading + layer gives frame t back exactly. The target's shading is
+/// max(warped shading + warped layer, 0) before remodulation.
+///
+/// What an engine provides: the mask is the sun's visibility through dynamic casters only
+/// (1 lit, 0 fully shadowed; static casters excluded), and the colour is frame t lit as if
+/// dynamic casters cast no shadow. A deferred renderer gets both from its directional light's
+/// pass: evaluate the light once with the dynamic-caster shadow term and once without it
+/// (Unreal: a second projection of the movable-object shadow into its own screen shadow mask,
+/// and SceneColor plus (1 - mask) times the light's contribution; see plugin-unreal/README.md).
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct PatchexShadowInput {
+    /// PATCHEX_STRUCT_TYPE_SHADOW_INPUT, sizeof(PatchexShadowInput), chain.
+    pub header: PatchexStructHeader,
+    /// Visibility of the sun through dynamic casters, in [0, 1], in the first channel. Float or
+    /// UNORM formats. Values outside [0, 1] or NaN are sanitised and counted.
+    pub mask: PatchexImage,
+    /// Frame t's linear HDR colour without the shadows of dynamic casters; formats as `color`.
+    pub color_without_dynamic_shadows: PatchexImage,
+}
+
+/// Farneback optical-flow settings a context uses unless told otherwise: three pyramid levels
+/// (motion up to about 4 * window_radius pixels), three iterations per level, a 15x15 window,
+/// and a 5x5 polynomial fit with sigma 1.1 (Farneback's own choice for that size).
+pub const PATCHEX_DEFAULT_FLOW_LEVELS: u32 = 3;
+pub const PATCHEX_DEFAULT_FLOW_ITERATIONS: u32 = 3;
+pub const PATCHEX_DEFAULT_FLOW_WINDOW_RADIUS: u32 = 7;
+pub const PATCHEX_DEFAULT_FLOW_POLY_RADIUS: u32 = 2;
+pub const PATCHEX_DEFAULT_FLOW_POLY_SIGMA: f32 = 1.1;
+
+/// Chainable on PatchexCreateInfo (context default) or PatchexFrameDesc (this frame): the dense
+/// optical flow that tracks the dynamic-caster shadow mask between frames t-1 and t.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct PatchexShadowFlowSettings {
+    /// PATCHEX_STRUCT_TYPE_SHADOW_FLOW_SETTINGS, sizeof(PatchexShadowFlowSettings), chain.
+    pub header: PatchexStructHeader,
+    /// Pyramid levels, 1 to 6; each halves the resolution and doubles the motion it can follow.
+    pub levels: u32,
+    /// Flow refinements per level, 1 to 10.
+    pub iterations: u32,
+    /// Half-size of the window the flow is fitted over, 1 to 15 (a (2r+1)^2 window).
+    pub window_radius: u32,
+    /// Half-size of the polynomial expansion's neighbourhood, 1 to 3.
+    pub poly_radius: u32,
+    /// Gaussian sigma of the polynomial expansion's weights, in pixels, 0.1 to 4.
+    pub poly_sigma: f32,
+}
+
 /// Chainable on PatchexExtrapolateDesc: an engine image that receives per-pixel intermediate
 /// results, for debug views and evaluation. R16G16B16A16_SFLOAT with STORAGE usage, the size of
 /// the output. R = hole (1, the warp's colour is a guess) or valid (0); G = region (0 far
@@ -332,11 +398,25 @@ pub struct PatchexDiagnostics {
     pub image: PatchexImage,
 }
 
+/// Chainable on PatchexExtrapolateDesc: an engine image that receives the shadow sub-task's
+/// intermediate results, written only when frame t came with a PatchexShadowInput.
+/// R16G16B16A16_SFLOAT with STORAGE usage, the size of the output. RG = the shadow mask's flow at
+/// this pixel of frame t (its displacement to frame t-1, in pixels); B = luminance of frame t's
+/// demodulated shadow layer; A = luminance of that layer warped to the target instant.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct PatchexShadowDiagnostics {
+    /// PATCHEX_STRUCT_TYPE_SHADOW_DIAGNOSTICS, sizeof(PatchexShadowDiagnostics), chain.
+    pub header: PatchexStructHeader,
+    pub image: PatchexImage,
+}
+
 /// Maximum number of extrapolations recorded from one submitted frame.
 pub const PATCHEX_MAX_EXTRAPOLATIONS_PER_FRAME: usize = 4;
 
 /// Stage indices into the `gpu_ms` arrays.
 pub type PatchexStage = u32;
+/// Demodulation of frame t; with a PatchexShadowInput, the shadow separation in its place.
 pub const PATCHEX_STAGE_DEMODULATE: PatchexStage = 0;
 pub const PATCHEX_STAGE_PACK_SOURCE_GBUFFER: PatchexStage = 1;
 pub const PATCHEX_STAGE_PACK_TARGET_GBUFFER: PatchexStage = 2;
@@ -347,6 +427,10 @@ pub const PATCHEX_STAGE_SEGMENT: PatchexStage = 5;
 pub const PATCHEX_STAGE_LBP: PatchexStage = 6;
 /// Only when a PatchexDiagnostics image is chained.
 pub const PATCHEX_STAGE_DIAGNOSTICS: PatchexStage = 7;
+/// Submit, with a PatchexShadowInput: mask pyramid, polynomial expansion and Farneback flow.
+pub const PATCHEX_STAGE_SHADOW_FLOW: PatchexStage = 8;
+/// Extrapolation of a frame with a shadow input: the shadow layer's warp.
+pub const PATCHEX_STAGE_SHADOW_WARP: PatchexStage = 9;
 /// Size of the `gpu_ms` arrays; stages added later take indices below it.
 pub const PATCHEX_STAGE_SLOTS: usize = 16;
 

@@ -12,10 +12,11 @@ use crate::camera::Camera;
 use crate::error::{bail, PatchexResult, Result};
 use crate::inputs::{self, GeometryInputs, SourceInputs, TargetInputs};
 use crate::passes::segmentation::{self, SegmentationSettings};
+use crate::passes::shadow_flow::{self, FlowSettings};
 use crate::passes::warp::WarpSettings;
 use crate::passes::{
-    demodulate, diagnostics, lbp, pack_gbuffer, remodulate, warp, Pipelines, Texture,
-    SANITIZE_COUNTER_BYTES,
+    demodulate, diagnostics, lbp, pack_gbuffer, remodulate, separate_shadows, warp, Pipelines,
+    Texture, SANITIZE_COUNTER_BYTES,
 };
 use crate::vk::barriers::{self, EngineImageAccess};
 use crate::vk::device::Gpu;
@@ -32,64 +33,83 @@ pub const MAX_EXTENT: u32 = 16384;
 const WARP_COUNTERS_OFFSET: u64 = 0;
 /// Submit: demodulation's; extrapolation: remodulation's.
 const SANITIZE_COUNTERS_OFFSET: u64 = 256;
-const OBJECT_TABLE_OFFSET: u64 = 512;
+/// Holes of the shadow layer's warp, kept apart from the frame's.
+const SHADOW_WARP_COUNTERS_OFFSET: u64 = 512;
+const OBJECT_TABLE_OFFSET: u64 = 768;
 pub const COUNTER_BYTES: u64 = OBJECT_TABLE_OFFSET + segmentation::TABLE_BYTES;
 
-/// The plugin's working images, all at one extent (the largest frame seen so far).
-struct WorkImages {
-    extent: vk::Extent2D,
-    source_shading: OwnedImage,
-    source_geometry: OwnedImage,
-    source_normal_id: OwnedImage,
-    target_geometry: OwnedImage,
-    target_normal_id: OwnedImage,
-    warped: OwnedImage,
-    /// Region of each target pixel (segmentation::REGION_*).
-    regions: OwnedImage,
-    lbp: OwnedImage,
+/// One image of an `ImageSet`.
+struct ImageSpec {
+    name: &'static str,
+    format: vk::Format,
+    /// Sized for a pyramid atlas (`shadow_flow::atlas_extent`) rather than the frame.
+    atlas: bool,
+    /// Cleared with vkCmdClearColorImage.
+    cleared: bool,
 }
 
-impl WorkImages {
-    /// Name and format of each image, in field order.
-    const SPECS: [(&'static str, vk::Format); 8] = [
-        ("patchex source shading", vk::Format::R32G32B32A32_SFLOAT),
-        ("patchex source geometry", vk::Format::R32G32B32A32_SFLOAT),
-        ("patchex source normal+id", vk::Format::R16G16B16A16_SFLOAT),
-        ("patchex target geometry", vk::Format::R32G32B32A32_SFLOAT),
-        ("patchex target normal+id", vk::Format::R16G16B16A16_SFLOAT),
-        ("patchex warped shading", vk::Format::R32G32B32A32_SFLOAT),
-        ("patchex regions", vk::Format::R32_UINT),
-        ("patchex lbp", vk::Format::R32_SFLOAT),
-    ];
+const fn frame_image(name: &'static str, format: vk::Format) -> ImageSpec {
+    ImageSpec {
+        name,
+        format,
+        atlas: false,
+        cleared: false,
+    }
+}
 
-    /// Vulkan requires storage-image support for every one of these formats, but a device that
+const fn atlas_image(name: &'static str, format: vk::Format) -> ImageSpec {
+    ImageSpec {
+        name,
+        format,
+        atlas: true,
+        cleared: false,
+    }
+}
+
+/// Images made, grown and freed together, for frames up to `extent`.
+struct ImageSet<const N: usize> {
+    extent: vk::Extent2D,
+    images: [OwnedImage; N],
+}
+
+impl<const N: usize> ImageSet<N> {
+    /// Vulkan requires storage-image support for every format used here, but a device that
     /// lacks it must be refused at creation rather than fail later.
-    fn check_formats(gpu: &Gpu) -> Result<()> {
+    fn check_formats(gpu: &Gpu, specs: &[ImageSpec; N]) -> Result<()> {
         let needed = vk::FormatFeatureFlags::STORAGE_IMAGE | vk::FormatFeatureFlags::SAMPLED_IMAGE;
-        for (name, format) in Self::SPECS {
-            let features = gpu.format_features(format);
+        for spec in specs {
+            let features = gpu.format_features(spec.format);
             if !features.contains(needed) {
                 bail!(
                     ErrorMissingDeviceFeature,
-                    "the device lacks {:?} for {format:?}, the format of the {name} image",
-                    needed & !features
+                    "the device lacks {:?} for {:?}, the format of the {} image",
+                    needed & !features,
+                    spec.format,
+                    spec.name
                 );
             }
         }
         Ok(())
     }
 
-    fn new(gpu: &Gpu, allocator: &mut Allocator, extent: vk::Extent2D) -> Result<Self> {
-        let mut made: Vec<OwnedImage> = Vec::with_capacity(Self::SPECS.len());
-        for (name, format) in Self::SPECS {
-            match OwnedImage::new(
-                gpu,
-                allocator,
-                name,
-                format,
-                extent,
-                vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::STORAGE,
-            ) {
+    fn new(
+        gpu: &Gpu,
+        allocator: &mut Allocator,
+        extent: vk::Extent2D,
+        specs: &[ImageSpec; N],
+    ) -> Result<Self> {
+        let mut made: Vec<OwnedImage> = Vec::with_capacity(N);
+        for spec in specs {
+            let mut usage = vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::STORAGE;
+            if spec.cleared {
+                usage |= vk::ImageUsageFlags::TRANSFER_DST;
+            }
+            let size = if spec.atlas {
+                shadow_flow::atlas_extent(extent)
+            } else {
+                extent
+            };
+            match OwnedImage::new(gpu, allocator, spec.name, spec.format, size, usage) {
                 Ok(image) => made.push(image),
                 Err(error) => {
                     for mut image in made {
@@ -99,60 +119,109 @@ impl WorkImages {
                 }
             }
         }
-        let [source_shading, source_geometry, source_normal_id, target_geometry, target_normal_id, warped, regions, lbp] =
-            <[OwnedImage; 8]>::try_from(made)
-                .ok()
-                .expect("eight images");
-        Ok(Self {
-            extent,
-            source_shading,
-            source_geometry,
-            source_normal_id,
-            target_geometry,
-            target_normal_id,
-            warped,
-            regions,
-            lbp,
-        })
+        let Ok(images) = made.try_into() else {
+            unreachable!("one image per spec")
+        };
+        Ok(Self { extent, images })
     }
 
-    fn into_vec(self) -> Vec<OwnedImage> {
-        vec![
-            self.source_shading,
-            self.source_geometry,
-            self.source_normal_id,
-            self.target_geometry,
-            self.target_normal_id,
-            self.warped,
-            self.regions,
-            self.lbp,
-        ]
+    fn holds(&self, extent: vk::Extent2D) -> bool {
+        self.extent.width >= extent.width && self.extent.height >= extent.height
     }
 
-    fn all(&self) -> [&OwnedImage; 8] {
-        [
-            &self.source_shading,
-            &self.source_geometry,
-            &self.source_normal_id,
-            &self.target_geometry,
-            &self.target_normal_id,
-            &self.warped,
-            &self.regions,
-            &self.lbp,
-        ]
+    fn size_bytes(&self) -> u64 {
+        self.images.iter().map(|image| image.size_bytes()).sum()
     }
+}
 
-    fn all_mut(&mut self) -> [&mut OwnedImage; 8] {
-        [
-            &mut self.source_shading,
-            &mut self.source_geometry,
-            &mut self.source_normal_id,
-            &mut self.target_geometry,
-            &mut self.target_normal_id,
-            &mut self.warped,
-            &mut self.regions,
-            &mut self.lbp,
-        ]
+impl<const N: usize> std::ops::Index<usize> for ImageSet<N> {
+    type Output = OwnedImage;
+    fn index(&self, index: usize) -> &OwnedImage {
+        &self.images[index]
+    }
+}
+
+/// The plugin's working images, all at one extent (the largest frame seen so far).
+type WorkImages = ImageSet<8>;
+
+impl WorkImages {
+    const SOURCE_SHADING: usize = 0;
+    const SOURCE_GEOMETRY: usize = 1;
+    const SOURCE_NORMAL_ID: usize = 2;
+    const TARGET_GEOMETRY: usize = 3;
+    const TARGET_NORMAL_ID: usize = 4;
+    const WARPED: usize = 5;
+    /// Region of each target pixel (segmentation::REGION_*).
+    const REGIONS: usize = 6;
+    const LBP: usize = 7;
+
+    const SPECS: [ImageSpec; 8] = [
+        frame_image("patchex source shading", vk::Format::R32G32B32A32_SFLOAT),
+        frame_image("patchex source geometry", vk::Format::R32G32B32A32_SFLOAT),
+        frame_image("patchex source normal+id", vk::Format::R16G16B16A16_SFLOAT),
+        frame_image("patchex target geometry", vk::Format::R32G32B32A32_SFLOAT),
+        frame_image("patchex target normal+id", vk::Format::R16G16B16A16_SFLOAT),
+        frame_image("patchex warped shading", vk::Format::R32G32B32A32_SFLOAT),
+        frame_image("patchex regions", vk::Format::R32_UINT),
+        frame_image("patchex lbp", vk::Format::R32_SFLOAT),
+    ];
+}
+
+/// The shadow sub-task's images, made at the first frame with a shadow input.
+type ShadowImages = ImageSet<12>;
+
+impl ShadowImages {
+    const LAYER: usize = 0;
+    const WARPED_LAYER: usize = 1;
+    const MASK_PYRAMID: usize = 2;
+    /// Frame t's and frame t-1's expansions, alternating (`Context::shadow_current`).
+    const POLY: [usize; 2] = [3, 4];
+    const POLY_XY: [usize; 2] = [5, 6];
+    const EQUATIONS: usize = 7;
+    const EQUATIONS_H2: usize = 8;
+    const ROWS: usize = 9;
+    const ROWS_H2: usize = 10;
+    const FLOW: usize = 11;
+
+    const SPECS: [ImageSpec; 12] = [
+        frame_image("patchex shadow layer", vk::Format::R32G32B32A32_SFLOAT),
+        frame_image(
+            "patchex warped shadow layer",
+            vk::Format::R32G32B32A32_SFLOAT,
+        ),
+        atlas_image("patchex shadow mask pyramid", vk::Format::R32_SFLOAT),
+        atlas_image(
+            "patchex shadow expansion A",
+            vk::Format::R32G32B32A32_SFLOAT,
+        ),
+        atlas_image(
+            "patchex shadow expansion B",
+            vk::Format::R32G32B32A32_SFLOAT,
+        ),
+        atlas_image("patchex shadow expansion xy A", vk::Format::R32_SFLOAT),
+        atlas_image("patchex shadow expansion xy B", vk::Format::R32_SFLOAT),
+        atlas_image("patchex flow equations", vk::Format::R32G32B32A32_SFLOAT),
+        atlas_image("patchex flow equations h2", vk::Format::R32_SFLOAT),
+        atlas_image("patchex flow rows", vk::Format::R32G32B32A32_SFLOAT),
+        atlas_image("patchex flow rows h2", vk::Format::R32_SFLOAT),
+        ImageSpec {
+            cleared: true,
+            ..atlas_image("patchex shadow flow", vk::Format::R32G32B32A32_SFLOAT)
+        },
+    ];
+
+    fn flow_images(&self, current: usize) -> shadow_flow::FlowImages<'_> {
+        shadow_flow::FlowImages {
+            mask_pyramid: &self[Self::MASK_PYRAMID],
+            poly: Self::POLY.map(|index| &self[index]),
+            poly_xy: Self::POLY_XY.map(|index| &self[index]),
+            current,
+            equations: &self[Self::EQUATIONS],
+            equations_h2: &self[Self::EQUATIONS_H2],
+            rows: &self[Self::ROWS],
+            rows_h2: &self[Self::ROWS_H2],
+            flow: &self[Self::FLOW],
+        }
     }
 }
 
@@ -167,6 +236,8 @@ struct SourceFrame {
     frame_index: u64,
     extent: vk::Extent2D,
     camera: Camera,
+    /// It came with a shadow input: its layer and flow are in the shadow images.
+    has_shadows: bool,
 }
 
 /// Extension structs chained on a create info or an extrapolate call, validated.
@@ -175,6 +246,9 @@ pub struct Extensions {
     pub warp: Option<WarpSettings>,
     pub segmentation: Option<SegmentationSettings>,
     pub diagnostics: Option<PatchexImage>,
+    pub shadow_diagnostics: Option<PatchexImage>,
+    pub shadow: Option<PatchexShadowInput>,
+    pub flow: Option<FlowSettings>,
 }
 
 pub struct Context {
@@ -184,9 +258,13 @@ pub struct Context {
     ring: FrameRing,
     placeholders: Placeholders,
     work: Option<WorkImages>,
+    shadows: Option<ShadowImages>,
+    /// Which of the alternating expansion images holds the last submitted frame's.
+    shadow_current: usize,
     max_extent: vk::Extent2D,
     default_warp: WarpSettings,
     default_segmentation: SegmentationSettings,
+    default_flow: FlowSettings,
     source: Option<SourceFrame>,
 }
 
@@ -221,7 +299,8 @@ impl Context {
             );
         }
         let gpu = Gpu::load(info)?;
-        WorkImages::check_formats(&gpu)?;
+        WorkImages::check_formats(&gpu, &WorkImages::SPECS)?;
+        ShadowImages::check_formats(&gpu, &ShadowImages::SPECS)?;
         let mut allocator = Allocator::new(&AllocatorCreateDesc {
             instance: gpu.instance.clone(),
             device: gpu.device.clone(),
@@ -231,12 +310,11 @@ impl Context {
             allocation_sizes: Default::default(),
         })?;
         let pipelines = Pipelines::shared(&gpu)?;
-        let set_layouts: Vec<_> = pipelines.all().iter().map(|p| p.set_layout).collect();
         let ring = FrameRing::new(
             &gpu,
             &mut allocator,
             info.frames_in_flight as usize,
-            &set_layouts,
+            &pipelines.set_layouts(),
             &pipelines.pool_sizes(),
         )?;
         let mut context = Self {
@@ -249,12 +327,15 @@ impl Context {
                 uint: OwnedImage::null(),
             },
             work: None,
+            shadows: None,
+            shadow_current: 0,
             max_extent: vk::Extent2D {
                 width: info.max_width,
                 height: info.max_height,
             },
             default_warp: defaults.warp.unwrap_or_default(),
             default_segmentation: defaults.segmentation.unwrap_or_default(),
+            default_flow: defaults.flow.unwrap_or_default(),
             source: None,
         };
         let one = vk::Extent2D {
@@ -315,24 +396,38 @@ impl Context {
 
     /// Grows the working images to hold `extent`; the old ones wait out the frames in flight.
     fn ensure_work_images(&mut self, extent: vk::Extent2D, frame_index: u64) -> Result<()> {
-        let current = self.work.as_ref().map(|w| w.extent);
-        if let Some(current) = current {
-            if current.width >= extent.width && current.height >= extent.height {
-                return Ok(());
-            }
-        }
-        let grown = vk::Extent2D {
-            width: extent.width.max(current.map_or(0, |c| c.width)),
-            height: extent.height.max(current.map_or(0, |c| c.height)),
-        };
-        let work = WorkImages::new(&self.gpu, &mut self.allocator, grown)?;
-        if let Some(old) = self.work.replace(work) {
-            // The previous frame is the last one whose commands may use the old images.
-            for image in old.into_vec() {
-                self.ring.retire(frame_index.saturating_sub(1), image);
+        if let Some(work) = grown(
+            &self.gpu,
+            &mut self.allocator,
+            &self.work,
+            extent,
+            &WorkImages::SPECS,
+        )? {
+            if let Some(old) = self.work.replace(work) {
+                retire(&mut self.ring, old, frame_index);
             }
         }
         Ok(())
+    }
+
+    /// Makes or grows the shadow images to the working images' extent. Returns whether they
+    /// were (re)made, which loses frame t-1's expansion.
+    fn ensure_shadow_images(&mut self, frame_index: u64) -> Result<bool> {
+        let extent = self.work.as_ref().expect("made first").extent;
+        let Some(shadows) = grown(
+            &self.gpu,
+            &mut self.allocator,
+            &self.shadows,
+            extent,
+            &ShadowImages::SPECS,
+        )?
+        else {
+            return Ok(false);
+        };
+        if let Some(old) = self.shadows.replace(shadows) {
+            retire(&mut self.ring, old, frame_index);
+        }
+        Ok(true)
     }
 
     fn placeholder_textures(&self) -> (Texture, Texture) {
@@ -342,30 +437,68 @@ impl Context {
         )
     }
 
-    /// Records frame t's demodulation and G-buffer packing into `cmd`.
-    pub fn submit(&mut self, cmd: vk::CommandBuffer, desc: &PatchexFrameDesc) -> Result<()> {
+    /// Records frame t's demodulation (or shadow separation), G-buffer packing and, with a
+    /// shadow input, the shadow mask's flow into `cmd`.
+    pub fn submit(
+        &mut self,
+        cmd: vk::CommandBuffer,
+        desc: &PatchexFrameDesc,
+        extensions: Extensions,
+    ) -> Result<()> {
         self.check_queue_family(desc.queue_family_index, "PatchexFrameDesc")?;
         let inputs = inputs::source(&self.gpu, desc, self.max_extent)?;
+        let shadow_inputs = extensions
+            .shadow
+            .map(|input| inputs::shadow(&self.gpu, &input, inputs.extent))
+            .transpose()?;
+        let flow_settings = extensions.flow.unwrap_or(self.default_flow);
         let reset_reason = self.reset_reason(&inputs)?;
         let (placeholder, placeholder_uint) = self.placeholder_textures();
         let mut access = EngineImageAccess::default();
-        let demodulate_inputs = demodulate::DemodulateInputs {
-            color: access.read(&inputs.color)?,
-            base_color: access.read(&inputs.base_color)?,
-            material: access.read_optional(inputs.material.as_ref())?,
-            placeholder,
+        let color = access.read(&inputs.color)?;
+        let base_color = access.read(&inputs.base_color)?;
+        let material = access.read_optional(inputs.material.as_ref())?;
+        let separation_inputs = match &shadow_inputs {
+            Some(shadow) => Some(separate_shadows::SeparationInputs {
+                color,
+                color_without_dynamic_shadows: access
+                    .read(&shadow.color_without_dynamic_shadows)?,
+                mask: access.read(&shadow.mask)?,
+                base_color,
+                material,
+                placeholder,
+            }),
+            None => None,
         };
         let pack_inputs = pack_inputs(&mut access, &inputs.geometry, placeholder_uint)?;
 
         self.ring
             .collect(&self.gpu, &mut self.allocator, inputs.frame_index);
         self.ensure_work_images(inputs.extent, inputs.frame_index)?;
+        // Frame t-1's expansion is usable when it was made, unbroken, on the same images.
+        let mut track = reset_reason == PATCHEX_RESET_NONE
+            && self
+                .source
+                .as_ref()
+                .is_some_and(|s| s.has_shadows && s.extent == inputs.extent);
+        if shadow_inputs.is_some() {
+            track &= !self.ensure_shadow_images(inputs.frame_index)?;
+            self.shadow_current = 1 - self.shadow_current;
+        }
 
         // Everything is validated and allocated: from here on the call cannot fail.
         let slot = self.ring.slot_of(inputs.frame_index);
         let device = &self.gpu.device;
-        let work = self.work.as_mut().expect("allocated above");
-        let mut owned: Vec<&mut OwnedImage> = work.all_mut().into_iter().collect();
+        let mut owned: Vec<&mut OwnedImage> = Vec::new();
+        for set_images in [
+            self.work.as_mut().map(|w| &mut w.images[..]),
+            self.shadows.as_mut().map(|s| &mut s.images[..]),
+        ]
+        .into_iter()
+        .flatten()
+        {
+            owned.extend(set_images.iter_mut());
+        }
         owned.push(&mut self.placeholders.float);
         owned.push(&mut self.placeholders.uint);
         barriers::initialize_owned(device, cmd, &mut owned);
@@ -374,20 +507,43 @@ impl Context {
         self.ring.clear_counters(device, cmd, slot, 0);
         barriers::compute_to_compute(device, cmd, true);
 
+        let sanitize_counters =
+            self.ring
+                .counter_range(slot, 0, SANITIZE_COUNTERS_OFFSET, SANITIZE_COUNTER_BYTES);
         let mut timed = TimedRegion::begin(&self.ring, device, cmd, slot, 0);
         timed.stage(PATCHEX_STAGE_DEMODULATE, || {
-            demodulate::record(
-                self.pipelines.get(Pipelines::DEMODULATE),
-                device,
-                cmd,
-                self.ring.descriptor_set(slot, 0, Pipelines::DEMODULATE),
-                inputs.extent,
-                &demodulate_inputs,
-                &work.source_shading,
-                &self
-                    .ring
-                    .counter_range(slot, 0, SANITIZE_COUNTERS_OFFSET, SANITIZE_COUNTER_BYTES),
-            )
+            match (&separation_inputs, &self.shadows) {
+                (Some(separation), Some(shadows)) => separate_shadows::record(
+                    self.pipelines.get(Pipelines::SEPARATE_SHADOWS),
+                    device,
+                    cmd,
+                    self.ring
+                        .descriptor_set(slot, 0, Pipelines::SEPARATE_SHADOWS),
+                    inputs.extent,
+                    separation,
+                    &separate_shadows::SeparationOutputs {
+                        shading: &work[WorkImages::SOURCE_SHADING],
+                        shadow_layer: &shadows[ShadowImages::LAYER],
+                        mask_pyramid: &shadows[ShadowImages::MASK_PYRAMID],
+                    },
+                    &sanitize_counters,
+                ),
+                _ => demodulate::record(
+                    self.pipelines.get(Pipelines::DEMODULATE),
+                    device,
+                    cmd,
+                    self.ring.descriptor_set(slot, 0, Pipelines::DEMODULATE),
+                    inputs.extent,
+                    &demodulate::DemodulateInputs {
+                        color,
+                        base_color,
+                        material,
+                        placeholder,
+                    },
+                    &work[WorkImages::SOURCE_SHADING],
+                    &sanitize_counters,
+                ),
+            }
         });
         timed.stage(PATCHEX_STAGE_PACK_SOURCE_GBUFFER, || {
             pack_gbuffer::record(
@@ -399,11 +555,41 @@ impl Context {
                 &inputs.geometry.camera,
                 &pack_inputs,
                 &pack_gbuffer::PackOutputs {
-                    geometry: &work.source_geometry,
-                    normal_id: &work.source_normal_id,
+                    geometry: &work[WorkImages::SOURCE_GEOMETRY],
+                    normal_id: &work[WorkImages::SOURCE_NORMAL_ID],
                 },
             )
         });
+        if let (Some(_), Some(shadows)) = (&separation_inputs, &self.shadows) {
+            barriers::compute_to_compute(device, cmd, false);
+            let p = Pipelines::get;
+            let pipelines = &self.pipelines;
+            timed.stage(PATCHEX_STAGE_SHADOW_FLOW, || {
+                shadow_flow::record(
+                    &shadow_flow::FlowPipelines {
+                        pyramid: p(pipelines, Pipelines::SHADOW_PYRAMID),
+                        poly: p(pipelines, Pipelines::SHADOW_POLY),
+                        matrices: p(pipelines, Pipelines::SHADOW_FLOW_MATRICES),
+                        rows: p(pipelines, Pipelines::SHADOW_FLOW_ROWS),
+                        solve: p(pipelines, Pipelines::SHADOW_FLOW_SOLVE),
+                    },
+                    [
+                        Pipelines::SHADOW_PYRAMID,
+                        Pipelines::SHADOW_POLY,
+                        Pipelines::SHADOW_FLOW_MATRICES,
+                        Pipelines::SHADOW_FLOW_ROWS,
+                        Pipelines::SHADOW_FLOW_SOLVE,
+                    ]
+                    .map(|index| self.ring.descriptor_set(slot, 0, index)),
+                    device,
+                    cmd,
+                    inputs.extent,
+                    &flow_settings,
+                    &shadows.flow_images(self.shadow_current),
+                    track,
+                )
+            });
+        }
         let stages = timed.stages;
         barriers::compute_to_host(device, cmd);
         access.release(device, cmd);
@@ -423,6 +609,7 @@ impl Context {
             frame_index: inputs.frame_index,
             extent: inputs.extent,
             camera: inputs.geometry.camera,
+            has_shadows: shadow_inputs.is_some(),
         });
         Ok(())
     }
@@ -482,6 +669,15 @@ impl Context {
             None => None,
         };
 
+        let shadow_diagnostics_image = match &extensions.shadow_diagnostics {
+            Some(image) => Some(access.write(&ImportedImage::import_required(
+                &self.gpu,
+                image,
+                &ImageRole::output("PatchexShadowDiagnostics.image"),
+                inputs.extent,
+            )?)?),
+            None => None,
+        };
         let warp_settings = extensions.warp.unwrap_or(self.default_warp);
         let segmentation_settings = extensions.segmentation.unwrap_or(self.default_segmentation);
         let jitter_delta = (inputs.geometry.camera.jitter - source.camera.jitter).into();
@@ -521,8 +717,8 @@ impl Context {
                 &inputs.geometry.camera,
                 &pack_inputs,
                 &pack_gbuffer::PackOutputs {
-                    geometry: &work.target_geometry,
-                    normal_id: &work.target_normal_id,
+                    geometry: &work[WorkImages::TARGET_GEOMETRY],
+                    normal_id: &work[WorkImages::TARGET_NORMAL_ID],
                 },
             )
         });
@@ -536,17 +732,52 @@ impl Context {
                 self.ring.descriptor_set(slot, region, warp_index),
                 &warp_params,
                 &warp::WarpInputs {
-                    source_shading: &work.source_shading,
-                    source_geometry: &work.source_geometry,
-                    source_normal_id: &work.source_normal_id,
-                    target_geometry: &work.target_geometry,
-                    target_normal_id: &work.target_normal_id,
+                    source_shading: &work[WorkImages::SOURCE_SHADING],
+                    source_geometry: &work[WorkImages::SOURCE_GEOMETRY],
+                    source_normal_id: &work[WorkImages::SOURCE_NORMAL_ID],
+                    target_geometry: &work[WorkImages::TARGET_GEOMETRY],
+                    target_normal_id: &work[WorkImages::TARGET_NORMAL_ID],
                     motion,
                 },
-                &work.warped,
+                &work[WorkImages::WARPED],
                 &counters,
             )
         });
+        let shadows = self.shadows.as_ref().filter(|_| source.has_shadows);
+        if let Some(shadows) = shadows {
+            // The shadow layer follows the mask's flow, scaled to the target instant.
+            let params = warp_settings.params(
+                inputs.extent,
+                &inputs.geometry.camera,
+                [0.0, 0.0],
+                [inputs.alpha, inputs.alpha],
+            );
+            timed.stage(PATCHEX_STAGE_SHADOW_WARP, || {
+                warp::record(
+                    self.pipelines.get(Pipelines::WARP_OCCLUSION_MOTION),
+                    device,
+                    cmd,
+                    self.ring
+                        .descriptor_set(slot, region, Pipelines::SHADOW_WARP_SET),
+                    &params,
+                    &warp::WarpInputs {
+                        source_shading: &shadows[ShadowImages::LAYER],
+                        source_geometry: &work[WorkImages::SOURCE_GEOMETRY],
+                        source_normal_id: &work[WorkImages::SOURCE_NORMAL_ID],
+                        target_geometry: &work[WorkImages::TARGET_GEOMETRY],
+                        target_normal_id: &work[WorkImages::TARGET_NORMAL_ID],
+                        motion: (&shadows[ShadowImages::FLOW]).into(),
+                    },
+                    &shadows[ShadowImages::WARPED_LAYER],
+                    &self.ring.counter_range(
+                        slot,
+                        region,
+                        SHADOW_WARP_COUNTERS_OFFSET,
+                        warp::COUNTER_BYTES,
+                    ),
+                )
+            });
+        }
         timed.stage(PATCHEX_STAGE_SEGMENT, || {
             segmentation::record(
                 &segmentation::SegmentationPipelines {
@@ -565,12 +796,12 @@ impl Context {
                 inputs.extent,
                 &segmentation_settings,
                 &segmentation::SegmentationInputs {
-                    target_normal_id: &work.target_normal_id,
+                    target_normal_id: &work[WorkImages::TARGET_NORMAL_ID],
                     motion,
                     motion_scale: inputs.geometry.motion_vector_scale,
                 },
                 &object_table,
-                &work.regions,
+                &work[WorkImages::REGIONS],
             )
         });
         timed.stage(PATCHEX_STAGE_LBP, || {
@@ -580,8 +811,8 @@ impl Context {
                 cmd,
                 self.ring.descriptor_set(slot, region, Pipelines::LBP),
                 inputs.extent,
-                &work.warped,
-                &work.lbp,
+                &work[WorkImages::WARPED],
+                &work[WorkImages::LBP],
             )
         });
         barriers::compute_to_compute(device, cmd, false);
@@ -594,9 +825,10 @@ impl Context {
                     .descriptor_set(slot, region, Pipelines::REMODULATE),
                 inputs.extent,
                 &remodulate::RemodulateInputs {
-                    shading: (&work.warped).into(),
+                    shading: (&work[WorkImages::WARPED]).into(),
                     base_color,
                     material,
+                    shadow_layer: shadows.map(|s| (&s[ShadowImages::WARPED_LAYER]).into()),
                     placeholder,
                 },
                 output,
@@ -608,22 +840,41 @@ impl Context {
                 ),
             )
         });
-        if let Some(diagnostics_image) = diagnostics_image {
+        let shadow_diagnostics = shadow_diagnostics_image.zip(shadows);
+        if diagnostics_image.is_some() || shadow_diagnostics.is_some() {
             timed.stage(PATCHEX_STAGE_DIAGNOSTICS, || {
-                diagnostics::record(
-                    self.pipelines.get(Pipelines::WRITE_DIAGNOSTICS),
-                    device,
-                    cmd,
-                    self.ring
-                        .descriptor_set(slot, region, Pipelines::WRITE_DIAGNOSTICS),
-                    inputs.extent,
-                    &diagnostics::DiagnosticsInputs {
-                        warped: &work.warped,
-                        regions: &work.regions,
-                        lbp: &work.lbp,
-                    },
-                    diagnostics_image,
-                )
+                if let Some(image) = diagnostics_image {
+                    diagnostics::record(
+                        self.pipelines.get(Pipelines::WRITE_DIAGNOSTICS),
+                        device,
+                        cmd,
+                        self.ring
+                            .descriptor_set(slot, region, Pipelines::WRITE_DIAGNOSTICS),
+                        inputs.extent,
+                        &diagnostics::DiagnosticsInputs {
+                            warped: &work[WorkImages::WARPED],
+                            regions: &work[WorkImages::REGIONS],
+                            lbp: &work[WorkImages::LBP],
+                        },
+                        image,
+                    );
+                }
+                if let Some((image, shadows)) = shadow_diagnostics {
+                    diagnostics::record_shadows(
+                        self.pipelines.get(Pipelines::WRITE_SHADOW_DIAGNOSTICS),
+                        device,
+                        cmd,
+                        self.ring
+                            .descriptor_set(slot, region, Pipelines::WRITE_SHADOW_DIAGNOSTICS),
+                        inputs.extent,
+                        &diagnostics::ShadowDiagnosticsInputs {
+                            flow: &shadows[ShadowImages::FLOW],
+                            shadow_layer: &shadows[ShadowImages::LAYER],
+                            warped_layer: &shadows[ShadowImages::WARPED_LAYER],
+                        },
+                        image,
+                    );
+                }
             });
         }
         let stages = timed.stages;
@@ -749,14 +1000,39 @@ impl Context {
     }
 
     fn device_memory_bytes(&self) -> u64 {
-        let work: u64 = self
-            .work
-            .as_ref()
-            .map_or(0, |w| w.all().iter().map(|image| image.size_bytes()).sum());
-        work + self.ring.retired_bytes()
+        self.work.as_ref().map_or(0, |w| w.size_bytes())
+            + self.shadows.as_ref().map_or(0, |s| s.size_bytes())
+            + self.ring.retired_bytes()
             + self.ring.counters.size_bytes()
             + self.placeholders.float.size_bytes()
             + self.placeholders.uint.size_bytes()
+    }
+}
+
+/// A set of images holding `extent`, or `None` when `current` already does. A new set is at
+/// least as large as the current one on both sides.
+fn grown<const N: usize>(
+    gpu: &Gpu,
+    allocator: &mut Allocator,
+    current: &Option<ImageSet<N>>,
+    extent: vk::Extent2D,
+    specs: &[ImageSpec; N],
+) -> Result<Option<ImageSet<N>>> {
+    let old = current.as_ref().map(|set| set.extent);
+    if current.as_ref().is_some_and(|set| set.holds(extent)) {
+        return Ok(None);
+    }
+    let size = vk::Extent2D {
+        width: extent.width.max(old.map_or(0, |e| e.width)),
+        height: extent.height.max(old.map_or(0, |e| e.height)),
+    };
+    ImageSet::new(gpu, allocator, size, specs).map(Some)
+}
+
+/// Hands `set`'s images to the ring: the previous frame is the last whose commands may use them.
+fn retire<const N: usize>(ring: &mut FrameRing, set: ImageSet<N>, frame_index: u64) {
+    for image in set.images {
+        ring.retire(frame_index.saturating_sub(1), image);
     }
 }
 
@@ -778,10 +1054,14 @@ fn pack_inputs(
 impl Drop for Context {
     fn drop(&mut self) {
         let gpu = &self.gpu;
-        if let Some(work) = self.work.take() {
-            for mut image in work.into_vec() {
-                image.destroy(gpu, &mut self.allocator);
-            }
+        let work = self.work.take().map(|w| w.images);
+        let shadows = self.shadows.take().map(|s| s.images);
+        for mut image in work
+            .into_iter()
+            .flatten()
+            .chain(shadows.into_iter().flatten())
+        {
+            image.destroy(gpu, &mut self.allocator);
         }
         self.placeholders.float.destroy(gpu, &mut self.allocator);
         self.placeholders.uint.destroy(gpu, &mut self.allocator);

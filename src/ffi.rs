@@ -10,6 +10,7 @@ use crate::abi::*;
 use crate::context::{Context, Extensions};
 use crate::error::{bail, Error, PatchexResult, Result};
 use crate::passes::segmentation::SegmentationSettings;
+use crate::passes::shadow_flow::FlowSettings;
 use crate::passes::warp::WarpSettings;
 
 /// A plugin context. Opaque to the engine; see `patchex_create`.
@@ -137,6 +138,30 @@ unsafe fn read_chain(
                 )?;
                 extensions.diagnostics = Some(diagnostics.image);
             }
+            PATCHEX_STRUCT_TYPE_SHADOW_DIAGNOSTICS => {
+                let diagnostics = read_versioned(
+                    next.cast::<PatchexShadowDiagnostics>(),
+                    kind,
+                    "PatchexShadowDiagnostics",
+                )?;
+                extensions.shadow_diagnostics = Some(diagnostics.image);
+            }
+            PATCHEX_STRUCT_TYPE_SHADOW_INPUT => {
+                let input = read_versioned(
+                    next.cast::<PatchexShadowInput>(),
+                    kind,
+                    "PatchexShadowInput",
+                )?;
+                extensions.shadow = Some(input);
+            }
+            PATCHEX_STRUCT_TYPE_SHADOW_FLOW_SETTINGS => {
+                let settings = read_versioned(
+                    next.cast::<PatchexShadowFlowSettings>(),
+                    kind,
+                    "PatchexShadowFlowSettings",
+                )?;
+                extensions.flow = Some(FlowSettings::from_abi(&settings)?);
+            }
             _ => unreachable!("every accepted struct type is handled"),
         }
         next = header.next;
@@ -258,6 +283,7 @@ pub unsafe extern "C" fn patchex_create(
             &[
                 PATCHEX_STRUCT_TYPE_WARP_SETTINGS,
                 PATCHEX_STRUCT_TYPE_SEGMENTATION_SETTINGS,
+                PATCHEX_STRUCT_TYPE_SHADOW_FLOW_SETTINGS,
             ],
             "PatchexCreateInfo",
         )
@@ -327,8 +353,15 @@ pub unsafe extern "C" fn patchex_submit_gbuffers(
             bail!(ErrorNullPointer, "command_buffer is VK_NULL_HANDLE");
         }
         let desc = read_versioned(desc, PATCHEX_STRUCT_TYPE_FRAME_DESC, "PatchexFrameDesc")?;
-        read_chain(desc.header.next, &[], "PatchexFrameDesc")?;
-        context.submit(command_buffer, &desc)?;
+        let extensions = read_chain(
+            desc.header.next,
+            &[
+                PATCHEX_STRUCT_TYPE_SHADOW_INPUT,
+                PATCHEX_STRUCT_TYPE_SHADOW_FLOW_SETTINGS,
+            ],
+            "PatchexFrameDesc",
+        )?;
+        context.submit(command_buffer, &desc, extensions)?;
         Ok(PatchexResult::Success)
     })
 }
@@ -363,6 +396,7 @@ pub unsafe extern "C" fn patchex_extrapolate(
                 PATCHEX_STRUCT_TYPE_WARP_SETTINGS,
                 PATCHEX_STRUCT_TYPE_SEGMENTATION_SETTINGS,
                 PATCHEX_STRUCT_TYPE_DIAGNOSTICS,
+                PATCHEX_STRUCT_TYPE_SHADOW_DIAGNOSTICS,
             ],
             "PatchexExtrapolateDesc",
         )?;

@@ -32,6 +32,32 @@ pub struct SourceInputs {
     pub geometry: GeometryInputs,
 }
 
+/// A frame's optional shadow input (`PatchexShadowInput`).
+pub struct ShadowInputs {
+    pub mask: ImportedImage,
+    pub color_without_dynamic_shadows: ImportedImage,
+}
+
+pub fn shadow(gpu: &Gpu, input: &PatchexShadowInput, extent: vk::Extent2D) -> Result<ShadowInputs> {
+    Ok(ShadowInputs {
+        mask: ImportedImage::import_required(
+            gpu,
+            &input.mask,
+            &ImageRole::input("PatchexShadowInput.mask", MASK_FORMATS),
+            extent,
+        )?,
+        color_without_dynamic_shadows: ImportedImage::import_required(
+            gpu,
+            &input.color_without_dynamic_shadows,
+            &ImageRole::input(
+                "PatchexShadowInput.color_without_dynamic_shadows",
+                FLOAT_COLOR_FORMATS,
+            ),
+            extent,
+        )?,
+    })
+}
+
 pub struct TargetInputs {
     pub alpha: f32,
     pub extent: vk::Extent2D,

@@ -7,6 +7,8 @@ pub mod lbp;
 pub mod pack_gbuffer;
 pub mod remodulate;
 pub mod segmentation;
+pub mod separate_shadows;
+pub mod shadow_flow;
 pub mod warp;
 
 use std::sync::{Arc, Mutex, Weak};
@@ -27,11 +29,13 @@ pub use crate::vk::image::Texture;
 pub const SANITIZE_COUNTER_BYTES: u64 = 4;
 
 /// Every stage a frame can run, with the name reports give it.
-pub const STAGE_NAMES: [(PatchexStage, &str); 8] = [
+pub const STAGE_NAMES: [(PatchexStage, &str); 10] = [
     (PATCHEX_STAGE_DEMODULATE, "demodulate"),
     (PATCHEX_STAGE_PACK_SOURCE_GBUFFER, "pack source"),
+    (PATCHEX_STAGE_SHADOW_FLOW, "shadow flow"),
     (PATCHEX_STAGE_PACK_TARGET_GBUFFER, "pack target"),
     (PATCHEX_STAGE_WARP, "warp"),
+    (PATCHEX_STAGE_SHADOW_WARP, "shadow warp"),
     (PATCHEX_STAGE_SEGMENT, "segment"),
     (PATCHEX_STAGE_LBP, "lbp"),
     (PATCHEX_STAGE_REMODULATE, "remodulate"),
@@ -62,11 +66,23 @@ impl Pipelines {
     pub const LBP: usize = 8;
     pub const REMODULATE: usize = 9;
     pub const WRITE_DIAGNOSTICS: usize = 10;
+    pub const SEPARATE_SHADOWS: usize = 11;
+    pub const SHADOW_PYRAMID: usize = 12;
+    pub const SHADOW_POLY: usize = 13;
+    pub const SHADOW_FLOW_MATRICES: usize = 14;
+    pub const SHADOW_FLOW_ROWS: usize = 15;
+    pub const SHADOW_FLOW_SOLVE: usize = 16;
+    pub const WRITE_SHADOW_DIAGNOSTICS: usize = 17;
 
     /// How many pipelines a device holds.
     pub const COUNT: usize = Self::SHADERS.len();
 
-    const SHADERS: [shaders::ShaderInfo; 11] = [
+    /// The descriptor set of the second dispatch of the occlusion-motion-vector warp in one
+    /// extrapolation, on the shadow layer. Sets are indexed by pipeline, then these.
+    pub const SHADOW_WARP_SET: usize = Self::COUNT;
+    const EXTRA_SETS: [usize; 1] = [Self::WARP_OCCLUSION_MOTION];
+
+    const SHADERS: [shaders::ShaderInfo; 18] = [
         shaders::demodulate::SHADER,
         shaders::pack_gbuffer::SHADER,
         shaders::warp_gbuffer::SHADER,
@@ -78,6 +94,13 @@ impl Pipelines {
         shaders::lbp::SHADER,
         shaders::remodulate::SHADER,
         shaders::write_diagnostics::SHADER,
+        shaders::separate_shadows::SHADER,
+        shaders::shadow_pyramid::SHADER,
+        shaders::shadow_poly::SHADER,
+        shaders::shadow_flow_matrices::SHADER,
+        shaders::shadow_flow_rows::SHADER,
+        shaders::shadow_flow_solve::SHADER,
+        shaders::write_shadow_diagnostics::SHADER,
     ];
 
     fn new(gpu: &Gpu) -> Result<Self> {
@@ -129,10 +152,22 @@ impl Pipelines {
         }
     }
 
-    /// Descriptor counts one set of every pipeline needs together, for the descriptor pool.
+    /// The pipeline of each descriptor set a region uses, in set order.
+    fn set_owners(&self) -> impl Iterator<Item = &ComputePipeline> {
+        self.built
+            .iter()
+            .chain(Self::EXTRA_SETS.iter().map(|&index| &self.built[index]))
+    }
+
+    /// The layout of each descriptor set a region uses, in set order.
+    pub fn set_layouts(&self) -> Vec<vk::DescriptorSetLayout> {
+        self.set_owners().map(|p| p.set_layout).collect()
+    }
+
+    /// Descriptor counts of one region's sets together, for the descriptor pool.
     pub fn pool_sizes(&self) -> Vec<vk::DescriptorPoolSize> {
         let mut sizes: Vec<vk::DescriptorPoolSize> = Vec::new();
-        for pipeline in self.all() {
+        for pipeline in self.set_owners() {
             for binding in pipeline.shader.bindings {
                 let ty = crate::vk::pipeline::descriptor_type(binding.kind);
                 match sizes.iter_mut().find(|s| s.ty == ty) {

@@ -1,6 +1,6 @@
 //! Remodulation: multiplies the extrapolated shading by the target instant's own material and
 //! writes the engine's output image, counting the pixels whose inputs or result it had to
-//! sanitise.
+//! sanitise. With a shadow input, the warped shadow layer is added back to the shading first.
 
 use ash::vk;
 
@@ -12,6 +12,8 @@ pub struct RemodulateInputs {
     pub shading: Texture,
     pub base_color: Texture,
     pub material: Option<Texture>,
+    /// The warped shadow layer, added to the shading first; `None` without a shadow input.
+    pub shadow_layer: Option<Texture>,
     pub placeholder: Texture,
 }
 
@@ -27,6 +29,7 @@ pub fn record(
     counters: &CounterRange,
 ) {
     let material = inputs.material.unwrap_or(inputs.placeholder);
+    let shadow_layer = inputs.shadow_layer.unwrap_or(inputs.placeholder);
     DescriptorWrites::new(pipeline)
         .image(binding::SHADING, inputs.shading.view, inputs.shading.layout)
         .image(
@@ -35,6 +38,11 @@ pub fn record(
             inputs.base_color.layout,
         )
         .image(binding::MATERIAL, material.view, material.layout)
+        .image(
+            binding::SHADOW_LAYER,
+            shadow_layer.view,
+            shadow_layer.layout,
+        )
         .image(binding::OUTPUT, output.view, output.layout)
         .buffer(
             binding::COUNTERS,
@@ -46,7 +54,7 @@ pub fn record(
     let params = Params {
         extent: [extent.width, extent.height],
         has_material: inputs.material.is_some() as u32,
-        ..Default::default()
+        has_shadow_layer: inputs.shadow_layer.is_some() as u32,
     };
     pipeline.dispatch(device, cmd, set, &params, extent);
 }

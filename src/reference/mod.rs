@@ -5,9 +5,11 @@
 pub mod demodulate;
 pub mod gbuffer;
 pub mod lbp;
+pub mod optical_flow;
 pub mod pack_gbuffer;
 pub mod remodulate;
 pub mod segmentation;
+pub mod separate_shadows;
 pub mod warp;
 
 /// One instant's inputs, as plain images: the reference side of what an engine submits.
@@ -24,6 +26,22 @@ pub struct FrameInputs<'a> {
     pub motion_vector_scale: [f32; 2],
 }
 
+/// Frame t's shadow input, and frame t-1's mask when it had one (and no reset came between).
+pub struct ShadowInputs<'a> {
+    pub color_without_dynamic_shadows: &'a Image,
+    pub mask: &'a Image,
+    pub previous_mask: Option<&'a Image>,
+    pub flow: crate::passes::shadow_flow::FlowSettings,
+}
+
+/// The shadow sub-task's results.
+pub struct Shadows {
+    pub separated: separate_shadows::Separated,
+    /// Level 0 flow to frame t-1, (dx, dy, 0, 0); zero without frame t-1's mask.
+    pub flow: Image,
+    pub warped_layer: warp::Warped,
+}
+
 /// Every intermediate result of one extrapolation.
 pub struct Extrapolation {
     /// The engine's output image.
@@ -31,6 +49,7 @@ pub struct Extrapolation {
     pub warped: warp::Warped,
     pub segmented: segmentation::Segmented,
     pub lbp: Image,
+    pub shadows: Option<Shadows>,
     /// Pixels of frame t and of the target whose inputs (or result) were sanitised.
     pub source_sanitized: u32,
     pub target_sanitized: u32,
@@ -40,6 +59,8 @@ pub struct Extrapolation {
 pub fn extrapolate(
     source: &FrameInputs,
     target: &FrameInputs,
+    shadow_inputs: Option<&ShadowInputs>,
+    alpha: f32,
     warp: &crate::passes::warp::WarpSettings,
     segmentation: &crate::passes::segmentation::SegmentationSettings,
 ) -> Extrapolation {
@@ -57,11 +78,20 @@ pub fn extrapolate(
         );
         pack_gbuffer::pack_gbuffer(frame.depth, frame.normal, frame.stencil, &params)
     };
-    let (shading, source_sanitized) = demodulate::demodulate(
-        source.color.expect("frame t has colour"),
-        source.base_color,
-        source.material,
-    );
+    let color = source.color.expect("frame t has colour");
+    let separated = shadow_inputs.map(|shadow| {
+        separate_shadows::separate(
+            color,
+            shadow.color_without_dynamic_shadows,
+            shadow.mask,
+            source.base_color,
+            source.material,
+        )
+    });
+    let (shading, source_sanitized) = match &separated {
+        Some(separated) => (separated.shading.clone(), separated.sanitized),
+        None => demodulate::demodulate(color, source.base_color, source.material),
+    };
     let (source_packed, target_packed) = (pack(source), pack(target));
     let jitter_delta = (target.camera.jitter - source.camera.jitter).into();
     let params = warp.params(
@@ -85,6 +115,44 @@ pub fn extrapolate(
         },
         &params,
     );
+    let shadows = shadow_inputs.zip(separated).map(|(shadow, separated)| {
+        let flow = match shadow.previous_mask {
+            Some(previous_mask) => {
+                // The previous frame's mask went through the same sanitising.
+                let previous_mask =
+                    Image::from_fn(previous_mask.width, previous_mask.height, 1, |x, y| {
+                        let v = glam::Vec3::new(previous_mask.at(x, y)[0], 0.0, 0.0);
+                        vec![gbuffer::sanitize(v, 0.0, 1.0).0.x]
+                    });
+                optical_flow::flow(
+                    &optical_flow::expand_pyramid(&separated.mask, &shadow.flow),
+                    &optical_flow::expand_pyramid(&previous_mask, &shadow.flow),
+                    &shadow.flow,
+                )
+            }
+            None => Image::new(extent.width as usize, extent.height as usize, 4),
+        };
+        let shadow_params = warp.params(extent, target.camera, [0.0, 0.0], [alpha, alpha]);
+        let warped_layer = warp::warp(
+            crate::abi::PATCHEX_WARP_OCCLUSION_MOTION_VECTOR,
+            &warp::WarpSources {
+                shading: &separated.shadow_layer,
+                geometry: &source_packed.geometry,
+                normal_id: &source_packed.normal_id,
+            },
+            &warp::WarpTarget {
+                geometry: &target_packed.geometry,
+                normal_id: &target_packed.normal_id,
+                motion: &flow,
+            },
+            &shadow_params,
+        );
+        Shadows {
+            separated,
+            flow,
+            warped_layer,
+        }
+    });
     let segmented = segmentation::segment(
         &target_packed.normal_id,
         motion,
@@ -92,13 +160,18 @@ pub fn extrapolate(
         segmentation.growth,
     );
     let lbp = lbp::lbp(&warped.warped);
-    let (output, target_sanitized) =
-        remodulate::remodulate(&warped.warped, target.base_color, target.material);
+    let (output, target_sanitized) = remodulate::remodulate(
+        &warped.warped,
+        shadows.as_ref().map(|s| &s.warped_layer.warped),
+        target.base_color,
+        target.material,
+    );
     Extrapolation {
         output,
         warped,
         segmented,
         lbp,
+        shadows,
         source_sanitized,
         target_sanitized,
     }

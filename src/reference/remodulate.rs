@@ -6,11 +6,21 @@ use super::gbuffer::{pixel_modulation, sanitize_color};
 use super::{round_to_f16, Image};
 
 /// The output image, and the number of pixels whose inputs or result were sanitised.
-pub fn remodulate(shading: &Image, base_color: &Image, material: Option<&Image>) -> (Image, u32) {
+/// `shadow_layer` is the warped shadow layer of a frame with a shadow input.
+pub fn remodulate(
+    shading: &Image,
+    shadow_layer: Option<&Image>,
+    base_color: &Image,
+    material: Option<&Image>,
+) -> (Image, u32) {
     let mut sanitized = 0;
     let output = Image::from_fn(shading.width, shading.height, 4, |x, y| {
         let (factor, material_changed) = pixel_modulation(base_color, material, x, y);
-        let (color, color_changed) = sanitize_color(Vec3::from_slice(shading.at(x, y)) * factor);
+        let mut shading = Vec3::from_slice(shading.at(x, y));
+        if let Some(layer) = shadow_layer {
+            shading = (shading + Vec3::from_slice(layer.at(x, y))).max(Vec3::ZERO);
+        }
+        let (color, color_changed) = sanitize_color(shading * factor);
         sanitized += (material_changed || color_changed) as u32;
         vec![
             round_to_f16(color.x),

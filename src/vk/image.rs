@@ -56,6 +56,17 @@ pub const STENCIL_FORMATS: &[vk::Format] = &[
     vk::Format::D24_UNORM_S8_UINT,
     vk::Format::D32_SFLOAT_S8_UINT,
 ];
+/// The shadow mask: its first channel is read. Single-channel float and UNORM formats, or any
+/// float colour format.
+pub const MASK_FORMATS: &[vk::Format] = &[
+    vk::Format::R8_UNORM,
+    vk::Format::R16_UNORM,
+    vk::Format::R16_SFLOAT,
+    vk::Format::R32_SFLOAT,
+    vk::Format::R16G16B16A16_SFLOAT,
+    vk::Format::R32G32B32A32_SFLOAT,
+    vk::Format::R8G8B8A8_UNORM,
+];
 pub const OUTPUT_FORMATS: &[vk::Format] = &[vk::Format::R16G16B16A16_SFLOAT];
 
 impl<'a> ImageRole<'a> {

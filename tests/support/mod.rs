@@ -235,6 +235,8 @@ pub struct GpuFrame {
     pub normal: EngineImage,
     pub stencil: EngineImage,
     pub motion: EngineImage,
+    pub shadow_mask: EngineImage,
+    pub color_without_dynamic_shadows: EngineImage,
     pub camera: PatchexCamera,
     pub width: u32,
     pub height: u32,
@@ -271,6 +273,13 @@ impl GpuFrame {
             normal: upload(engine, &frame.normal, rgba, GBUFFER_LAYOUT),
             stencil: upload(engine, &frame.stencil, F::R8_UINT, GBUFFER_LAYOUT),
             motion: upload(engine, &frame.motion, rg, MOTION_LAYOUT),
+            shadow_mask: upload(engine, &frame.shadow_mask, F::R32_SFLOAT, GBUFFER_LAYOUT),
+            color_without_dynamic_shadows: upload(
+                engine,
+                &frame.color_without_dynamic_shadows,
+                rgba,
+                GBUFFER_LAYOUT,
+            ),
             camera: frame.camera,
             width: frame.color.width as u32,
             height: frame.color.height as u32,
@@ -301,6 +310,18 @@ impl GpuFrame {
             base_color: describe(&self.base_color, GBUFFER_LAYOUT),
             material: describe(&self.material, GBUFFER_LAYOUT),
             geometry: self.geometry(),
+        }
+    }
+
+    /// The frame's shadow input, to chain on its frame desc.
+    pub fn shadow_input(&self) -> PatchexShadowInput {
+        PatchexShadowInput {
+            header: PatchexStructHeader::of::<PatchexShadowInput>(PATCHEX_STRUCT_TYPE_SHADOW_INPUT),
+            mask: describe(&self.shadow_mask, GBUFFER_LAYOUT),
+            color_without_dynamic_shadows: describe(
+                &self.color_without_dynamic_shadows,
+                GBUFFER_LAYOUT,
+            ),
         }
     }
 

@@ -97,7 +97,7 @@ fn segmentation_struct(settings: &SegmentationSettings) -> PatchexSegmentationSe
     }
 }
 
-fn read_image(engine: &Engine, image: &EngineImage, width: usize, height: usize) -> Image {
+pub fn read_image(engine: &Engine, image: &EngineImage, width: usize, height: usize) -> Image {
     Image {
         width,
         height,
@@ -197,6 +197,8 @@ pub fn assert_matches_reference(
     let expected = reference::extrapolate(
         &inputs(source, &source_camera),
         &inputs(target, &target_camera),
+        None,
+        outcome.stats.extrapolations[0].alpha,
         &chained.warp.unwrap_or_default(),
         &chained.segmentation.unwrap_or_default(),
     );

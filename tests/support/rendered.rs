@@ -7,8 +7,9 @@ use std::sync::Arc;
 use patchex::abi::*;
 use patchex::reference::Image;
 use patchex_scene::dataset::{
-    render_sequence, SequenceOptions, BASE_COLOR, CUSTOM_STENCIL, FINAL_IMAGE, METALLIC,
-    MOTION_VECTOR, ROUGHNESS, SCENE_DEPTH, SPECULAR, WORLD_NORMAL,
+    render_sequence, SequenceOptions, BASE_COLOR, CUSTOM_STENCIL, FINAL_IMAGE,
+    FINAL_IMAGE_NO_DYNAMIC_SHADOWS, METALLIC, MOTION_VECTOR, ROUGHNESS, SCENE_DEPTH, SHADOW_MASK,
+    SPECULAR, WORLD_NORMAL,
 };
 use patchex_scene::{Dataset, FrameLayers, Gpu, GpuOptions, Manifest, World};
 
@@ -86,5 +87,8 @@ fn frame(layers: &FrameLayers, manifest: &Manifest, index: usize) -> Frame {
             far: manifest.far,
             depth_convention: PATCHEX_DEPTH_LINEAR_VIEW_Z,
         },
+        shadow_mask: gather(layers, &[(SHADOW_MASK, 0)]),
+        color_without_dynamic_shadows: rgba(layers, FINAL_IMAGE_NO_DYNAMIC_SHADOWS),
+        shadow_motion: None,
     }
 }

@@ -1,5 +1,6 @@
 //! A small analytic scene ray-cast on the CPU: a textured sphere (a dynamic object, stencil 1)
-//! moving over a checkered ground plane, under a moving camera. It produces every G-buffer the
+//! moving over a checkered ground plane and casting a soft sun shadow on it, under a moving
+//! camera. It produces every G-buffer the
 //! plugin reads, mutually consistent by construction, at any instant and any size, so tests can
 //! run real two-frame cases without a renderer.
 
@@ -19,6 +20,10 @@ pub struct Scene {
     pub camera_speed: f32,
     /// Radians the camera's look direction is turned about the vertical (a cut when large).
     pub camera_turn: f32,
+    /// Direction towards the sun.
+    pub sun: Vec3,
+    /// Whether the sphere casts a shadow on the ground (off: the mask is 1 everywhere).
+    pub casts_shadow: bool,
 }
 
 /// One instant's G-buffers, as an engine would hand them over.
@@ -35,12 +40,20 @@ pub struct Frame {
     /// Backward motion to the `previous` instant, in pixels, excluding jitter.
     pub motion: Image,
     pub camera: PatchexCamera,
+    /// The sun's visibility through the sphere (the dynamic caster), 1 channel.
+    pub shadow_mask: Image,
+    pub color_without_dynamic_shadows: Image,
+    /// Where known, the true motion of the sphere's shadow to the `previous` instant, in pixels:
+    /// on the ground, whose shadow moves with the sphere (NaN elsewhere).
+    pub shadow_motion: Option<Image>,
 }
 
 const NEAR: f32 = 0.1;
 const FAR: f32 = 100.0;
 const SPHERE_RADIUS: f32 = 0.7;
 const SUN: Vec3 = Vec3::new(0.4, 0.8, 0.45);
+/// Width of the shadow's penumbra, as a fraction of the sphere's radius.
+const PENUMBRA: f32 = 0.2;
 
 struct Hit {
     position: Vec3,
@@ -57,7 +70,22 @@ impl Scene {
             sphere_speed: 6.0,
             camera_speed: 1.5,
             camera_turn: 0.0,
+            sun: SUN.normalize(),
+            casts_shadow: false,
         }
+    }
+
+    /// Visibility of the sun from `point` through the sphere: 0 in the umbra, 1 outside, a
+    /// smooth penumbra in between.
+    fn sun_visibility(&self, time: f32, point: Vec3) -> f32 {
+        let to_centre = self.sphere_centre(time) - point;
+        let along = to_centre.dot(self.sun);
+        if !self.casts_shadow || along <= 0.0 {
+            return 1.0;
+        }
+        let distance = (to_centre - along * self.sun).length() / SPHERE_RADIUS;
+        let t = ((distance - (1.0 - PENUMBRA)) / PENUMBRA).clamp(0.0, 1.0);
+        t * t * (3.0 - 2.0 * t)
     }
 
     fn sphere_centre(&self, time: f32) -> Vec3 {
@@ -186,6 +214,9 @@ impl Scene {
             stencil: Image::new(w, h, 1),
             motion: Image::new(w, h, 2),
             camera: self.camera(time, jitter),
+            shadow_mask: Image::new(w, h, 1),
+            color_without_dynamic_shadows: Image::new(w, h, 4),
+            shadow_motion: Some(Image::from_fn(w, h, 2, |_, _| vec![f32::NAN; 2])),
         };
         for y in 0..h {
             for x in 0..w {
@@ -195,6 +226,10 @@ impl Scene {
                 let Some(hit) = self.trace(time, eye, direction) else {
                     let sky = Vec3::new(0.45, 0.6, 0.9);
                     frame.color.set(x, y, &[sky.x, sky.y, sky.z, 1.0]);
+                    frame
+                        .color_without_dynamic_shadows
+                        .set(x, y, &[sky.x, sky.y, sky.z, 1.0]);
+                    frame.shadow_mask.set(x, y, &[1.0]);
                     frame.base_color.set(x, y, &[1.0, 1.0, 1.0, 1.0]);
                     frame.material.set(x, y, &[0.0, 0.0, 1.0, 0.0]);
                     let sky_depth = match self.depth_convention {
@@ -208,10 +243,22 @@ impl Scene {
                     continue;
                 };
                 let (base, metallic, specular, roughness) = self.material(time, &hit);
-                let shading = 0.25 + 0.9 * hit.normal.dot(SUN.normalize()).max(0.0);
+                let sun = 0.9 * hit.normal.dot(self.sun).max(0.0);
+                let visibility = if hit.object == 0 {
+                    self.sun_visibility(time, hit.position)
+                } else {
+                    1.0
+                };
                 let modulation = base + Vec3::splat(0.08 * specular * (1.0 - metallic));
-                let color = modulation * shading;
+                let color = modulation * (0.25 + sun * visibility);
+                let unshadowed = modulation * (0.25 + sun);
                 frame.color.set(x, y, &[color.x, color.y, color.z, 1.0]);
+                frame.color_without_dynamic_shadows.set(
+                    x,
+                    y,
+                    &[unshadowed.x, unshadowed.y, unshadowed.z, 1.0],
+                );
+                frame.shadow_mask.set(x, y, &[visibility]);
                 frame.base_color.set(x, y, &[base.x, base.y, base.z, 1.0]);
                 frame
                     .material
@@ -226,14 +273,24 @@ impl Scene {
                     _ => clip.z / clip.w,
                 };
                 frame.depth.set(x, y, &[depth]);
+                // The sphere moves along x; on the ground, so does its shadow.
+                let sphere_shift = Vec3::X * self.sphere_speed * (time - previous);
+                let here = to_pixels(unjittered * hit.position.extend(1.0));
                 let earlier = if hit.object == 1 {
-                    hit.position - Vec3::X * self.sphere_speed * (time - previous)
+                    hit.position - sphere_shift
                 } else {
                     hit.position
                 };
-                let motion = to_pixels(previous_unjittered * earlier.extend(1.0))
-                    - to_pixels(unjittered * hit.position.extend(1.0));
+                let motion = to_pixels(previous_unjittered * earlier.extend(1.0)) - here;
                 frame.motion.set(x, y, &[motion.x, motion.y]);
+                if hit.object == 0 {
+                    let shadow_earlier = hit.position - sphere_shift;
+                    let shadow_motion =
+                        to_pixels(previous_unjittered * shadow_earlier.extend(1.0)) - here;
+                    if let Some(truth) = &mut frame.shadow_motion {
+                        truth.set(x, y, &[shadow_motion.x, shadow_motion.y]);
+                    }
+                }
             }
         }
         frame

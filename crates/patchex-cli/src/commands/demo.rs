@@ -99,13 +99,22 @@ pub fn run(args: DemoArgs) -> CommandResult {
     for (n, &target) in targets.iter().enumerate() {
         let source_layers = dataset.read_frame(target - 1)?;
         let target_layers = dataset.read_frame(target)?;
+        // Frame t-1 goes first with its shadow input, so the shadows' motion is tracked.
+        let earlier_layers = target
+            .checked_sub(3)
+            .map(|earlier| dataset.read_frame(earlier))
+            .transpose()?;
+        let earlier = earlier_layers
+            .as_ref()
+            .map(|layers| (layers, &manifest.frames[target - 3]));
         let result = driver.extrapolate(
-            n as u64 + 1,
+            2 * n as u64 + 2,
             (&source_layers, &manifest.frames[target - 1]),
             (&target_layers, &manifest.frames[target]),
             0.5,
             None,
             false,
+            Some(earlier),
         )?;
         let (width, height) = (manifest.width, manifest.height);
         let frame_t = tone_map(&source_layers.layer(FINAL_IMAGE).data, 3);

@@ -16,7 +16,7 @@ use nv_flip::{magma_lut, FlipImageFloat};
 use patchex::abi::*;
 use patchex::passes::segmentation::{REGION_FI, REGION_NEAR_BE};
 use patchex::passes::STAGE_NAMES;
-use patchex_scene::dataset::{Dataset, FrameRole, FINAL_IMAGE};
+use patchex_scene::dataset::{Dataset, FrameRole, FINAL_IMAGE, SHADOW_MASK};
 use serde_json::json;
 
 use super::interpolate::interpolate;
@@ -32,6 +32,9 @@ pub enum Method {
     MotionVector,
     OcclusionMotion,
     Gbuffer,
+    /// The default warp with the shadow sub-task: shadows of dynamic objects separated, tracked
+    /// by optical flow and moved.
+    GbufferShadows,
     /// Bidirectional interpolation with frame t+1: the upper reference, a frame of latency.
     Interpolation,
 }
@@ -43,6 +46,7 @@ impl Method {
             Method::MotionVector => "motion-vector warp",
             Method::OcclusionMotion => "occlusion-motion-vector warp",
             Method::Gbuffer => "G-buffer-guided warp (default)",
+            Method::GbufferShadows => "G-buffer-guided warp + shadow sub-task",
             Method::Interpolation => "interpolation (uses frame t+1)",
         }
     }
@@ -51,7 +55,7 @@ impl Method {
         match self {
             Method::MotionVector => Some(PATCHEX_WARP_MOTION_VECTOR),
             Method::OcclusionMotion => Some(PATCHEX_WARP_OCCLUSION_MOTION_VECTOR),
-            Method::Gbuffer => Some(PATCHEX_WARP_GBUFFER_GUIDED),
+            Method::Gbuffer | Method::GbufferShadows => Some(PATCHEX_WARP_GBUFFER_GUIDED),
             Method::Copy | Method::Interpolation => None,
         }
     }
@@ -66,7 +70,7 @@ pub struct EvalArgs {
     #[arg(
         long,
         value_delimiter = ',',
-        default_value = "copy,motion-vector,occlusion-motion,gbuffer,interpolation"
+        default_value = "copy,motion-vector,occlusion-motion,gbuffer,gbuffer-shadows,interpolation"
     )]
     methods: Vec<Method>,
     /// Output folder: eval.md, eval.json, strips/.
@@ -80,24 +84,32 @@ pub struct EvalArgs {
     validation: bool,
 }
 
-/// Regions every score is pooled over.
-const REGIONS: [&str; 4] = ["frame", "holes", "FI", "near-BE"];
+/// A pixel is in a dynamic object's shadow where the mask is below this.
+const SHADOWED: f32 = 0.95;
+
+/// Regions every score is pooled over. "shadows": where frame t or the target has a shadow of
+/// a dynamic object (mask below 0.95), the pixels the shadow sub-task is for.
+const REGIONS: [&str; 5] = ["frame", "holes", "FI", "near-BE", "shadows"];
+const REGION_COUNT: usize = REGIONS.len();
 
 /// Scores and times of one method on one dataset (or on all).
 #[derive(Clone, Default)]
 struct MethodResult {
-    pooled: [Pooled; 4],
+    pooled: [Pooled; REGION_COUNT],
     /// GPU ms per stage (submit and extrapolation), summed over the timed targets.
     gpu_ms: [f64; PATCHEX_STAGE_SLOTS],
     timed_targets: usize,
 }
 
 impl MethodResult {
-    fn add(&mut self, maps: &ErrorMaps, holes: &[bool], regions: &[u32]) {
+    fn add(&mut self, maps: &ErrorMaps, holes: &[bool], regions: &[u32], shadows: &[bool]) {
         for pixel in 0..holes.len() {
             self.pooled[0].add(maps, pixel);
             if holes[pixel] {
                 self.pooled[1].add(maps, pixel);
+            }
+            if shadows[pixel] {
+                self.pooled[4].add(maps, pixel);
             }
             match regions[pixel] {
                 REGION_FI => self.pooled[2].add(maps, pixel),
@@ -157,7 +169,7 @@ struct DatasetResult {
     targets: usize,
     methods: BTreeMap<Method, MethodResult>,
     /// Pixels per region, over all targets.
-    region_pixels: [u64; 4],
+    region_pixels: [u64; REGION_COUNT],
 }
 
 pub fn run(args: EvalArgs) -> CommandResult {
@@ -220,16 +232,29 @@ fn evaluate(
             .iter()
             .map(|m| (*m, MethodResult::default()))
             .collect(),
-        region_pixels: [0; 4],
+        region_pixels: [0; REGION_COUNT],
     };
     let mut frame_index = 0;
     for (n, &target) in targets.iter().enumerate() {
         let previous = dataset.read_frame(target - 1)?;
         let current = dataset.read_frame(target)?;
         let next = dataset.read_frame(target + 1)?;
+        // Frame t-1, whose shadow mask the shadow sub-task tracks from.
+        let earlier = target
+            .checked_sub(3)
+            .map(|index| dataset.read_frame(index).map(|layers| (layers, index)))
+            .transpose()?;
         let truth = tone_map(&current.layer(FINAL_IMAGE).data, 3);
-        let mut run_plugin = |kind, with_diagnostics| {
-            frame_index += 1;
+        let shadows: Vec<bool> = previous
+            .layer(SHADOW_MASK)
+            .data
+            .iter()
+            .zip(&current.layer(SHADOW_MASK).data)
+            .map(|(before, after)| *before < SHADOWED || *after < SHADOWED)
+            .collect();
+        let mut run_plugin = |kind, with_diagnostics, with_shadows: bool| {
+            // Two indices a run: frame t-1 and frame t when shadows are tracked.
+            frame_index += 2;
             driver.extrapolate(
                 frame_index,
                 (&previous, &manifest.frames[target - 1]),
@@ -237,10 +262,15 @@ fn evaluate(
                 0.5,
                 Some(kind),
                 with_diagnostics,
+                with_shadows.then(|| {
+                    earlier
+                        .as_ref()
+                        .map(|(layers, index)| (layers, &manifest.frames[*index]))
+                }),
             )
         };
         // The default warp's diagnostics give every method's regions and holes.
-        let reference = run_plugin(PATCHEX_WARP_GBUFFER_GUIDED, true)?;
+        let reference = run_plugin(PATCHEX_WARP_GBUFFER_GUIDED, true, false)?;
         let diagnostics = reference.diagnostics.as_ref().expect("asked for");
         let holes: Vec<bool> = diagnostics.chunks(4).map(|d| d[0] > 0.5).collect();
         let regions: Vec<u32> = diagnostics
@@ -251,15 +281,16 @@ fn evaluate(
         result.region_pixels[1] += holes.iter().filter(|h| **h).count() as u64;
         result.region_pixels[2] += regions.iter().filter(|r| **r == REGION_FI).count() as u64;
         result.region_pixels[3] += regions.iter().filter(|r| **r == REGION_NEAR_BE).count() as u64;
+        result.region_pixels[4] += shadows.iter().filter(|s| **s).count() as u64;
 
         let mut strip_outputs = Vec::new();
         for &method in methods {
             let (output, stats) = match method.warp_kind() {
-                Some(PATCHEX_WARP_GBUFFER_GUIDED) => {
+                Some(PATCHEX_WARP_GBUFFER_GUIDED) if method == Method::Gbuffer => {
                     (tone_map(&reference.color, 4), Some(reference.stats))
                 }
                 Some(kind) => {
-                    let run = run_plugin(kind, false)?;
+                    let run = run_plugin(kind, false, method == Method::GbufferShadows)?;
                     (tone_map(&run.color, 4), Some(run.stats))
                 }
                 None if method == Method::Copy => {
@@ -272,7 +303,7 @@ fn evaluate(
                 .methods
                 .get_mut(&method)
                 .expect("every method has a result");
-            method_result.add(&maps, &holes, &regions);
+            method_result.add(&maps, &holes, &regions, &shadows);
             // The first target's times include the driver's lazy shader compilation.
             if let (Some(stats), true) = (stats, n > 0) {
                 method_result.add_time(&stats);
@@ -363,8 +394,8 @@ fn all_scenes(results: &[DatasetResult], methods: &[Method]) -> BTreeMap<Method,
 fn method_table(out: &mut String, methods: &BTreeMap<Method, MethodResult>) {
     writeln!(
         out,
-        "| method | PSNR dB: frame / holes / FI / near-BE | SSIM: frame / holes / FI / near-BE | \
-         FLIP: frame / holes / FI / near-BE | GPU ms |\n|---|---|---|---|---|"
+        "| method | PSNR dB: frame / holes / FI / near-BE / shadows | SSIM: same regions | \
+         FLIP: same regions | GPU ms |\n|---|---|---|---|---|"
     )
     .unwrap();
     for (method, result) in methods {
@@ -415,13 +446,14 @@ fn stage_table(out: &mut String, methods: &BTreeMap<Method, MethodResult>) {
     }
 }
 
-fn coverage(region_pixels: &[u64; 4]) -> String {
+fn coverage(region_pixels: &[u64; REGION_COUNT]) -> String {
     let share = |i: usize| 100.0 * region_pixels[i] as f64 / region_pixels[0].max(1) as f64;
     format!(
-        "holes {:.2}%, FI {:.2}%, near-BE {:.2}% of the pixels",
+        "holes {:.2}%, FI {:.2}%, near-BE {:.2}%, shadows {:.2}% of the pixels",
         share(1),
         share(2),
-        share(3)
+        share(3),
+        share(4)
     )
 }
 
@@ -438,7 +470,7 @@ fn report_markdown(results: &[DatasetResult], methods: &[Method]) -> String {
          frame of latency.\n"
     )
     .unwrap();
-    let mut total_pixels = [0u64; 4];
+    let mut total_pixels = [0u64; REGION_COUNT];
     for result in results {
         for (total, pixels) in total_pixels.iter_mut().zip(result.region_pixels) {
             *total += pixels;
@@ -520,7 +552,7 @@ fn finite(value: f64) -> Option<f64> {
     value.is_finite().then_some(value)
 }
 
-fn dict(region_pixels: &[u64; 4]) -> serde_json::Value {
+fn dict(region_pixels: &[u64; REGION_COUNT]) -> serde_json::Value {
     REGIONS
         .iter()
         .zip(region_pixels)

@@ -13,8 +13,9 @@ use patchex::loader::PatchexLibrary;
 use patchex::passes::warp::WarpSettings;
 use patchex_harness::{Engine, EngineImage, EngineOptions};
 use patchex_scene::dataset::{
-    FrameInfo, FrameLayers, Manifest, BASE_COLOR, CUSTOM_STENCIL, FINAL_IMAGE, METALLIC,
-    MOTION_VECTOR, SCENE_DEPTH, SPECULAR, WORLD_NORMAL,
+    FrameInfo, FrameLayers, Manifest, BASE_COLOR, CUSTOM_STENCIL, FINAL_IMAGE,
+    FINAL_IMAGE_NO_DYNAMIC_SHADOWS, METALLIC, MOTION_VECTOR, SCENE_DEPTH, SHADOW_MASK, SPECULAR,
+    WORLD_NORMAL,
 };
 
 /// The layout the driver keeps every engine image in between calls.
@@ -62,6 +63,8 @@ struct UploadedFrame {
     normal: EngineImage,
     stencil: EngineImage,
     motion: EngineImage,
+    /// The shadow mask and the colour without dynamic shadows, when asked for.
+    shadow: Option<(EngineImage, EngineImage)>,
     camera: PatchexCamera,
 }
 
@@ -113,7 +116,13 @@ impl PluginDriver {
         })
     }
 
-    fn upload(&self, layers: &FrameLayers, info: &FrameInfo, with_color: bool) -> UploadedFrame {
+    fn upload(
+        &self,
+        layers: &FrameLayers,
+        info: &FrameInfo,
+        with_color: bool,
+        with_shadow: bool,
+    ) -> UploadedFrame {
         let (w, h) = (self.width, self.height);
         let (wu, hu) = (w as usize, h as usize);
         let image = |format, values: &[f32]| {
@@ -144,6 +153,15 @@ impl PluginDriver {
             normal: image(F::R32G32B32A32_SFLOAT, &rgb(WORLD_NORMAL)),
             stencil: image(F::R8_UINT, &layers.layer(CUSTOM_STENCIL).plane(0)),
             motion: image(F::R32G32_SFLOAT, &layers.layer(MOTION_VECTOR).data),
+            shadow: with_shadow.then(|| {
+                (
+                    image(F::R32_SFLOAT, &layers.layer(SHADOW_MASK).plane(0)),
+                    image(
+                        F::R32G32B32A32_SFLOAT,
+                        &rgb(FINAL_IMAGE_NO_DYNAMIC_SHADOWS),
+                    ),
+                )
+            }),
             camera: PatchexCamera {
                 view: info.view,
                 projection: info.proj,
@@ -184,8 +202,28 @@ impl PluginDriver {
         image
     }
 
+    /// The submit description of `frame`.
+    fn frame_desc(&self, frame_index: u64, frame: &UploadedFrame) -> PatchexFrameDesc {
+        PatchexFrameDesc {
+            header: PatchexStructHeader::of::<PatchexFrameDesc>(PATCHEX_STRUCT_TYPE_FRAME_DESC),
+            frame_index,
+            reset: 0,
+            queue_family_index: self.engine.queue_family_index,
+            width: self.width,
+            height: self.height,
+            color: describe(frame.color.as_ref().expect("uploaded with colour")),
+            base_color: describe(&frame.base_color),
+            material: describe(&frame.material),
+            geometry: self.geometry(frame),
+        }
+    }
+
     /// Submits `source` as frame `frame_index` and extrapolates the `target` instant from it,
-    /// with the context's default warp or `warp`, and the diagnostics image if asked.
+    /// with the context's default warp or `warp`, and the diagnostics image if asked. With
+    /// `shadows`, both frames go with their shadow input, and frame t-1 (`shadows`' frame, when
+    /// there is one) is submitted first as frame `frame_index - 1`, so the shadow's motion is
+    /// tracked.
+    #[allow(clippy::too_many_arguments)]
     pub fn extrapolate(
         &self,
         frame_index: u64,
@@ -194,9 +232,14 @@ impl PluginDriver {
         alpha: f32,
         warp: Option<PatchexWarpKind>,
         with_diagnostics: bool,
+        shadows: Option<Option<(&FrameLayers, &FrameInfo)>>,
     ) -> Result<Extrapolated, String> {
-        let source = self.upload(source.0, source.1, true);
-        let target = self.upload(target.0, target.1, false);
+        let with_shadows = shadows.is_some();
+        let earlier = shadows
+            .flatten()
+            .map(|(layers, info)| self.upload(layers, info, true, true));
+        let source = self.upload(source.0, source.1, true, with_shadows);
+        let target = self.upload(target.0, target.1, false, false);
         let output = self.output_image();
         let diagnostics_image = with_diagnostics.then(|| self.output_image());
         let warp_settings = warp.map(|kind| {
@@ -229,24 +272,32 @@ impl PluginDriver {
         if let Some(diagnostics) = &diagnostics {
             next = diagnostics as *const PatchexDiagnostics as *const c_void;
         }
-        let family = self.engine.queue_family_index;
-        let frame = PatchexFrameDesc {
-            header: PatchexStructHeader::of::<PatchexFrameDesc>(PATCHEX_STRUCT_TYPE_FRAME_DESC),
-            frame_index,
-            reset: 0,
-            queue_family_index: family,
-            width: self.width,
-            height: self.height,
-            color: describe(source.color.as_ref().expect("uploaded with colour")),
-            base_color: describe(&source.base_color),
-            material: describe(&source.material),
-            geometry: self.geometry(&source),
+        let shadow_input = |frame: &UploadedFrame| {
+            frame.shadow.as_ref().map(|(mask, color)| PatchexShadowInput {
+                header: PatchexStructHeader::of::<PatchexShadowInput>(
+                    PATCHEX_STRUCT_TYPE_SHADOW_INPUT,
+                ),
+                mask: describe(mask),
+                color_without_dynamic_shadows: describe(color),
+            })
         };
+        let with_shadow_input = |mut desc: PatchexFrameDesc, input: &Option<PatchexShadowInput>| {
+            if let Some(input) = input {
+                desc.header.next = input as *const PatchexShadowInput as *const c_void;
+            }
+            desc
+        };
+        let source_shadow = shadow_input(&source);
+        let frame = with_shadow_input(self.frame_desc(frame_index, &source), &source_shadow);
+        let earlier_shadow = earlier.as_ref().and_then(shadow_input);
+        let earlier_frame = earlier.as_ref().map(|earlier| {
+            with_shadow_input(self.frame_desc(frame_index - 1, earlier), &earlier_shadow)
+        });
         let mut extrapolate = PatchexExtrapolateDesc {
             header: PatchexStructHeader::of::<PatchexExtrapolateDesc>(
                 PATCHEX_STRUCT_TYPE_EXTRAPOLATE_DESC,
             ),
-            queue_family_index: family,
+            queue_family_index: self.engine.queue_family_index,
             alpha,
             width: self.width,
             height: self.height,
@@ -256,16 +307,19 @@ impl PluginDriver {
             output: describe(&output),
         };
         extrapolate.header.next = next;
-        let mut results = (PatchexResult::Success, PatchexResult::Success);
+        let mut results = [PatchexResult::Success; 3];
         self.engine.run(|cmd| {
             // SAFETY: live context; the images live until the submission completes.
             unsafe {
-                results.0 = (self.library.submit_gbuffers)(self.context, cmd, &frame);
-                results.1 = (self.library.extrapolate)(self.context, cmd, &extrapolate);
+                if let Some(earlier_frame) = &earlier_frame {
+                    results[0] = (self.library.submit_gbuffers)(self.context, cmd, earlier_frame);
+                }
+                results[1] = (self.library.submit_gbuffers)(self.context, cmd, &frame);
+                results[2] = (self.library.extrapolate)(self.context, cmd, &extrapolate);
             }
         });
         // A camera cut (RENDER_INSTEAD, positive) still writes the output: the stats say so.
-        if (results.0 as i32) < 0 || (results.1 as i32) < 0 {
+        if results.iter().any(|result| (*result as i32) < 0) {
             // SAFETY: live context.
             return Err(format!("patchex: {}", unsafe {
                 self.library.last_error_message(self.context)

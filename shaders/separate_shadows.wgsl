@@ -1,0 +1,52 @@
+// Shadow separation, run in place of demodulate.wgsl when the engine gives a shadow input. The
+// shading the pipeline warps is the colour without dynamic-caster shadows, demodulated; the
+// shadow layer is what those shadows take away, demodulated the same way:
+//   shading = U / m,   layer = (F - U) / m,
+// with F the colour, U the colour without dynamic shadows and m the modulation factor. Nothing
+// is divided by the mask, so fully shadowed pixels (mask 0) are as stable as lit ones. The
+// sanitised mask becomes level 0 of the flow's pyramid. Each pixel with any input sanitised is
+// counted once.
+// #import gbuffer
+
+struct Params {
+    extent: vec2u,
+    has_material: u32,
+}
+var<immediate> params: Params;
+
+@group(0) @binding(0) var color: texture_2d<f32>;
+@group(0) @binding(1) var color_without_dynamic_shadows: texture_2d<f32>;
+@group(0) @binding(2) var shadow_mask: texture_2d<f32>;
+@group(0) @binding(3) var base_color: texture_2d<f32>;
+@group(0) @binding(4) var material: texture_2d<f32>;
+@group(0) @binding(5) var shading: texture_storage_2d<rgba32float, write>;
+@group(0) @binding(6) var shadow_layer: texture_storage_2d<rgba32float, write>;
+@group(0) @binding(7) var mask_pyramid: texture_storage_2d<r32float, write>;
+@group(0) @binding(8) var<storage, read_write> counters: SanitizeCounters;
+
+var<workgroup> group_sanitized: atomic<u32>;
+
+@compute @workgroup_size(8, 8, 1)
+fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_index) lane: u32) {
+    if (lane == 0u) {
+        atomicStore(&group_sanitized, 0u);
+    }
+    workgroupBarrier();
+    let p = id.xy;
+    if (all(p < params.extent)) {
+        let m = pixel_modulation(base_color, material, p, params.has_material);
+        let lit = sanitize_color(textureLoad(color, p, 0).rgb);
+        let unshadowed = sanitize_color(textureLoad(color_without_dynamic_shadows, p, 0).rgb);
+        let mask = sanitize_unit(vec3f(textureLoad(shadow_mask, p, 0).r, 0.0, 0.0));
+        textureStore(shading, p, vec4f(unshadowed.value / m.factor, 1.0));
+        textureStore(shadow_layer, p, vec4f((lit.value - unshadowed.value) / m.factor, 1.0));
+        textureStore(mask_pyramid, p, vec4f(mask.value.x, 0.0, 0.0, 0.0));
+        if (m.changed || lit.changed || unshadowed.changed || mask.changed) {
+            atomicAdd(&group_sanitized, 1u);
+        }
+    }
+    workgroupBarrier();
+    if (lane == 0u) {
+        atomicAdd(&counters.sanitized_pixels, atomicLoad(&group_sanitized));
+    }
+}

@@ -1,0 +1,337 @@
+//! Farneback dense optical flow between the dynamic-caster shadow masks of frames t and t-1
+//! (Farneback 2003, "Two-frame motion estimation based on polynomial expansion"): a mask
+//! pyramid, each level's polynomial expansion, then coarse to fine a few iterations of
+//! per-texel equations, a box sum over the window and a 2x2 solve. The result, at level 0, is
+//! the displacement of each pixel of frame t to frame t-1 in pixels: the convention of motion
+//! vectors, so the occlusion-motion-vector warp can carry the shadow layer with it.
+//!
+//! Every quantity's pyramid is one atlas image: level 0 at the origin, each coarser level in a
+//! column to its right (`pyramid`). One descriptor set per pass serves every level; push
+//! constants say which. The expansion of frame t-1 is the one computed at the previous submit.
+
+use ash::vk;
+
+use crate::abi::*;
+use crate::error::{bail, Result};
+use crate::shaders;
+use crate::vk::barriers;
+use crate::vk::image::OwnedImage;
+use crate::vk::pipeline::{ComputePipeline, DescriptorWrites};
+
+pub const MAX_LEVELS: u32 = 6;
+pub const MAX_ITERATIONS: u32 = 10;
+pub const MAX_WINDOW_RADIUS: u32 = 15;
+/// The expansion's weights travel as four push constants.
+pub const MAX_POLY_RADIUS: u32 = 3;
+const POLY_SIGMA_RANGE: std::ops::RangeInclusive<f32> = 0.1..=4.0;
+
+/// Added to each texel's normal equations as `eps * (I, d)`: small against the structure of a
+/// shadow edge (a step of 1 in the mask gives |A|^2 of about 1e-2), it only decides texels
+/// whose window holds no structure, which keep the coarser estimate.
+pub const REGULARIZATION: f32 = 1e-5;
+
+/// The flow's settings, validated.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FlowSettings {
+    pub levels: u32,
+    pub iterations: u32,
+    pub window_radius: u32,
+    pub poly_radius: u32,
+    pub poly_sigma: f32,
+}
+
+impl Default for FlowSettings {
+    /// The PATCHEX_DEFAULT_FLOW_* values of the header.
+    fn default() -> Self {
+        Self {
+            levels: PATCHEX_DEFAULT_FLOW_LEVELS,
+            iterations: PATCHEX_DEFAULT_FLOW_ITERATIONS,
+            window_radius: PATCHEX_DEFAULT_FLOW_WINDOW_RADIUS,
+            poly_radius: PATCHEX_DEFAULT_FLOW_POLY_RADIUS,
+            poly_sigma: PATCHEX_DEFAULT_FLOW_POLY_SIGMA,
+        }
+    }
+}
+
+impl FlowSettings {
+    pub fn from_abi(settings: &PatchexShadowFlowSettings) -> Result<Self> {
+        for (name, value, max) in [
+            ("levels", settings.levels, MAX_LEVELS),
+            ("iterations", settings.iterations, MAX_ITERATIONS),
+            ("window_radius", settings.window_radius, MAX_WINDOW_RADIUS),
+            ("poly_radius", settings.poly_radius, MAX_POLY_RADIUS),
+        ] {
+            if !(1..=max).contains(&value) {
+                bail!(
+                    ErrorInvalidArgument,
+                    "PatchexShadowFlowSettings.{name} {value} must be 1 to {max}"
+                );
+            }
+        }
+        if !POLY_SIGMA_RANGE.contains(&settings.poly_sigma) {
+            bail!(
+                ErrorInvalidArgument,
+                "PatchexShadowFlowSettings.poly_sigma {} must be {} to {}",
+                settings.poly_sigma,
+                POLY_SIGMA_RANGE.start(),
+                POLY_SIGMA_RANGE.end()
+            );
+        }
+        Ok(Self {
+            levels: settings.levels,
+            iterations: settings.iterations,
+            window_radius: settings.window_radius,
+            poly_radius: settings.poly_radius,
+            poly_sigma: settings.poly_sigma,
+        })
+    }
+
+    /// The polynomial expansion's constants for one level: the least-squares fit's inverse
+    /// normal matrix, reduced by the weights' symmetry (see `shaders/shadow_poly.wgsl`).
+    pub fn poly_params(&self, level: &Level) -> shaders::shadow_poly::Params {
+        let r = self.poly_radius as i32;
+        let sigma = self.poly_sigma as f64;
+        let weight = |i: i32| (-((i * i) as f64) / (2.0 * sigma * sigma)).exp();
+        let (mut sum, mut sum_xx, mut sum_xxxx, mut sum_xxyy) = (0.0, 0.0, 0.0, 0.0);
+        for y in -r..=r {
+            for x in -r..=r {
+                let w = weight(x) * weight(y);
+                let (x, y) = (x as f64, y as f64);
+                sum += w;
+                sum_xx += w * x * x;
+                sum_xxxx += w * x * x * x * x;
+                sum_xxyy += w * x * x * y * y;
+            }
+        }
+        // Normal equations of (c, a11, a22): [[S, Sxx, Sxx], [Sxx, Sxxxx, Sxxyy],
+        // [Sxx, Sxxyy, Sxxxx]]. The second row of its inverse gives a11.
+        let m = glam::DMat3::from_cols_array(&[
+            sum, sum_xx, sum_xx, sum_xx, sum_xxxx, sum_xxyy, sum_xx, sum_xxyy, sum_xxxx,
+        ]);
+        let inverse = m.inverse();
+        let a_row = inverse.row(1);
+        let w: Vec<f32> = (0..=3).map(|i| weight(i) as f32).collect();
+        shaders::shadow_poly::Params {
+            level_offset: level.offset,
+            level_size: level.size,
+            radius: r,
+            weight0: w[0],
+            weight1: w[1],
+            weight2: w[2],
+            weight3: w[3],
+            inv_sum_xx: (1.0 / sum_xx) as f32,
+            inv_sum_xxyy: (1.0 / sum_xxyy) as f32,
+            a_from_sum: a_row.x as f32,
+            a_from_xx: a_row.y as f32,
+            a_from_yy: a_row.z as f32,
+        }
+    }
+}
+
+/// One pyramid level's place in the atlases, in texels.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Level {
+    pub offset: [u32; 2],
+    pub size: [u32; 2],
+}
+
+/// The levels of a pyramid over `extent`: level 0 at the origin, level k + 1 half of level k
+/// (rounded up), stacked in a column right of level 0.
+pub fn pyramid(extent: vk::Extent2D, levels: u32) -> Vec<Level> {
+    let mut result = vec![Level {
+        offset: [0, 0],
+        size: [extent.width, extent.height],
+    }];
+    let mut y = 0;
+    for _ in 1..levels {
+        let finer = result.last().expect("level 0 is there").size;
+        let size = [finer[0].div_ceil(2), finer[1].div_ceil(2)];
+        result.push(Level {
+            offset: [extent.width, y],
+            size,
+        });
+        y += size[1];
+    }
+    result
+}
+
+/// The size of an atlas holding every pyramid over frames up to `extent`.
+pub fn atlas_extent(extent: vk::Extent2D) -> vk::Extent2D {
+    vk::Extent2D {
+        width: extent.width + extent.width.div_ceil(2),
+        height: extent.height,
+    }
+}
+
+/// The images of the flow stage. `poly_*[current]` receive frame t's expansion; the other
+/// pair holds frame t-1's.
+pub struct FlowImages<'a> {
+    pub mask_pyramid: &'a OwnedImage,
+    pub poly: [&'a OwnedImage; 2],
+    pub poly_xy: [&'a OwnedImage; 2],
+    pub current: usize,
+    pub equations: &'a OwnedImage,
+    pub equations_h2: &'a OwnedImage,
+    pub rows: &'a OwnedImage,
+    pub rows_h2: &'a OwnedImage,
+    pub flow: &'a OwnedImage,
+}
+
+pub struct FlowPipelines<'a> {
+    pub pyramid: &'a ComputePipeline,
+    pub poly: &'a ComputePipeline,
+    pub matrices: &'a ComputePipeline,
+    pub rows: &'a ComputePipeline,
+    pub solve: &'a ComputePipeline,
+}
+
+/// The descriptor sets of the five pipelines, in `FlowPipelines` order.
+pub type FlowSets = [vk::DescriptorSet; 5];
+
+fn extent_of(level: &Level) -> vk::Extent2D {
+    vk::Extent2D {
+        width: level.size[0],
+        height: level.size[1],
+    }
+}
+
+/// Records the mask pyramid and frame t's expansion; then, when `track` (frame t-1's expansion
+/// is there), the flow. Level 0 of the mask pyramid must be written and visible.
+#[allow(clippy::too_many_arguments)]
+pub fn record(
+    pipelines: &FlowPipelines,
+    sets: FlowSets,
+    device: &ash::Device,
+    cmd: vk::CommandBuffer,
+    extent: vk::Extent2D,
+    settings: &FlowSettings,
+    images: &FlowImages,
+    track: bool,
+) {
+    use shaders::{shadow_flow_matrices as m, shadow_flow_rows as r, shadow_flow_solve as s};
+    use shaders::{shadow_poly as p, shadow_pyramid as y};
+    let general = vk::ImageLayout::GENERAL;
+    let (current, previous) = (images.current, 1 - images.current);
+    DescriptorWrites::new(pipelines.pyramid)
+        .image(y::binding::FINER, images.mask_pyramid.view, general)
+        .image(y::binding::LEVEL, images.mask_pyramid.view, general)
+        .update(device, sets[0]);
+    DescriptorWrites::new(pipelines.poly)
+        .image(p::binding::MASK_PYRAMID, images.mask_pyramid.view, general)
+        .image(p::binding::POLY, images.poly[current].view, general)
+        .image(p::binding::POLY_XY, images.poly_xy[current].view, general)
+        .update(device, sets[1]);
+    DescriptorWrites::new(pipelines.matrices)
+        .image(m::binding::POLY_CURRENT, images.poly[current].view, general)
+        .image(
+            m::binding::POLY_XY_CURRENT,
+            images.poly_xy[current].view,
+            general,
+        )
+        .image(
+            m::binding::POLY_PREVIOUS,
+            images.poly[previous].view,
+            general,
+        )
+        .image(
+            m::binding::POLY_XY_PREVIOUS,
+            images.poly_xy[previous].view,
+            general,
+        )
+        .image(m::binding::FLOW, images.flow.view, general)
+        .image(m::binding::EQUATIONS, images.equations.view, general)
+        .image(m::binding::EQUATIONS_H2, images.equations_h2.view, general)
+        .update(device, sets[2]);
+    DescriptorWrites::new(pipelines.rows)
+        .image(r::binding::EQUATIONS, images.equations.view, general)
+        .image(r::binding::EQUATIONS_H2, images.equations_h2.view, general)
+        .image(r::binding::ROWS, images.rows.view, general)
+        .image(r::binding::ROWS_H2, images.rows_h2.view, general)
+        .update(device, sets[3]);
+    DescriptorWrites::new(pipelines.solve)
+        .image(s::binding::ROWS, images.rows.view, general)
+        .image(s::binding::ROWS_H2, images.rows_h2.view, general)
+        .image(s::binding::FLOW, images.flow.view, general)
+        .update(device, sets[4]);
+
+    let levels = pyramid(extent, settings.levels);
+    for pair in levels.windows(2) {
+        let params = y::Params {
+            level_offset: pair[1].offset,
+            level_size: pair[1].size,
+            finer_offset: pair[0].offset,
+            finer_size: pair[0].size,
+        };
+        pipelines
+            .pyramid
+            .dispatch(device, cmd, sets[0], &params, extent_of(&pair[1]));
+        barriers::compute_to_compute(device, cmd, false);
+    }
+    for level in &levels {
+        let params = settings.poly_params(level);
+        pipelines
+            .poly
+            .dispatch(device, cmd, sets[1], &params, extent_of(level));
+    }
+    if !track {
+        // No frame t-1 to track from: the shadow stays where it is.
+        barriers::compute_to_transfer(device, cmd);
+        let zero = vk::ClearColorValue { float32: [0.0; 4] };
+        // SAFETY: cmd is recording; the flow image is in GENERAL and has TRANSFER_DST usage.
+        unsafe {
+            device.cmd_clear_color_image(
+                cmd,
+                images.flow.image,
+                general,
+                &zero,
+                &[crate::vk::image::COLOR_SUBRESOURCE],
+            );
+        }
+        barriers::compute_to_compute(device, cmd, true);
+        return;
+    }
+    barriers::compute_to_compute(device, cmd, false);
+    let radius = settings.window_radius as i32;
+    for (index, level) in levels.iter().enumerate().rev() {
+        for iteration in 0..settings.iterations {
+            // The first estimate comes from the coarser level, or is zero at the coarsest.
+            let prior = if iteration > 0 {
+                Some(level)
+            } else {
+                levels.get(index + 1)
+            };
+            let params = m::Params {
+                level_offset: level.offset,
+                level_size: level.size,
+                prior_offset: prior.map_or([0, 0], |p| p.offset),
+                prior_size: prior.map_or([1, 1], |p| p.size),
+                has_prior: prior.is_some() as u32,
+                regularization: REGULARIZATION,
+            };
+            pipelines
+                .matrices
+                .dispatch(device, cmd, sets[2], &params, extent_of(level));
+            barriers::compute_to_compute(device, cmd, false);
+            let params = r::Params {
+                level_offset: level.offset,
+                level_size: level.size,
+                radius,
+                ..Default::default()
+            };
+            pipelines
+                .rows
+                .dispatch(device, cmd, sets[3], &params, extent_of(level));
+            barriers::compute_to_compute(device, cmd, false);
+            let params = s::Params {
+                level_offset: level.offset,
+                level_size: level.size,
+                radius,
+                ..Default::default()
+            };
+            pipelines
+                .solve
+                .dispatch(device, cmd, sets[4], &params, extent_of(level));
+            barriers::compute_to_compute(device, cmd, false);
+        }
+    }
+}

@@ -1,0 +1,53 @@
+//! Mirror of `shaders/separate_shadows.wgsl`.
+
+use glam::Vec3;
+
+use super::gbuffer::{pixel_modulation, sanitize, sanitize_color};
+use super::Image;
+
+pub struct Separated {
+    /// The shading without dynamic-caster shadows, which the warps carry.
+    pub shading: Image,
+    pub shadow_layer: Image,
+    /// Level 0 of the flow's pyramid.
+    pub mask: Image,
+    pub sanitized: u32,
+}
+
+pub fn separate(
+    color: &Image,
+    color_without_dynamic_shadows: &Image,
+    mask: &Image,
+    base_color: &Image,
+    material: Option<&Image>,
+) -> Separated {
+    let (w, h) = (color.width, color.height);
+    let mut separated = Separated {
+        shading: Image::new(w, h, 4),
+        shadow_layer: Image::new(w, h, 4),
+        mask: Image::new(w, h, 1),
+        sanitized: 0,
+    };
+    for y in 0..h {
+        for x in 0..w {
+            let (factor, material_changed) = pixel_modulation(base_color, material, x, y);
+            let (lit, lit_changed) = sanitize_color(Vec3::from_slice(color.at(x, y)));
+            let (unshadowed, unshadowed_changed) =
+                sanitize_color(Vec3::from_slice(color_without_dynamic_shadows.at(x, y)));
+            let (visibility, mask_changed) =
+                sanitize(Vec3::new(mask.at(x, y)[0], 0.0, 0.0), 0.0, 1.0);
+            let shading = unshadowed / factor;
+            let layer = (lit - unshadowed) / factor;
+            separated
+                .shading
+                .set(x, y, &[shading.x, shading.y, shading.z, 1.0]);
+            separated
+                .shadow_layer
+                .set(x, y, &[layer.x, layer.y, layer.z, 1.0]);
+            separated.mask.set(x, y, &[visibility.x]);
+            separated.sanitized +=
+                (material_changed || lit_changed || unshadowed_changed || mask_changed) as u32;
+        }
+    }
+    separated
+}

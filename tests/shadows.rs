@@ -1,0 +1,388 @@
+//! The shadow sub-task on lavapipe through the C ABI: separation, Farneback flow and the shadow
+//! layer's warp against their plain-Rust references on frames of the scene renderer, the flow
+//! against the true motion of an analytic shadow, the gain it brings, and that without a shadow
+//! input nothing of it runs.
+//!
+//! Tolerances. The flow solves a 2x2 system per pixel from sums of a few hundred products, so
+//! last-bit differences of exp() and fused multiply-adds grow where the system is weak; the flow
+//! is compared within 0.02 pixel plus 1% of its length, after the f16 rounding of the
+//! diagnostics image. The layers' luminances and the output follow the colour tolerance of
+//! `support/pipeline.rs` (2e-3 relative plus 1e-4), loosened to 1e-3 absolute for the warped
+//! layer, which samples the flow bilinearly.
+
+mod support;
+
+use std::ffi::c_void;
+
+use glam::{Vec2, Vec3};
+use patchex::abi::*;
+use patchex::camera::Camera;
+use patchex::error::PatchexResult;
+use patchex::passes::shadow_flow::FlowSettings;
+use patchex::reference::{self, round_to_f16, Image, ShadowInputs};
+use support::pipeline::{inputs, psnr, read_image};
+use support::scene::{Frame, Scene};
+use support::*;
+
+const LUMINANCE: Vec3 = Vec3::new(0.2126, 0.7152, 0.0722);
+
+/// What one run of three frames gave back.
+struct ShadowOutcome {
+    output: Image,
+    /// RG flow, B layer luminance, A warped layer luminance (`PatchexShadowDiagnostics`).
+    diagnostics: Image,
+    stats: PatchexFrameStats,
+}
+
+/// Submits `previous` (frame 1) and `source` (frame 2), with their shadow inputs when
+/// `with_shadows`, and extrapolates `target` at `alpha` from frame 2.
+fn run_with_shadows(
+    rig: &Rig,
+    previous: &Frame,
+    source: &Frame,
+    target: &Frame,
+    alpha: f32,
+    with_shadows: bool,
+) -> ShadowOutcome {
+    let engine = &rig.engine;
+    let family = engine.queue_family_index;
+    let (width, height) = (source.color.width, source.color.height);
+    let frames = [previous, source].map(|frame| GpuFrame::upload(engine, frame));
+    let gpu_target = GpuFrame::upload(engine, target);
+    let output = output_image(engine, width as u32, height as u32);
+    let diagnostics_image = output_image(engine, width as u32, height as u32);
+    let diagnostics = PatchexShadowDiagnostics {
+        header: PatchexStructHeader::of::<PatchexShadowDiagnostics>(
+            PATCHEX_STRUCT_TYPE_SHADOW_DIAGNOSTICS,
+        ),
+        image: describe(&diagnostics_image, OUTPUT_LAYOUT),
+    };
+    let shadow_inputs = frames.each_ref().map(|frame| frame.shadow_input());
+    for (index, frame) in frames.iter().enumerate() {
+        let mut desc = frame.frame_desc(1 + index as u64, family);
+        if with_shadows {
+            desc.header.next = &shadow_inputs[index] as *const _ as *const c_void;
+        }
+        engine.run(|cmd| {
+            assert_eq!(
+                rig.submit(cmd, &desc),
+                PatchexResult::Success,
+                "{}",
+                rig.last_error()
+            );
+            if index == 1 {
+                let mut extrapolate = gpu_target.extrapolate_desc(&output, alpha, family);
+                extrapolate.header.next = &diagnostics as *const _ as *const c_void;
+                assert_eq!(
+                    rig.extrapolate(cmd, &extrapolate),
+                    PatchexResult::Success,
+                    "{}",
+                    rig.last_error()
+                );
+            }
+        });
+    }
+    let (result, stats) = rig.stats(2);
+    assert_eq!(result, PatchexResult::Success, "{}", rig.last_error());
+    ShadowOutcome {
+        output: read_image(engine, &output, width, height),
+        diagnostics: read_image(engine, &diagnostics_image, width, height),
+        stats,
+    }
+}
+
+fn reference_run(
+    previous: &Frame,
+    source: &Frame,
+    target: &Frame,
+    alpha: f32,
+) -> reference::Extrapolation {
+    let source_camera = Camera::from_abi(&source.camera, "source").unwrap();
+    let target_camera = Camera::from_abi(&target.camera, "target").unwrap();
+    reference::extrapolate(
+        &inputs(source, &source_camera),
+        &inputs(target, &target_camera),
+        Some(&ShadowInputs {
+            color_without_dynamic_shadows: &source.color_without_dynamic_shadows,
+            mask: &source.shadow_mask,
+            previous_mask: Some(&previous.shadow_mask),
+            flow: FlowSettings::default(),
+        }),
+        alpha,
+        &Default::default(),
+        &Default::default(),
+    )
+}
+
+fn luminance(pixel: &[f32]) -> f32 {
+    Vec3::from_slice(pixel).dot(LUMINANCE)
+}
+
+/// Worst error of `got` against `want` in units of `absolute + relative * |want|`.
+fn worst_error(got: f32, want: f32, absolute: f32, relative: f32) -> f32 {
+    (got - want).abs() / (absolute + relative * want.abs())
+}
+
+#[test]
+fn shadow_passes_match_their_references_on_rendered_frames() {
+    const W: u32 = 128;
+    const H: u32 = 72;
+    // Frames 0 and 2 are rendered frames t-1 and t, frame 3 the instant halfway to t+1.
+    let sequence = support::rendered::render("shadow_terrain.toml", 4, W, H);
+    let [previous, _, source, target] = &sequence.frames[..] else {
+        unreachable!("four frames")
+    };
+    let rig = Rig::new(W, H);
+    let outcome = run_with_shadows(&rig, previous, source, target, 0.5, true);
+    let messages = rig.engine.take_validation_messages();
+    assert!(messages.is_empty(), "validation: {messages:?}");
+    let expected = reference_run(previous, source, target, 0.5);
+    let shadows = expected.shadows.as_ref().expect("a shadow input was given");
+
+    let (mut flow_worst, mut layer_worst, mut warped_worst, mut output_worst) =
+        (0.0f32, 0.0f32, 0.0f32, 0.0f32);
+    let mut moving = 0;
+    for y in 0..H as usize {
+        for x in 0..W as usize {
+            let got = outcome.diagnostics.at(x, y);
+            let flow = shadows.flow.at(x, y);
+            for c in 0..2 {
+                let want = round_to_f16(flow[c]);
+                flow_worst = flow_worst.max(worst_error(got[c], want, 0.02, 0.01));
+            }
+            moving += (Vec2::new(flow[0], flow[1]).length() > 0.5) as usize;
+            let layer = round_to_f16(luminance(shadows.separated.shadow_layer.at(x, y)));
+            layer_worst = layer_worst.max(worst_error(got[2], layer, 1e-4, 2e-3));
+            let warped = round_to_f16(luminance(shadows.warped_layer.warped.at(x, y)));
+            warped_worst = warped_worst.max(worst_error(got[3], warped, 1e-3, 2e-3));
+            for c in 0..3 {
+                let (g, w) = (outcome.output.at(x, y)[c], expected.output.at(x, y)[c]);
+                output_worst = output_worst.max(worst_error(g, w, 1e-3, 2e-3));
+            }
+        }
+    }
+    eprintln!(
+        "worst / tolerance: flow {flow_worst:.3}, layer {layer_worst:.3}, warped layer \
+         {warped_worst:.3}, output {output_worst:.3}; {moving} pixels of flow over 0.5 px"
+    );
+    assert!(flow_worst <= 1.0, "flow differs from the reference");
+    assert!(
+        layer_worst <= 1.0,
+        "shadow layer differs from the reference"
+    );
+    assert!(
+        warped_worst <= 1.0,
+        "warped shadow layer differs from the reference"
+    );
+    assert!(output_worst <= 1.0, "output differs from the reference");
+    // The case is real: the character's shadow moves and darkens the ground.
+    assert!(moving > 50, "only {moving} pixels of the flow move");
+    let shadowed = (0..(W * H) as usize)
+        .filter(|&i| source.shadow_mask.data[i] < 0.5)
+        .count();
+    assert!(shadowed > 50, "only {shadowed} pixels in shadow");
+    assert_eq!(
+        outcome.stats.source_sanitized_pixels, shadows.separated.sanitized,
+        "sanitised pixels of frame t"
+    );
+}
+
+/// The analytic scene with the sun behind the sphere, so its shadow falls towards the camera.
+fn shadow_scene() -> Scene {
+    Scene {
+        casts_shadow: true,
+        sun: Vec3::new(0.3, 0.8, -0.55).normalize(),
+        sphere_speed: 4.0,
+        camera_speed: 0.5,
+        ..Scene::new(160, 96)
+    }
+}
+
+const FRAME_TIME: f32 = 1.0 / 15.0;
+
+#[test]
+fn shadow_flow_follows_the_true_motion_of_the_shadow() {
+    let scene = shadow_scene();
+    let previous = scene.render(-FRAME_TIME, Vec2::ZERO, -2.0 * FRAME_TIME);
+    let source = scene.render(0.0, Vec2::ZERO, -FRAME_TIME);
+    let target = scene.render(0.5 * FRAME_TIME, Vec2::ZERO, 0.0);
+    let rig = Rig::new(160, 96);
+    let outcome = run_with_shadows(&rig, &previous, &source, &target, 0.5, true);
+    let truth = source
+        .shadow_motion
+        .as_ref()
+        .expect("the analytic scene knows it");
+
+    // Over the ground in the shadow's penumbra and umbra of frame t.
+    let (mut error, mut length, mut count) = (0.0f32, 0.0f32, 0);
+    for y in 0..96 {
+        for x in 0..160 {
+            let true_motion = Vec2::from_slice(truth.at(x, y));
+            if !true_motion.is_finite() || source.shadow_mask.at(x, y)[0] > 0.95 {
+                continue;
+            }
+            let got = Vec2::from_slice(&outcome.diagnostics.at(x, y)[..2]);
+            error += (got - true_motion).length();
+            length += true_motion.length();
+            count += 1;
+        }
+    }
+    assert!(count > 100, "only {count} shadowed ground pixels");
+    let (mean_error, mean_length) = (error / count as f32, length / count as f32);
+    eprintln!(
+        "shadow flow over {count} pixels: mean endpoint error {mean_error:.2} px for a mean \
+         true motion of {mean_length:.2} px"
+    );
+    assert!(
+        mean_length > 3.0,
+        "the shadow barely moves ({mean_length} px)"
+    );
+    assert!(
+        mean_error < 0.15 * mean_length,
+        "mean endpoint error {mean_error} px against {mean_length} px of motion"
+    );
+}
+
+#[test]
+fn moving_the_shadow_brings_the_extrapolation_closer_to_the_rendered_target() {
+    let scene = shadow_scene();
+    let previous = scene.render(-FRAME_TIME, Vec2::ZERO, -2.0 * FRAME_TIME);
+    let source = scene.render(0.0, Vec2::ZERO, -FRAME_TIME);
+    let target = scene.render(0.5 * FRAME_TIME, Vec2::ZERO, 0.0);
+    let rig = Rig::new(160, 96);
+    let without = run_with_shadows(&rig, &previous, &source, &target, 0.5, false);
+    let rig = Rig::new(160, 96);
+    let with = run_with_shadows(&rig, &previous, &source, &target, 0.5, true);
+
+    // Scored where frame t or the target has shadow: where the shadow was and where it went.
+    let region = |image: &Image| {
+        let mut data = Vec::new();
+        for i in 0..source.shadow_mask.data.len() {
+            if source.shadow_mask.data[i] < 0.95 || target.shadow_mask.data[i] < 0.95 {
+                data.extend_from_slice(&image.data[4 * i..4 * i + 4]);
+            }
+        }
+        Image {
+            width: data.len() / 4,
+            height: 1,
+            channels: 4,
+            data,
+        }
+    };
+    let truth = region(&target.color);
+    let (psnr_without, psnr_with) = (
+        psnr(&region(&without.output), &truth),
+        psnr(&region(&with.output), &truth),
+    );
+    eprintln!("shadow region: {psnr_without:.1} dB without the shadow sub-task, {psnr_with:.1} dB with it");
+    assert!(
+        psnr_with > psnr_without + 2.0,
+        "{psnr_with} dB with shadows against {psnr_without} dB without"
+    );
+    let messages = rig.engine.take_validation_messages();
+    assert!(messages.is_empty(), "validation: {messages:?}");
+}
+
+#[test]
+fn without_a_shadow_input_no_shadow_pass_runs() {
+    let scene = shadow_scene();
+    let previous = scene.render(-FRAME_TIME, Vec2::ZERO, -2.0 * FRAME_TIME);
+    let source = scene.render(0.0, Vec2::ZERO, -FRAME_TIME);
+    let target = scene.render(0.5 * FRAME_TIME, Vec2::ZERO, 0.0);
+    let rig = Rig::new(160, 96);
+    let without = run_with_shadows(&rig, &previous, &source, &target, 0.5, false);
+    let memory_without = without.stats.device_memory_bytes;
+    let shadow_stages = |stats: &PatchexFrameStats| {
+        (
+            stats.submit_gpu_ms[PATCHEX_STAGE_SHADOW_FLOW as usize],
+            stats.extrapolations[0].gpu_ms[PATCHEX_STAGE_SHADOW_WARP as usize],
+        )
+    };
+    assert_eq!(shadow_stages(&without.stats), (0.0, 0.0));
+    // Nothing of the shadow layer reached the diagnostics image, which stays as uploaded.
+    assert!(without.diagnostics.data.iter().all(|v| *v == 0.0));
+
+    let rig = Rig::new(160, 96);
+    let with = run_with_shadows(&rig, &previous, &source, &target, 0.5, true);
+    assert_eq!(with.stats.timings_valid, 1);
+    let (flow_ms, warp_ms) = shadow_stages(&with.stats);
+    assert!(flow_ms > 0.0 && warp_ms > 0.0, "{flow_ms} ms, {warp_ms} ms");
+    assert!(
+        with.stats.device_memory_bytes > memory_without,
+        "the shadow images are made only when a shadow input arrives"
+    );
+}
+
+#[test]
+fn bad_shadow_inputs_and_flow_settings_are_refused() {
+    let scene = shadow_scene();
+    let source = scene.render(0.0, Vec2::ZERO, -FRAME_TIME);
+    let rig = Rig::new(160, 96);
+    let family = rig.engine.queue_family_index;
+    let gpu = GpuFrame::upload(&rig.engine, &source);
+
+    let settings = PatchexShadowFlowSettings {
+        header: PatchexStructHeader::of::<PatchexShadowFlowSettings>(
+            PATCHEX_STRUCT_TYPE_SHADOW_FLOW_SETTINGS,
+        ),
+        levels: PATCHEX_DEFAULT_FLOW_LEVELS,
+        iterations: PATCHEX_DEFAULT_FLOW_ITERATIONS,
+        window_radius: PATCHEX_DEFAULT_FLOW_WINDOW_RADIUS,
+        poly_radius: PATCHEX_DEFAULT_FLOW_POLY_RADIUS,
+        poly_sigma: PATCHEX_DEFAULT_FLOW_POLY_SIGMA,
+    };
+    // Submits frame 1 with `shadow` and, when given, `settings` chained after it.
+    let submit = |shadow: PatchexShadowInput, settings: Option<PatchexShadowFlowSettings>| {
+        let mut shadow = shadow;
+        if let Some(settings) = &settings {
+            shadow.header.next = settings as *const _ as *const c_void;
+        }
+        let mut desc = gpu.frame_desc(1, family);
+        desc.header.next = &shadow as *const _ as *const c_void;
+        let mut result = PatchexResult::Success;
+        rig.engine.run(|cmd| result = rig.submit(cmd, &desc));
+        result
+    };
+    let zero_levels = PatchexShadowFlowSettings {
+        levels: 0,
+        ..settings
+    };
+    assert_eq!(
+        submit(gpu.shadow_input(), Some(zero_levels)),
+        PatchexResult::ErrorInvalidArgument
+    );
+    assert!(
+        rig.last_error().contains("levels 0"),
+        "{}",
+        rig.last_error()
+    );
+    let nan_sigma = PatchexShadowFlowSettings {
+        poly_sigma: f32::NAN,
+        ..settings
+    };
+    assert_eq!(
+        submit(gpu.shadow_input(), Some(nan_sigma)),
+        PatchexResult::ErrorInvalidArgument
+    );
+    assert!(
+        rig.last_error().contains("poly_sigma"),
+        "{}",
+        rig.last_error()
+    );
+
+    let mut no_mask = gpu.shadow_input();
+    no_mask.mask.image = Default::default();
+    assert_eq!(submit(no_mask, None), PatchexResult::ErrorNullPointer);
+    assert!(
+        rig.last_error().contains("PatchexShadowInput.mask"),
+        "{}",
+        rig.last_error()
+    );
+    // The context is unharmed: a valid frame with valid settings goes through.
+    assert_eq!(
+        submit(gpu.shadow_input(), Some(settings)),
+        PatchexResult::Success
+    );
+    let messages = rig.engine.take_validation_messages();
+    assert!(messages.is_empty(), "validation: {messages:?}");
+}
