@@ -1,5 +1,5 @@
-//! GPU time per stage of the warp-only preset at 360p, 720p and 1080p, from Vulkan timestamp
-//! queries, validation off. Run with `cargo bench --bench extrapolate` (set PATCHEX_DEVICE to
+//! GPU time per stage of the warp-only pipeline, without and with the shadow sub-task, at 360p,
+//! 720p and 1080p, from Vulkan timestamp queries, validation off. Run with `cargo bench --bench extrapolate` (set PATCHEX_DEVICE to
 //! pick a device by name). Reports medians and, since the machine may be shared and noisy,
 //! ratios between sizes measured in the same run.
 
@@ -24,8 +24,11 @@ fn median(mut values: Vec<f32>) -> f32 {
 }
 
 /// Median GPU milliseconds per stage, and of the whole frame.
-fn measure(width: usize, height: usize) -> (Vec<f32>, f32, String) {
-    let scene = Scene::new(width, height);
+fn measure(width: usize, height: usize, shadows: bool) -> (Vec<f32>, f32, String) {
+    let scene = Scene {
+        casts_shadow: true,
+        ..Scene::new(width, height)
+    };
     let source = scene.render(0.0, Vec2::ZERO, -1.0 / 30.0);
     let target = scene.render(1.0 / 60.0, Vec2::ZERO, 0.0);
     let options = EngineOptions {
@@ -44,11 +47,13 @@ fn measure(width: usize, height: usize) -> (Vec<f32>, f32, String) {
     let mut totals = Vec::new();
     for run in 0..WARM_UP + RUNS {
         let frame_index = run as u64 + 1;
+        let shadow_input = gpu_source.shadow_input();
+        let mut frame = gpu_source.frame_desc(frame_index, family);
+        if shadows {
+            frame.header.next = &shadow_input as *const _ as *const std::ffi::c_void;
+        }
         engine.run(|cmd| {
-            assert_eq!(
-                rig.submit(cmd, &gpu_source.frame_desc(frame_index, family)),
-                PatchexResult::Success
-            );
+            assert_eq!(rig.submit(cmd, &frame), PatchexResult::Success);
             let desc = gpu_target.extrapolate_desc(&output, 0.5, family);
             assert_eq!(rig.extrapolate(cmd, &desc), PatchexResult::Success);
         });
@@ -84,21 +89,26 @@ fn timed_stages() -> Vec<(PatchexStage, &'static str)> {
 fn main() {
     let mut rows = Vec::new();
     let mut device = String::new();
-    for (width, height) in SIZES {
-        let (stages, total, name) = measure(width, height);
-        device = name;
-        rows.push((width, height, stages, total));
+    for shadows in [false, true] {
+        for (width, height) in SIZES {
+            let (stages, total, name) = measure(width, height, shadows);
+            device = name;
+            rows.push((shadows, width, height, stages, total));
+        }
     }
-    println!("GPU time per stage, warp-only preset, median of {RUNS} runs after {WARM_UP} warm-up, on {device}\n");
-    print!("| size |");
+    println!("GPU time per stage, warp-only pipeline, median of {RUNS} runs after {WARM_UP} warm-up, on {device}\n");
+    print!("| shadow sub-task | size |");
     for (_, name) in timed_stages() {
         print!(" {name} ms |");
     }
-    println!(" total ms | total vs 360p | pixels vs 360p |");
-    println!("|{}", "---|".repeat(timed_stages().len() + 4));
-    let (base_pixels, base_total) = ((rows[0].0 * rows[0].1) as f32, rows[0].3);
-    for (width, height, stages, total) in &rows {
-        print!("| {width}x{height} |");
+    println!(" total ms | total vs 360p without shadows | pixels vs 360p |");
+    println!("|{}", "---|".repeat(timed_stages().len() + 5));
+    let (base_pixels, base_total) = ((rows[0].1 * rows[0].2) as f32, rows[0].4);
+    for (shadows, width, height, stages, total) in &rows {
+        print!(
+            "| {} | {width}x{height} |",
+            if *shadows { "on" } else { "off" }
+        );
         for ms in stages {
             print!(" {ms:.2} |");
         }

@@ -32,8 +32,11 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
         // The product can exceed what RGBA16F holds; clamp it there and count the pixel.
         var shading_rgb = textureLoad(shading, p, 0).rgb;
         if (params.has_shadow_layer != ABSENT) {
-            // A shadow moved onto an already darker surface cannot take more light than is there.
-            shading_rgb = max(shading_rgb + textureLoad(shadow_layer, p, 0).rgb, vec3f(0.0));
+            // Where the layer's warp found no matching surface (alpha 0: a hole, such as a
+            // dynamic object the shadow's flow points away from), no shadow is added. A shadow
+            // moved onto an already darker surface cannot take more light than is there.
+            let layer = textureLoad(shadow_layer, p, 0);
+            shading_rgb = max(shading_rgb + layer.rgb * layer.a, vec3f(0.0));
         }
         let color = sanitize_color(shading_rgb * m.factor);
         textureStore(output, p, vec4f(color.value, 1.0));

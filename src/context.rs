@@ -511,6 +511,25 @@ impl Context {
             self.ring
                 .counter_range(slot, 0, SANITIZE_COUNTERS_OFFSET, SANITIZE_COUNTER_BYTES);
         let mut timed = TimedRegion::begin(&self.ring, device, cmd, slot, 0);
+        timed.stage(PATCHEX_STAGE_PACK_SOURCE_GBUFFER, || {
+            pack_gbuffer::record(
+                self.pipelines.get(Pipelines::PACK_GBUFFER),
+                device,
+                cmd,
+                self.ring.descriptor_set(slot, 0, Pipelines::PACK_GBUFFER),
+                inputs.extent,
+                &inputs.geometry.camera,
+                &pack_inputs,
+                &pack_gbuffer::PackOutputs {
+                    geometry: &work[WorkImages::SOURCE_GEOMETRY],
+                    normal_id: &work[WorkImages::SOURCE_NORMAL_ID],
+                },
+            )
+        });
+        if separation_inputs.is_some() {
+            // Separation reads the packed object ids.
+            barriers::compute_to_compute(device, cmd, false);
+        }
         timed.stage(PATCHEX_STAGE_DEMODULATE, || {
             match (&separation_inputs, &self.shadows) {
                 (Some(separation), Some(shadows)) => separate_shadows::record(
@@ -522,6 +541,7 @@ impl Context {
                     inputs.extent,
                     separation,
                     &separate_shadows::SeparationOutputs {
+                        source_normal_id: &work[WorkImages::SOURCE_NORMAL_ID],
                         shading: &work[WorkImages::SOURCE_SHADING],
                         shadow_layer: &shadows[ShadowImages::LAYER],
                         mask_pyramid: &shadows[ShadowImages::MASK_PYRAMID],
@@ -544,21 +564,6 @@ impl Context {
                     &sanitize_counters,
                 ),
             }
-        });
-        timed.stage(PATCHEX_STAGE_PACK_SOURCE_GBUFFER, || {
-            pack_gbuffer::record(
-                self.pipelines.get(Pipelines::PACK_GBUFFER),
-                device,
-                cmd,
-                self.ring.descriptor_set(slot, 0, Pipelines::PACK_GBUFFER),
-                inputs.extent,
-                &inputs.geometry.camera,
-                &pack_inputs,
-                &pack_gbuffer::PackOutputs {
-                    geometry: &work[WorkImages::SOURCE_GEOMETRY],
-                    normal_id: &work[WorkImages::SOURCE_NORMAL_ID],
-                },
-            )
         });
         if let (Some(_), Some(shadows)) = (&separation_inputs, &self.shadows) {
             barriers::compute_to_compute(device, cmd, false);
@@ -746,12 +751,8 @@ impl Context {
         let shadows = self.shadows.as_ref().filter(|_| source.has_shadows);
         if let Some(shadows) = shadows {
             // The shadow layer follows the mask's flow, scaled to the target instant.
-            let params = warp_settings.params(
-                inputs.extent,
-                &inputs.geometry.camera,
-                [0.0, 0.0],
-                [inputs.alpha, inputs.alpha],
-            );
+            let params =
+                warp_settings.shadow_params(inputs.extent, &inputs.geometry.camera, inputs.alpha);
             timed.stage(PATCHEX_STAGE_SHADOW_WARP, || {
                 warp::record(
                     self.pipelines.get(Pipelines::WARP_OCCLUSION_MOTION),

@@ -105,7 +105,7 @@ fn reference_run(
         Some(&ShadowInputs {
             color_without_dynamic_shadows: &source.color_without_dynamic_shadows,
             mask: &source.shadow_mask,
-            previous_mask: Some(&previous.shadow_mask),
+            previous: Some((&previous.shadow_mask, &previous.stencil)),
             flow: FlowSettings::default(),
         }),
         alpha,

@@ -297,7 +297,7 @@ fn mostly<T>(
 fn unknown_struct_type(u: &mut Unstructured) -> Result<u32> {
     let struct_type: u32 = u.arbitrary()?;
     Ok(
-        if (1..=PATCHEX_STRUCT_TYPE_DIAGNOSTICS).contains(&struct_type) {
+        if (1..=PATCHEX_STRUCT_TYPE_SHADOW_DIAGNOSTICS).contains(&struct_type) {
             0
         } else {
             struct_type

@@ -1,6 +1,7 @@
 //! Shadow separation (`shaders/separate_shadows.wgsl`), run in place of demodulation when the
-//! engine gives a shadow input: writes the shading without dynamic-caster shadows, the shadow
-//! layer, and level 0 of the mask pyramid, and counts the pixels whose inputs it sanitised.
+//! engine gives a shadow input, after the G-buffer packing (it reads the object ids): writes
+//! the shading without dynamic-caster shadows, the shadow layer, and level 0 of the mask
+//! pyramid, and counts the pixels whose inputs it sanitised.
 
 use ash::vk;
 
@@ -20,6 +21,8 @@ pub struct SeparationInputs {
 }
 
 pub struct SeparationOutputs<'a> {
+    /// Frame t's packed normal and object id (read).
+    pub source_normal_id: &'a OwnedImage,
     pub shading: &'a OwnedImage,
     pub shadow_layer: &'a OwnedImage,
     pub mask_pyramid: &'a OwnedImage,
@@ -56,6 +59,11 @@ pub fn record(
         .image(binding::SHADING, outputs.shading.view, general)
         .image(binding::SHADOW_LAYER, outputs.shadow_layer.view, general)
         .image(binding::MASK_PYRAMID, outputs.mask_pyramid.view, general)
+        .image(
+            binding::SOURCE_NORMAL_ID,
+            outputs.source_normal_id.view,
+            general,
+        )
         .buffer(
             binding::COUNTERS,
             counters.buffer,

@@ -122,6 +122,20 @@ impl WarpSettings {
     }
 }
 
+impl WarpSettings {
+    /// The occlusion-motion-vector warp's parameters for the shadow layer, driven by the shadow
+    /// mask's flow (displacement to frame t-1) scaled to the target instant. A shadow slides
+    /// across its receiver, landing on other points of the same surface, so the agreement test
+    /// leaves out world position: a source agrees when it has the target's object id and
+    /// normal (a static receiver facing the same way), and only then is the shadow added.
+    pub fn shadow_params(&self, extent: vk::Extent2D, camera: &Camera, alpha: f32) -> Params {
+        Params {
+            inv_sigma_position: 0.0,
+            ..self.params(extent, camera, [0.0, 0.0], [alpha, alpha])
+        }
+    }
+}
+
 pub struct WarpInputs<'a> {
     pub source_shading: &'a OwnedImage,
     pub source_geometry: &'a OwnedImage,

@@ -26,11 +26,12 @@ pub struct FrameInputs<'a> {
     pub motion_vector_scale: [f32; 2],
 }
 
-/// Frame t's shadow input, and frame t-1's mask when it had one (and no reset came between).
+/// Frame t's shadow input, and frame t-1's when it had one (and no reset came between).
 pub struct ShadowInputs<'a> {
     pub color_without_dynamic_shadows: &'a Image,
     pub mask: &'a Image,
-    pub previous_mask: Option<&'a Image>,
+    /// Frame t-1's mask and object ids (stencil).
+    pub previous: Option<(&'a Image, &'a Image)>,
     pub flow: crate::passes::shadow_flow::FlowSettings,
 }
 
@@ -78,6 +79,7 @@ pub fn extrapolate(
         );
         pack_gbuffer::pack_gbuffer(frame.depth, frame.normal, frame.stencil, &params)
     };
+    let (source_packed, target_packed) = (pack(source), pack(target));
     let color = source.color.expect("frame t has colour");
     let separated = shadow_inputs.map(|shadow| {
         separate_shadows::separate(
@@ -86,13 +88,13 @@ pub fn extrapolate(
             shadow.mask,
             source.base_color,
             source.material,
+            &source_packed.normal_id,
         )
     });
     let (shading, source_sanitized) = match &separated {
         Some(separated) => (separated.shading.clone(), separated.sanitized),
         None => demodulate::demodulate(color, source.base_color, source.material),
     };
-    let (source_packed, target_packed) = (pack(source), pack(target));
     let jitter_delta = (target.camera.jitter - source.camera.jitter).into();
     let params = warp.params(
         extent,
@@ -116,14 +118,9 @@ pub fn extrapolate(
         &params,
     );
     let shadows = shadow_inputs.zip(separated).map(|(shadow, separated)| {
-        let flow = match shadow.previous_mask {
-            Some(previous_mask) => {
-                // The previous frame's mask went through the same sanitising.
-                let previous_mask =
-                    Image::from_fn(previous_mask.width, previous_mask.height, 1, |x, y| {
-                        let v = glam::Vec3::new(previous_mask.at(x, y)[0], 0.0, 0.0);
-                        vec![gbuffer::sanitize(v, 0.0, 1.0).0.x]
-                    });
+        let flow = match shadow.previous {
+            Some((mask, object_ids)) => {
+                let previous_mask = separate_shadows::flow_mask(mask, object_ids);
                 optical_flow::flow(
                     &optical_flow::expand_pyramid(&separated.mask, &shadow.flow),
                     &optical_flow::expand_pyramid(&previous_mask, &shadow.flow),
@@ -132,7 +129,7 @@ pub fn extrapolate(
             }
             None => Image::new(extent.width as usize, extent.height as usize, 4),
         };
-        let shadow_params = warp.params(extent, target.camera, [0.0, 0.0], [alpha, alpha]);
+        let shadow_params = warp.shadow_params(extent, target.camera, alpha);
         let warped_layer = warp::warp(
             crate::abi::PATCHEX_WARP_OCCLUSION_MOTION_VECTOR,
             &warp::WarpSources {

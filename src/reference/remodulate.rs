@@ -18,7 +18,8 @@ pub fn remodulate(
         let (factor, material_changed) = pixel_modulation(base_color, material, x, y);
         let mut shading = Vec3::from_slice(shading.at(x, y));
         if let Some(layer) = shadow_layer {
-            shading = (shading + Vec3::from_slice(layer.at(x, y))).max(Vec3::ZERO);
+            let layer = layer.at(x, y);
+            shading = (shading + Vec3::from_slice(layer) * layer[3]).max(Vec3::ZERO);
         }
         let (color, color_changed) = sanitize_color(shading * factor);
         sanitized += (material_changed || color_changed) as u32;

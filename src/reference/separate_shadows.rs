@@ -14,12 +14,14 @@ pub struct Separated {
     pub sanitized: u32,
 }
 
+/// `normal_id` is frame t's packed G-buffer, whose alpha is the object id.
 pub fn separate(
     color: &Image,
     color_without_dynamic_shadows: &Image,
     mask: &Image,
     base_color: &Image,
     material: Option<&Image>,
+    normal_id: &Image,
 ) -> Separated {
     let (w, h) = (color.width, color.height);
     let mut separated = Separated {
@@ -36,18 +38,40 @@ pub fn separate(
                 sanitize_color(Vec3::from_slice(color_without_dynamic_shadows.at(x, y)));
             let (visibility, mask_changed) =
                 sanitize(Vec3::new(mask.at(x, y)[0], 0.0, 0.0), 0.0, 1.0);
-            let shading = unshadowed / factor;
-            let layer = (lit - unshadowed) / factor;
+            let (shading, layer, visibility) = if normal_id.at(x, y)[3] != 0.0 {
+                (lit / factor, Vec3::ZERO, 1.0)
+            } else {
+                (
+                    unshadowed / factor,
+                    (lit - unshadowed) / factor,
+                    visibility.x,
+                )
+            };
             separated
                 .shading
                 .set(x, y, &[shading.x, shading.y, shading.z, 1.0]);
             separated
                 .shadow_layer
                 .set(x, y, &[layer.x, layer.y, layer.z, 1.0]);
-            separated.mask.set(x, y, &[visibility.x]);
+            separated.mask.set(x, y, &[visibility]);
             separated.sanitized +=
                 (material_changed || lit_changed || unshadowed_changed || mask_changed) as u32;
         }
     }
     separated
+}
+
+/// The mask as the flow sees it, from an engine's mask and object ids (the stencil): sanitised,
+/// and lit on dynamic objects, as `separate` leaves it for the next frame.
+pub fn flow_mask(mask: &Image, object_ids: &Image) -> Image {
+    Image::from_fn(mask.width, mask.height, 1, |x, y| {
+        if object_ids.at(x, y)[0] != 0.0 {
+            return vec![1.0];
+        }
+        vec![
+            sanitize(Vec3::new(mask.at(x, y)[0], 0.0, 0.0), 0.0, 1.0)
+                .0
+                .x,
+        ]
+    })
 }

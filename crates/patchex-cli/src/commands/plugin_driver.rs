@@ -156,10 +156,7 @@ impl PluginDriver {
             shadow: with_shadow.then(|| {
                 (
                     image(F::R32_SFLOAT, &layers.layer(SHADOW_MASK).plane(0)),
-                    image(
-                        F::R32G32B32A32_SFLOAT,
-                        &rgb(FINAL_IMAGE_NO_DYNAMIC_SHADOWS),
-                    ),
+                    image(F::R32G32B32A32_SFLOAT, &rgb(FINAL_IMAGE_NO_DYNAMIC_SHADOWS)),
                 )
             }),
             camera: PatchexCamera {
@@ -273,13 +270,16 @@ impl PluginDriver {
             next = diagnostics as *const PatchexDiagnostics as *const c_void;
         }
         let shadow_input = |frame: &UploadedFrame| {
-            frame.shadow.as_ref().map(|(mask, color)| PatchexShadowInput {
-                header: PatchexStructHeader::of::<PatchexShadowInput>(
-                    PATCHEX_STRUCT_TYPE_SHADOW_INPUT,
-                ),
-                mask: describe(mask),
-                color_without_dynamic_shadows: describe(color),
-            })
+            frame
+                .shadow
+                .as_ref()
+                .map(|(mask, color)| PatchexShadowInput {
+                    header: PatchexStructHeader::of::<PatchexShadowInput>(
+                        PATCHEX_STRUCT_TYPE_SHADOW_INPUT,
+                    ),
+                    mask: describe(mask),
+                    color_without_dynamic_shadows: describe(color),
+                })
         };
         let with_shadow_input = |mut desc: PatchexFrameDesc, input: &Option<PatchexShadowInput>| {
             if let Some(input) = input {
