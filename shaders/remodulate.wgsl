@@ -6,8 +6,8 @@
 struct Params {
     extent: vec2u,
     has_material: u32,
-    // With a shadow input: the warped shadow layer is added back first (separate_shadows.wgsl).
-    has_shadow_layer: u32,
+    // With a shadow input: the shadow is moved first (see below).
+    has_shadow_layers: u32,
 }
 var<immediate> params: Params;
 
@@ -16,7 +16,10 @@ var<immediate> params: Params;
 @group(0) @binding(2) var material: texture_2d<f32>;
 @group(0) @binding(3) var output: texture_storage_2d<rgba16float, write>;
 @group(0) @binding(4) var<storage, read_write> counters: SanitizeCounters;
-@group(0) @binding(5) var shadow_layer: texture_2d<f32>;
+@group(0) @binding(5) var moved_layer: texture_2d<f32>;
+@group(0) @binding(6) var surface_layer: texture_2d<f32>;
+// The target's packed normal and object id: shadows are moved on static surfaces only.
+@group(0) @binding(7) var target_normal_id: texture_2d<f32>;
 
 var<workgroup> group_sanitized: atomic<u32>;
 
@@ -31,12 +34,16 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
         let m = pixel_modulation(base_color, material, p, params.has_material);
         // The product can exceed what RGBA16F holds; clamp it there and count the pixel.
         var shading_rgb = textureLoad(shading, p, 0).rgb;
-        if (params.has_shadow_layer != ABSENT) {
-            // Where the layer's warp found no matching surface (alpha 0: a hole, such as a
-            // dynamic object the shadow's flow points away from), no shadow is added. A shadow
-            // moved onto an already darker surface cannot take more light than is there.
-            let layer = textureLoad(shadow_layer, p, 0);
-            shading_rgb = max(shading_rgb + layer.rgb * layer.a, vec3f(0.0));
+        if (params.has_shadow_layers != ABSENT && textureLoad(target_normal_id, p, 0).w == 0.0) {
+            // The frame's warp carried frame t's shadows with the surfaces (surface_layer, the
+            // layer through the same warp, says how much). On static surfaces, take them away
+            // and add the layer as its flow moved it, where that found a receiver (alpha 1);
+            // elsewhere, such as ground that was under a character, keep what the warp gave.
+            // Dynamic objects keep their shadows, which move with them. A shadow moved onto an
+            // already darker surface cannot take more light than is there.
+            let moved = textureLoad(moved_layer, p, 0);
+            let carried = textureLoad(surface_layer, p, 0).rgb;
+            shading_rgb = max(shading_rgb + (moved.rgb - carried) * moved.a, vec3f(0.0));
         }
         let color = sanitize_color(shading_rgb * m.factor);
         textureStore(output, p, vec4f(color.value, 1.0));

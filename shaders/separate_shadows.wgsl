@@ -1,14 +1,14 @@
-// Shadow separation, run in place of demodulate.wgsl when the engine gives a shadow input. The
-// shading the pipeline warps is the colour without dynamic-caster shadows, demodulated; the
-// shadow layer is what those shadows take away, demodulated the same way:
-//   shading = U / m,   layer = (F - U) / m,
+// Shadow separation, run in place of demodulate.wgsl when the engine gives a shadow input: the
+// demodulated frame as usual, and the shadow layer, what the dynamic casters' shadows take
+// away, demodulated the same way:
+//   shading = F / m,   layer = (F - U) / m,
 // with F the colour, U the colour without dynamic shadows and m the modulation factor. Nothing
 // is divided by the mask, so fully shadowed pixels (mask 0) are as stable as lit ones.
 // Dynamic objects keep the shadows on them (mostly their own, which move with them, as the
-// warp moves them): there the shading is F / m, the layer zero, and the mask taken as lit, so
-// the flow follows the shadows on static receivers only. The sanitised mask becomes level 0 of
-// the flow's pyramid. Each pixel with any input sanitised is counted once. Runs after the
-// G-buffer packing, whose object ids it reads.
+// warp moves them): there the layer is zero and the mask taken as lit, so the flow follows the
+// shadows on static receivers only. The sanitised mask is what the flow's pyramid is built
+// from. Each pixel with any input sanitised is counted once. Runs after the G-buffer packing,
+// whose object ids it reads.
 // #import gbuffer
 
 struct Params {
@@ -24,7 +24,7 @@ var<immediate> params: Params;
 @group(0) @binding(4) var material: texture_2d<f32>;
 @group(0) @binding(5) var shading: texture_storage_2d<rgba32float, write>;
 @group(0) @binding(6) var shadow_layer: texture_storage_2d<rgba32float, write>;
-@group(0) @binding(7) var mask_pyramid: texture_storage_2d<r32float, write>;
+@group(0) @binding(7) var flow_mask: texture_storage_2d<r32float, write>;
 @group(0) @binding(8) var<storage, read_write> counters: SanitizeCounters;
 @group(0) @binding(9) var source_normal_id: texture_2d<f32>;
 
@@ -41,17 +41,16 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
         let m = pixel_modulation(base_color, material, p, params.has_material);
         let lit = sanitize_color(textureLoad(color, p, 0).rgb);
         let unshadowed = sanitize_color(textureLoad(color_without_dynamic_shadows, p, 0).rgb);
-        let mask = sanitize_unit(vec3f(textureLoad(shadow_mask, p, 0).r, 0.0, 0.0));
+        let visibility = sanitize_unit(vec3f(textureLoad(shadow_mask, p, 0).r, 0.0, 0.0));
+        textureStore(shading, p, vec4f(lit.value / m.factor, 1.0));
         if (textureLoad(source_normal_id, p, 0).w != 0.0) {
-            textureStore(shading, p, vec4f(lit.value / m.factor, 1.0));
             textureStore(shadow_layer, p, vec4f(0.0, 0.0, 0.0, 1.0));
-            textureStore(mask_pyramid, p, vec4f(1.0, 0.0, 0.0, 0.0));
+            textureStore(flow_mask, p, vec4f(1.0, 0.0, 0.0, 0.0));
         } else {
-            textureStore(shading, p, vec4f(unshadowed.value / m.factor, 1.0));
             textureStore(shadow_layer, p, vec4f((lit.value - unshadowed.value) / m.factor, 1.0));
-            textureStore(mask_pyramid, p, vec4f(mask.value.x, 0.0, 0.0, 0.0));
+            textureStore(flow_mask, p, vec4f(visibility.value.x, 0.0, 0.0, 0.0));
         }
-        if (m.changed || lit.changed || unshadowed.changed || mask.changed) {
+        if (m.changed || lit.changed || unshadowed.changed || visibility.changed) {
             atomicAdd(&group_sanitized, 1u);
         }
     }

@@ -33,9 +33,10 @@ pub const MAX_EXTENT: u32 = 16384;
 const WARP_COUNTERS_OFFSET: u64 = 0;
 /// Submit: demodulation's; extrapolation: remodulation's.
 const SANITIZE_COUNTERS_OFFSET: u64 = 256;
-/// Holes of the shadow layer's warp, kept apart from the frame's.
+/// Holes of the shadow layer's two warps, kept apart from the frame's.
 const SHADOW_WARP_COUNTERS_OFFSET: u64 = 512;
-const OBJECT_TABLE_OFFSET: u64 = 768;
+const SURFACE_LAYER_COUNTERS_OFFSET: u64 = 768;
+const OBJECT_TABLE_OFFSET: u64 = 1024;
 pub const COUNTER_BYTES: u64 = OBJECT_TABLE_OFFSET + segmentation::TABLE_BYTES;
 
 /// One image of an `ImageSet`.
@@ -168,27 +169,37 @@ impl WorkImages {
 }
 
 /// The shadow sub-task's images, made at the first frame with a shadow input.
-type ShadowImages = ImageSet<12>;
+type ShadowImages = ImageSet<15>;
 
 impl ShadowImages {
     const LAYER: usize = 0;
+    /// The layer moved by the flow.
     const WARPED_LAYER: usize = 1;
-    const MASK_PYRAMID: usize = 2;
+    /// The layer carried by the frame's own warp: where that warp puts frame t's shadow.
+    const SURFACE_LAYER: usize = 2;
+    const MASK: usize = 3;
+    const MASK_PYRAMID: usize = 4;
     /// Frame t's and frame t-1's expansions, alternating (`Context::shadow_current`).
-    const POLY: [usize; 2] = [3, 4];
-    const POLY_XY: [usize; 2] = [5, 6];
-    const EQUATIONS: usize = 7;
-    const EQUATIONS_H2: usize = 8;
-    const ROWS: usize = 9;
-    const ROWS_H2: usize = 10;
-    const FLOW: usize = 11;
+    const POLY: [usize; 2] = [5, 6];
+    const POLY_XY: [usize; 2] = [7, 8];
+    const EQUATIONS: usize = 9;
+    const EQUATIONS_H2: usize = 10;
+    const ROWS: usize = 11;
+    const ROWS_H2: usize = 12;
+    const FLOW_PYRAMID: usize = 13;
+    const FLOW: usize = 14;
 
-    const SPECS: [ImageSpec; 12] = [
+    const SPECS: [ImageSpec; 15] = [
         frame_image("patchex shadow layer", vk::Format::R32G32B32A32_SFLOAT),
         frame_image(
-            "patchex warped shadow layer",
+            "patchex moved shadow layer",
             vk::Format::R32G32B32A32_SFLOAT,
         ),
+        frame_image(
+            "patchex surface-warped shadow layer",
+            vk::Format::R32G32B32A32_SFLOAT,
+        ),
+        frame_image("patchex shadow mask", vk::Format::R32_SFLOAT),
         atlas_image("patchex shadow mask pyramid", vk::Format::R32_SFLOAT),
         atlas_image(
             "patchex shadow expansion A",
@@ -204,14 +215,19 @@ impl ShadowImages {
         atlas_image("patchex flow equations h2", vk::Format::R32_SFLOAT),
         atlas_image("patchex flow rows", vk::Format::R32G32B32A32_SFLOAT),
         atlas_image("patchex flow rows h2", vk::Format::R32_SFLOAT),
+        atlas_image(
+            "patchex shadow flow pyramid",
+            vk::Format::R32G32B32A32_SFLOAT,
+        ),
         ImageSpec {
             cleared: true,
-            ..atlas_image("patchex shadow flow", vk::Format::R32G32B32A32_SFLOAT)
+            ..frame_image("patchex shadow flow", vk::Format::R32G32B32A32_SFLOAT)
         },
     ];
 
     fn flow_images(&self, current: usize) -> shadow_flow::FlowImages<'_> {
         shadow_flow::FlowImages {
+            mask: &self[Self::MASK],
             mask_pyramid: &self[Self::MASK_PYRAMID],
             poly: Self::POLY.map(|index| &self[index]),
             poly_xy: Self::POLY_XY.map(|index| &self[index]),
@@ -220,6 +236,7 @@ impl ShadowImages {
             equations_h2: &self[Self::EQUATIONS_H2],
             rows: &self[Self::ROWS],
             rows_h2: &self[Self::ROWS_H2],
+            flow_pyramid: &self[Self::FLOW_PYRAMID],
             flow: &self[Self::FLOW],
         }
     }
@@ -544,7 +561,7 @@ impl Context {
                         source_normal_id: &work[WorkImages::SOURCE_NORMAL_ID],
                         shading: &work[WorkImages::SOURCE_SHADING],
                         shadow_layer: &shadows[ShadowImages::LAYER],
-                        mask_pyramid: &shadows[ShadowImages::MASK_PYRAMID],
+                        flow_mask: &shadows[ShadowImages::MASK],
                     },
                     &sanitize_counters,
                 ),
@@ -577,6 +594,7 @@ impl Context {
                         matrices: p(pipelines, Pipelines::SHADOW_FLOW_MATRICES),
                         rows: p(pipelines, Pipelines::SHADOW_FLOW_ROWS),
                         solve: p(pipelines, Pipelines::SHADOW_FLOW_SOLVE),
+                        upsample: p(pipelines, Pipelines::SHADOW_FLOW_UPSAMPLE),
                     },
                     [
                         Pipelines::SHADOW_PYRAMID,
@@ -584,6 +602,7 @@ impl Context {
                         Pipelines::SHADOW_FLOW_MATRICES,
                         Pipelines::SHADOW_FLOW_ROWS,
                         Pipelines::SHADOW_FLOW_SOLVE,
+                        Pipelines::SHADOW_FLOW_UPSAMPLE,
                     ]
                     .map(|index| self.ring.descriptor_set(slot, 0, index)),
                     device,
@@ -750,10 +769,37 @@ impl Context {
         });
         let shadows = self.shadows.as_ref().filter(|_| source.has_shadows);
         if let Some(shadows) = shadows {
-            // The shadow layer follows the mask's flow, scaled to the target instant.
+            // The shadow layer follows the mask's flow, scaled to the target instant; and the
+            // frame's own warp, to know where that warp put frame t's shadow.
             let params =
                 warp_settings.shadow_params(inputs.extent, &inputs.geometry.camera, inputs.alpha);
             timed.stage(PATCHEX_STAGE_SHADOW_WARP, || {
+                warp::record(
+                    self.pipelines.get(warp_index),
+                    device,
+                    cmd,
+                    self.ring.descriptor_set(
+                        slot,
+                        region,
+                        Pipelines::surface_layer_set(warp_index),
+                    ),
+                    &warp_params,
+                    &warp::WarpInputs {
+                        source_shading: &shadows[ShadowImages::LAYER],
+                        source_geometry: &work[WorkImages::SOURCE_GEOMETRY],
+                        source_normal_id: &work[WorkImages::SOURCE_NORMAL_ID],
+                        target_geometry: &work[WorkImages::TARGET_GEOMETRY],
+                        target_normal_id: &work[WorkImages::TARGET_NORMAL_ID],
+                        motion,
+                    },
+                    &shadows[ShadowImages::SURFACE_LAYER],
+                    &self.ring.counter_range(
+                        slot,
+                        region,
+                        SURFACE_LAYER_COUNTERS_OFFSET,
+                        warp::COUNTER_BYTES,
+                    ),
+                );
                 warp::record(
                     self.pipelines.get(Pipelines::WARP_OCCLUSION_MOTION),
                     device,
@@ -829,7 +875,11 @@ impl Context {
                     shading: (&work[WorkImages::WARPED]).into(),
                     base_color,
                     material,
-                    shadow_layer: shadows.map(|s| (&s[ShadowImages::WARPED_LAYER]).into()),
+                    shadow_layers: shadows.map(|s| {
+                        [ShadowImages::WARPED_LAYER, ShadowImages::SURFACE_LAYER]
+                            .map(|index| (&s[index]).into())
+                    }),
+                    target_normal_id: (&work[WorkImages::TARGET_NORMAL_ID]).into(),
                     placeholder,
                 },
                 output,

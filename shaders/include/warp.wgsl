@@ -19,6 +19,10 @@ struct Params {
     inv_sigma_normal: f32,
     inv_sigma_position: f32,
     occlusion_search_radius: i32,
+    // How much of the world-position distance along the target's surface counts: 1 for surface
+    // points, which must land on themselves; 0 for shadows, which slide across their receiver
+    // and need only land on the same plane.
+    in_plane_weight: f32,
     // The target camera, to size a pixel's footprint on a surface.
     camera_position: vec3f,
     // Radians one pixel spans at the image centre.
@@ -57,7 +61,9 @@ fn geometry_weight(target_geo: vec4f, target_nid: vec4f, source_geo: vec4f, sour
         let view = normalize(params.camera_position - target_geo.xyz);
         let facing = max(abs(dot(target_nid.xyz, view)), MIN_FACING);
         let footprint = target_geo.w * params.pixel_angle / facing;
-        let e = distance(target_geo.xyz, source_geo.xyz) / footprint * params.inv_sigma_position;
+        let offset = source_geo.xyz - target_geo.xyz;
+        let across = dot(target_nid.xyz, offset) * target_nid.xyz;
+        let e = length(across + params.in_plane_weight * (offset - across)) / footprint * params.inv_sigma_position;
         weight *= exp(-e * e);
     } else {
         let e = abs(target_geo.w - source_geo.w) / max(target_geo.w, source_geo.w) * params.inv_sigma_depth;

@@ -73,16 +73,33 @@ impl Pipelines {
     pub const SHADOW_FLOW_ROWS: usize = 15;
     pub const SHADOW_FLOW_SOLVE: usize = 16;
     pub const WRITE_SHADOW_DIAGNOSTICS: usize = 17;
+    pub const SHADOW_FLOW_UPSAMPLE: usize = 18;
 
     /// How many pipelines a device holds.
     pub const COUNT: usize = Self::SHADERS.len();
 
-    /// The descriptor set of the second dispatch of the occlusion-motion-vector warp in one
-    /// extrapolation, on the shadow layer. Sets are indexed by pipeline, then these.
+    /// Descriptor sets are indexed by pipeline, then come the sets of the warps' second
+    /// dispatches in one extrapolation, on the shadow layer: the occlusion-motion-vector warp
+    /// driven by the shadow's flow, and the frame's own warp (`surface_layer_set`).
     pub const SHADOW_WARP_SET: usize = Self::COUNT;
-    const EXTRA_SETS: [usize; 1] = [Self::WARP_OCCLUSION_MOTION];
+    const EXTRA_SETS: [usize; 4] = [
+        Self::WARP_OCCLUSION_MOTION,
+        Self::WARP_GBUFFER,
+        Self::WARP_MOTION_VECTOR,
+        Self::WARP_OCCLUSION_MOTION,
+    ];
 
-    const SHADERS: [shaders::ShaderInfo; 18] = [
+    /// The set for running the warp pipeline `warp_index` on the shadow layer.
+    pub fn surface_layer_set(warp_index: usize) -> usize {
+        Self::COUNT
+            + match warp_index {
+                Self::WARP_GBUFFER => 1,
+                Self::WARP_MOTION_VECTOR => 2,
+                _ => 3,
+            }
+    }
+
+    const SHADERS: [shaders::ShaderInfo; 19] = [
         shaders::demodulate::SHADER,
         shaders::pack_gbuffer::SHADER,
         shaders::warp_gbuffer::SHADER,
@@ -101,6 +118,7 @@ impl Pipelines {
         shaders::shadow_flow_rows::SHADER,
         shaders::shadow_flow_solve::SHADER,
         shaders::write_shadow_diagnostics::SHADER,
+        shaders::shadow_flow_upsample::SHADER,
     ];
 
     fn new(gpu: &Gpu) -> Result<Self> {

@@ -1,6 +1,7 @@
 //! Remodulation: multiplies the extrapolated shading by the target instant's own material and
 //! writes the engine's output image, counting the pixels whose inputs or result it had to
-//! sanitise. With a shadow input, the warped shadow layer is added back to the shading first.
+//! sanitise. With a shadow input, the shadow is first moved in the shading (see
+//! `shaders/remodulate.wgsl`).
 
 use ash::vk;
 
@@ -12,8 +13,11 @@ pub struct RemodulateInputs {
     pub shading: Texture,
     pub base_color: Texture,
     pub material: Option<Texture>,
-    /// The warped shadow layer, added to the shading first; `None` without a shadow input.
-    pub shadow_layer: Option<Texture>,
+    /// The shadow layer moved by its flow, and carried by the frame's warp; `None` without a
+    /// shadow input.
+    pub shadow_layers: Option<[Texture; 2]>,
+    /// The target's packed normal and object id.
+    pub target_normal_id: Texture,
     pub placeholder: Texture,
 }
 
@@ -29,7 +33,7 @@ pub fn record(
     counters: &CounterRange,
 ) {
     let material = inputs.material.unwrap_or(inputs.placeholder);
-    let shadow_layer = inputs.shadow_layer.unwrap_or(inputs.placeholder);
+    let [moved_layer, surface_layer] = inputs.shadow_layers.unwrap_or([inputs.placeholder; 2]);
     DescriptorWrites::new(pipeline)
         .image(binding::SHADING, inputs.shading.view, inputs.shading.layout)
         .image(
@@ -38,10 +42,16 @@ pub fn record(
             inputs.base_color.layout,
         )
         .image(binding::MATERIAL, material.view, material.layout)
+        .image(binding::MOVED_LAYER, moved_layer.view, moved_layer.layout)
         .image(
-            binding::SHADOW_LAYER,
-            shadow_layer.view,
-            shadow_layer.layout,
+            binding::SURFACE_LAYER,
+            surface_layer.view,
+            surface_layer.layout,
+        )
+        .image(
+            binding::TARGET_NORMAL_ID,
+            inputs.target_normal_id.view,
+            inputs.target_normal_id.layout,
         )
         .image(binding::OUTPUT, output.view, output.layout)
         .buffer(
@@ -54,7 +64,7 @@ pub fn record(
     let params = Params {
         extent: [extent.width, extent.height],
         has_material: inputs.material.is_some() as u32,
-        has_shadow_layer: inputs.shadow_layer.is_some() as u32,
+        has_shadow_layers: inputs.shadow_layers.is_some() as u32,
     };
     pipeline.dispatch(device, cmd, set, &params, extent);
 }

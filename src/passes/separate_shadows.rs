@@ -1,7 +1,7 @@
 //! Shadow separation (`shaders/separate_shadows.wgsl`), run in place of demodulation when the
 //! engine gives a shadow input, after the G-buffer packing (it reads the object ids): writes
-//! the shading without dynamic-caster shadows, the shadow layer, and level 0 of the mask
-//! pyramid, and counts the pixels whose inputs it sanitised.
+//! the demodulated frame, the shadow layer and the mask the flow tracks, and counts the pixels
+//! whose inputs it sanitised.
 
 use ash::vk;
 
@@ -25,7 +25,7 @@ pub struct SeparationOutputs<'a> {
     pub source_normal_id: &'a OwnedImage,
     pub shading: &'a OwnedImage,
     pub shadow_layer: &'a OwnedImage,
-    pub mask_pyramid: &'a OwnedImage,
+    pub flow_mask: &'a OwnedImage,
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -58,7 +58,7 @@ pub fn record(
         .image(binding::MATERIAL, material.view, material.layout)
         .image(binding::SHADING, outputs.shading.view, general)
         .image(binding::SHADOW_LAYER, outputs.shadow_layer.view, general)
-        .image(binding::MASK_PYRAMID, outputs.mask_pyramid.view, general)
+        .image(binding::FLOW_MASK, outputs.flow_mask.view, general)
         .image(
             binding::SOURCE_NORMAL_ID,
             outputs.source_normal_id.view,

@@ -1,13 +1,17 @@
 //! Farneback dense optical flow between the dynamic-caster shadow masks of frames t and t-1
 //! (Farneback 2003, "Two-frame motion estimation based on polynomial expansion"): a mask
 //! pyramid, each level's polynomial expansion, then coarse to fine a few iterations of
-//! per-texel equations, a box sum over the window and a 2x2 solve. The result, at level 0, is
-//! the displacement of each pixel of frame t to frame t-1 in pixels: the convention of motion
-//! vectors, so the occlusion-motion-vector warp can carry the shadow layer with it.
+//! per-texel equations, a box sum over the window and a 2x2 solve, and last the finest level's
+//! flow scaled up to the frame. The result is the displacement of each pixel of frame t to
+//! frame t-1 in pixels: the convention of motion vectors, so the occlusion-motion-vector warp
+//! can carry the shadow layer with it.
 //!
-//! Every quantity's pyramid is one atlas image: level 0 at the origin, each coarser level in a
-//! column to its right (`pyramid`). One descriptor set per pass serves every level; push
-//! constants say which. The expansion of frame t-1 is the one computed at the previous submit.
+//! The pyramid starts at half the frame's resolution: shadows are soft and move as wholes, and
+//! the flow costs a quarter of what it would at full resolution (time and memory) for a field
+//! that is smooth anyway. Every quantity's pyramid is one atlas image: level 0 at the origin,
+//! each coarser level in a column to its right (`pyramid`). One descriptor set per pass serves
+//! every level; push constants say which. The expansion of frame t-1 is the one computed at the
+//! previous submit.
 
 use ash::vk;
 
@@ -155,17 +159,28 @@ pub fn pyramid(extent: vk::Extent2D, levels: u32) -> Vec<Level> {
     result
 }
 
-/// The size of an atlas holding every pyramid over frames up to `extent`.
-pub fn atlas_extent(extent: vk::Extent2D) -> vk::Extent2D {
+/// The extent of the pyramid's finest level for a frame of `extent`: half of it, rounded up.
+pub fn flow_extent(extent: vk::Extent2D) -> vk::Extent2D {
     vk::Extent2D {
-        width: extent.width + extent.width.div_ceil(2),
-        height: extent.height,
+        width: extent.width.div_ceil(2),
+        height: extent.height.div_ceil(2),
+    }
+}
+
+/// The size of an atlas holding the pyramid of every frame up to `extent`.
+pub fn atlas_extent(extent: vk::Extent2D) -> vk::Extent2D {
+    let finest = flow_extent(extent);
+    vk::Extent2D {
+        width: finest.width + finest.width.div_ceil(2),
+        height: finest.height,
     }
 }
 
 /// The images of the flow stage. `poly_*[current]` receive frame t's expansion; the other
 /// pair holds frame t-1's.
 pub struct FlowImages<'a> {
+    /// Frame t's mask at full resolution, as separation wrote it.
+    pub mask: &'a OwnedImage,
     pub mask_pyramid: &'a OwnedImage,
     pub poly: [&'a OwnedImage; 2],
     pub poly_xy: [&'a OwnedImage; 2],
@@ -174,6 +189,8 @@ pub struct FlowImages<'a> {
     pub equations_h2: &'a OwnedImage,
     pub rows: &'a OwnedImage,
     pub rows_h2: &'a OwnedImage,
+    pub flow_pyramid: &'a OwnedImage,
+    /// The result, at the frame's resolution.
     pub flow: &'a OwnedImage,
 }
 
@@ -183,10 +200,11 @@ pub struct FlowPipelines<'a> {
     pub matrices: &'a ComputePipeline,
     pub rows: &'a ComputePipeline,
     pub solve: &'a ComputePipeline,
+    pub upsample: &'a ComputePipeline,
 }
 
-/// The descriptor sets of the five pipelines, in `FlowPipelines` order.
-pub type FlowSets = [vk::DescriptorSet; 5];
+/// The descriptor sets of the six pipelines, in `FlowPipelines` order.
+pub type FlowSets = [vk::DescriptorSet; 6];
 
 fn extent_of(level: &Level) -> vk::Extent2D {
     vk::Extent2D {
@@ -196,7 +214,7 @@ fn extent_of(level: &Level) -> vk::Extent2D {
 }
 
 /// Records the mask pyramid and frame t's expansion; then, when `track` (frame t-1's expansion
-/// is there), the flow. Level 0 of the mask pyramid must be written and visible.
+/// is there), the flow, or else a zero flow. Frame t's mask must be written and visible.
 #[allow(clippy::too_many_arguments)]
 pub fn record(
     pipelines: &FlowPipelines,
@@ -209,10 +227,11 @@ pub fn record(
     track: bool,
 ) {
     use shaders::{shadow_flow_matrices as m, shadow_flow_rows as r, shadow_flow_solve as s};
-    use shaders::{shadow_poly as p, shadow_pyramid as y};
+    use shaders::{shadow_flow_upsample as u, shadow_poly as p, shadow_pyramid as y};
     let general = vk::ImageLayout::GENERAL;
     let (current, previous) = (images.current, 1 - images.current);
     DescriptorWrites::new(pipelines.pyramid)
+        .image(y::binding::MASK, images.mask.view, general)
         .image(y::binding::FINER, images.mask_pyramid.view, general)
         .image(y::binding::LEVEL, images.mask_pyramid.view, general)
         .update(device, sets[0]);
@@ -238,7 +257,7 @@ pub fn record(
             images.poly_xy[previous].view,
             general,
         )
-        .image(m::binding::FLOW, images.flow.view, general)
+        .image(m::binding::FLOW, images.flow_pyramid.view, general)
         .image(m::binding::EQUATIONS, images.equations.view, general)
         .image(m::binding::EQUATIONS_H2, images.equations_h2.view, general)
         .update(device, sets[2]);
@@ -251,20 +270,32 @@ pub fn record(
     DescriptorWrites::new(pipelines.solve)
         .image(s::binding::ROWS, images.rows.view, general)
         .image(s::binding::ROWS_H2, images.rows_h2.view, general)
-        .image(s::binding::FLOW, images.flow.view, general)
+        .image(s::binding::FLOW, images.flow_pyramid.view, general)
         .update(device, sets[4]);
+    DescriptorWrites::new(pipelines.upsample)
+        .image(u::binding::FLOW_PYRAMID, images.flow_pyramid.view, general)
+        .image(u::binding::FLOW, images.flow.view, general)
+        .update(device, sets[5]);
 
-    let levels = pyramid(extent, settings.levels);
-    for pair in levels.windows(2) {
+    let levels = pyramid(flow_extent(extent), settings.levels);
+    let frame = Level {
+        offset: [0, 0],
+        size: [extent.width, extent.height],
+    };
+    for (index, level) in levels.iter().enumerate() {
+        // Level 0 averages the frame's mask, each coarser level the one before it.
+        let finer = index.checked_sub(1).map(|finer| &levels[finer]);
         let params = y::Params {
-            level_offset: pair[1].offset,
-            level_size: pair[1].size,
-            finer_offset: pair[0].offset,
-            finer_size: pair[0].size,
+            level_offset: level.offset,
+            level_size: level.size,
+            finer_offset: finer.unwrap_or(&frame).offset,
+            finer_size: finer.unwrap_or(&frame).size,
+            from_mask: finer.is_none() as u32,
+            ..Default::default()
         };
         pipelines
             .pyramid
-            .dispatch(device, cmd, sets[0], &params, extent_of(&pair[1]));
+            .dispatch(device, cmd, sets[0], &params, extent_of(level));
         barriers::compute_to_compute(device, cmd, false);
     }
     for level in &levels {
@@ -334,4 +365,12 @@ pub fn record(
             barriers::compute_to_compute(device, cmd, false);
         }
     }
+    let params = u::Params {
+        extent: [extent.width, extent.height],
+        level_offset: levels[0].offset,
+        level_size: levels[0].size,
+    };
+    pipelines
+        .upsample
+        .dispatch(device, cmd, sets[5], &params, extent);
 }

@@ -116,8 +116,10 @@ impl WarpSettings {
             inv_sigma_normal: 1.0 / self.sigma_normal,
             inv_sigma_position: 1.0 / self.sigma_position,
             occlusion_search_radius: self.occlusion_search_radius as i32,
+            in_plane_weight: 1.0,
             camera_position: camera.position().into(),
             pixel_angle: camera.pixel_angle(extent.height),
+            ..Default::default()
         }
     }
 }
@@ -126,11 +128,12 @@ impl WarpSettings {
     /// The occlusion-motion-vector warp's parameters for the shadow layer, driven by the shadow
     /// mask's flow (displacement to frame t-1) scaled to the target instant. A shadow slides
     /// across its receiver, landing on other points of the same surface, so the agreement test
-    /// leaves out world position: a source agrees when it has the target's object id and
-    /// normal (a static receiver facing the same way), and only then is the shadow added.
+    /// measures world position only across the target's surface: a source agrees when it has
+    /// the target's object id and normal and lies on its plane (a kerb's top is not the road),
+    /// and only then is the shadow added.
     pub fn shadow_params(&self, extent: vk::Extent2D, camera: &Camera, alpha: f32) -> Params {
         Params {
-            inv_sigma_position: 0.0,
+            in_plane_weight: 0.0,
             ..self.params(extent, camera, [0.0, 0.0], [alpha, alpha])
         }
     }

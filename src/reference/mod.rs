@@ -40,7 +40,10 @@ pub struct Shadows {
     pub separated: separate_shadows::Separated,
     /// Level 0 flow to frame t-1, (dx, dy, 0, 0); zero without frame t-1's mask.
     pub flow: Image,
+    /// The layer moved by the flow with the occlusion-motion-vector warp.
     pub warped_layer: warp::Warped,
+    /// The layer carried by the frame's own warp, as the frame's shadows are.
+    pub surface_layer: warp::Warped,
 }
 
 /// Every intermediate result of one extrapolation.
@@ -121,11 +124,7 @@ pub fn extrapolate(
         let flow = match shadow.previous {
             Some((mask, object_ids)) => {
                 let previous_mask = separate_shadows::flow_mask(mask, object_ids);
-                optical_flow::flow(
-                    &optical_flow::expand_pyramid(&separated.mask, &shadow.flow),
-                    &optical_flow::expand_pyramid(&previous_mask, &shadow.flow),
-                    &shadow.flow,
-                )
+                optical_flow::frame_flow(&separated.mask, &previous_mask, &shadow.flow)
             }
             None => Image::new(extent.width as usize, extent.height as usize, 4),
         };
@@ -144,10 +143,25 @@ pub fn extrapolate(
             },
             &shadow_params,
         );
+        let surface_layer = warp::warp(
+            warp.kind,
+            &warp::WarpSources {
+                shading: &separated.shadow_layer,
+                geometry: &source_packed.geometry,
+                normal_id: &source_packed.normal_id,
+            },
+            &warp::WarpTarget {
+                geometry: &target_packed.geometry,
+                normal_id: &target_packed.normal_id,
+                motion,
+            },
+            &params,
+        );
         Shadows {
             separated,
             flow,
             warped_layer,
+            surface_layer,
         }
     });
     let segmented = segmentation::segment(
@@ -159,7 +173,10 @@ pub fn extrapolate(
     let lbp = lbp::lbp(&warped.warped);
     let (output, target_sanitized) = remodulate::remodulate(
         &warped.warped,
-        shadows.as_ref().map(|s| &s.warped_layer.warped),
+        shadows
+            .as_ref()
+            .map(|s| [&s.warped_layer.warped, &s.surface_layer.warped]),
+        &target_packed.normal_id,
         target.base_color,
         target.material,
     );

@@ -1,6 +1,7 @@
 //! Mirror of the Farneback flow passes (`shaders/shadow_pyramid.wgsl`, `shadow_poly.wgsl`,
-//! `shadow_flow_matrices.wgsl`, `shadow_flow_rows.wgsl`, `shadow_flow_solve.wgsl` and
-//! `include/flow.wgsl`), one image per level instead of one atlas per quantity.
+//! `shadow_flow_matrices.wgsl`, `shadow_flow_rows.wgsl`, `shadow_flow_solve.wgsl`,
+//! `shadow_flow_upsample.wgsl` and `include/flow.wgsl`), one image per level instead of one
+//! atlas per quantity.
 
 use glam::{Vec2, Vec4};
 
@@ -36,11 +37,12 @@ fn bilinear(image: &Image, pos: Vec2) -> Vec4 {
     top * (1.0 - f.y) + bottom * f.y
 }
 
-/// The mask pyramid from level 0: each level the 2x2 mean of the finer one.
+/// The mask pyramid: level 0 the 2x2 mean of the frame's mask, each level the 2x2 mean of the
+/// finer one.
 pub fn pyramid(mask: &Image, levels: u32) -> Vec<Image> {
-    let mut result = vec![mask.clone()];
-    for _ in 1..levels {
-        let finer = result.last().expect("level 0 is there");
+    let mut result: Vec<Image> = Vec::new();
+    for _ in 0..levels {
+        let finer = result.last().unwrap_or(mask);
         let level = Image::from_fn(
             finer.width.div_ceil(2),
             finer.height.div_ceil(2),
@@ -197,8 +199,8 @@ pub fn solve(rows: &Image, rows_h2: &Image, radius: i32) -> Image {
     })
 }
 
-/// The flow at level 0, coarse to fine, from frame t's and frame t-1's expansions: each pixel's
-/// displacement to frame t-1.
+/// The flow of the pyramid's finest level, coarse to fine, from frame t's and frame t-1's
+/// expansions.
 pub fn flow(current: &[Expansion], previous: &[Expansion], settings: &FlowSettings) -> Image {
     let radius = settings.window_radius as i32;
     let mut coarser: Option<Image> = None;
@@ -212,4 +214,27 @@ pub fn flow(current: &[Expansion], previous: &[Expansion], settings: &FlowSettin
         coarser = estimate;
     }
     coarser.expect("at least one level")
+}
+
+/// The finest level's flow scaled up to `width` x `height`.
+pub fn upsample(flow: &Image, width: usize, height: usize) -> Image {
+    let ratio =
+        Vec2::new(width as f32, height as f32) / Vec2::new(flow.width as f32, flow.height as f32);
+    Image::from_fn(width, height, 4, |x, y| {
+        let pos = (Vec2::new(x as f32, y as f32) + 0.5) / ratio - 0.5;
+        let v = bilinear(flow, pos);
+        let d = Vec2::new(v.x, v.y) * ratio;
+        vec![d.x, d.y, 0.0, 0.0]
+    })
+}
+
+/// Each pixel's displacement from frame t to frame t-1, from the two frames' masks as the flow
+/// sees them (`separate_shadows::flow_mask`).
+pub fn frame_flow(current: &Image, previous: &Image, settings: &FlowSettings) -> Image {
+    let finest = flow(
+        &expand_pyramid(current, settings),
+        &expand_pyramid(previous, settings),
+        settings,
+    );
+    upsample(&finest, current.width, current.height)
 }

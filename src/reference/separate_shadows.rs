@@ -6,7 +6,7 @@ use super::gbuffer::{pixel_modulation, sanitize, sanitize_color};
 use super::Image;
 
 pub struct Separated {
-    /// The shading without dynamic-caster shadows, which the warps carry.
+    /// The demodulated frame, which the warps carry.
     pub shading: Image,
     pub shadow_layer: Image,
     /// Level 0 of the flow's pyramid.
@@ -38,14 +38,11 @@ pub fn separate(
                 sanitize_color(Vec3::from_slice(color_without_dynamic_shadows.at(x, y)));
             let (visibility, mask_changed) =
                 sanitize(Vec3::new(mask.at(x, y)[0], 0.0, 0.0), 0.0, 1.0);
-            let (shading, layer, visibility) = if normal_id.at(x, y)[3] != 0.0 {
-                (lit / factor, Vec3::ZERO, 1.0)
+            let shading = lit / factor;
+            let (layer, visibility) = if normal_id.at(x, y)[3] != 0.0 {
+                (Vec3::ZERO, 1.0)
             } else {
-                (
-                    unshadowed / factor,
-                    (lit - unshadowed) / factor,
-                    visibility.x,
-                )
+                ((lit - unshadowed) / factor, visibility.x)
             };
             separated
                 .shading

@@ -100,7 +100,10 @@ impl PixelWarp<'_> {
             let view = (Vec3::from(params.camera_position) - target_geo.truncate()).normalize();
             let facing = target_nid.truncate().dot(view).abs().max(MIN_FACING);
             let footprint = target_geo.w * params.pixel_angle / facing;
-            target_geo.truncate().distance(source_geo.truncate()) / footprint
+            let normal = target_nid.truncate();
+            let offset = source_geo.truncate() - target_geo.truncate();
+            let across = normal.dot(offset) * normal;
+            (across + params.in_plane_weight * (offset - across)).length() / footprint
                 * params.inv_sigma_position
         } else {
             (target_geo.w - source_geo.w).abs() / target_geo.w.max(source_geo.w)
