@@ -329,16 +329,18 @@ pub struct PatchexSegmentationSettings {
 
 /// Chainable on PatchexFrameDesc: the shadows cast by dynamic objects in frame t. Warping moves
 /// what is painted on surfaces, but a moving character's shadow moves over ground whose motion
-/// vectors are zero; with this input patchex takes that shadow out of frame t, estimates its
-/// motion from the masks of frames t-1 and t (Farneback dense optical flow), moves it to the
-/// target instant with the occlusion-motion-vector warp, and puts it back. Without it the
-/// shadow sub-task does not run and costs nothing.
+/// vectors are zero; with this input patchex separates that shadow from frame t, estimates its
+/// motion from the masks of frames t-1 and t (Farneback dense optical flow, at half
+/// resolution), moves it to the target instant with the occlusion-motion-vector warp, and swaps
+/// it for the shadow the frame's own warp carried along. Without it the shadow sub-task does
+/// not run and costs nothing; its motion is known from the second consecutive frame with it.
 ///
-/// Separation, per pixel of frame t, with m the demodulation factor of the frame's colour:
-/// shading = color_without_dynamic_shadows / m, shadow layer = (color - color_without_dynamic_
-/// shadows) / m. Nothing is divided by the mask, so a fully shadowed pixel (mask 0) is as
-/// stable as a lit one, and shading + layer gives frame t back exactly. The target's shading is
-/// max(warped shading + warped layer, 0) before remodulation.
+/// Separation, per pixel of frame t, with m the demodulation factor of the frame's colour: the
+/// shadow layer is (color - color_without_dynamic_shadows) / m, on static pixels (dynamic
+/// objects keep the shadows on them, which move with them). Nothing is divided by the mask, so
+/// a fully shadowed pixel (mask 0) is as stable as a lit one. On static target pixels the
+/// shading becomes max(warped shading - carried layer + moved layer, 0), where the moved layer
+/// found a receiver.
 ///
 /// What an engine provides: the mask is the sun's visibility through dynamic casters only
 /// (1 lit, 0 fully shadowed; static casters excluded), and the colour is frame t lit as if

@@ -18,6 +18,9 @@ enum Command {
     /// The main job: render a scene, extrapolate every target instant through the plugin,
     /// and write picture strips and a quality/GPU-time table.
     Demo(commands::demo::DemoArgs),
+    /// Measure the speed-against-accuracy trade: every configuration on the test scenes at
+    /// 360p to 1080p; writes a table of quality against GPU time per stage and a plot.
+    Bench(commands::bench::BenchArgs),
     /// Fit k_x and k_y of the near-background growth (Algorithm 1) from temporal-variation
     /// analysis of datasets, and print the correlation of extension with motion.
     Calibrate(commands::calibrate::CalibrateArgs),
@@ -36,6 +39,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Demo(args) => commands::demo::run(args),
+        Command::Bench(args) => commands::bench::run(args),
         Command::Calibrate(args) => commands::calibrate::run(args),
         Command::Eval(args) => commands::eval::run(args),
         Command::Render(args) => commands::render::run(args),

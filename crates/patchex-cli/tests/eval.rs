@@ -65,6 +65,7 @@ fn eval_scores_every_method_over_every_region() {
             "MotionVector",
             "OcclusionMotion",
             "Gbuffer",
+            "GbufferShadows",
             "Interpolation"
         ]
     );

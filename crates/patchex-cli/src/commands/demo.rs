@@ -39,6 +39,11 @@ pub struct DemoArgs {
     /// Run renderer and plugin under the Vulkan validation layer; fail on any message.
     #[arg(long)]
     validation: bool,
+    /// Hand the plugin each frame's shadow input, so the shadows of moving characters are
+    /// tracked and moved (the shadow sub-task). Off by default: on crossing_street, whose short
+    /// shadows creep and change shape, it costs more than it gains (README, Evaluation).
+    #[arg(long)]
+    shadows: bool,
 }
 
 struct Row {
@@ -99,9 +104,11 @@ pub fn run(args: DemoArgs) -> CommandResult {
     for (n, &target) in targets.iter().enumerate() {
         let source_layers = dataset.read_frame(target - 1)?;
         let target_layers = dataset.read_frame(target)?;
-        // Frame t-1 goes first with its shadow input, so the shadows' motion is tracked.
+        // With shadows, frame t-1 goes first with its shadow input, so the shadows' motion is
+        // tracked.
         let earlier_layers = target
             .checked_sub(3)
+            .filter(|_| args.shadows)
             .map(|earlier| dataset.read_frame(earlier))
             .transpose()?;
         let earlier = earlier_layers
@@ -114,7 +121,7 @@ pub fn run(args: DemoArgs) -> CommandResult {
             0.5,
             None,
             false,
-            Some(earlier),
+            args.shadows.then_some(earlier),
         )?;
         let (width, height) = (manifest.width, manifest.height);
         let frame_t = tone_map(&source_layers.layer(FINAL_IMAGE).data, 3);

@@ -309,10 +309,22 @@ fn evaluate(
                 method_result.add_time(&stats);
             }
             if target == strip_frame {
-                strip_outputs.push((output, maps.flip));
+                strip_outputs.push((method, output, maps.flip));
             }
         }
         if target == strip_frame {
+            write_shadow_strip(
+                &args.out,
+                &manifest.scene,
+                width,
+                &truth,
+                &shadows,
+                &strip_outputs,
+            )?;
+            let strip_outputs: Vec<_> = strip_outputs
+                .into_iter()
+                .map(|(_, output, flip)| (output, flip))
+                .collect();
             let path = args
                 .out
                 .join("strips")
@@ -340,6 +352,88 @@ fn evaluate(
         .into());
     }
     Ok(result)
+}
+
+/// Pixels of margin around the shadow region in its strip, and the zoom of that strip.
+const SHADOW_STRIP_MARGIN: usize = 12;
+const SHADOW_STRIP_ZOOM: usize = 2;
+
+/// When both the default warp and the shadow sub-task ran, `strips/SCENE_shadows.png`: the
+/// rectangle around the shadow region, zoomed. Row 1: ground truth, the default warp, the warp
+/// with the shadow sub-task. Row 2: the shadow region, then each one's FLIP error map.
+fn write_shadow_strip(
+    out: &Path,
+    scene: &str,
+    width: usize,
+    truth: &[f32],
+    shadows: &[bool],
+    outputs: &[(Method, Vec<f32>, Vec<f32>)],
+) -> CommandResult {
+    let find = |wanted: Method| outputs.iter().find(|(method, ..)| *method == wanted);
+    let (Some(without), Some(with)) = (find(Method::Gbuffer), find(Method::GbufferShadows)) else {
+        return Ok(());
+    };
+    let height = shadows.len() / width;
+    let inside: Vec<(usize, usize)> = (0..shadows.len())
+        .filter(|&i| shadows[i])
+        .map(|i| (i % width, i / width))
+        .collect();
+    if inside.is_empty() {
+        return Ok(());
+    }
+    let bound = |pick: fn(&(usize, usize)) -> usize| {
+        let values = inside.iter().map(pick);
+        (values.clone().min().unwrap_or(0), values.max().unwrap_or(0))
+    };
+    let ((x0, x1), (y0, y1)) = (bound(|p| p.0), bound(|p| p.1));
+    let x0 = x0.saturating_sub(SHADOW_STRIP_MARGIN);
+    let y0 = y0.saturating_sub(SHADOW_STRIP_MARGIN);
+    let x1 = (x1 + SHADOW_STRIP_MARGIN).min(width - 1);
+    let y1 = (y1 + SHADOW_STRIP_MARGIN).min(height - 1);
+    let (crop_width, crop_height) = (x1 - x0 + 1, y1 - y0 + 1);
+    // Crops an RGB8 panel of the whole frame to the rectangle and zooms it.
+    let zoom = |panel: Vec<u8>| -> Vec<u8> {
+        let mut zoomed = Vec::with_capacity(crop_width * crop_height * 9 * 3);
+        for y in 0..crop_height * SHADOW_STRIP_ZOOM {
+            for x in 0..crop_width * SHADOW_STRIP_ZOOM {
+                let source = (y0 + y / SHADOW_STRIP_ZOOM) * width + x0 + x / SHADOW_STRIP_ZOOM;
+                zoomed.extend_from_slice(&panel[3 * source..3 * source + 3]);
+            }
+        }
+        zoomed
+    };
+    let flip_panel = |flip: &[f32]| {
+        FlipImageFloat::with_data(width as u32, height as u32, flip)
+            .apply_color_lut(&magma_lut())
+            .to_vec()
+    };
+    let region: Vec<f32> = truth
+        .chunks(3)
+        .zip(shadows)
+        .flat_map(|(rgb, shadow)| {
+            let grey = (rgb[0] + rgb[1] + rgb[2]) / 3.0;
+            if *shadow {
+                [0.5 + 0.5 * grey, 0.3 * grey, 0.6 + 0.4 * grey]
+            } else {
+                [0.35 * grey; 3]
+            }
+        })
+        .collect();
+    let panels = vec![
+        zoom(to_rgb8(truth)),
+        zoom(to_rgb8(&without.1)),
+        zoom(to_rgb8(&with.1)),
+        zoom(to_rgb8(&region)),
+        zoom(flip_panel(&without.2)),
+        zoom(flip_panel(&with.2)),
+    ];
+    write_grid(
+        &out.join("strips").join(format!("{scene}_shadows.png")),
+        crop_width * SHADOW_STRIP_ZOOM,
+        crop_height * SHADOW_STRIP_ZOOM,
+        3,
+        &panels,
+    )
 }
 
 /// Row 1: ground truth, then each method's output. Row 2: the masks (far-BE dimmed, near-BE

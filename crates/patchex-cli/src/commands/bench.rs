@@ -1,0 +1,486 @@
+//! `patchex bench`: the speed-against-accuracy trade, measured. Renders the test scenes at each
+//! resolution, runs every configuration of this build on the same targets through the plugin's
+//! C ABI (validation off), and writes:
+//! - bench.md and bench.json: quality (PSNR, SSIM, FLIP against the rendered target) beside GPU
+//!   time per stage, grouped as the PatchEX paper's runtime table does (G-buffer, warping,
+//!   preprocessing, inference, blending), and how the time grows with resolution;
+//! - trade.png: quality against GPU time, one line per configuration through the resolutions.
+//!
+//! GPU times come from the plugin's timestamp queries. Each configuration runs once on every
+//! size before it is measured, so no measurement pays for the driver's lazy compilation. Times
+//! on a shared machine move between runs: compare the ratios of one run.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use clap::{Args, ValueEnum};
+use patchex::abi::*;
+use patchex_scene::dataset::{render_sequence, Dataset, FrameLayers, SequenceOptions, FINAL_IMAGE};
+use patchex_scene::{Gpu, GpuOptions, World};
+use plotters::prelude::*;
+use serde_json::json;
+
+use super::metrics::{error_maps, Pooled};
+use super::picture::tone_map;
+use super::plugin_driver::PluginDriver;
+use super::render::parse_size;
+use super::CommandResult;
+
+/// What the engine can choose in this build, cheapest first.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, ValueEnum)]
+pub enum Configuration {
+    MotionVector,
+    OcclusionMotion,
+    Gbuffer,
+    GbufferShadows,
+}
+
+impl Configuration {
+    fn label(self) -> &'static str {
+        match self {
+            Configuration::MotionVector => "motion-vector warp",
+            Configuration::OcclusionMotion => "occlusion-motion-vector warp",
+            Configuration::Gbuffer => "G-buffer-guided warp",
+            Configuration::GbufferShadows => "G-buffer-guided warp + shadows",
+        }
+    }
+
+    fn warp(self) -> PatchexWarpKind {
+        match self {
+            Configuration::MotionVector => PATCHEX_WARP_MOTION_VECTOR,
+            Configuration::OcclusionMotion => PATCHEX_WARP_OCCLUSION_MOTION_VECTOR,
+            Configuration::Gbuffer | Configuration::GbufferShadows => PATCHEX_WARP_GBUFFER_GUIDED,
+        }
+    }
+
+    fn colour(self) -> RGBColor {
+        match self {
+            Configuration::MotionVector => RGBColor(230, 159, 0),
+            Configuration::OcclusionMotion => RGBColor(86, 180, 233),
+            Configuration::Gbuffer => RGBColor(0, 158, 115),
+            Configuration::GbufferShadows => RGBColor(204, 121, 167),
+        }
+    }
+}
+
+#[derive(Args)]
+pub struct BenchArgs {
+    /// Scene files (TOML) to render and measure.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "scenes/shadow_terrain.toml,scenes/crossing_street.toml"
+    )]
+    scenes: Vec<PathBuf>,
+    /// Resolutions, WIDTHxHEIGHT.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        value_parser = parse_size,
+        default_value = "640x360,854x480,1280x720,1920x1080"
+    )]
+    sizes: Vec<(u32, u32)>,
+    /// Configurations to compare.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "motion-vector,occlusion-motion,gbuffer,gbuffer-shadows"
+    )]
+    configurations: Vec<Configuration>,
+    /// Frames of the doubled stream rendered per scene and size; targets are the odd frames
+    /// from 3 on (each needs frames t-1 and t).
+    #[arg(long, default_value_t = 7)]
+    frames: usize,
+    /// Output folder: datasets/, bench.md, bench.json, trade.png.
+    #[arg(long, default_value = "out/bench")]
+    out: PathBuf,
+    /// A TrueType font for the plot's text.
+    #[arg(
+        long,
+        default_value = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf"
+    )]
+    font: PathBuf,
+}
+
+/// The paper's runtime table groups the stages so.
+const STAGE_GROUPS: [(&str, &[PatchexStage]); 5] = [
+    (
+        "G-buffer",
+        &[
+            PATCHEX_STAGE_PACK_SOURCE_GBUFFER,
+            PATCHEX_STAGE_PACK_TARGET_GBUFFER,
+        ],
+    ),
+    ("warping", &[PATCHEX_STAGE_WARP, PATCHEX_STAGE_SHADOW_WARP]),
+    (
+        "preprocessing",
+        &[
+            PATCHEX_STAGE_DEMODULATE,
+            PATCHEX_STAGE_SHADOW_FLOW,
+            PATCHEX_STAGE_SEGMENT,
+            PATCHEX_STAGE_LBP,
+        ],
+    ),
+    // The inpainting networks (issue 6) are not in this build.
+    ("inference", &[]),
+    ("blending", &[PATCHEX_STAGE_REMODULATE]),
+];
+
+/// One configuration at one size, over every scene's targets.
+#[derive(Clone, Default)]
+struct Measured {
+    quality: Pooled,
+    /// Summed GPU ms per stage group, and the number of targets summed.
+    group_ms: [f64; STAGE_GROUPS.len()],
+    targets: usize,
+    /// Fraction of target pixels in FI and near-BE, summed over targets.
+    dynamic_fraction: f64,
+}
+
+impl Measured {
+    fn mean_group_ms(&self, group: usize) -> f64 {
+        self.group_ms[group] / self.targets.max(1) as f64
+    }
+
+    fn mean_total_ms(&self) -> f64 {
+        (0..STAGE_GROUPS.len()).map(|g| self.mean_group_ms(g)).sum()
+    }
+}
+
+pub fn run(args: BenchArgs) -> CommandResult {
+    let mut configurations = args.configurations.clone();
+    configurations.sort();
+    configurations.dedup();
+    std::fs::create_dir_all(&args.out)?;
+    let gpu = Arc::new(Gpu::new(GpuOptions { validation: false })?);
+    // results[size][configuration]
+    let mut results = vec![vec![Measured::default(); configurations.len()]; args.sizes.len()];
+    for scene in &args.scenes {
+        let world = World::load(scene, None)?;
+        for (size_index, &(width, height)) in args.sizes.iter().enumerate() {
+            let dir = args
+                .out
+                .join("datasets")
+                .join(format!("{}_{width}x{height}", world.description.name));
+            eprintln!("rendering {} at {width}x{height}", world.description.name);
+            render_sequence(
+                &gpu,
+                &world,
+                &SequenceOptions {
+                    frames: args.frames,
+                    width,
+                    height,
+                    out_dir: dir.clone(),
+                },
+                &mut |_, _| {},
+            )?;
+            eprintln!("measuring");
+            measure(&dir, &configurations, &mut results[size_index])?;
+        }
+    }
+    let markdown = report(&args, &configurations, &results);
+    std::fs::write(args.out.join("bench.md"), &markdown)?;
+    std::fs::write(
+        args.out.join("bench.json"),
+        serde_json::to_string_pretty(&report_json(&args, &configurations, &results))? + "\n",
+    )?;
+    plot(
+        &args.out.join("trade.png"),
+        &args.font,
+        &args.sizes,
+        &configurations,
+        &results,
+    )?;
+    println!("{markdown}");
+    println!("written: {}", args.out.display());
+    Ok(())
+}
+
+/// Runs every configuration on every target of one dataset.
+fn measure(
+    dir: &Path,
+    configurations: &[Configuration],
+    results: &mut [Measured],
+) -> CommandResult {
+    let dataset = Dataset::open(dir)?;
+    let manifest = &dataset.manifest;
+    let targets: Vec<usize> = (3..manifest.frames.len()).step_by(2).collect();
+    if targets.is_empty() {
+        return Err(format!("{}: fewer than 4 frames", dir.display()).into());
+    }
+    let driver = PluginDriver::new(manifest, false)?;
+    let read = |index: usize| dataset.read_frame(index);
+    let mut frame_index = 0;
+    let mut run = |configuration: Configuration,
+                   earlier: &FrameLayers,
+                   source: &FrameLayers,
+                   target: &FrameLayers,
+                   index: usize| {
+        frame_index += 2;
+        let shadows = configuration == Configuration::GbufferShadows;
+        driver.extrapolate(
+            frame_index,
+            (source, &manifest.frames[index - 1]),
+            (target, &manifest.frames[index]),
+            0.5,
+            Some(configuration.warp()),
+            false,
+            shadows.then_some(Some((earlier, &manifest.frames[index - 3]))),
+        )
+    };
+    // One unmeasured run of each configuration: the driver compiles shaders lazily.
+    let (earlier, source, target) = (read(0)?, read(2)?, read(3)?);
+    for &configuration in configurations {
+        run(configuration, &earlier, &source, &target, 3)?;
+    }
+    let (width, height) = (manifest.width, manifest.height);
+    for &index in &targets {
+        let (earlier, source, target) = (read(index - 3)?, read(index - 1)?, read(index)?);
+        let truth = tone_map(&target.layer(FINAL_IMAGE).data, 3);
+        for (&configuration, measured) in configurations.iter().zip(results.iter_mut()) {
+            let result = run(configuration, &earlier, &source, &target, index)?;
+            let maps = error_maps(&truth, &tone_map(&result.color, 4), width, height);
+            for pixel in 0..width * height {
+                measured.quality.add(&maps, pixel);
+            }
+            let stats = &result.stats;
+            let extrapolation = &stats.extrapolations[0];
+            for (group, (_, stages)) in STAGE_GROUPS.iter().enumerate() {
+                measured.group_ms[group] += stages
+                    .iter()
+                    .map(|&s| {
+                        (stats.submit_gpu_ms[s as usize] + extrapolation.gpu_ms[s as usize]) as f64
+                    })
+                    .sum::<f64>();
+            }
+            measured.dynamic_fraction +=
+                (extrapolation.fi_fraction + extrapolation.near_be_fraction) as f64;
+            measured.targets += 1;
+        }
+    }
+    Ok(())
+}
+
+fn size_label(size: (u32, u32)) -> String {
+    format!("{}p", size.1)
+}
+
+fn report(args: &BenchArgs, configurations: &[Configuration], results: &[Vec<Measured>]) -> String {
+    let mut out = String::new();
+    let scenes: Vec<String> = args
+        .scenes
+        .iter()
+        .map(|s| {
+            s.file_stem()
+                .unwrap_or_default()
+                .to_string_lossy()
+                .into_owned()
+        })
+        .collect();
+    writeln!(
+        out,
+        "Every configuration on the same targets of {} ({} frames each, targets from frame 3 \
+         on, alpha 0.5), quality of the tone-mapped frame against the rendered target; GPU ms \
+         per target from timestamp queries (submit plus extrapolation), grouped as the PatchEX \
+         runtime table. Inference is empty: the networks are not in this build.\n",
+        scenes.join(" and "),
+        args.frames
+    )
+    .unwrap();
+    write!(out, "| size | configuration | PSNR dB | SSIM | FLIP |").unwrap();
+    for (name, _) in STAGE_GROUPS {
+        write!(out, " {name} ms |").unwrap();
+    }
+    writeln!(
+        out,
+        " total ms |\n|{}",
+        "---|".repeat(6 + STAGE_GROUPS.len())
+    )
+    .unwrap();
+    for (size, row) in args.sizes.iter().zip(results) {
+        for (configuration, measured) in configurations.iter().zip(row) {
+            let Some(scores) = measured.quality.scores() else {
+                continue;
+            };
+            write!(
+                out,
+                "| {} | {} | {:.2} | {:.4} | {:.4} |",
+                size_label(*size),
+                configuration.label(),
+                scores.psnr,
+                scores.ssim,
+                scores.flip
+            )
+            .unwrap();
+            for group in 0..STAGE_GROUPS.len() {
+                write!(out, " {:.1} |", measured.mean_group_ms(group)).unwrap();
+            }
+            writeln!(out, " {:.1} |", measured.mean_total_ms()).unwrap();
+        }
+    }
+    writeln!(
+        out,
+        "\nGrowth with resolution: total time at each size over the time at {}, against the \
+         ratio of pixels.\n",
+        size_label(args.sizes[0])
+    )
+    .unwrap();
+    write!(out, "| configuration |").unwrap();
+    for size in &args.sizes {
+        write!(out, " {} |", size_label(*size)).unwrap();
+    }
+    writeln!(out, "\n|{}", "---|".repeat(1 + args.sizes.len())).unwrap();
+    let base_pixels = (args.sizes[0].0 * args.sizes[0].1) as f64;
+    write!(out, "| pixels |").unwrap();
+    for size in &args.sizes {
+        write!(out, " {:.2}x |", (size.0 * size.1) as f64 / base_pixels).unwrap();
+    }
+    writeln!(out).unwrap();
+    for (c, configuration) in configurations.iter().enumerate() {
+        let base = results[0][c].mean_total_ms();
+        write!(out, "| {} |", configuration.label()).unwrap();
+        for row in results {
+            write!(out, " {:.2}x |", row[c].mean_total_ms() / base).unwrap();
+        }
+        writeln!(out).unwrap();
+    }
+    let dynamic = results[0]
+        .first()
+        .map_or(0.0, |m| m.dynamic_fraction / m.targets.max(1) as f64);
+    writeln!(
+        out,
+        "\nDynamic content (FI plus near-BE) covers {:.1}% of the target pixels on average. No \
+         stage of this build depends on its area: every pass runs over the whole frame, and the \
+         segmentation's cost is per pixel. With the networks, inference will follow the patch \
+         area.",
+        100.0 * dynamic
+    )
+    .unwrap();
+    out
+}
+
+fn report_json(
+    args: &BenchArgs,
+    configurations: &[Configuration],
+    results: &[Vec<Measured>],
+) -> serde_json::Value {
+    let rows: Vec<_> = args
+        .sizes
+        .iter()
+        .zip(results)
+        .flat_map(|(size, row)| {
+            configurations.iter().zip(row).map(move |(configuration, measured)| {
+                let scores = measured.quality.scores();
+                json!({
+                    "width": size.0,
+                    "height": size.1,
+                    "configuration": format!("{configuration:?}"),
+                    "label": configuration.label(),
+                    "psnr": scores.map(|s| s.psnr),
+                    "ssim": scores.map(|s| s.ssim),
+                    "flip": scores.map(|s| s.flip),
+                    "targets": measured.targets,
+                    "gpu_ms": STAGE_GROUPS
+                        .iter()
+                        .enumerate()
+                        .map(|(g, (name, _))| (name.to_string(), json!(measured.mean_group_ms(g))))
+                        .collect::<serde_json::Map<_, _>>(),
+                    "total_gpu_ms": measured.mean_total_ms(),
+                })
+            })
+        })
+        .collect();
+    json!({ "frames": args.frames, "rows": rows })
+}
+
+/// PSNR against total GPU time, log time axis; one line per configuration through the sizes,
+/// each point labelled with its size.
+fn plot(
+    path: &Path,
+    font: &Path,
+    sizes: &[(u32, u32)],
+    configurations: &[Configuration],
+    results: &[Vec<Measured>],
+) -> CommandResult {
+    let font_bytes = std::fs::read(font).map_err(|e| {
+        format!(
+            "{}: {e} (install fonts-dejavu-core or pass --font)",
+            font.display()
+        )
+    })?;
+    let font_bytes: &'static [u8] = Box::leak(font_bytes.into_boxed_slice());
+    plotters::style::register_font("sans-serif", FontStyle::Normal, font_bytes)
+        .map_err(|_| format!("{}: not a usable TrueType font", font.display()))?;
+    let points: Vec<(f64, f64)> = results
+        .iter()
+        .flatten()
+        .filter_map(|m| m.quality.scores().map(|s| (m.mean_total_ms(), s.psnr)))
+        .collect();
+    let (min_ms, max_ms) = points
+        .iter()
+        .fold((f64::MAX, 0.0f64), |(lo, hi), p| (lo.min(p.0), hi.max(p.0)));
+    let (min_db, max_db) = points.iter().fold((f64::MAX, f64::MIN), |(lo, hi), p| {
+        (lo.min(p.1), hi.max(p.1))
+    });
+
+    let root = BitMapBackend::new(path, (1200, 720)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let mut chart = ChartBuilder::on(&root)
+        .caption(
+            "Quality against GPU time (lavapipe), per configuration and resolution",
+            ("sans-serif", 26),
+        )
+        .margin(20)
+        .x_label_area_size(50)
+        .y_label_area_size(70)
+        .build_cartesian_2d(
+            ((min_ms * 0.8)..(max_ms * 1.25)).log_scale(),
+            (min_db - 1.0)..(max_db + 1.0),
+        )?;
+    chart
+        .configure_mesh()
+        .x_labels(6)
+        .x_label_formatter(&|ms| format!("{ms:.0}"))
+        .light_line_style(WHITE)
+        .x_desc("GPU ms per extrapolated frame (submit + extrapolation, log scale)")
+        .y_desc("PSNR dB against the rendered target")
+        .label_style(("sans-serif", 16))
+        .draw()?;
+    for (c, configuration) in configurations.iter().enumerate() {
+        let colour = configuration.colour();
+        let series: Vec<(f64, f64, String)> = sizes
+            .iter()
+            .zip(results)
+            .filter_map(|(size, row)| {
+                row[c]
+                    .quality
+                    .scores()
+                    .map(|s| (row[c].mean_total_ms(), s.psnr, size_label(*size)))
+            })
+            .collect();
+        chart
+            .draw_series(LineSeries::new(
+                series.iter().map(|(x, y, _)| (*x, *y)),
+                colour.stroke_width(3),
+            ))?
+            .label(configuration.label())
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 24, y)], colour.stroke_width(3))
+            });
+        chart.draw_series(series.iter().map(|(x, y, label)| {
+            EmptyElement::at((*x, *y))
+                + Circle::new((0, 0), 5, colour.filled())
+                + Text::new(label.clone(), (6, -18), ("sans-serif", 15))
+        }))?;
+    }
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::LowerRight)
+        .background_style(WHITE.mix(0.9))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 18))
+        .draw()?;
+    root.present()?;
+    Ok(())
+}

@@ -1,0 +1,52 @@
+//! `patchex bench` end to end at small sizes: every configuration measured at every size, the
+//! table in the paper's stage groups, the growth with resolution, and the plot.
+
+use std::path::Path;
+use std::process::Command;
+
+#[test]
+fn bench_measures_every_configuration_at_every_size_and_plots_the_trade() {
+    let out = tempfile::tempdir().unwrap();
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/shadow_terrain.toml");
+    let output = Command::new(env!("CARGO_BIN_EXE_patchex"))
+        .args(["bench", "--scenes", scene.to_str().unwrap()])
+        .args(["--sizes", "96x54,192x108", "--frames", "5", "--out"])
+        .arg(out.path())
+        .output()
+        .expect("the patchex binary runs");
+    let printed = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "patchex bench:\n{printed}");
+
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.path().join("bench.json")).unwrap())
+            .unwrap();
+    let rows = json["rows"].as_array().unwrap();
+    assert_eq!(rows.len(), 2 * 4, "two sizes, four configurations");
+    for row in rows {
+        // Targets 3 (frames 0, 2 and 3); every stage group but inference took time.
+        assert_eq!(row["targets"], 1, "{row}");
+        assert!(row["psnr"].as_f64().unwrap() > 20.0, "{row}");
+        for group in ["G-buffer", "warping", "preprocessing", "blending"] {
+            assert!(row["gpu_ms"][group].as_f64().unwrap() > 0.0, "{row}");
+        }
+        assert_eq!(row["gpu_ms"]["inference"].as_f64().unwrap(), 0.0);
+    }
+    // The shadow sub-task costs time on top of the same warp.
+    let total = |label: &str, height: u64| {
+        rows.iter()
+            .find(|r| r["label"] == label && r["height"] == height)
+            .unwrap()["total_gpu_ms"]
+            .as_f64()
+            .unwrap()
+    };
+    assert!(total("G-buffer-guided warp + shadows", 108) > total("G-buffer-guided warp", 108));
+
+    let markdown = std::fs::read_to_string(out.path().join("bench.md")).unwrap();
+    assert!(
+        markdown.contains("| 108p | G-buffer-guided warp + shadows |"),
+        "{markdown}"
+    );
+    assert!(markdown.contains("Growth with resolution"), "{markdown}");
+    let plot = std::fs::read(out.path().join("trade.png")).unwrap();
+    assert!(plot.starts_with(b"\x89PNG"), "trade.png is a PNG");
+}
