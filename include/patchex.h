@@ -382,9 +382,10 @@ typedef struct PatchexFrameStats {
   PatchexBool timings_valid;
   // GPU milliseconds of the submit stages (index PATCHEX_STAGE_*).
   float submit_gpu_ms[PATCHEX_STAGE_SLOTS];
-  // Pixels of frame t with an input patchex had to sanitise: a colour that is NaN, infinite
-  // or beyond the largest half float (65504), or a base colour, metallic or specular value
-  // that is NaN or outside [0, 1]. NaN becomes 0, everything else the nearest usable value.
+  // Pixels of frame t with an input patchex had to sanitise: a colour (or, with a shadow
+  // input, a colour without dynamic shadows) that is NaN, infinite or beyond the largest half
+  // float (65504), or a base colour, metallic, specular or shadow-mask value that is NaN or
+  // outside [0, 1]. NaN becomes 0, everything else the nearest usable value.
   uint32_t source_sanitized_pixels;
   uint32_t extrapolation_count;
   struct PatchexExtrapolationStats extrapolations[PATCHEX_MAX_EXTRAPOLATIONS_PER_FRAME];

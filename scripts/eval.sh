@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Renders every scene in scenes/ at 640x360 (17 frames: 8 targets between rendered frames), fits
 # the segmentation's k_x and k_y on them, and scores every method against the ground truth.
-# Writes out/datasets/, out/calibration.json and out/eval/ (eval.md, eval.json, strips/).
+# Writes out/datasets/, out/calibration.json and out/eval/ (eval.md, eval.json, strips/); then
+# renders three scenes as 3x streams and scores both instants into out/eval_3x/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
@@ -14,3 +15,12 @@ for scene in scenes/*.toml; do
 done
 target/release/patchex calibrate "${datasets[@]}" --json out/calibration.json
 target/release/patchex eval "${datasets[@]}" --out out/eval "$@"
+# 3x frame generation: two targets (alpha 1/3 and 2/3) between rendered frames.
+datasets_3x=()
+for name in crossing_street fast_run shadow_terrain; do
+    target/release/patchex render "scenes/$name.toml" --frames 13 --size 640x360 \
+        --targets-between 2 --out "out/datasets_3x/$name"
+    datasets_3x+=("out/datasets_3x/$name")
+done
+target/release/patchex eval "${datasets_3x[@]}" --out out/eval_3x \
+    --methods copy,motion-vector,occlusion-motion,gbuffer,gbuffer-shadows

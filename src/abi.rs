@@ -521,9 +521,10 @@ pub struct PatchexFrameStats {
     pub timings_valid: PatchexBool,
     /// GPU milliseconds of the submit stages (index PATCHEX_STAGE_*).
     pub submit_gpu_ms: [f32; PATCHEX_STAGE_SLOTS],
-    /// Pixels of frame t with an input patchex had to sanitise: a colour that is NaN, infinite
-    /// or beyond the largest half float (65504), or a base colour, metallic or specular value
-    /// that is NaN or outside [0, 1]. NaN becomes 0, everything else the nearest usable value.
+    /// Pixels of frame t with an input patchex had to sanitise: a colour (or, with a shadow
+    /// input, a colour without dynamic shadows) that is NaN, infinite or beyond the largest half
+    /// float (65504), or a base colour, metallic, specular or shadow-mask value that is NaN or
+    /// outside [0, 1]. NaN becomes 0, everything else the nearest usable value.
     pub source_sanitized_pixels: u32,
     pub extrapolation_count: u32,
     pub extrapolations: [PatchexExtrapolationStats; PATCHEX_MAX_EXTRAPOLATIONS_PER_FRAME],

@@ -719,9 +719,6 @@ impl Context {
             .work
             .as_ref()
             .expect("a submitted frame allocated the work images");
-        let counters =
-            self.ring
-                .counter_range(slot, region, WARP_COUNTERS_OFFSET, warp::COUNTER_BYTES);
         let object_table =
             self.ring
                 .counter_range(slot, region, OBJECT_TABLE_OFFSET, segmentation::TABLE_BYTES);
@@ -747,82 +744,72 @@ impl Context {
             )
         });
         barriers::compute_to_compute(device, cmd, false);
-        let warp_index = Pipelines::warp(warp_settings.kind);
-        timed.stage(PATCHEX_STAGE_WARP, || {
+        // Every warp of this extrapolation reads the geometry of both instants.
+        let record_warp = |pipeline: usize,
+                           set: usize,
+                           params: &warp::Params,
+                           source_shading: &OwnedImage,
+                           motion: Texture,
+                           output: &OwnedImage,
+                           counters_offset: u64| {
             warp::record(
-                self.pipelines.get(warp_index),
+                self.pipelines.get(pipeline),
                 device,
                 cmd,
-                self.ring.descriptor_set(slot, region, warp_index),
-                &warp_params,
+                self.ring.descriptor_set(slot, region, set),
+                params,
                 &warp::WarpInputs {
-                    source_shading: &work[WorkImages::SOURCE_SHADING],
+                    source_shading,
                     source_geometry: &work[WorkImages::SOURCE_GEOMETRY],
                     source_normal_id: &work[WorkImages::SOURCE_NORMAL_ID],
                     target_geometry: &work[WorkImages::TARGET_GEOMETRY],
                     target_normal_id: &work[WorkImages::TARGET_NORMAL_ID],
                     motion,
                 },
+                output,
+                &self
+                    .ring
+                    .counter_range(slot, region, counters_offset, warp::COUNTER_BYTES),
+            )
+        };
+        let warp_index = Pipelines::warp(warp_settings.kind);
+        timed.stage(PATCHEX_STAGE_WARP, || {
+            record_warp(
+                warp_index,
+                warp_index,
+                &warp_params,
+                &work[WorkImages::SOURCE_SHADING],
+                motion,
                 &work[WorkImages::WARPED],
-                &counters,
+                WARP_COUNTERS_OFFSET,
             )
         });
         let shadows = self.shadows.as_ref().filter(|_| source.has_shadows);
         if let Some(shadows) = shadows {
-            // The shadow layer follows the mask's flow, scaled to the target instant; and the
-            // frame's own warp, to know where that warp put frame t's shadow.
+            // The shadow layer through the frame's own warp (where that warp put frame t's
+            // shadow), and moved by the mask's flow scaled to the target instant.
             let params =
                 warp_settings.shadow_params(inputs.extent, &inputs.geometry.camera, inputs.alpha);
+            let layer = &shadows[ShadowImages::LAYER];
             timed.stage(PATCHEX_STAGE_SHADOW_WARP, || {
-                warp::record(
-                    self.pipelines.get(warp_index),
-                    device,
-                    cmd,
-                    self.ring.descriptor_set(
-                        slot,
-                        region,
-                        Pipelines::surface_layer_set(warp_index),
-                    ),
+                record_warp(
+                    warp_index,
+                    Pipelines::surface_layer_set(warp_index),
                     &warp_params,
-                    &warp::WarpInputs {
-                        source_shading: &shadows[ShadowImages::LAYER],
-                        source_geometry: &work[WorkImages::SOURCE_GEOMETRY],
-                        source_normal_id: &work[WorkImages::SOURCE_NORMAL_ID],
-                        target_geometry: &work[WorkImages::TARGET_GEOMETRY],
-                        target_normal_id: &work[WorkImages::TARGET_NORMAL_ID],
-                        motion,
-                    },
+                    layer,
+                    motion,
                     &shadows[ShadowImages::SURFACE_LAYER],
-                    &self.ring.counter_range(
-                        slot,
-                        region,
-                        SURFACE_LAYER_COUNTERS_OFFSET,
-                        warp::COUNTER_BYTES,
-                    ),
+                    SURFACE_LAYER_COUNTERS_OFFSET,
                 );
-                warp::record(
-                    self.pipelines.get(Pipelines::WARP_OCCLUSION_MOTION),
-                    device,
-                    cmd,
-                    self.ring
-                        .descriptor_set(slot, region, Pipelines::SHADOW_WARP_SET),
+                record_warp(
+                    Pipelines::WARP_OCCLUSION_MOTION,
+                    Pipelines::SHADOW_WARP_SET,
                     &params,
-                    &warp::WarpInputs {
-                        source_shading: &shadows[ShadowImages::LAYER],
-                        source_geometry: &work[WorkImages::SOURCE_GEOMETRY],
-                        source_normal_id: &work[WorkImages::SOURCE_NORMAL_ID],
-                        target_geometry: &work[WorkImages::TARGET_GEOMETRY],
-                        target_normal_id: &work[WorkImages::TARGET_NORMAL_ID],
-                        motion: (&shadows[ShadowImages::FLOW]).into(),
-                    },
+                    layer,
+                    (&shadows[ShadowImages::FLOW]).into(),
                     &shadows[ShadowImages::WARPED_LAYER],
-                    &self.ring.counter_range(
-                        slot,
-                        region,
-                        SHADOW_WARP_COUNTERS_OFFSET,
-                        warp::COUNTER_BYTES,
-                    ),
-                )
+                    SHADOW_WARP_COUNTERS_OFFSET,
+                );
             });
         }
         timed.stage(PATCHEX_STAGE_SEGMENT, || {

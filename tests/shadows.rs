@@ -18,7 +18,7 @@ use glam::{Vec2, Vec3};
 use patchex::abi::*;
 use patchex::camera::Camera;
 use patchex::error::PatchexResult;
-use patchex::passes::shadow_flow::FlowSettings;
+use patchex::passes::shadow_flow::{FlowSettings, MAX_WINDOW_RADIUS};
 use patchex::reference::{self, round_to_f16, Image, ShadowInputs};
 use support::pipeline::{inputs, psnr, read_image};
 use support::scene::{Frame, Scene};
@@ -393,32 +393,34 @@ fn bad_shadow_inputs_and_flow_settings_are_refused() {
         rig.engine.run(|cmd| result = rig.submit(cmd, &desc));
         result
     };
-    let zero_levels = PatchexShadowFlowSettings {
-        levels: 0,
-        ..settings
-    };
-    assert_eq!(
-        submit(gpu.shadow_input(), Some(zero_levels)),
-        PatchexResult::ErrorInvalidArgument
-    );
-    assert!(
-        rig.last_error().contains("levels 0"),
-        "{}",
-        rig.last_error()
-    );
-    let nan_sigma = PatchexShadowFlowSettings {
-        poly_sigma: f32::NAN,
-        ..settings
-    };
-    assert_eq!(
-        submit(gpu.shadow_input(), Some(nan_sigma)),
-        PatchexResult::ErrorInvalidArgument
-    );
-    assert!(
-        rig.last_error().contains("poly_sigma"),
-        "{}",
-        rig.last_error()
-    );
+    let bad_settings = [
+        (
+            PatchexShadowFlowSettings {
+                levels: 0,
+                ..settings
+            },
+            "levels 0",
+        ),
+        (
+            PatchexShadowFlowSettings {
+                window_radius: MAX_WINDOW_RADIUS + 1,
+                ..settings
+            },
+            "window_radius",
+        ),
+        (
+            PatchexShadowFlowSettings {
+                poly_sigma: f32::NAN,
+                ..settings
+            },
+            "poly_sigma",
+        ),
+    ];
+    for (bad, named) in bad_settings {
+        let result = submit(gpu.shadow_input(), Some(bad));
+        assert_eq!(result, PatchexResult::ErrorInvalidArgument, "{named}");
+        assert!(rig.last_error().contains(named), "{}", rig.last_error());
+    }
 
     let mut no_mask = gpu.shadow_input();
     no_mask.mask.image = Default::default();
@@ -432,6 +434,43 @@ fn bad_shadow_inputs_and_flow_settings_are_refused() {
     assert_eq!(
         submit(gpu.shadow_input(), Some(settings)),
         PatchexResult::Success
+    );
+    let messages = rig.engine.take_validation_messages();
+    assert!(messages.is_empty(), "validation: {messages:?}");
+}
+
+/// NaN and infinity in the shadow inputs (and in frame t-1's mask): the output stays finite,
+/// the flow stays finite, and the sanitised pixels are counted as the reference counts them.
+#[test]
+fn non_finite_shadow_inputs_are_sanitised_and_counted() {
+    let scene = shadow_scene();
+    let mut previous = scene.render(-FRAME_TIME, Vec2::ZERO, -2.0 * FRAME_TIME);
+    let mut source = scene.render(0.0, Vec2::ZERO, -FRAME_TIME);
+    let target = scene.render(0.5 * FRAME_TIME, Vec2::ZERO, 0.0);
+    for (i, x) in (0..160).step_by(7).enumerate() {
+        let y = 20 + (i * 3) % 70;
+        previous.shadow_mask.set(x, y, &[f32::NAN]);
+        source
+            .shadow_mask
+            .set(x, y, &[[f32::NAN, 2.0, -1.0][i % 3]]);
+        let bad = [f32::INFINITY, f32::NAN, -f32::INFINITY][i % 3];
+        source
+            .color_without_dynamic_shadows
+            .set(x, y + 1, &[bad, 0.5, bad, 1.0]);
+    }
+    let rig = Rig::new(160, 96);
+    let outcome = run_with_shadows(&rig, &previous, &source, &target, 0.5, true);
+    let expected = reference_run(&previous, &source, &target, 0.5);
+    let shadows = expected.shadows.as_ref().expect("a shadow input was given");
+    assert!(outcome.output.data.iter().all(|v| v.is_finite()));
+    assert!(outcome.diagnostics.data.iter().all(|v| v.is_finite()));
+    assert!(
+        shadows.separated.sanitized >= 2 * 23,
+        "every bad pixel counts"
+    );
+    assert_eq!(
+        outcome.stats.source_sanitized_pixels,
+        shadows.separated.sanitized
     );
     let messages = rig.engine.take_validation_messages();
     assert!(messages.is_empty(), "validation: {messages:?}");

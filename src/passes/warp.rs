@@ -10,7 +10,9 @@ use crate::camera::Camera;
 use crate::error::{bail, Result};
 use crate::passes::{CounterRange, Texture};
 use crate::shaders;
-use crate::shaders::warp_gbuffer::{binding, Params};
+use crate::shaders::warp_gbuffer::binding;
+/// The three warps' shared parameter block.
+pub use crate::shaders::warp_gbuffer::Params;
 use crate::vk::image::OwnedImage;
 use crate::vk::pipeline::{ComputePipeline, DescriptorWrites};
 

@@ -27,6 +27,7 @@ pub fn render(scene_file: &str, frames: usize, width: u32, height: u32) -> Rende
     let gpu = Arc::new(Gpu::new(GpuOptions { validation: true }).expect("renderer device"));
     let dir = tempfile::tempdir().expect("temporary folder");
     let options = SequenceOptions {
+        targets_between: 1,
         frames,
         width,
         height,

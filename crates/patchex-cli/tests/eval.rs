@@ -117,3 +117,59 @@ fn calibrate_fits_growth_that_follows_motion() {
     assert!(r_x > 0.3, "motion predicts the extension: {printed}");
     assert!((1.0..8.0).contains(&k_x), "{printed}");
 }
+
+/// 3x frame generation: a stream rendered with two targets between rendered frames is scored at
+/// alpha 1/3 and 2/3 against the rendered instants, and the warp beats repeating frame t at both.
+#[test]
+fn eval_scores_both_instants_of_a_3x_stream() {
+    let out = tempfile::tempdir().unwrap();
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/fast_run.toml");
+    let dataset = out.path().join("fast_run_3x");
+    run(&[
+        "render",
+        scene.to_str().unwrap(),
+        "--frames",
+        "7",
+        "--size",
+        "128x72",
+        "--targets-between",
+        "2",
+        "--out",
+        dataset.to_str().unwrap(),
+    ]);
+    let report = out.path().join("eval");
+    run(&[
+        "eval",
+        dataset.to_str().unwrap(),
+        "--methods",
+        "copy,gbuffer",
+        "--out",
+        report.to_str().unwrap(),
+    ]);
+    let markdown = std::fs::read_to_string(report.join("eval.md")).unwrap();
+    let row = |label: &str| {
+        // The by-alpha table's row: the label and two cells.
+        markdown
+            .lines()
+            .find(|line| {
+                line.starts_with(&format!("| {label} |")) && line.matches('|').count() == 4
+            })
+            .unwrap_or_else(|| panic!("{label} by alpha in:\n{markdown}"))
+            .split('|')
+            .map(|cell| cell.trim().split(" / ").next().unwrap().parse::<f64>().ok())
+            .collect::<Vec<_>>()
+    };
+    assert!(
+        markdown.contains("| method | alpha 1/3 | alpha 2/3 |"),
+        "{markdown}"
+    );
+    let (copy, warp) = (
+        row("copy of frame t"),
+        row("G-buffer-guided warp (default)"),
+    );
+    for alpha in [2, 3] {
+        assert!(warp[alpha].unwrap() > copy[alpha].unwrap(), "{markdown}");
+    }
+    // Repeating frame t is further from the truth at 2/3 than at 1/3.
+    assert!(copy[2].unwrap() > copy[3].unwrap(), "{markdown}");
+}

@@ -63,7 +63,7 @@ pub fn run(args: CalibrateArgs) -> CommandResult {
         let before = samples.len();
         for info in &dataset.manifest.frames {
             if info.role == FrameRole::Target && info.index > 0 {
-                let previous = dataset.read_frame(info.index - 1)?;
+                let previous = dataset.read_frame(dataset.manifest.source_of(info.index).0)?;
                 let target = dataset.read_frame(info.index)?;
                 samples.extend(frame_samples(&previous, &target));
             }

@@ -70,6 +70,7 @@ pub fn run(args: DemoArgs) -> CommandResult {
     );
     bar.set_message(format!("rendering {}", world.description.name));
     let options = SequenceOptions {
+        targets_between: 1,
         frames: args.frames,
         width: args.size.0,
         height: args.size.1,

@@ -96,15 +96,26 @@ const REGION_COUNT: usize = REGIONS.len();
 #[derive(Clone, Default)]
 struct MethodResult {
     pooled: [Pooled; REGION_COUNT],
+    /// The whole frame, by target instant: (numerator, denominator) of alpha.
+    by_alpha: BTreeMap<(usize, usize), Pooled>,
     /// GPU ms per stage (submit and extrapolation), summed over the timed targets.
     gpu_ms: [f64; PATCHEX_STAGE_SLOTS],
     timed_targets: usize,
 }
 
 impl MethodResult {
-    fn add(&mut self, maps: &ErrorMaps, holes: &[bool], regions: &[u32], shadows: &[bool]) {
+    fn add(
+        &mut self,
+        maps: &ErrorMaps,
+        holes: &[bool],
+        regions: &[u32],
+        shadows: &[bool],
+        alpha: (usize, usize),
+    ) {
+        let by_alpha = self.by_alpha.entry(alpha).or_default();
         for pixel in 0..holes.len() {
             self.pooled[0].add(maps, pixel);
+            by_alpha.add(maps, pixel);
             if holes[pixel] {
                 self.pooled[1].add(maps, pixel);
             }
@@ -138,6 +149,9 @@ impl MethodResult {
     fn merge(&mut self, other: &MethodResult) {
         for (mine, theirs) in self.pooled.iter_mut().zip(&other.pooled) {
             mine.merge(theirs);
+        }
+        for (alpha, theirs) in &other.by_alpha {
+            self.by_alpha.entry(*alpha).or_default().merge(theirs);
         }
         for (mine, theirs) in self.gpu_ms.iter_mut().zip(&other.gpu_ms) {
             *mine += theirs;
@@ -201,10 +215,15 @@ fn evaluate(
     let manifest = &dataset.manifest;
     let (width, height) = (manifest.width, manifest.height);
     // Targets with a rendered frame on both sides, so interpolation has its future frame.
+    // 2x streams: targets with a rendered frame on both sides, so interpolation has its future
+    // frame. Streams with more targets between rendered frames: every target (interpolation,
+    // written for the midpoint, is left out there).
+    let stride = manifest.targets_between + 1;
     let targets: Vec<usize> = manifest
         .frames
         .iter()
-        .filter(|f| f.role == FrameRole::Target && f.index + 1 < manifest.frames.len())
+        .filter(|f| f.role == FrameRole::Target)
+        .filter(|f| stride > 2 || f.index + 1 < manifest.frames.len())
         .map(|f| f.index)
         .collect();
     if targets.is_empty() {
@@ -236,12 +255,19 @@ fn evaluate(
     };
     let mut frame_index = 0;
     for (n, &target) in targets.iter().enumerate() {
-        let previous = dataset.read_frame(target - 1)?;
+        // Frame t, the rendered frame the target is extrapolated from (named `previous` as the
+        // frame before the target), and the target's instant between it and the next.
+        let (source, alpha) = manifest.source_of(target);
+        let previous = dataset.read_frame(source)?;
         let current = dataset.read_frame(target)?;
-        let next = dataset.read_frame(target + 1)?;
+        let next = if stride == 2 {
+            Some(dataset.read_frame(target + 1)?)
+        } else {
+            None
+        };
         // Frame t-1, whose shadow mask the shadow sub-task tracks from.
-        let earlier = target
-            .checked_sub(3)
+        let earlier = source
+            .checked_sub(stride)
             .map(|index| dataset.read_frame(index).map(|layers| (layers, index)))
             .transpose()?;
         let truth = tone_map(&current.layer(FINAL_IMAGE).data, 3);
@@ -257,9 +283,9 @@ fn evaluate(
             frame_index += 2;
             driver.extrapolate(
                 frame_index,
-                (&previous, &manifest.frames[target - 1]),
+                (&previous, &manifest.frames[source]),
                 (&current, &manifest.frames[target]),
-                0.5,
+                alpha,
                 Some(kind),
                 with_diagnostics,
                 with_shadows.then(|| {
@@ -296,14 +322,17 @@ fn evaluate(
                 None if method == Method::Copy => {
                     (tone_map(&previous.layer(FINAL_IMAGE).data, 3), None)
                 }
-                None => (tone_map(&interpolate(&previous, &current, &next), 3), None),
+                None => match &next {
+                    Some(next) => (tone_map(&interpolate(&previous, &current, next), 3), None),
+                    None => continue,
+                },
             };
             let maps = error_maps(&truth, &output, width, height);
             let method_result = result
                 .methods
                 .get_mut(&method)
                 .expect("every method has a result");
-            method_result.add(&maps, &holes, &regions, &shadows);
+            method_result.add(&maps, &holes, &regions, &shadows, (target - source, stride));
             // The first target's times include the driver's lazy shader compilation.
             if let (Some(stats), true) = (stats, n > 0) {
                 method_result.add_time(&stats);
@@ -555,7 +584,8 @@ fn report_markdown(results: &[DatasetResult], methods: &[Method]) -> String {
     let mut out = String::new();
     writeln!(
         out,
-        "Scores of tone-mapped frames against the rendered ground truth at alpha 0.5 (PSNR, SSIM: \
+        "Scores of tone-mapped frames against the rendered ground truth at each target's instant \
+         (alpha 1/2 in a 2x stream; in a 3x stream 1/3 and 2/3, split in a table of their own) (PSNR, SSIM: \
          higher is better; FLIP: lower is better), pooled over every target pixel of each region. \
          Regions come from the plugin's segmentation and the holes from its default warp, the \
          same pixels for every method. GPU ms: submit plus extrapolation per frame, from \
@@ -574,6 +604,7 @@ fn report_markdown(results: &[DatasetResult], methods: &[Method]) -> String {
         writeln!(out, "### All scenes ({})\n", coverage(&total_pixels)).unwrap();
         let all = all_scenes(results, methods);
         method_table(&mut out, &all);
+        alpha_table(&mut out, &all);
         writeln!(out, "\nGPU ms per stage:\n").unwrap();
         stage_table(&mut out, &all);
         writeln!(out).unwrap();
@@ -590,11 +621,48 @@ fn report_markdown(results: &[DatasetResult], methods: &[Method]) -> String {
         )
         .unwrap();
         method_table(&mut out, &result.methods);
+        alpha_table(&mut out, &result.methods);
         writeln!(out, "\nGPU ms per stage:\n").unwrap();
         stage_table(&mut out, &result.methods);
         writeln!(out).unwrap();
     }
     out
+}
+
+/// Scores over the whole frame for each target instant, when a dataset has more than one.
+fn alpha_table(out: &mut String, methods: &BTreeMap<Method, MethodResult>) {
+    let alphas: Vec<(usize, usize)> = methods
+        .values()
+        .flat_map(|result| result.by_alpha.keys().copied())
+        .collect::<std::collections::BTreeSet<_>>()
+        .into_iter()
+        .collect();
+    if alphas.len() < 2 {
+        return;
+    }
+    write!(
+        out,
+        "\nOver the frame, by target instant (PSNR dB / SSIM / FLIP):\n\n| method |"
+    )
+    .unwrap();
+    for (numerator, denominator) in &alphas {
+        write!(out, " alpha {numerator}/{denominator} |").unwrap();
+    }
+    writeln!(out, "\n|{}", "---|".repeat(1 + alphas.len())).unwrap();
+    for (method, result) in methods {
+        write!(out, "| {} |", method.label()).unwrap();
+        for alpha in &alphas {
+            let cell = result
+                .by_alpha
+                .get(alpha)
+                .and_then(|p| p.scores())
+                .map_or("-".to_owned(), |s| {
+                    format!("{:.2} / {:.4} / {:.4}", s.psnr, s.ssim, s.flip)
+                });
+            write!(out, " {cell} |").unwrap();
+        }
+        writeln!(out).unwrap();
+    }
 }
 
 fn report_json(results: &[DatasetResult], methods: &[Method]) -> serde_json::Value {
@@ -628,7 +696,6 @@ fn report_json(results: &[DatasetResult], methods: &[Method]) -> serde_json::Val
             .collect::<Vec<_>>()
     };
     json!({
-        "alpha": 0.5,
         "all_scenes": method_json(&all_scenes(results, methods)),
         "scenes": results.iter().map(|r| json!({
             "scene": r.scene,

@@ -13,9 +13,14 @@ use std::time::Instant;
 pub struct RenderArgs {
     /// Scene file (TOML).
     scene: PathBuf,
-    /// Number of frames of the doubled stream (even: rendered, odd: targets).
+    /// Number of frames of the stream (with one target between rendered frames, the doubled
+    /// stream: even frames rendered, odd frames targets).
     #[arg(long, default_value_t = 16)]
     frames: usize,
+    /// Target instants between two rendered frames: 1 for 2x frame generation, 2 for 3x
+    /// (alpha 1/3 and 2/3).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=7))]
+    targets_between: u32,
     /// Output resolution, WIDTHxHEIGHT.
     #[arg(long, default_value = "640x360", value_parser = parse_size)]
     size: (u32, u32),
@@ -55,6 +60,7 @@ pub fn run(args: RenderArgs) -> CommandResult {
     bar.set_message(world.description.name.clone());
     let started = Instant::now();
     let options = SequenceOptions {
+        targets_between: args.targets_between as usize,
         frames: args.frames,
         width: args.size.0,
         height: args.size.1,

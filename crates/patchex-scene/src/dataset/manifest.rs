@@ -5,9 +5,9 @@ use serde::{Deserialize, Serialize};
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum FrameRole {
-    /// Even frames: what the engine renders in full.
+    /// Every (targets_between + 1)-th frame from 0: what the engine renders in full.
     Rendered,
-    /// Odd frames: the instants to extrapolate; rendered in full as ground truth.
+    /// The frames between: the instants to extrapolate; rendered in full as ground truth.
     Target,
 }
 
@@ -37,13 +37,30 @@ pub struct Manifest {
     pub scene: String,
     pub width: usize,
     pub height: usize,
-    /// Frame rate of this (doubled) stream.
+    /// The scene's doubled frame rate: rendered frames come at fps / 2.
     pub fps: f32,
+    /// Target instants between two rendered frames (frames of the stream are
+    /// 2 / (fps * (targets_between + 1)) s apart). Older manifests have 1.
+    #[serde(default = "one_target_between")]
+    pub targets_between: usize,
     pub near: f32,
     pub far: f32,
     pub frames: Vec<FrameInfo>,
     pub dynamic_objects: Vec<DynamicObject>,
     pub layers: Vec<String>,
+}
+
+fn one_target_between() -> usize {
+    1
+}
+
+impl Manifest {
+    /// The rendered frame a target is extrapolated from, and its alpha.
+    pub fn source_of(&self, target: usize) -> (usize, f32) {
+        let stride = self.targets_between + 1;
+        let offset = target % stride;
+        (target - offset, offset as f32 / stride as f32)
+    }
 }
 
 impl FrameInfo {

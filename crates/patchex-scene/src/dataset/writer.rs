@@ -11,6 +11,9 @@ use std::sync::Arc;
 
 pub struct SequenceOptions {
     pub frames: usize,
+    /// Target instants between two rendered frames: 1 for 2x frame generation (alpha 1/2), 2
+    /// for 3x (alpha 1/3 and 2/3), and so on.
+    pub targets_between: usize,
     pub width: u32,
     pub height: u32,
     pub out_dir: PathBuf,
@@ -18,7 +21,14 @@ pub struct SequenceOptions {
 
 /// Scene time of frame `index`: frames follow the scene's (doubled) frame rate.
 pub fn frame_time(world: &World, index: usize) -> f32 {
-    world.description.start_time + index as f32 / world.description.fps
+    stream_time(world, index, 1)
+}
+
+/// Scene time of frame `index` of a stream with `targets_between` targets between rendered
+/// frames: rendered frames keep the scene's rendered rate (half its doubled `fps`).
+pub fn stream_time(world: &World, index: usize, targets_between: usize) -> f32 {
+    let rendered_interval = 2.0 / world.description.fps;
+    world.description.start_time + index as f32 * rendered_interval / (targets_between + 1) as f32
 }
 
 /// Renders every frame fully lit (targets too, as ground truth) and writes the sequence.
@@ -33,13 +43,16 @@ pub fn render_sequence(
     let mut renderer = Renderer::new(gpu, world, options.width, options.height)?;
     let aspect = options.width as f32 / options.height as f32;
     let mut frames = Vec::with_capacity(options.frames);
+    let stride = options.targets_between.max(1) + 1;
+    let time_of = |index| stream_time(world, index, stride - 1);
     for index in 0..options.frames {
-        let time = frame_time(world, index);
-        // Frame 0 has no predecessor: it reuses its own instant, so its motion is zero.
-        let previous_time = if index == 0 {
-            time
-        } else {
-            frame_time(world, index - 1)
+        let time = time_of(index);
+        // A target's motion vectors point to the rendered frame it is extrapolated from; a
+        // rendered frame's to the frame before it. Frame 0 has no predecessor: it reuses its own
+        // instant, so its motion is zero.
+        let previous_time = match index % stride {
+            0 => time_of(index.saturating_sub(1)),
+            offset => time_of(index - offset),
         };
         let request = FrameRequest::at(world, time, previous_time, aspect, true);
         let mut layers = renderer.render(world, &request)?;
@@ -54,7 +67,7 @@ pub fn render_sequence(
         frames.push(FrameInfo {
             index,
             time,
-            role: if index % 2 == 0 {
+            role: if index % stride == 0 {
                 FrameRole::Rendered
             } else {
                 FrameRole::Target
@@ -72,6 +85,7 @@ pub fn render_sequence(
         width: options.width as usize,
         height: options.height as usize,
         fps: world.description.fps,
+        targets_between: stride - 1,
         near: lens.near,
         far: lens.far,
         frames,

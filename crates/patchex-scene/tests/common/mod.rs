@@ -54,6 +54,7 @@ pub fn render(scene: &str, frames: usize) -> RenderedSequence {
     let world = load_world(scene);
     let dir = tempfile::tempdir().expect("temporary folder");
     let options = SequenceOptions {
+        targets_between: 1,
         frames,
         width: WIDTH,
         height: HEIGHT,
