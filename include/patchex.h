@@ -59,7 +59,7 @@
 #include <vulkan/vulkan.h>
 
 // Version of this ABI, returned by `patchex_abi_version`; bumped on any incompatible change.
-#define PATCHEX_ABI_VERSION 3
+#define PATCHEX_ABI_VERSION 4
 
 // The warp settings a context uses unless told otherwise: a 3x3 gather; a texel keeps most of
 // its weight within ~5% relative depth, ~0.1 of (1 - cos) of normal angle (about 25 degrees),
@@ -368,7 +368,16 @@ typedef struct PatchexExtrapolationStats {
   // 0 when the extrapolated frame can be trusted; otherwise the PATCHEX_RENDER_INSTEAD_*
   // reasons to render this instant instead of showing the extrapolation.
   PatchexRenderInsteadReasons render_instead_reasons;
+  // The longest motion vector of a target pixel towards frame t, in pixels (after
+  // `motion_vector_scale`; NaN and infinite vectors left out): how far this extrapolation
+  // reaches back.
+  float largest_motion;
+  // The stages this extrapolation ran, as bits 1 << PATCHEX_STAGE_*.
+  uint32_t stages_run;
 } PatchexExtrapolationStats;
+
+// `PatchexFrameStats.shadow_history`.
+typedef uint32_t PatchexShadowHistory;
 
 // Filled by `patchex_get_frame_stats`; the caller sets the header.
 typedef struct PatchexFrameStats {
@@ -391,6 +400,10 @@ typedef struct PatchexFrameStats {
   struct PatchexExtrapolationStats extrapolations[PATCHEX_MAX_EXTRAPOLATIONS_PER_FRAME];
   // Device memory the context holds now, in bytes.
   uint64_t device_memory_bytes;
+  // The stages the submit ran, as bits 1 << PATCHEX_STAGE_*.
+  uint32_t submit_stages_run;
+  // What the shadow sub-task had to work with for this frame (PATCHEX_SHADOW_HISTORY_*).
+  PatchexShadowHistory shadow_history;
 } PatchexFrameStats;
 
 // Which backward warp carries frame t to the target instant.
@@ -494,6 +507,16 @@ typedef uint32_t PatchexStage;
 // More than PATCHEX_MAX_TRUSTED_HOLE_FRACTION of the frame is hole: disoccluded, or coming
 // from outside frame t's view. Known once the GPU has run the frame.
 #define PATCHEX_RENDER_INSTEAD_DISOCCLUSION 2
+
+// The frame came without a PatchexShadowInput: the shadow sub-task did not run.
+#define PATCHEX_SHADOW_HISTORY_NONE 0
+
+// The frame had a shadow input but frame t-1 did not (or a reset or gap came between, or the
+// frame size changed): its shadows' motion is unknown and taken as zero.
+#define PATCHEX_SHADOW_HISTORY_STARTED 1
+
+// Frame t-1 had a shadow input too: the shadows' motion was tracked.
+#define PATCHEX_SHADOW_HISTORY_TRACKED 2
 
 #ifdef __cplusplus
 extern "C" {

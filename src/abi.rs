@@ -26,7 +26,7 @@ pub type PFN_vkGetInstanceProcAddr = Option<vk::PFN_vkGetInstanceProcAddr>;
 pub type PFN_vkGetDeviceProcAddr = Option<vk::PFN_vkGetDeviceProcAddr>;
 
 /// Version of this ABI, returned by `patchex_abi_version`; bumped on any incompatible change.
-pub const PATCHEX_ABI_VERSION: u32 = 3;
+pub const PATCHEX_ABI_VERSION: u32 = 4;
 
 /// 0 or 1; any other value is rejected as an invalid argument.
 pub type PatchexBool = u32;
@@ -491,6 +491,12 @@ pub struct PatchexExtrapolationStats {
     /// 0 when the extrapolated frame can be trusted; otherwise the PATCHEX_RENDER_INSTEAD_*
     /// reasons to render this instant instead of showing the extrapolation.
     pub render_instead_reasons: PatchexRenderInsteadReasons,
+    /// The longest motion vector of a target pixel towards frame t, in pixels (after
+    /// `motion_vector_scale`; NaN and infinite vectors left out): how far this extrapolation
+    /// reaches back.
+    pub largest_motion: f32,
+    /// The stages this extrapolation ran, as bits 1 << PATCHEX_STAGE_*.
+    pub stages_run: u32,
 }
 
 /// Bits of `PatchexExtrapolationStats.render_instead_reasons`.
@@ -530,4 +536,18 @@ pub struct PatchexFrameStats {
     pub extrapolations: [PatchexExtrapolationStats; PATCHEX_MAX_EXTRAPOLATIONS_PER_FRAME],
     /// Device memory the context holds now, in bytes.
     pub device_memory_bytes: u64,
+    /// The stages the submit ran, as bits 1 << PATCHEX_STAGE_*.
+    pub submit_stages_run: u32,
+    /// What the shadow sub-task had to work with for this frame (PATCHEX_SHADOW_HISTORY_*).
+    pub shadow_history: PatchexShadowHistory,
 }
+
+/// `PatchexFrameStats.shadow_history`.
+pub type PatchexShadowHistory = u32;
+/// The frame came without a PatchexShadowInput: the shadow sub-task did not run.
+pub const PATCHEX_SHADOW_HISTORY_NONE: PatchexShadowHistory = 0;
+/// The frame had a shadow input but frame t-1 did not (or a reset or gap came between, or the
+/// frame size changed): its shadows' motion is unknown and taken as zero.
+pub const PATCHEX_SHADOW_HISTORY_STARTED: PatchexShadowHistory = 1;
+/// Frame t-1 had a shadow input too: the shadows' motion was tracked.
+pub const PATCHEX_SHADOW_HISTORY_TRACKED: PatchexShadowHistory = 2;

@@ -618,10 +618,16 @@ impl Context {
         barriers::compute_to_host(device, cmd);
         access.release(device, cmd);
 
+        let shadow_history = match (&separation_inputs, track) {
+            (None, _) => PATCHEX_SHADOW_HISTORY_NONE,
+            (Some(_), false) => PATCHEX_SHADOW_HISTORY_STARTED,
+            (Some(_), true) => PATCHEX_SHADOW_HISTORY_TRACKED,
+        };
         self.ring.slots[slot].record = Some(FrameRecord {
             frame_index: inputs.frame_index,
             extent: inputs.extent,
             reset_reason,
+            shadow_history,
             submit: RegionRecord {
                 stages,
                 alpha: 0.0,
@@ -1001,6 +1007,12 @@ impl Context {
                 .ring
                 .counters
                 .read_u32(counters + SANITIZE_COUNTERS_OFFSET);
+            stats.largest_motion = f32::from_bits(
+                self.ring
+                    .counters
+                    .read_u32(counters + warp::LARGEST_MOTION_OFFSET),
+            );
+            stats.stages_run = stage_bits(&region_record.stages);
             if region_record.camera_cut {
                 stats.render_instead_reasons |= PATCHEX_RENDER_INSTEAD_CAMERA_CUT;
             }
@@ -1029,6 +1041,8 @@ impl Context {
             extrapolation_count: record.extrapolations.len() as u32,
             extrapolations,
             device_memory_bytes: self.device_memory_bytes(),
+            submit_stages_run: stage_bits(&record.submit.stages),
+            shadow_history: record.shadow_history,
         };
         Ok(if ready {
             PatchexResult::Success
@@ -1072,6 +1086,11 @@ fn retire<const N: usize>(ring: &mut FrameRing, set: ImageSet<N>, frame_index: u
     for image in set.images {
         ring.retire(frame_index.saturating_sub(1), image);
     }
+}
+
+/// The stages that ran, as bits 1 << PATCHEX_STAGE_*.
+fn stage_bits(stages: &[PatchexStage]) -> u32 {
+    stages.iter().fold(0, |bits, stage| bits | 1 << stage)
 }
 
 /// Registers the reads of one instant's geometry and returns them as the pack pass's inputs.

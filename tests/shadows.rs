@@ -475,3 +475,83 @@ fn non_finite_shadow_inputs_are_sanitised_and_counted() {
     let messages = rig.engine.take_validation_messages();
     assert!(messages.is_empty(), "validation: {messages:?}");
 }
+
+/// Shadow frames through a resize (the shadow images are made again), a reset and a frame
+/// without shadow input (the history breaks): every extrapolation stays finite and
+/// validation-clean, the shadow stages run exactly on the frames with a shadow input, and the
+/// statistics say when the shadows' motion was tracked.
+#[test]
+fn shadow_history_survives_resizes_resets_and_gaps() {
+    let rig = Rig::new(160, 96);
+    let engine = &rig.engine;
+    let family = engine.queue_family_index;
+    // (size, reset, with shadow input, what the shadow sub-task had to work with)
+    const NONE: u32 = PATCHEX_SHADOW_HISTORY_NONE;
+    const STARTED: u32 = PATCHEX_SHADOW_HISTORY_STARTED;
+    const TRACKED: u32 = PATCHEX_SHADOW_HISTORY_TRACKED;
+    let plan = [
+        ((96, 64), false, true, STARTED),
+        ((96, 64), false, true, TRACKED),
+        ((160, 96), false, true, STARTED),
+        ((160, 96), false, true, TRACKED),
+        ((160, 96), true, true, STARTED),
+        ((160, 96), false, false, NONE),
+        ((160, 96), false, true, STARTED),
+        ((160, 96), false, true, TRACKED),
+    ];
+    for (index, &((width, height), reset, with_shadows, history)) in plan.iter().enumerate() {
+        let scene = Scene {
+            width,
+            height,
+            ..shadow_scene()
+        };
+        let time = index as f32 * FRAME_TIME;
+        let source = GpuFrame::upload(engine, &scene.render(time, Vec2::ZERO, time - FRAME_TIME));
+        let target = scene.render(time + 0.5 * FRAME_TIME, Vec2::ZERO, time);
+        let target = GpuFrame::upload(engine, &target);
+        let output = output_image(engine, width as u32, height as u32);
+        let shadow = source.shadow_input();
+        let mut desc = source.frame_desc(1 + index as u64, family);
+        desc.reset = reset as u32;
+        if with_shadows {
+            desc.header.next = &shadow as *const _ as *const c_void;
+        }
+        engine.run(|cmd| {
+            assert_eq!(
+                rig.submit(cmd, &desc),
+                PatchexResult::Success,
+                "{}",
+                rig.last_error()
+            );
+            let extrapolate = target.extrapolate_desc(&output, 0.5, family);
+            assert_eq!(
+                rig.extrapolate(cmd, &extrapolate),
+                PatchexResult::Success,
+                "{}",
+                rig.last_error()
+            );
+        });
+        let (_, stats) = rig.stats(1 + index as u64);
+        assert_eq!(stats.shadow_history, history, "frame {index}");
+        let ran = |bits: u32, stage: PatchexStage| bits & (1 << stage) != 0;
+        assert_eq!(
+            ran(stats.submit_stages_run, PATCHEX_STAGE_SHADOW_FLOW),
+            with_shadows,
+            "frame {index}"
+        );
+        let stages = stats.extrapolations[0].stages_run;
+        assert_eq!(
+            ran(stages, PATCHEX_STAGE_SHADOW_WARP),
+            with_shadows,
+            "frame {index}"
+        );
+        assert!(ran(stages, PATCHEX_STAGE_WARP) && ran(stages, PATCHEX_STAGE_REMODULATE));
+        // The scene's fastest motion: the sphere's, a few pixels a frame at these sizes.
+        let reach = stats.extrapolations[0].largest_motion;
+        assert!((1.0..40.0).contains(&reach), "frame {index}: {reach} px");
+        let pixels = output.read(engine, OUTPUT_LAYOUT);
+        assert!(pixels.iter().all(|v| v.is_finite()), "frame {index}");
+    }
+    let messages = engine.take_validation_messages();
+    assert!(messages.is_empty(), "validation: {messages:?}");
+}

@@ -4,6 +4,8 @@
 
 // A source texel agrees with the target when its geometry weight reaches this value.
 const AGREEMENT_THRESHOLD: f32 = 0.5;
+// The largest finite f32.
+const MAX_FINITE: f32 = 3.40282347e38;
 // Grazing surfaces stretch a pixel's footprint by 1 / cos(angle), up to this cosine.
 const MIN_FACING: f32 = 0.25;
 
@@ -33,6 +35,9 @@ var<immediate> params: Params;
 struct WarpCounters {
     hole_pixels: atomic<u32>,
     offscreen_pixels: atomic<u32>,
+    // The largest |motion| of a target pixel, in pixels, as f32 bits: non-negative floats
+    // order as their bits, so atomicMax finds it.
+    largest_motion_bits: atomic<u32>,
 }
 
 @group(0) @binding(0) var source_shading: texture_2d<f32>;
@@ -46,6 +51,7 @@ struct WarpCounters {
 
 var<workgroup> group_holes: atomic<u32>;
 var<workgroup> group_offscreen: atomic<u32>;
+var<workgroup> group_largest_motion: atomic<u32>;
 
 fn geometry_weight(target_geo: vec4f, target_nid: vec4f, source_geo: vec4f, source_nid: vec4f) -> f32 {
     if (target_nid.w != source_nid.w) {
@@ -115,6 +121,7 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
     if (lane == 0u) {
         atomicStore(&group_holes, 0u);
         atomicStore(&group_offscreen, 0u);
+        atomicStore(&group_largest_motion, 0u);
     }
     workgroupBarrier();
 
@@ -128,11 +135,19 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
         if (result.offscreen) {
             atomicAdd(&group_offscreen, 1u);
         }
+        // NaN and infinite vectors fail the comparison and are left out; the length is spelled
+        // out so that vectors whose square overflows are left out on every driver alike.
+        let scaled = textureLoad(motion, p, 0).xy * params.motion_scale;
+        let reach = sqrt(dot(scaled, scaled));
+        if (reach <= MAX_FINITE) {
+            atomicMax(&group_largest_motion, bitcast<u32>(reach));
+        }
     }
 
     workgroupBarrier();
     if (lane == 0u) {
         atomicAdd(&counters.hole_pixels, atomicLoad(&group_holes));
         atomicAdd(&counters.offscreen_pixels, atomicLoad(&group_offscreen));
+        atomicMax(&counters.largest_motion_bits, atomicLoad(&group_largest_motion));
     }
 }

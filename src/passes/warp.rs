@@ -153,7 +153,9 @@ pub struct WarpInputs<'a> {
 /// Byte offsets of the counters in `CounterRange`, as `WarpCounters` in the shader declares them.
 pub const HOLE_PIXELS_OFFSET: u64 = 0;
 pub const OFFSCREEN_PIXELS_OFFSET: u64 = 4;
-pub const COUNTER_BYTES: u64 = 8;
+/// f32 bits of the largest |motion| of a target pixel.
+pub const LARGEST_MOTION_OFFSET: u64 = 8;
+pub const COUNTER_BYTES: u64 = 12;
 
 #[allow(clippy::too_many_arguments)]
 pub fn record(

@@ -22,6 +22,8 @@ pub struct Warped {
     pub bilinear_weight: Vec<f32>,
     pub hole_pixels: u32,
     pub offscreen_pixels: u32,
+    /// The largest finite |motion| of a target pixel, in pixels.
+    pub largest_motion: f32,
 }
 
 /// Frame t's packed images.
@@ -251,6 +253,7 @@ pub fn warp(
     let mut best_agreement = Vec::with_capacity(width * height);
     let mut bilinear_weight = Vec::with_capacity(width * height);
     let (mut hole_pixels, mut offscreen_pixels) = (0, 0);
+    let mut largest_motion = 0.0f32;
     let warped = Image::from_fn(width, height, 4, |x, y| {
         let pixel = PixelWarp {
             params,
@@ -270,6 +273,11 @@ pub fn warp(
         offscreen_pixels += result.offscreen as u32;
         best_agreement.push(result.best_agreement);
         bilinear_weight.push(result.bilinear_weight);
+        let motion = Vec2::from_slice(target.motion.at(x, y)) * Vec2::from(params.motion_scale);
+        let reach = motion.dot(motion).sqrt();
+        if reach <= f32::MAX {
+            largest_motion = largest_motion.max(reach);
+        }
         let s = result.shading;
         vec![s.x, s.y, s.z, if hole { 0.0 } else { 1.0 }]
     });
@@ -279,5 +287,6 @@ pub fn warp(
         bilinear_weight,
         hole_pixels,
         offscreen_pixels,
+        largest_motion,
     }
 }

@@ -8,7 +8,10 @@
 use ash::vk;
 use gpu_allocator::vulkan::Allocator;
 
-use crate::abi::{PatchexResetReason, PATCHEX_MAX_EXTRAPOLATIONS_PER_FRAME, PATCHEX_STAGE_SLOTS};
+use crate::abi::{
+    PatchexResetReason, PatchexShadowHistory, PATCHEX_MAX_EXTRAPOLATIONS_PER_FRAME,
+    PATCHEX_STAGE_SLOTS,
+};
 use crate::error::Result;
 use crate::vk::barriers;
 use crate::vk::buffer::{CounterRange, ReadbackBuffer};
@@ -35,6 +38,7 @@ pub struct FrameRecord {
     pub frame_index: u64,
     pub extent: vk::Extent2D,
     pub reset_reason: PatchexResetReason,
+    pub shadow_history: PatchexShadowHistory,
     pub submit: RegionRecord,
     pub extrapolations: Vec<RegionRecord>,
 }

@@ -245,6 +245,19 @@ pub fn assert_matches_reference(
         count(stats.offscreen_fraction),
         warped.offscreen_pixels as f32
     );
+    // The longest motion vector: the same vector, up to the last bits of its length.
+    assert!(
+        (stats.largest_motion - warped.largest_motion).abs()
+            <= 1e-5 * warped.largest_motion.max(1.0),
+        "largest motion: plugin {}, reference {}",
+        stats.largest_motion,
+        warped.largest_motion
+    );
+    assert_eq!(
+        stats.stages_run & (1 << PATCHEX_STAGE_SHADOW_WARP),
+        0,
+        "no shadow input, no shadow warp"
+    );
 
     // Sanitising: the same pixels counted.
     assert_eq!(
