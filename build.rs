@@ -12,7 +12,9 @@ use std::fs;
 use std::path::{Path, PathBuf};
 
 use naga::back::spv;
-use naga::valid::{Capabilities, ValidationFlags, Validator};
+
+#[path = "src/spirv_options.rs"]
+mod spirv_options;
 
 const SHADER_DIR: &str = "shaders";
 const INCLUDE_DIR: &str = "shaders/include";
@@ -114,28 +116,11 @@ fn compile(pass_path: &Path) -> Result<CompiledPass, String> {
         let line = e.location(&source.text).map(|l| l.line_number);
         located_error(&source, line, &e.emit_to_string(&source.text))
     })?;
-    let info = Validator::new(ValidationFlags::all(), Capabilities::IMMEDIATES)
-        .validate(&module)
-        .map_err(|e| {
-            let line = e.location(&source.text).map(|l| l.line_number);
-            located_error(&source, line, &e.emit_to_string(&source.text))
-        })?;
-
-    // A frame generator must never read or write outside an engine image. Buffer indices are
-    // clamped instead, the one policy naga implements for atomics.
-    let checked = naga::proc::BoundsCheckPolicy::ReadZeroSkipWrite;
-    let mut options = spv::Options {
-        // Lavapipe lacks storageInputOutput16; compute passes never need it.
-        use_storage_input_output_16: false,
-        bounds_check_policies: naga::proc::BoundsCheckPolicies {
-            index: checked,
-            buffer: naga::proc::BoundsCheckPolicy::Restrict,
-            image_load: checked,
-            binding_array: checked,
-        },
-        ..Default::default()
-    };
-    options.flags.remove(spv::WriterFlags::DEBUG);
+    let info = spirv_options::validator().validate(&module).map_err(|e| {
+        let line = e.location(&source.text).map(|l| l.line_number);
+        located_error(&source, line, &e.emit_to_string(&source.text))
+    })?;
+    let options = spirv_options::spirv_options();
     let words = spv::write_vec(&module, &info, &options, None)
         .map_err(|e| located_error(&source, None, &format!("SPIR-V output: {e}")))?;
 

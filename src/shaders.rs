@@ -42,4 +42,7 @@ pub trait PushConstants: Copy {
     }
 }
 
+/// For pipelines without push constants.
+impl PushConstants for () {}
+
 include!(concat!(env!("OUT_DIR"), "/shaders.rs"));

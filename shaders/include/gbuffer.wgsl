@@ -30,6 +30,15 @@ fn metallic_specular(material: texture_2d<f32>, p: vec2u, has_material: u32) -> 
     return textureLoad(material, p, 0).rg;
 }
 
+// Metallic and roughness (B, as in Unreal's GBufferB) of pixel `p` for the networks, in [0, 1],
+// or (0, 0.5) without a material image. Counting what was sanitised is remodulation's job.
+fn metallic_roughness(material: texture_2d<f32>, p: vec2u, has_material: u32) -> vec2f {
+    if (has_material == ABSENT) {
+        return vec2f(0.0, 0.5);
+    }
+    return sanitize_unit(vec3f(textureLoad(material, p, 0).rb, 0.0)).value.xy;
+}
+
 fn is_sky(linear_depth: f32) -> bool {
     return linear_depth >= 0.5 * SKY_DEPTH;
 }

@@ -3,6 +3,7 @@
 
 pub mod demodulate;
 pub mod diagnostics;
+pub mod inpaint;
 pub mod lbp;
 pub mod pack_gbuffer;
 pub mod remodulate;

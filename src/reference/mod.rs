@@ -5,6 +5,7 @@
 pub mod demodulate;
 pub mod gbuffer;
 pub mod lbp;
+pub mod network;
 pub mod optical_flow;
 pub mod pack_gbuffer;
 pub mod remodulate;

@@ -7,7 +7,7 @@
 use ash::vk;
 
 use crate::error::{bail, Result};
-use crate::vk::image::{ImportedImage, OwnedImage, Texture, COLOR_SUBRESOURCE};
+use crate::vk::image::{ImportedImage, OwnedImage, Texture, ALL_LAYERS, COLOR_SUBRESOURCE};
 
 /// Layouts in which a pass can read an image as it is.
 fn is_readable_layout(layout: vk::ImageLayout) -> bool {
@@ -258,7 +258,7 @@ pub fn initialize_owned(
                 .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
                 .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
                 .image(image.image)
-                .subresource_range(COLOR_SUBRESOURCE)
+                .subresource_range(ALL_LAYERS)
                 .old_layout(vk::ImageLayout::UNDEFINED)
                 .new_layout(vk::ImageLayout::GENERAL)
                 .dst_access_mask(vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE)

@@ -18,7 +18,12 @@ impl ReadbackBuffer {
         let device = &gpu.device;
         let info = vk::BufferCreateInfo::default()
             .size(size)
-            .usage(vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST)
+            // Indirect: the networks' patch records hold their dispatch sizes.
+            .usage(
+                vk::BufferUsageFlags::STORAGE_BUFFER
+                    | vk::BufferUsageFlags::TRANSFER_DST
+                    | vk::BufferUsageFlags::INDIRECT_BUFFER,
+            )
             .sharing_mode(vk::SharingMode::EXCLUSIVE);
         let during = |error: Error| error.during(format_args!("creating the {name} buffer"));
         // SAFETY: valid device; handles made here are destroyed on every error path.
@@ -71,6 +76,16 @@ impl ReadbackBuffer {
             .expect("mapped at creation");
         let at = offset as usize;
         u32::from_ne_bytes(bytes[at..at + 4].try_into().unwrap())
+    }
+
+    /// Writes `bytes` at `offset`, for the GPU to read once the command buffer is submitted.
+    pub fn write(&mut self, offset: u64, bytes: &[u8]) {
+        let mapped = self
+            .allocation
+            .as_mut()
+            .and_then(|a| a.mapped_slice_mut())
+            .expect("mapped at creation");
+        mapped[offset as usize..][..bytes.len()].copy_from_slice(bytes);
     }
 
     pub fn size_bytes(&self) -> u64 {

@@ -44,6 +44,7 @@ const REQUIRED_DEVICE_COMMANDS: &[&CStr] = &[
     c"vkCmdBindDescriptorSets",
     c"vkCmdPushConstants",
     c"vkCmdDispatch",
+    c"vkCmdDispatchIndirect",
     c"vkCmdPipelineBarrier",
     c"vkCmdResetQueryPool",
     c"vkCmdWriteTimestamp",

@@ -242,6 +242,31 @@ impl OwnedImage {
         extent: vk::Extent2D,
         usage: vk::ImageUsageFlags,
     ) -> Result<Self> {
+        Self::with_layers(gpu, allocator, name, format, extent, usage, None)
+    }
+
+    /// An image of `layers` layers, viewed as a 2D array (`texture_2d_array` in shaders).
+    pub fn array(
+        gpu: &Gpu,
+        allocator: &mut Allocator,
+        name: &str,
+        format: vk::Format,
+        extent: vk::Extent2D,
+        usage: vk::ImageUsageFlags,
+        layers: u32,
+    ) -> Result<Self> {
+        Self::with_layers(gpu, allocator, name, format, extent, usage, Some(layers))
+    }
+
+    fn with_layers(
+        gpu: &Gpu,
+        allocator: &mut Allocator,
+        name: &str,
+        format: vk::Format,
+        extent: vk::Extent2D,
+        usage: vk::ImageUsageFlags,
+        array_layers: Option<u32>,
+    ) -> Result<Self> {
         let device = &gpu.device;
         let info = vk::ImageCreateInfo::default()
             .image_type(vk::ImageType::TYPE_2D)
@@ -252,7 +277,7 @@ impl OwnedImage {
                 depth: 1,
             })
             .mip_levels(1)
-            .array_layers(1)
+            .array_layers(array_layers.unwrap_or(1))
             .samples(vk::SampleCountFlags::TYPE_1)
             .tiling(vk::ImageTiling::OPTIMAL)
             .usage(usage)
@@ -299,9 +324,12 @@ impl OwnedImage {
                 device.create_image_view(
                     &vk::ImageViewCreateInfo::default()
                         .image(image)
-                        .view_type(vk::ImageViewType::TYPE_2D)
+                        .view_type(match array_layers {
+                            Some(_) => vk::ImageViewType::TYPE_2D_ARRAY,
+                            None => vk::ImageViewType::TYPE_2D,
+                        })
                         .format(format)
-                        .subresource_range(COLOR_SUBRESOURCE),
+                        .subresource_range(ALL_LAYERS),
                     None,
                 )
             });
@@ -360,6 +388,12 @@ impl From<&OwnedImage> for Texture {
         }
     }
 }
+
+/// Every layer of a plugin image.
+pub const ALL_LAYERS: vk::ImageSubresourceRange = vk::ImageSubresourceRange {
+    layer_count: vk::REMAINING_ARRAY_LAYERS,
+    ..COLOR_SUBRESOURCE
+};
 
 pub const COLOR_SUBRESOURCE: vk::ImageSubresourceRange = vk::ImageSubresourceRange {
     aspect_mask: vk::ImageAspectFlags::COLOR,

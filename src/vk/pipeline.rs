@@ -27,6 +27,11 @@ pub struct ComputePipeline {
 
 impl ComputePipeline {
     pub fn new(gpu: &Gpu, shader: ShaderInfo) -> Result<Self> {
+        Self::from_spirv(gpu, shader, shader.spirv)
+    }
+
+    /// A pipeline whose code was made at run time; `shader` gives its reflection.
+    pub fn from_spirv(gpu: &Gpu, shader: ShaderInfo, spirv: &[u32]) -> Result<Self> {
         let device = &gpu.device;
         let bindings: Vec<_> = shader
             .bindings
@@ -70,7 +75,7 @@ impl ComputePipeline {
                     None,
                 )?;
                 let module = device.create_shader_module(
-                    &vk::ShaderModuleCreateInfo::default().code(shader.spirv),
+                    &vk::ShaderModuleCreateInfo::default().code(spirv),
                     None,
                 )?;
                 let stage = vk::PipelineShaderStageCreateInfo::default()
@@ -137,6 +142,46 @@ impl ComputePipeline {
                 extent.height.div_ceil(group_y),
                 1,
             );
+        }
+    }
+
+    /// Binds the pipeline, its descriptor set and push constants (`&()` for none) and
+    /// dispatches the workgroup counts written at `offset` in `args`.
+    pub fn dispatch_indirect<P: PushConstants>(
+        &self,
+        device: &ash::Device,
+        cmd: vk::CommandBuffer,
+        set: vk::DescriptorSet,
+        params: &P,
+        args: vk::Buffer,
+        offset: u64,
+    ) {
+        debug_assert_eq!(
+            std::mem::size_of::<P>() as u32,
+            self.shader.push_constant_size
+        );
+        // SAFETY: cmd is recording; set was written for this pipeline's layout; args holds
+        // a VkDispatchIndirectCommand at offset, made visible by the caller's barrier.
+        unsafe {
+            device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline);
+            device.cmd_bind_descriptor_sets(
+                cmd,
+                vk::PipelineBindPoint::COMPUTE,
+                self.layout,
+                0,
+                &[set],
+                &[],
+            );
+            if self.shader.push_constant_size > 0 {
+                device.cmd_push_constants(
+                    cmd,
+                    self.layout,
+                    vk::ShaderStageFlags::COMPUTE,
+                    0,
+                    params.as_bytes(),
+                );
+            }
+            device.cmd_dispatch_indirect(cmd, args, offset);
         }
     }
 

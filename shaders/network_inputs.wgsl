@@ -1,0 +1,36 @@
+// Gathers an inpainting network's input planes over its patch (training/patchex_net.py,
+// INPUT_NAMES): the warped demodulated colour, the hole mask, roughness, metallic and the LBP
+// code. Patch texels outside the frame are zero, as in training's padding.
+// #import patch
+// #import gbuffer
+
+struct Params {
+    frame_extent: vec2u,
+    has_material: u32,
+}
+var<immediate> params: Params;
+
+@group(0) @binding(0) var warped: texture_2d<f32>;
+@group(0) @binding(1) var material: texture_2d<f32>;
+@group(0) @binding(2) var lbp: texture_2d<f32>;
+@group(0) @binding(3) var network_input: texture_storage_2d_array<rgba16float, write>;
+@group(0) @binding(4) var<storage, read> network_patch: Patch;
+
+@compute @workgroup_size(8, 8, 1)
+fn main(@builtin(global_invocation_id) id: vec3u) {
+    if (any(id.xy >= network_patch.extent)) {
+        return;
+    }
+    let f = network_patch.origin + id.xy;
+    var colour_hole = vec4f(0.0);
+    var surface = vec4f(0.0);
+    if (all(f < params.frame_extent)) {
+        let w = textureLoad(warped, f, 0);
+        // The warp marks holes with alpha 0; their colour is its best guess.
+        colour_hole = vec4f(w.rgb, 1.0 - w.a);
+        let metallic_roughness = metallic_roughness(material, f, params.has_material);
+        surface = vec4f(metallic_roughness.y, metallic_roughness.x, textureLoad(lbp, f, 0).r, 0.0);
+    }
+    textureStore(network_input, id.xy, 0, colour_hole);
+    textureStore(network_input, id.xy, 1, surface);
+}

@@ -1,0 +1,347 @@
+//! The inpainting networks: the plain-Rust reference against PyTorch's golden tensors, the
+//! generated shaders against the reference on rendered patches, and bad weight files refused.
+
+mod support;
+
+use ash::vk;
+use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
+use patchex::network::codegen::PATCH_BYTES;
+use patchex::network::{Network, INPUT_CHANNELS, OUTPUT_CHANNELS};
+use patchex::passes::inpaint::{self, patch_bytes, NetworkPipelines, NetworkTensors, PatchRecord};
+use patchex::passes::Texture;
+use patchex::reference::network::{forward, Planes};
+use patchex::reference::{round_to_f16, Image};
+use patchex::vk::barriers;
+use patchex::vk::buffer::ReadbackBuffer;
+use patchex::vk::device::Gpu;
+use patchex::vk::image::ALL_LAYERS;
+use patchex_harness::{Engine, EngineImage, EngineOptions};
+use safetensors::SafeTensors;
+use support::Rig;
+
+const TINY: &[u8] = include_bytes!("fixtures/network/tiny.safetensors");
+const TINY_GOLDEN: &[u8] = include_bytes!("fixtures/network/tiny_golden.safetensors");
+
+/// The input and output planes PyTorch wrote.
+fn golden(bytes: &[u8]) -> (Planes, Planes) {
+    let tensors = SafeTensors::deserialize(bytes).expect("golden file parses");
+    let planes = |name: &str| {
+        let view = tensors.tensor(name).expect("golden tensor present");
+        let &[channels, height, width] = view.shape() else {
+            panic!("{name} is CHW");
+        };
+        Planes {
+            channels,
+            width,
+            height,
+            values: view
+                .data()
+                .chunks_exact(4)
+                .map(|b| f32::from_le_bytes(b.try_into().unwrap()))
+                .collect(),
+        }
+    };
+    (planes("input"), planes("output"))
+}
+
+fn worst_difference(a: &Planes, b: &Planes) -> f32 {
+    assert_eq!(
+        (a.channels, a.width, a.height),
+        (b.channels, b.width, b.height)
+    );
+    a.values
+        .iter()
+        .zip(&b.values)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f32::max)
+}
+
+#[test]
+fn reference_matches_pytorch_golden() {
+    let network = Network::from_safetensors(TINY, "tiny.safetensors").unwrap();
+    let (input, expected) = golden(TINY_GOLDEN);
+    let exact = forward(&network, &input, false);
+    let worst = worst_difference(&exact, &expected);
+    println!("f32 reference against PyTorch: worst {worst:e}");
+    assert!(worst < 1e-5, "worst {worst}");
+    // Stored as the GPU stores it, every layer rounded to f16.
+    let rounded = forward(&network, &input, true);
+    let worst = worst_difference(&rounded, &expected);
+    println!("f16-storage reference against PyTorch: worst {worst:e}");
+    assert!(worst < 1e-2, "worst {worst}");
+}
+
+/// A patch's frame inputs as plain images: warped shading with alpha 1 where valid, the
+/// material (R metallic, G specular, B roughness) and the LBP code / 255.
+struct PatchFrame {
+    warped: Image,
+    material: Image,
+    lbp: Image,
+}
+
+impl PatchFrame {
+    /// The planes the network reads over the patch at `origin` of `size`, zero outside the frame
+    /// and rounded to f16 as the gather pass stores them.
+    fn planes(&self, origin: [usize; 2], size: [usize; 2]) -> Planes {
+        let mut planes = Planes::zeros(INPUT_CHANNELS, size[0], size[1]);
+        for y in 0..size[1] {
+            for x in 0..size[0] {
+                let (fx, fy) = (origin[0] + x, origin[1] + y);
+                if fx >= self.warped.width || fy >= self.warped.height {
+                    continue;
+                }
+                let w = self.warped.at(fx, fy);
+                let m = self.material.at(fx, fy);
+                let values = [
+                    w[0],
+                    w[1],
+                    w[2],
+                    1.0 - w[3],
+                    m[2],
+                    m[0],
+                    self.lbp.at(fx, fy)[0],
+                    0.0,
+                ];
+                for (c, v) in values.into_iter().enumerate() {
+                    planes.values[(c * size[1] + y) * size[0] + x] = round_to_f16(v);
+                }
+            }
+        }
+        planes
+    }
+
+    /// The inverse of `planes` for a patch that covers the frame: golden planes as images.
+    fn from_planes(planes: &Planes) -> Self {
+        let (w, h) = (planes.width, planes.height);
+        Self {
+            warped: Image::from_fn(w, h, 4, |x, y| {
+                vec![
+                    planes.at(0, x, y),
+                    planes.at(1, x, y),
+                    planes.at(2, x, y),
+                    1.0 - planes.at(3, x, y),
+                ]
+            }),
+            material: Image::from_fn(w, h, 4, |x, y| {
+                vec![planes.at(5, x, y), 0.5, planes.at(4, x, y), 0.0]
+            }),
+            lbp: Image::from_fn(w, h, 1, |x, y| vec![planes.at(6, x, y)]),
+        }
+    }
+}
+
+/// Runs `network` on the GPU over the patch at `origin` of `size` in `frame`, under validation,
+/// and returns the output colour planes.
+fn run_on_gpu(network: &Network, frame: &PatchFrame, origin: [u32; 2], size: [u32; 2]) -> Planes {
+    let engine = Engine::new(&EngineOptions::default()).expect("engine");
+    let (width, height) = (frame.warped.width as u32, frame.warped.height as u32);
+    // SAFETY: the engine's live handles, as the API requires.
+    let gpu = unsafe { Gpu::load(&Rig::create_info(&engine, width, height)) }.expect("gpu");
+    let mut allocator = Allocator::new(&AllocatorCreateDesc {
+        instance: gpu.instance.clone(),
+        device: gpu.device.clone(),
+        physical_device: gpu.physical_device,
+        debug_settings: Default::default(),
+        buffer_device_address: false,
+        allocation_sizes: Default::default(),
+    })
+    .expect("allocator");
+    let sampled = vk::ImageUsageFlags::SAMPLED;
+    let general = vk::ImageLayout::GENERAL;
+    let image = |source: &Image, format: vk::Format| {
+        let image = EngineImage::new(&engine, format, width, height, sampled);
+        image.upload(&engine, &source.data, general);
+        image
+    };
+    let warped = image(&frame.warped, vk::Format::R32G32B32A32_SFLOAT);
+    let material = image(&frame.material, vk::Format::R32G32B32A32_SFLOAT);
+    let lbp = image(&frame.lbp, vk::Format::R32_SFLOAT);
+    let texture = |image: &EngineImage| Texture {
+        view: image.view,
+        layout: general,
+    };
+
+    let mut pipelines = NetworkPipelines::new(&gpu, network.clone(), 1).expect("pipelines");
+    let extent = vk::Extent2D {
+        width: size[0],
+        height: size[1],
+    };
+    let mut tensors = NetworkTensors::new(&gpu, &mut allocator, network, extent).expect("tensors");
+    let mut patch = ReadbackBuffer::new(&gpu, &mut allocator, "patch", PATCH_BYTES).expect("patch");
+    patch.write(0, &patch_bytes(network, origin, size));
+    let texels = (size[0] * size[1]) as u64;
+    let readback =
+        ReadbackBuffer::new(&gpu, &mut allocator, "output", texels * 8).expect("readback");
+    engine.run(|cmd| {
+        let mut images: Vec<&mut _> = std::iter::once(&mut tensors.input)
+            .chain(tensors.layers.iter_mut())
+            .collect();
+        barriers::initialize_owned(&gpu.device, cmd, &mut images);
+        inpaint::record(
+            &gpu,
+            cmd,
+            &pipelines,
+            0,
+            &tensors,
+            &inpaint::FrameInputs {
+                warped: texture(&warped),
+                material: Some(texture(&material)),
+                lbp: texture(&lbp),
+                placeholder: texture(&lbp),
+                frame_extent: vk::Extent2D { width, height },
+            },
+            PatchRecord {
+                buffer: patch.buffer,
+                offset: 0,
+            },
+        );
+        let to_transfer = vk::ImageMemoryBarrier::default()
+            .src_access_mask(vk::AccessFlags::SHADER_WRITE)
+            .dst_access_mask(vk::AccessFlags::TRANSFER_READ)
+            .old_layout(general)
+            .new_layout(vk::ImageLayout::TRANSFER_SRC_OPTIMAL)
+            .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+            .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+            .image(tensors.output().image)
+            .subresource_range(ALL_LAYERS);
+        // SAFETY: cmd is recording; the output image is in GENERAL and the buffer large enough.
+        unsafe {
+            gpu.device.cmd_pipeline_barrier(
+                cmd,
+                vk::PipelineStageFlags::COMPUTE_SHADER,
+                vk::PipelineStageFlags::TRANSFER,
+                vk::DependencyFlags::empty(),
+                &[],
+                &[],
+                &[to_transfer],
+            );
+            gpu.device.cmd_copy_image_to_buffer(
+                cmd,
+                tensors.output().image,
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                readback.buffer,
+                &[vk::BufferImageCopy::default()
+                    .image_subresource(vk::ImageSubresourceLayers {
+                        aspect_mask: vk::ImageAspectFlags::COLOR,
+                        mip_level: 0,
+                        base_array_layer: 0,
+                        layer_count: 1,
+                    })
+                    .image_extent(vk::Extent3D {
+                        width: size[0],
+                        height: size[1],
+                        depth: 1,
+                    })],
+            );
+            gpu.device.cmd_pipeline_barrier(
+                cmd,
+                vk::PipelineStageFlags::TRANSFER,
+                vk::PipelineStageFlags::HOST,
+                vk::DependencyFlags::empty(),
+                &[vk::MemoryBarrier::default()
+                    .src_access_mask(vk::AccessFlags::TRANSFER_WRITE)
+                    .dst_access_mask(vk::AccessFlags::HOST_READ)],
+                &[],
+                &[],
+            );
+        }
+    });
+    engine.assert_validation_clean();
+    let mut output = Planes::zeros(OUTPUT_CHANNELS, size[0] as usize, size[1] as usize);
+    for t in 0..texels as usize {
+        let (x, y) = (t % size[0] as usize, t / size[0] as usize);
+        for c in 0..OUTPUT_CHANNELS {
+            let word = readback.read_u32((t * 8 + c / 2 * 4) as u64);
+            let bits = (word >> (16 * (c % 2))) as u16;
+            output.values[(c * size[1] as usize + y) * size[0] as usize + x] =
+                half::f16::from_bits(bits).to_f32();
+        }
+    }
+    let mut readback = readback;
+    readback.destroy(&gpu, &mut allocator);
+    patch.destroy(&gpu, &mut allocator);
+    tensors.destroy(&gpu, &mut allocator);
+    pipelines.destroy(&gpu.device);
+    drop(allocator);
+    output
+}
+
+#[test]
+fn gpu_matches_pytorch_golden() {
+    let network = Network::from_safetensors(TINY, "tiny.safetensors").unwrap();
+    let (input, expected) = golden(TINY_GOLDEN);
+    let frame = PatchFrame::from_planes(&input);
+    let gpu = run_on_gpu(&network, &frame, [0, 0], [16, 16]);
+    let reference = forward(&network, &frame.planes([0, 0], [16, 16]), true);
+    let against_reference = worst_difference(&gpu, &reference);
+    let against_pytorch = worst_difference(&gpu, &expected);
+    println!("GPU against the f16 reference: worst {against_reference:e}; against PyTorch: {against_pytorch:e}");
+    assert!(against_reference < 4e-3, "worst {against_reference}");
+    assert!(against_pytorch < 1e-2, "worst {against_pytorch}");
+}
+
+#[test]
+fn gpu_matches_reference_on_a_rendered_patch() {
+    let sequence = support::rendered::render("crossing_street.toml", 1, 96, 64);
+    let frame = &sequence.frames[0];
+    // The character's pixels become holes, as a disocclusion would leave them.
+    let warped = Image::from_fn(96, 64, 4, |x, y| {
+        let c = frame.color.at(x, y);
+        let hole = frame.stencil.at(x, y)[0] != 0.0;
+        vec![c[0], c[1], c[2], if hole { 0.0 } else { 1.0 }]
+    });
+    let holes = warped.data.chunks(4).filter(|p| p[3] == 0.0).count();
+    assert!(holes > 50, "the character covers {holes} pixels");
+    let patch_frame = PatchFrame {
+        lbp: patchex::reference::lbp::lbp(&warped),
+        warped,
+        material: frame.material.clone(),
+    };
+    let network = Network::from_safetensors(TINY, "tiny.safetensors").unwrap();
+    // A patch that runs past the frame's right and bottom edges, which read as zero.
+    let (origin, size) = ([60, 36], [40, 32]);
+    let planes = patch_frame.planes(origin.map(|v| v as usize), size.map(|v| v as usize));
+    let patch_holes = (0..40 * 32)
+        .filter(|&i| planes.values[3 * 40 * 32 + i] == 1.0)
+        .count();
+    assert!(
+        patch_holes > 20,
+        "the patch holds {patch_holes} hole pixels"
+    );
+    let gpu = run_on_gpu(&network, &patch_frame, origin, size);
+    let reference = forward(&network, &planes, true);
+    let worst = worst_difference(&gpu, &reference);
+    let largest = reference.values.iter().fold(0.0f32, |m, v| m.max(v.abs()));
+    println!("rendered patch: worst {worst:e} for values up to {largest}");
+    assert!(worst <= 4e-3 * largest.max(1.0), "worst {worst}");
+}
+
+#[test]
+fn bad_weight_files_are_refused_with_a_reason() {
+    let refused = |bytes: &[u8]| {
+        Network::from_safetensors(bytes, "weights")
+            .unwrap_err()
+            .message
+    };
+    assert!(refused(&TINY[..100]).contains("not a safetensors file"));
+    let header = u64::from_le_bytes(TINY[..8].try_into().unwrap()) as usize;
+    let mut with_nan = TINY.to_vec();
+    with_nan[8 + header..][..4].copy_from_slice(&f32::NAN.to_le_bytes());
+    assert!(
+        refused(&with_nan).contains("holds NaN"),
+        "{}",
+        refused(&with_nan)
+    );
+    let text = String::from_utf8_lossy(&TINY[8..8 + header]).into_owned();
+    for (from, to) in [("[4, 8, 8]", "[4, 8, 9]"), ("[4, 8, 8]", "[4, 8, 4]")] {
+        assert!(text.contains(from));
+        let mut changed = TINY.to_vec();
+        changed[8..8 + header].copy_from_slice(text.replace(from, to).as_bytes());
+        let message = refused(&changed);
+        println!("{to}: {message}");
+        assert!(
+            message.contains("widths") || message.contains("F32"),
+            "{message}"
+        );
+    }
+}
