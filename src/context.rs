@@ -5,7 +5,7 @@ use std::mem::ManuallyDrop;
 use std::sync::Arc;
 
 use ash::vk;
-use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
+use gpu_allocator::vulkan::Allocator;
 
 use crate::abi::*;
 use crate::camera::Camera;
@@ -318,14 +318,7 @@ impl Context {
         let gpu = Gpu::load(info)?;
         WorkImages::check_formats(&gpu, &WorkImages::SPECS)?;
         ShadowImages::check_formats(&gpu, &ShadowImages::SPECS)?;
-        let mut allocator = Allocator::new(&AllocatorCreateDesc {
-            instance: gpu.instance.clone(),
-            device: gpu.device.clone(),
-            physical_device: gpu.physical_device,
-            debug_settings: Default::default(),
-            buffer_device_address: false,
-            allocation_sizes: Default::default(),
-        })?;
+        let mut allocator = gpu.allocator()?;
         let pipelines = Pipelines::shared(&gpu)?;
         let ring = FrameRing::new(
             &gpu,

@@ -4,7 +4,6 @@
 mod support;
 
 use ash::vk;
-use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 use patchex::network::codegen::PATCH_BYTES;
 use patchex::network::{Network, INPUT_CHANNELS, OUTPUT_CHANNELS};
 use patchex::passes::inpaint::{self, patch_bytes, NetworkPipelines, NetworkTensors, PatchRecord};
@@ -14,8 +13,7 @@ use patchex::reference::{round_to_f16, Image};
 use patchex::vk::barriers;
 use patchex::vk::buffer::ReadbackBuffer;
 use patchex::vk::device::Gpu;
-use patchex::vk::image::ALL_LAYERS;
-use patchex_harness::{Engine, EngineImage, EngineOptions};
+use patchex_harness::{Engine, EngineImage, EngineOptions, ImageRef};
 use safetensors::SafeTensors;
 use support::Rig;
 
@@ -137,15 +135,7 @@ fn run_on_gpu(network: &Network, frame: &PatchFrame, origin: [u32; 2], size: [u3
     let (width, height) = (frame.warped.width as u32, frame.warped.height as u32);
     // SAFETY: the engine's live handles, as the API requires.
     let gpu = unsafe { Gpu::load(&Rig::create_info(&engine, width, height)) }.expect("gpu");
-    let mut allocator = Allocator::new(&AllocatorCreateDesc {
-        instance: gpu.instance.clone(),
-        device: gpu.device.clone(),
-        physical_device: gpu.physical_device,
-        debug_settings: Default::default(),
-        buffer_device_address: false,
-        allocation_sizes: Default::default(),
-    })
-    .expect("allocator");
+    let mut allocator = gpu.allocator().expect("allocator");
     let sampled = vk::ImageUsageFlags::SAMPLED;
     let general = vk::ImageLayout::GENERAL;
     let image = |source: &Image, format: vk::Format| {
@@ -169,9 +159,6 @@ fn run_on_gpu(network: &Network, frame: &PatchFrame, origin: [u32; 2], size: [u3
     let mut tensors = NetworkTensors::new(&gpu, &mut allocator, network, extent).expect("tensors");
     let mut patch = ReadbackBuffer::new(&gpu, &mut allocator, "patch", PATCH_BYTES).expect("patch");
     patch.write(0, &patch_bytes(network, origin, size));
-    let texels = (size[0] * size[1]) as u64;
-    let readback =
-        ReadbackBuffer::new(&gpu, &mut allocator, "output", texels * 8).expect("readback");
     engine.run(|cmd| {
         let mut images: Vec<&mut _> = std::iter::once(&mut tensors.input)
             .chain(tensors.layers.iter_mut())
@@ -195,70 +182,22 @@ fn run_on_gpu(network: &Network, frame: &PatchFrame, origin: [u32; 2], size: [u3
                 offset: 0,
             },
         );
-        let to_transfer = vk::ImageMemoryBarrier::default()
-            .src_access_mask(vk::AccessFlags::SHADER_WRITE)
-            .dst_access_mask(vk::AccessFlags::TRANSFER_READ)
-            .old_layout(general)
-            .new_layout(vk::ImageLayout::TRANSFER_SRC_OPTIMAL)
-            .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-            .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-            .image(tensors.output().image)
-            .subresource_range(ALL_LAYERS);
-        // SAFETY: cmd is recording; the output image is in GENERAL and the buffer large enough.
-        unsafe {
-            gpu.device.cmd_pipeline_barrier(
-                cmd,
-                vk::PipelineStageFlags::COMPUTE_SHADER,
-                vk::PipelineStageFlags::TRANSFER,
-                vk::DependencyFlags::empty(),
-                &[],
-                &[],
-                &[to_transfer],
-            );
-            gpu.device.cmd_copy_image_to_buffer(
-                cmd,
-                tensors.output().image,
-                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                readback.buffer,
-                &[vk::BufferImageCopy::default()
-                    .image_subresource(vk::ImageSubresourceLayers {
-                        aspect_mask: vk::ImageAspectFlags::COLOR,
-                        mip_level: 0,
-                        base_array_layer: 0,
-                        layer_count: 1,
-                    })
-                    .image_extent(vk::Extent3D {
-                        width: size[0],
-                        height: size[1],
-                        depth: 1,
-                    })],
-            );
-            gpu.device.cmd_pipeline_barrier(
-                cmd,
-                vk::PipelineStageFlags::TRANSFER,
-                vk::PipelineStageFlags::HOST,
-                vk::DependencyFlags::empty(),
-                &[vk::MemoryBarrier::default()
-                    .src_access_mask(vk::AccessFlags::TRANSFER_WRITE)
-                    .dst_access_mask(vk::AccessFlags::HOST_READ)],
-                &[],
-                &[],
-            );
-        }
     });
+    let values = ImageRef {
+        image: tensors.output().image,
+        format: vk::Format::R16G16B16A16_SFLOAT,
+        width: size[0],
+        height: size[1],
+    }
+    .read(&engine, general);
     engine.assert_validation_clean();
-    let mut output = Planes::zeros(OUTPUT_CHANNELS, size[0] as usize, size[1] as usize);
-    for t in 0..texels as usize {
-        let (x, y) = (t % size[0] as usize, t / size[0] as usize);
-        for c in 0..OUTPUT_CHANNELS {
-            let word = readback.read_u32((t * 8 + c / 2 * 4) as u64);
-            let bits = (word >> (16 * (c % 2))) as u16;
-            output.values[(c * size[1] as usize + y) * size[0] as usize + x] =
-                half::f16::from_bits(bits).to_f32();
+    let (width, height) = (size[0] as usize, size[1] as usize);
+    let mut output = Planes::zeros(OUTPUT_CHANNELS, width, height);
+    for (t, texel) in values.chunks_exact(4).enumerate() {
+        for (c, &value) in texel[..OUTPUT_CHANNELS].iter().enumerate() {
+            output.values[c * width * height + t] = value;
         }
     }
-    let mut readback = readback;
-    readback.destroy(&gpu, &mut allocator);
     patch.destroy(&gpu, &mut allocator);
     tensors.destroy(&gpu, &mut allocator);
     pipelines.destroy(&gpu.device);

@@ -12,7 +12,7 @@ use std::fmt::Write;
 use naga::back::spv;
 
 use super::weights::MAX_LEVELS;
-use super::{ConvWeights, Layer, LayerKind, Tensor};
+use super::{ConvWeights, Layer, LayerKind};
 use crate::error::{bail, Result};
 use crate::shaders::{Binding, DescriptorKind, ShaderInfo};
 
@@ -114,11 +114,10 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
         LayerKind::Output { conv } => (vec![conv], conv.outputs),
     };
     let output_groups = outputs.div_ceil(4);
-    let main_groups = match layer.skip {
-        Some(_) => (convs[0].inputs - skip_channels(layer)) / 4,
-        None => convs[0].inputs.div_ceil(4),
-    };
-    let skip_groups = skip_channels(layer) / 4;
+    // A skip tensor comes from this layer's own level, as wide as its output.
+    let skip_channels = layer.skip.map_or(0, |_| outputs);
+    let main_groups = (convs[0].inputs - skip_channels).div_ceil(4);
+    let skip_groups = skip_channels / 4;
     for (c, conv) in convs.iter().enumerate() {
         for o in 0..output_groups {
             let bias: Vec<f32> = (0..4).map(|k| bias_at(conv, 4 * o + k)).collect();
@@ -141,17 +140,18 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
                 "        let inside = all(q >= vec2i(0)) && all(q < main_extent);"
             )
             .unwrap();
-            let fetch = if layer.upsample {
-                "vec2u(clamp(q, vec2i(0), main_extent - 1)) / 2u"
-            } else {
-                "vec2u(clamp(q, vec2i(0), main_extent - 1))"
-            };
-            writeln!(s, "        let m = {fetch};").unwrap();
+            writeln!(
+                s,
+                "        let c = vec2u(clamp(q, vec2i(0), main_extent - 1));"
+            )
+            .unwrap();
+            // An upsampled main input is read at half the coordinates.
+            let m = if layer.upsample { "c / 2u" } else { "c" };
             let mut inputs = Vec::new();
             for g in 0..main_groups {
                 writeln!(
                     s,
-                    "        let x{g} = select(vec4f(0.0), textureLoad(main_input, m, {g}, 0), inside);"
+                    "        let x{g} = select(vec4f(0.0), textureLoad(main_input, {m}, {g}, 0), inside);"
                 )
                 .unwrap();
                 inputs.push(g);
@@ -161,7 +161,7 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
                 let index = main_groups + g;
                 writeln!(
                     s,
-                    "        let x{index} = select(vec4f(0.0), textureLoad(skip_input, vec2u(clamp(q, vec2i(0), main_extent - 1)), {g}, 0), inside);"
+                    "        let x{index} = select(vec4f(0.0), textureLoad(skip_input, c, {g}, 0), inside);"
                 )
                 .unwrap();
                 inputs.push(index);
@@ -189,14 +189,6 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     }
     s.push_str("}\n");
     s
-}
-
-fn skip_channels(layer: &Layer) -> usize {
-    match layer.skip {
-        // A skip tensor holds the width of this layer's own level, which is its output width.
-        Some(Tensor::Layer(_)) => layer.output_channels(),
-        Some(Tensor::Input) | None => 0,
-    }
 }
 
 fn bias_at(conv: &ConvWeights, output: usize) -> f32 {

@@ -8,13 +8,14 @@ use gpu_allocator::vulkan::Allocator;
 
 use crate::error::Result;
 use crate::network::codegen::{self, GROUP_EDGE, PATCH_BYTES};
+use crate::network::weights::MAX_LEVELS;
 use crate::network::{Network, Tensor, INPUT_CHANNELS};
 use crate::passes::Texture;
 use crate::shaders::network_inputs::{binding, Params, SHADER};
 use crate::vk::barriers;
 use crate::vk::device::Gpu;
 use crate::vk::image::OwnedImage;
-use crate::vk::pipeline::{ComputePipeline, DescriptorWrites};
+use crate::vk::pipeline::{pool_sizes, ComputePipeline, DescriptorWrites};
 
 /// A network's compiled layers, its gather pass and `instances` descriptor sets for each
 /// (one per extrapolation that may be recorded before an earlier one completes).
@@ -57,18 +58,9 @@ impl NetworkPipelines {
         }
         let per_instance: Vec<&ComputePipeline> =
             std::iter::once(&self.gather).chain(&self.layers).collect();
-        let mut sizes: Vec<vk::DescriptorPoolSize> = Vec::new();
-        for pipeline in &per_instance {
-            for b in pipeline.shader.bindings {
-                let ty = crate::vk::pipeline::descriptor_type(b.kind);
-                match sizes.iter_mut().find(|s| s.ty == ty) {
-                    Some(size) => size.descriptor_count += instances as u32,
-                    None => sizes.push(vk::DescriptorPoolSize {
-                        ty,
-                        descriptor_count: instances as u32,
-                    }),
-                }
-            }
+        let mut sizes = pool_sizes(per_instance.iter().copied());
+        for size in &mut sizes {
+            size.descriptor_count *= instances as u32;
         }
         let layouts: Vec<_> = (0..instances)
             .flat_map(|_| per_instance.iter().map(|p| p.set_layout))
@@ -197,7 +189,7 @@ pub struct PatchRecord {
 /// on the GPU): `origin` and `extent` in frame texels, the extent a multiple of the network's.
 pub fn patch_bytes(network: &Network, origin: [u32; 2], extent: [u32; 2]) -> Vec<u8> {
     let mut words = vec![origin[0], origin[1], extent[0], extent[1]];
-    for level in 0..codegen::PATCH_BYTES as usize / 16 - 1 {
+    for level in 0..MAX_LEVELS {
         let groups = |size: u32| (size >> level).div_ceil(GROUP_EDGE);
         let used = level < network.widths.len();
         words.extend([

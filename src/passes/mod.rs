@@ -185,20 +185,7 @@ impl Pipelines {
 
     /// Descriptor counts of one region's sets together, for the descriptor pool.
     pub fn pool_sizes(&self) -> Vec<vk::DescriptorPoolSize> {
-        let mut sizes: Vec<vk::DescriptorPoolSize> = Vec::new();
-        for pipeline in self.set_owners() {
-            for binding in pipeline.shader.bindings {
-                let ty = crate::vk::pipeline::descriptor_type(binding.kind);
-                match sizes.iter_mut().find(|s| s.ty == ty) {
-                    Some(size) => size.descriptor_count += 1,
-                    None => sizes.push(vk::DescriptorPoolSize {
-                        ty,
-                        descriptor_count: 1,
-                    }),
-                }
-            }
-        }
-        sizes
+        crate::vk::pipeline::pool_sizes(self.set_owners())
     }
 }
 

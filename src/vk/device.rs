@@ -4,6 +4,7 @@
 use std::ffi::{c_char, CStr};
 
 use ash::vk;
+use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 
 use crate::abi::PatchexCreateInfo;
 use crate::error::{bail, Result};
@@ -153,6 +154,18 @@ impl Gpu {
                 .limits
                 .min_storage_buffer_offset_alignment,
         })
+    }
+
+    /// The allocator of the plugin's own images and buffers on this device.
+    pub fn allocator(&self) -> Result<Allocator> {
+        Ok(Allocator::new(&AllocatorCreateDesc {
+            instance: self.instance.clone(),
+            device: self.device.clone(),
+            physical_device: self.physical_device,
+            debug_settings: Default::default(),
+            buffer_device_address: false,
+            allocation_sizes: Default::default(),
+        })?)
     }
 
     /// Optimal-tiling features of `format` on this device.

@@ -17,6 +17,27 @@ pub fn descriptor_type(kind: DescriptorKind) -> vk::DescriptorType {
     }
 }
 
+/// Descriptor counts of one set of each of `pipelines`, together: the size of a pool that holds
+/// them.
+pub fn pool_sizes<'a>(
+    pipelines: impl IntoIterator<Item = &'a ComputePipeline>,
+) -> Vec<vk::DescriptorPoolSize> {
+    let mut sizes: Vec<vk::DescriptorPoolSize> = Vec::new();
+    for pipeline in pipelines {
+        for binding in pipeline.shader.bindings {
+            let ty = descriptor_type(binding.kind);
+            match sizes.iter_mut().find(|s| s.ty == ty) {
+                Some(size) => size.descriptor_count += 1,
+                None => sizes.push(vk::DescriptorPoolSize {
+                    ty,
+                    descriptor_count: 1,
+                }),
+            }
+        }
+    }
+    sizes
+}
+
 /// One pass's pipeline, its layout and its descriptor-set layout.
 pub struct ComputePipeline {
     pub shader: ShaderInfo,
@@ -113,29 +134,10 @@ impl ComputePipeline {
         params: &P,
         extent: vk::Extent2D,
     ) {
-        debug_assert_eq!(
-            std::mem::size_of::<P>() as u32,
-            self.shader.push_constant_size
-        );
+        self.bind(device, cmd, set, params);
         let [group_x, group_y, _] = self.shader.workgroup_size;
-        // SAFETY: cmd is recording; set was written for this pipeline's layout.
+        // SAFETY: cmd is recording, with this pipeline bound.
         unsafe {
-            device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline);
-            device.cmd_bind_descriptor_sets(
-                cmd,
-                vk::PipelineBindPoint::COMPUTE,
-                self.layout,
-                0,
-                &[set],
-                &[],
-            );
-            device.cmd_push_constants(
-                cmd,
-                self.layout,
-                vk::ShaderStageFlags::COMPUTE,
-                0,
-                params.as_bytes(),
-            );
             device.cmd_dispatch(
                 cmd,
                 extent.width.div_ceil(group_x),
@@ -145,8 +147,8 @@ impl ComputePipeline {
         }
     }
 
-    /// Binds the pipeline, its descriptor set and push constants (`&()` for none) and
-    /// dispatches the workgroup counts written at `offset` in `args`.
+    /// As `dispatch` (`&()` for a pipeline without push constants), with the workgroup counts
+    /// the GPU wrote at `offset` in `args`.
     pub fn dispatch_indirect<P: PushConstants>(
         &self,
         device: &ash::Device,
@@ -156,12 +158,24 @@ impl ComputePipeline {
         args: vk::Buffer,
         offset: u64,
     ) {
+        self.bind(device, cmd, set, params);
+        // SAFETY: cmd is recording, with this pipeline bound; args holds a
+        // VkDispatchIndirectCommand at offset, made visible by the caller's barrier.
+        unsafe { device.cmd_dispatch_indirect(cmd, args, offset) };
+    }
+
+    fn bind<P: PushConstants>(
+        &self,
+        device: &ash::Device,
+        cmd: vk::CommandBuffer,
+        set: vk::DescriptorSet,
+        params: &P,
+    ) {
         debug_assert_eq!(
             std::mem::size_of::<P>() as u32,
             self.shader.push_constant_size
         );
-        // SAFETY: cmd is recording; set was written for this pipeline's layout; args holds
-        // a VkDispatchIndirectCommand at offset, made visible by the caller's barrier.
+        // SAFETY: cmd is recording; set was written for this pipeline's layout.
         unsafe {
             device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline);
             device.cmd_bind_descriptor_sets(
@@ -181,7 +195,6 @@ impl ComputePipeline {
                     params.as_bytes(),
                 );
             }
-            device.cmd_dispatch_indirect(cmd, args, offset);
         }
     }
 

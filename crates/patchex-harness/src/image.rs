@@ -96,6 +96,70 @@ impl EngineImage {
         }
     }
 
+    /// Fills the image with `values` (row-major, the format's channels interleaved) and leaves
+    /// it in `layout`. The image's previous contents are discarded.
+    pub fn upload(&self, engine: &Engine, values: &[f32], layout: vk::ImageLayout) {
+        let bytes = encode(self.format, values);
+        let (channels, _) = texel_layout(self.format);
+        assert_eq!(
+            values.len(),
+            (self.width * self.height) as usize * channels,
+            "upload size"
+        );
+        let staging = StagingBuffer::new(engine, bytes.len() as u64);
+        staging.write(&bytes);
+        engine.run(|cmd| {
+            self.as_image_ref().record_barrier(
+                &engine.device,
+                cmd,
+                vk::ImageLayout::UNDEFINED,
+                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+            );
+            // SAFETY: cmd is recording; the buffer holds exactly the image's texels.
+            unsafe {
+                engine.device.cmd_copy_buffer_to_image(
+                    cmd,
+                    staging.buffer,
+                    self.image,
+                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                    &[self.as_image_ref().copy_region()],
+                );
+            }
+            self.as_image_ref().record_barrier(
+                &engine.device,
+                cmd,
+                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                layout,
+            );
+        });
+    }
+
+    /// See [`ImageRef::read`].
+    pub fn read(&self, engine: &Engine, layout: vk::ImageLayout) -> Vec<f32> {
+        self.as_image_ref().read(engine, layout)
+    }
+
+    fn as_image_ref(&self) -> ImageRef {
+        ImageRef {
+            image: self.image,
+            format: self.format,
+            width: self.width,
+            height: self.height,
+        }
+    }
+}
+
+/// Layer 0 of any 2D colour or depth image on the engine's device, such as one the plugin owns,
+/// for reading back.
+#[derive(Clone, Copy)]
+pub struct ImageRef {
+    pub image: vk::Image,
+    pub format: vk::Format,
+    pub width: u32,
+    pub height: u32,
+}
+
+impl ImageRef {
     fn barrier(
         &self,
         old: vk::ImageLayout,
@@ -131,44 +195,6 @@ impl EngineImage {
                 &[self.barrier(old, new)],
             );
         }
-    }
-
-    /// Fills the image with `values` (row-major, the format's channels interleaved) and leaves
-    /// it in `layout`. The image's previous contents are discarded.
-    pub fn upload(&self, engine: &Engine, values: &[f32], layout: vk::ImageLayout) {
-        let bytes = encode(self.format, values);
-        let (channels, _) = texel_layout(self.format);
-        assert_eq!(
-            values.len(),
-            (self.width * self.height) as usize * channels,
-            "upload size"
-        );
-        let staging = StagingBuffer::new(engine, bytes.len() as u64);
-        staging.write(&bytes);
-        engine.run(|cmd| {
-            self.record_barrier(
-                &engine.device,
-                cmd,
-                vk::ImageLayout::UNDEFINED,
-                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-            );
-            // SAFETY: cmd is recording; the buffer holds exactly the image's texels.
-            unsafe {
-                engine.device.cmd_copy_buffer_to_image(
-                    cmd,
-                    staging.buffer,
-                    self.image,
-                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                    &[self.copy_region()],
-                );
-            }
-            self.record_barrier(
-                &engine.device,
-                cmd,
-                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                layout,
-            );
-        });
     }
 
     /// Reads the image, which must be in `layout`, and leaves it there. Validation's layout

@@ -9,4 +9,4 @@ mod image;
 pub mod intercept;
 
 pub use engine::{Engine, EngineOptions, FrameLoop, ThreadPool};
-pub use image::EngineImage;
+pub use image::{EngineImage, ImageRef};
