@@ -59,7 +59,7 @@
 #include <vulkan/vulkan.h>
 
 // Version of this ABI, returned by `patchex_abi_version`; bumped on any incompatible change.
-#define PATCHEX_ABI_VERSION 4
+#define PATCHEX_ABI_VERSION 5
 
 // The warp settings a context uses unless told otherwise: a 3x3 gather; a texel keeps most of
 // its weight within ~5% relative depth, ~0.1 of (1 - cos) of normal angle (about 25 degrees),
@@ -178,8 +178,8 @@ typedef struct PatchexStructHeader {
   const void *next;
 } PatchexStructHeader;
 
-// Trade of speed against accuracy. This build has the warp-only preset; the presets with
-// inpainting networks and shadows are added with those stages.
+// Trade of speed against accuracy. The shadow sub-task runs in either preset whenever a frame
+// comes with a PatchexShadowInput.
 typedef uint32_t PatchexPreset;
 
 // Severity passed to the log callback.
@@ -374,6 +374,9 @@ typedef struct PatchexExtrapolationStats {
   float largest_motion;
   // The stages this extrapolation ran, as bits 1 << PATCHEX_STAGE_*.
   uint32_t stages_run;
+  // Fraction of target pixels whose colour an inpainting network replaced (FI and near-BE
+  // pixels of the networks that ran); 0 without networks or dynamic objects.
+  float repaired_fraction;
 } PatchexExtrapolationStats;
 
 // `PatchexFrameStats.shadow_history`.
@@ -432,8 +435,18 @@ typedef uint32_t PatchexStage;
 
 #define PATCHEX_STRUCT_TYPE_SHADOW_DIAGNOSTICS 10
 
+#define PATCHEX_STRUCT_TYPE_NETWORK_WEIGHTS 11
+
+#define PATCHEX_STRUCT_TYPE_NETWORK_SETTINGS 12
+
 // Demodulate, G-buffer-guided warp, remodulate. Holes keep the warp's nearest colour.
 #define PATCHEX_PRESET_WARP_ONLY 0
+
+// The warp, then PatchEX's two inpainting networks repair the foreground-interaction and
+// near-background patches around dynamic objects (far background keeps the warp). A frame
+// without dynamic objects runs no network. Compiles the networks at create (seconds on a CPU
+// driver) and holds their tensors for a patch as large as the maximum extent.
+#define PATCHEX_PRESET_NETWORKS 1
 
 // Linear view-space depth: distance along the camera's forward axis, in world units.
 #define PATCHEX_DEPTH_LINEAR_VIEW_Z 0
@@ -490,6 +503,13 @@ typedef uint32_t PatchexStage;
 
 // Extrapolation of a frame with a shadow input: the shadow layer's warp.
 #define PATCHEX_STAGE_SHADOW_WARP 9
+
+// PATCHEX_PRESET_NETWORKS, a frame with dynamic objects: patch planning, the networks' input
+// gathering and both networks.
+#define PATCHEX_STAGE_INFERENCE 10
+
+// The networks' results blended back under the region masks.
+#define PATCHEX_STAGE_BLEND 11
 
 #define PATCHEX_RESET_NONE 0
 

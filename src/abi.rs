@@ -26,7 +26,7 @@ pub type PFN_vkGetInstanceProcAddr = Option<vk::PFN_vkGetInstanceProcAddr>;
 pub type PFN_vkGetDeviceProcAddr = Option<vk::PFN_vkGetDeviceProcAddr>;
 
 /// Version of this ABI, returned by `patchex_abi_version`; bumped on any incompatible change.
-pub const PATCHEX_ABI_VERSION: u32 = 4;
+pub const PATCHEX_ABI_VERSION: u32 = 5;
 
 /// 0 or 1; any other value is rejected as an invalid argument.
 pub type PatchexBool = u32;
@@ -43,6 +43,8 @@ pub const PATCHEX_STRUCT_TYPE_DIAGNOSTICS: PatchexStructType = 7;
 pub const PATCHEX_STRUCT_TYPE_SHADOW_INPUT: PatchexStructType = 8;
 pub const PATCHEX_STRUCT_TYPE_SHADOW_FLOW_SETTINGS: PatchexStructType = 9;
 pub const PATCHEX_STRUCT_TYPE_SHADOW_DIAGNOSTICS: PatchexStructType = 10;
+pub const PATCHEX_STRUCT_TYPE_NETWORK_WEIGHTS: PatchexStructType = 11;
+pub const PATCHEX_STRUCT_TYPE_NETWORK_SETTINGS: PatchexStructType = 12;
 
 /// The first fields of every versioned struct, read before the rest.
 #[repr(C)]
@@ -66,11 +68,16 @@ impl PatchexStructHeader {
     }
 }
 
-/// Trade of speed against accuracy. This build has the warp-only preset; the presets with
-/// inpainting networks and shadows are added with those stages.
+/// Trade of speed against accuracy. The shadow sub-task runs in either preset whenever a frame
+/// comes with a PatchexShadowInput.
 pub type PatchexPreset = u32;
 /// Demodulate, G-buffer-guided warp, remodulate. Holes keep the warp's nearest colour.
 pub const PATCHEX_PRESET_WARP_ONLY: PatchexPreset = 0;
+/// The warp, then PatchEX's two inpainting networks repair the foreground-interaction and
+/// near-background patches around dynamic objects (far background keeps the warp). A frame
+/// without dynamic objects runs no network. Compiles the networks at create (seconds on a CPU
+/// driver) and holds their tensors for a patch as large as the maximum extent.
+pub const PATCHEX_PRESET_NETWORKS: PatchexPreset = 1;
 
 /// How the depth image encodes depth.
 pub type PatchexDepthConvention = u32;
@@ -388,6 +395,32 @@ pub struct PatchexShadowFlowSettings {
     pub poly_sigma: f32,
 }
 
+/// Chainable on PatchexCreateInfo with PATCHEX_PRESET_NETWORKS: the networks' weights from files
+/// instead of the ones built into the library (safetensors written by training/train.py; the
+/// file names its topology). A null path keeps that network's built-in weights.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct PatchexNetworkWeights {
+    /// PATCHEX_STRUCT_TYPE_NETWORK_WEIGHTS, sizeof(PatchexNetworkWeights), chain.
+    pub header: PatchexStructHeader,
+    /// UTF-8 path of the foreground-interaction network, or null.
+    pub fi_path: *const c_char,
+    /// UTF-8 path of the near-background network, or null.
+    pub near_be_path: *const c_char,
+}
+
+/// Chainable on PatchexCreateInfo (context default) or PatchexExtrapolateDesc (this call) with
+/// PATCHEX_PRESET_NETWORKS: which region's network runs. A network that is off leaves its
+/// region as the warp made it. Both run by default.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct PatchexNetworkSettings {
+    /// PATCHEX_STRUCT_TYPE_NETWORK_SETTINGS, sizeof(PatchexNetworkSettings), chain.
+    pub header: PatchexStructHeader,
+    pub run_fi: PatchexBool,
+    pub run_near_be: PatchexBool,
+}
+
 /// Chainable on PatchexExtrapolateDesc: an engine image that receives per-pixel intermediate
 /// results, for debug views and evaluation. R16G16B16A16_SFLOAT with STORAGE usage, the size of
 /// the output. R = hole (1, the warp's colour is a guess) or valid (0); G = region (0 far
@@ -433,6 +466,11 @@ pub const PATCHEX_STAGE_DIAGNOSTICS: PatchexStage = 7;
 pub const PATCHEX_STAGE_SHADOW_FLOW: PatchexStage = 8;
 /// Extrapolation of a frame with a shadow input: the shadow layer's warp.
 pub const PATCHEX_STAGE_SHADOW_WARP: PatchexStage = 9;
+/// PATCHEX_PRESET_NETWORKS, a frame with dynamic objects: patch planning, the networks' input
+/// gathering and both networks.
+pub const PATCHEX_STAGE_INFERENCE: PatchexStage = 10;
+/// The networks' results blended back under the region masks.
+pub const PATCHEX_STAGE_BLEND: PatchexStage = 11;
 /// Size of the `gpu_ms` arrays; stages added later take indices below it.
 pub const PATCHEX_STAGE_SLOTS: usize = 16;
 
@@ -497,6 +535,9 @@ pub struct PatchexExtrapolationStats {
     pub largest_motion: f32,
     /// The stages this extrapolation ran, as bits 1 << PATCHEX_STAGE_*.
     pub stages_run: u32,
+    /// Fraction of target pixels whose colour an inpainting network replaced (FI and near-BE
+    /// pixels of the networks that ran); 0 without networks or dynamic objects.
+    pub repaired_fraction: f32,
 }
 
 /// Bits of `PatchexExtrapolationStats.render_instead_reasons`.

@@ -2,6 +2,7 @@
 //! and the state between `submit` (frame t) and `extrapolate` (its target instants).
 
 use std::mem::ManuallyDrop;
+use std::path::PathBuf;
 use std::sync::Arc;
 
 use ash::vk;
@@ -11,6 +12,8 @@ use crate::abi::*;
 use crate::camera::Camera;
 use crate::error::{bail, PatchexResult, Result};
 use crate::inputs::{self, GeometryInputs, SourceInputs, TargetInputs};
+use crate::network;
+use crate::passes::inpaint::{self, Inpainting};
 use crate::passes::segmentation::{self, SegmentationSettings};
 use crate::passes::shadow_flow::{self, FlowSettings};
 use crate::passes::warp::WarpSettings;
@@ -37,7 +40,9 @@ const SANITIZE_COUNTERS_OFFSET: u64 = 256;
 const SHADOW_WARP_COUNTERS_OFFSET: u64 = 512;
 const SURFACE_LAYER_COUNTERS_OFFSET: u64 = 768;
 const OBJECT_TABLE_OFFSET: u64 = 1024;
-pub const COUNTER_BYTES: u64 = OBJECT_TABLE_OFFSET + segmentation::TABLE_BYTES;
+/// The networks' patch records (`inpaint::PATCH_SLOT_*`).
+const PATCHES_OFFSET: u64 = (OBJECT_TABLE_OFFSET + segmentation::TABLE_BYTES).next_multiple_of(256);
+pub const COUNTER_BYTES: u64 = PATCHES_OFFSET + inpaint::PATCH_SLOTS_BYTES;
 
 /// One image of an `ImageSet`.
 struct ImageSpec {
@@ -266,6 +271,31 @@ pub struct Extensions {
     pub shadow_diagnostics: Option<PatchexImage>,
     pub shadow: Option<PatchexShadowInput>,
     pub flow: Option<FlowSettings>,
+    pub network_weights: Option<NetworkWeightPaths>,
+    pub networks: Option<NetworkSwitches>,
+}
+
+/// Weight files in place of the built-in networks (`PatchexNetworkWeights`).
+#[derive(Clone, Debug, Default)]
+pub struct NetworkWeightPaths {
+    pub fi: Option<PathBuf>,
+    pub near_be: Option<PathBuf>,
+}
+
+/// Which region's network runs (`PatchexNetworkSettings`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct NetworkSwitches {
+    pub fi: bool,
+    pub near_be: bool,
+}
+
+impl Default for NetworkSwitches {
+    fn default() -> Self {
+        Self {
+            fi: true,
+            near_be: true,
+        }
+    }
 }
 
 pub struct Context {
@@ -276,12 +306,15 @@ pub struct Context {
     placeholders: Placeholders,
     work: Option<WorkImages>,
     shadows: Option<ShadowImages>,
+    /// PATCHEX_PRESET_NETWORKS: the two inpainting networks.
+    inpainting: Option<Inpainting>,
     /// Which of the alternating expansion images holds the last submitted frame's.
     shadow_current: usize,
     max_extent: vk::Extent2D,
     default_warp: WarpSettings,
     default_segmentation: SegmentationSettings,
     default_flow: FlowSettings,
+    default_networks: NetworkSwitches,
     source: Option<SourceFrame>,
 }
 
@@ -289,13 +322,36 @@ impl Context {
     /// # Safety
     /// The handles in `info` must be live objects of one Vulkan instance.
     pub unsafe fn new(info: &PatchexCreateInfo, defaults: Extensions) -> Result<Self> {
-        if info.preset != PATCHEX_PRESET_WARP_ONLY {
+        let with_networks = match info.preset {
+            PATCHEX_PRESET_WARP_ONLY => false,
+            PATCHEX_PRESET_NETWORKS => true,
+            other => bail!(
+                ErrorInvalidArgument,
+                "PatchexCreateInfo.preset {other} is not a preset: PATCHEX_PRESET_WARP_ONLY (0) or \
+                 PATCHEX_PRESET_NETWORKS (1)"
+            ),
+        };
+        if !with_networks && (defaults.network_weights.is_some() || defaults.networks.is_some()) {
             bail!(
                 ErrorInvalidArgument,
-                "PatchexCreateInfo.preset {} is not available; this build has PATCHEX_PRESET_WARP_ONLY (0)",
-                info.preset
+                "PatchexNetworkWeights and PatchexNetworkSettings need PATCHEX_PRESET_NETWORKS"
             );
         }
+        // Read before any Vulkan object is made: a bad file costs nothing to refuse.
+        let networks = match with_networks {
+            true => {
+                let paths = defaults.network_weights.clone().unwrap_or_default();
+                Some([
+                    network::load(paths.fi.as_deref(), network::SHIPPED_FI, "FI")?,
+                    network::load(
+                        paths.near_be.as_deref(),
+                        network::SHIPPED_NEAR_BE,
+                        "near-BE",
+                    )?,
+                ])
+            }
+            false => None,
+        };
         if !(1..=MAX_FRAMES_IN_FLIGHT).contains(&info.frames_in_flight) {
             bail!(
                 ErrorInvalidArgument,
@@ -338,6 +394,7 @@ impl Context {
             },
             work: None,
             shadows: None,
+            inpainting: None,
             shadow_current: 0,
             max_extent: vk::Extent2D {
                 width: info.max_width,
@@ -346,6 +403,7 @@ impl Context {
             default_warp: defaults.warp.unwrap_or_default(),
             default_segmentation: defaults.segmentation.unwrap_or_default(),
             default_flow: defaults.flow.unwrap_or_default(),
+            default_networks: defaults.networks.unwrap_or_default(),
             source: None,
         };
         let one = vk::Extent2D {
@@ -369,6 +427,16 @@ impl Context {
             one,
             sampled,
         )?;
+        if let Some(networks) = networks {
+            let instances = info.frames_in_flight as usize * PATCHEX_MAX_EXTRAPOLATIONS_PER_FRAME;
+            context.inpainting = Some(Inpainting::new(
+                &context.gpu,
+                &mut context.allocator,
+                networks,
+                instances,
+                context.max_extent,
+            )?);
+        }
         Ok(context)
     }
 
@@ -511,6 +579,9 @@ impl Context {
         }
         owned.push(&mut self.placeholders.float);
         owned.push(&mut self.placeholders.uint);
+        if let Some(inpainting) = self.inpainting.as_mut() {
+            owned.extend(inpainting.images());
+        }
         barriers::initialize_owned(device, cmd, &mut owned);
         let work = self.work.as_ref().expect("allocated above");
         access.acquire(device, cmd);
@@ -701,6 +772,13 @@ impl Context {
             )?)?),
             None => None,
         };
+        if self.inpainting.is_none() && extensions.networks.is_some() {
+            bail!(
+                ErrorInvalidArgument,
+                "PatchexNetworkSettings needs a context made with PATCHEX_PRESET_NETWORKS"
+            );
+        }
+        let run_networks = extensions.networks.unwrap_or(self.default_networks);
         let warp_settings = extensions.warp.unwrap_or(self.default_warp);
         let segmentation_settings = extensions.segmentation.unwrap_or(self.default_segmentation);
         let jitter_delta = (inputs.geometry.camera.jitter - source.camera.jitter).into();
@@ -849,6 +927,65 @@ impl Context {
             )
         });
         barriers::compute_to_compute(device, cmd, false);
+        if let Some(inpainting) = &self.inpainting {
+            let patches =
+                self.ring
+                    .counter_range(slot, region, PATCHES_OFFSET, inpaint::PATCH_SLOTS_BYTES);
+            timed.stage(PATCHEX_STAGE_INFERENCE, || {
+                inpaint::record_plan(
+                    self.pipelines.get(Pipelines::PLAN_PATCHES),
+                    device,
+                    cmd,
+                    self.ring
+                        .descriptor_set(slot, region, Pipelines::PLAN_PATCHES),
+                    inputs.extent,
+                    inpainting.levels([run_networks.fi, run_networks.near_be]),
+                    &object_table,
+                    &patches,
+                );
+                barriers::compute_to_indirect(device, cmd);
+                let instance = slot * PATCHEX_MAX_EXTRAPOLATIONS_PER_FRAME + done;
+                let runs = [inpaint::PATCH_SLOT_FI, inpaint::PATCH_SLOT_NEAR_BE]
+                    .into_iter()
+                    .zip(&inpainting.networks)
+                    .map(|(patch_slot, (pipelines, tensors))| inpaint::NetworkRun {
+                        pipelines,
+                        instance,
+                        tensors,
+                        patch: inpaint::patch_record(&patches, patch_slot),
+                    })
+                    .collect::<Vec<_>>();
+                inpaint::record(
+                    &self.gpu,
+                    cmd,
+                    &inpaint::FrameInputs {
+                        warped: (&work[WorkImages::WARPED]).into(),
+                        material,
+                        lbp: (&work[WorkImages::LBP]).into(),
+                        placeholder,
+                        frame_extent: inputs.extent,
+                    },
+                    &runs,
+                );
+            });
+            barriers::compute_to_compute(device, cmd, false);
+            timed.stage(PATCHEX_STAGE_BLEND, || {
+                inpaint::record_blend(
+                    self.pipelines.get(Pipelines::BLEND_PATCHES),
+                    device,
+                    cmd,
+                    self.ring
+                        .descriptor_set(slot, region, Pipelines::BLEND_PATCHES),
+                    &inpaint::BlendInputs {
+                        regions: &work[WorkImages::REGIONS],
+                        networks: inpainting.tensors(),
+                    },
+                    &patches,
+                    &work[WorkImages::WARPED],
+                )
+            });
+            barriers::compute_to_compute(device, cmd, false);
+        }
         timed.stage(PATCHEX_STAGE_REMODULATE, || {
             remodulate::record(
                 self.pipelines.get(Pipelines::REMODULATE),
@@ -1006,6 +1143,21 @@ impl Context {
                     .read_u32(counters + warp::LARGEST_MOTION_OFFSET),
             );
             stats.stages_run = stage_bits(&region_record.stages);
+            // The networks' stages were recorded, but dispatch nothing on empty patches.
+            let patch_extent = |patch_slot: u64| {
+                inpaint::read_patch_extent(
+                    &self.ring.counters,
+                    counters + PATCHES_OFFSET + patch_slot * inpaint::PATCH_SLOT_BYTES,
+                )
+            };
+            let ran = |patch_slot| patch_extent(patch_slot).iter().all(|&side| side > 0);
+            let (fi_ran, near_be_ran) = (
+                ran(inpaint::PATCH_SLOT_FI),
+                ran(inpaint::PATCH_SLOT_NEAR_BE),
+            );
+            if !fi_ran && !near_be_ran {
+                stats.stages_run &= !(1 << PATCHEX_STAGE_INFERENCE | 1 << PATCHEX_STAGE_BLEND);
+            }
             if region_record.camera_cut {
                 stats.render_instead_reasons |= PATCHEX_RENDER_INSTEAD_CAMERA_CUT;
             }
@@ -1014,6 +1166,10 @@ impl Context {
             }
             stats.fi_fraction = segmented.fi_pixels as f32 / pixels;
             stats.near_be_fraction = segmented.near_be_pixels as f32 / pixels;
+            stats.repaired_fraction = (fi_ran as u32 * segmented.fi_pixels
+                + near_be_ran as u32 * segmented.near_be_pixels)
+                as f32
+                / pixels;
             stats.object_count = segmented.rects.len() as u32;
             for (reported, rect) in stats.rects.iter_mut().zip(&segmented.rects) {
                 *reported = *rect;
@@ -1051,6 +1207,7 @@ impl Context {
             + self.ring.counters.size_bytes()
             + self.placeholders.float.size_bytes()
             + self.placeholders.uint.size_bytes()
+            + self.inpainting.as_ref().map_or(0, |i| i.size_bytes())
     }
 }
 
@@ -1115,6 +1272,9 @@ impl Drop for Context {
         }
         self.placeholders.float.destroy(gpu, &mut self.allocator);
         self.placeholders.uint.destroy(gpu, &mut self.allocator);
+        if let Some(mut inpainting) = self.inpainting.take() {
+            inpainting.destroy(gpu, &mut self.allocator);
+        }
         self.ring.destroy(gpu, &mut self.allocator);
         // SAFETY: every allocation was freed above; the allocator is not used again.
         unsafe { ManuallyDrop::drop(&mut self.allocator) };

@@ -3,12 +3,14 @@
 //! returns and the log callback receives.
 
 use std::cell::RefCell;
-use std::ffi::{c_char, c_void, CString};
+use std::ffi::{c_char, c_void, CStr, CString};
 use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::path::PathBuf;
 
 use crate::abi::*;
-use crate::context::{Context, Extensions};
+use crate::context::{Context, Extensions, NetworkSwitches, NetworkWeightPaths};
 use crate::error::{bail, Error, PatchexResult, Result};
+use crate::inputs::boolean;
 use crate::passes::segmentation::SegmentationSettings;
 use crate::passes::shadow_flow::FlowSettings;
 use crate::passes::warp::WarpSettings;
@@ -81,6 +83,20 @@ unsafe fn read_versioned<T: Copy>(
         );
     }
     Ok(pointer.read())
+}
+
+/// A path given as a nul-terminated UTF-8 string, or `None` for a null pointer.
+///
+/// # Safety
+/// `path` is null or points to a nul-terminated string.
+unsafe fn optional_path(path: *const c_char, what: &str) -> Result<Option<PathBuf>> {
+    if path.is_null() {
+        return Ok(None);
+    }
+    match CStr::from_ptr(path).to_str() {
+        Ok(text) if !text.is_empty() => Ok(Some(PathBuf::from(text))),
+        _ => bail!(ErrorInvalidArgument, "{what} is not a non-empty UTF-8 path"),
+    }
 }
 
 /// Longest `next` chain followed; a longer one is taken for a cycle.
@@ -161,6 +177,31 @@ unsafe fn read_chain(
                     "PatchexShadowFlowSettings",
                 )?;
                 extensions.flow = Some(FlowSettings::from_abi(&settings)?);
+            }
+            PATCHEX_STRUCT_TYPE_NETWORK_WEIGHTS => {
+                let weights = read_versioned(
+                    next.cast::<PatchexNetworkWeights>(),
+                    kind,
+                    "PatchexNetworkWeights",
+                )?;
+                extensions.network_weights = Some(NetworkWeightPaths {
+                    fi: optional_path(weights.fi_path, "PatchexNetworkWeights.fi_path")?,
+                    near_be: optional_path(
+                        weights.near_be_path,
+                        "PatchexNetworkWeights.near_be_path",
+                    )?,
+                });
+            }
+            PATCHEX_STRUCT_TYPE_NETWORK_SETTINGS => {
+                let settings = read_versioned(
+                    next.cast::<PatchexNetworkSettings>(),
+                    kind,
+                    "PatchexNetworkSettings",
+                )?;
+                extensions.networks = Some(NetworkSwitches {
+                    fi: boolean(settings.run_fi, "PatchexNetworkSettings.run_fi")?,
+                    near_be: boolean(settings.run_near_be, "PatchexNetworkSettings.run_near_be")?,
+                });
             }
             _ => unreachable!("every accepted struct type is handled"),
         }
@@ -284,6 +325,8 @@ pub unsafe extern "C" fn patchex_create(
                 PATCHEX_STRUCT_TYPE_WARP_SETTINGS,
                 PATCHEX_STRUCT_TYPE_SEGMENTATION_SETTINGS,
                 PATCHEX_STRUCT_TYPE_SHADOW_FLOW_SETTINGS,
+                PATCHEX_STRUCT_TYPE_NETWORK_WEIGHTS,
+                PATCHEX_STRUCT_TYPE_NETWORK_SETTINGS,
             ],
             "PatchexCreateInfo",
         )
@@ -397,6 +440,7 @@ pub unsafe extern "C" fn patchex_extrapolate(
                 PATCHEX_STRUCT_TYPE_SEGMENTATION_SETTINGS,
                 PATCHEX_STRUCT_TYPE_DIAGNOSTICS,
                 PATCHEX_STRUCT_TYPE_SHADOW_DIAGNOSTICS,
+                PATCHEX_STRUCT_TYPE_NETWORK_SETTINGS,
             ],
             "PatchexExtrapolateDesc",
         )?;

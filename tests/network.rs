@@ -167,9 +167,6 @@ fn run_on_gpu(network: &Network, frame: &PatchFrame, origin: [u32; 2], size: [u3
         inpaint::record(
             &gpu,
             cmd,
-            &pipelines,
-            0,
-            &tensors,
             &inpaint::FrameInputs {
                 warped: texture(&warped),
                 material: Some(texture(&material)),
@@ -177,10 +174,15 @@ fn run_on_gpu(network: &Network, frame: &PatchFrame, origin: [u32; 2], size: [u3
                 placeholder: texture(&lbp),
                 frame_extent: vk::Extent2D { width, height },
             },
-            PatchRecord {
-                buffer: patch.buffer,
-                offset: 0,
-            },
+            &[inpaint::NetworkRun {
+                pipelines: &pipelines,
+                instance: 0,
+                tensors: &tensors,
+                patch: PatchRecord {
+                    buffer: patch.buffer,
+                    offset: 0,
+                },
+            }],
         );
     });
     let values = ImageRef {

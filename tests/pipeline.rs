@@ -36,6 +36,7 @@ fn every_pass_matches_its_reference_on_rendered_frames() {
                 ..WarpSettings::default()
             }),
             segmentation: Some(SegmentationSettings { growth: [3.0, 1.5] }),
+            networks: None,
         };
         let rig = Rig::new(WIDTH, HEIGHT);
         let outcome = run_plugin(&rig, source, target, 0.5, &chained);

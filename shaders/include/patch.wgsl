@@ -6,3 +6,13 @@ struct Patch {
     // x, y, z workgroups of each level's dispatch, and one unused word.
     dispatch: array<vec4u, 6>,
 }
+
+// An extrapolation's patches (plan_patches, blend_patches), each on its own 256-byte boundary,
+// the largest storage-buffer offset alignment, so that a network's passes can bind one alone.
+struct PatchSlot {
+    value: Patch,
+    unused: array<vec4u, 9>,
+}
+const PATCH_FI: u32 = 0u;
+const PATCH_NEAR_BE: u32 = 1u;
+const PATCH_BLEND: u32 = 2u;

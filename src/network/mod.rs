@@ -10,6 +10,30 @@ pub mod weights;
 
 pub use weights::{ConvWeights, Network};
 
+use std::path::Path;
+
+use crate::error::{bail, Result};
+
+/// The weights built into the library: `training/train.py`'s output for the command, data and
+/// seed in `assets/networks/manifest.json`, the networks measured in the README.
+pub const SHIPPED_FI: &[u8] = include_bytes!("../../assets/networks/fi.safetensors");
+pub const SHIPPED_NEAR_BE: &[u8] = include_bytes!("../../assets/networks/near_be.safetensors");
+
+/// The network in the file at `path`, or the built-in `shipped` weights without one.
+pub fn load(path: Option<&Path>, shipped: &[u8], name: &str) -> Result<Network> {
+    match path {
+        None => Network::from_safetensors(shipped, &format!("built-in {name} network")),
+        Some(path) => match std::fs::read(path) {
+            Ok(bytes) => Network::from_safetensors(&bytes, &path.display().to_string()),
+            Err(error) => bail!(
+                ErrorInvalidArgument,
+                "cannot read the {name} network's weights {}: {error}",
+                path.display()
+            ),
+        },
+    }
+}
+
 /// Planes the network reads, in order (`training/patchex_net.py`, `INPUT_NAMES`): warped
 /// demodulated colour (3), hole mask, roughness, metallic, LBP code / 255, and one zero plane
 /// that rounds the input up to two RGBA images.

@@ -10,12 +10,16 @@ use crate::error::Result;
 use crate::network::codegen::{self, GROUP_EDGE, PATCH_BYTES};
 use crate::network::weights::MAX_LEVELS;
 use crate::network::{Network, Tensor, INPUT_CHANNELS};
-use crate::passes::Texture;
+use crate::passes::{CounterRange, Texture};
 use crate::shaders::network_inputs::{binding, Params, SHADER};
 use crate::vk::barriers;
 use crate::vk::device::Gpu;
 use crate::vk::image::OwnedImage;
 use crate::vk::pipeline::{pool_sizes, ComputePipeline, DescriptorWrites};
+
+/// Texels of context around a region's rectangle in its patch: past the network's receptive
+/// field, a pixel at the edge of a region sees its surroundings as in training.
+pub const PATCH_MARGIN: u32 = 8;
 
 /// A network's compiled layers, its gather pass and `instances` descriptor sets for each
 /// (one per extrapolation that may be recorded before an earlier one completes).
@@ -204,77 +208,280 @@ pub fn patch_bytes(network: &Network, origin: [u32; 2], extent: [u32; 2]) -> Vec
     bytes
 }
 
-/// Records the gather and every layer for extrapolation slot `instance`. The patch record must
-/// be written and visible to compute shaders and indirect reads.
-pub fn record(
-    gpu: &Gpu,
-    cmd: vk::CommandBuffer,
-    pipelines: &NetworkPipelines,
-    instance: usize,
-    tensors: &NetworkTensors,
-    inputs: &FrameInputs,
-    patch: PatchRecord,
-) {
+/// One network's run in an extrapolation.
+pub struct NetworkRun<'a> {
+    pub pipelines: &'a NetworkPipelines,
+    /// Which of the pipelines' descriptor-set instances this extrapolation uses.
+    pub instance: usize,
+    pub tensors: &'a NetworkTensors,
+    pub patch: PatchRecord,
+}
+
+/// Records the gather and every layer of each network in `runs`, level by level across the
+/// networks: one barrier orders a step of all of them, so no network waits for another's work.
+/// Each patch record must be written and visible to compute shaders and indirect reads.
+pub fn record(gpu: &Gpu, cmd: vk::CommandBuffer, inputs: &FrameInputs, runs: &[NetworkRun]) {
     let device = &gpu.device;
     let general = vk::ImageLayout::GENERAL;
-    let sets_per_instance = 1 + pipelines.layers.len();
-    let sets = &pipelines.sets[instance * sets_per_instance..][..sets_per_instance];
     let material = inputs.material.unwrap_or(inputs.placeholder);
-    DescriptorWrites::new(&pipelines.gather)
-        .image(binding::WARPED, inputs.warped.view, inputs.warped.layout)
-        .image(binding::MATERIAL, material.view, material.layout)
-        .image(binding::LBP, inputs.lbp.view, inputs.lbp.layout)
-        .image(binding::NETWORK_INPUT, tensors.input.view, general)
-        .buffer(
-            binding::NETWORK_PATCH,
-            patch.buffer,
-            patch.offset,
-            PATCH_BYTES,
-        )
-        .update(device, sets[0]);
-    pipelines.gather.dispatch_indirect(
-        device,
-        cmd,
-        sets[0],
-        &Params {
-            frame_extent: [inputs.frame_extent.width, inputs.frame_extent.height],
-            has_material: inputs.material.is_some() as u32,
-            _pad_end: [0; 4],
-        },
-        patch.buffer,
-        dispatch_offset(patch, 0),
-    );
-    let view = |tensor: Tensor| match tensor {
-        Tensor::Input => tensors.input.view,
-        Tensor::Layer(n) => tensors.layers[n].view,
+    let sets = |run: &NetworkRun| {
+        let per_instance = 1 + run.pipelines.layers.len();
+        run.pipelines.sets[run.instance * per_instance..][..per_instance].to_vec()
     };
-    for (n, (layer, pipeline)) in pipelines
-        .network
-        .layers
-        .iter()
-        .zip(&pipelines.layers)
-        .enumerate()
-    {
-        barriers::compute_to_compute(device, cmd, false);
-        let main = view(layer.main);
-        DescriptorWrites::new(pipeline)
-            .image(0, main, general)
-            .image(1, layer.skip.map_or(main, view), general)
-            .image(2, tensors.input.view, general)
-            .image(3, tensors.layers[n].view, general)
-            .buffer(4, patch.buffer, patch.offset, PATCH_BYTES)
-            .update(device, sets[1 + n]);
-        pipeline.dispatch_indirect(
+    for run in runs {
+        let set = sets(run)[0];
+        DescriptorWrites::new(&run.pipelines.gather)
+            .image(binding::WARPED, inputs.warped.view, inputs.warped.layout)
+            .image(binding::MATERIAL, material.view, material.layout)
+            .image(binding::LBP, inputs.lbp.view, inputs.lbp.layout)
+            .image(binding::NETWORK_INPUT, run.tensors.input.view, general)
+            .buffer(
+                binding::NETWORK_PATCH,
+                run.patch.buffer,
+                run.patch.offset,
+                PATCH_BYTES,
+            )
+            .update(device, set);
+        run.pipelines.gather.dispatch_indirect(
             device,
             cmd,
-            sets[1 + n],
-            &(),
-            patch.buffer,
-            dispatch_offset(patch, layer.level),
+            set,
+            &Params {
+                frame_extent: [inputs.frame_extent.width, inputs.frame_extent.height],
+                has_material: inputs.material.is_some() as u32,
+                _pad_end: [0; 4],
+            },
+            run.patch.buffer,
+            dispatch_offset(run.patch, 0),
         );
+    }
+    let steps = runs
+        .iter()
+        .map(|run| run.pipelines.layers.len())
+        .max()
+        .unwrap_or(0);
+    for n in 0..steps {
+        barriers::compute_to_compute(device, cmd, false);
+        for run in runs.iter().filter(|run| n < run.pipelines.layers.len()) {
+            let (layer, pipeline) = (&run.pipelines.network.layers[n], &run.pipelines.layers[n]);
+            let tensors = run.tensors;
+            let view = |tensor: Tensor| match tensor {
+                Tensor::Input => tensors.input.view,
+                Tensor::Layer(n) => tensors.layers[n].view,
+            };
+            let set = sets(run)[1 + n];
+            let main = view(layer.main);
+            DescriptorWrites::new(pipeline)
+                .image(0, main, general)
+                .image(1, layer.skip.map_or(main, view), general)
+                .image(2, tensors.input.view, general)
+                .image(3, tensors.layers[n].view, general)
+                .buffer(4, run.patch.buffer, run.patch.offset, PATCH_BYTES)
+                .update(device, set);
+            pipeline.dispatch_indirect(
+                device,
+                cmd,
+                set,
+                &(),
+                run.patch.buffer,
+                dispatch_offset(run.patch, layer.level),
+            );
+        }
     }
 }
 
 fn dispatch_offset(patch: PatchRecord, level: u32) -> u64 {
     patch.offset + 16 + 16 * level as u64
+}
+
+/// The three patch records of an extrapolation (`PatchSlot` in shaders/include/patch.wgsl),
+/// each 256 bytes from the last.
+pub const PATCH_SLOT_BYTES: u64 = 256;
+pub const PATCH_SLOT_FI: u64 = 0;
+pub const PATCH_SLOT_NEAR_BE: u64 = 1;
+pub const PATCH_SLOT_BLEND: u64 = 2;
+pub const PATCH_SLOTS_BYTES: u64 = 3 * PATCH_SLOT_BYTES;
+
+/// The record of slot `slot` in `patches`.
+pub fn patch_record(patches: &CounterRange, slot: u64) -> PatchRecord {
+    PatchRecord {
+        buffer: patches.buffer,
+        offset: patches.offset + slot * PATCH_SLOT_BYTES,
+    }
+}
+
+/// Records `plan_patches`: the FI, near-BE and blend patches from the object table, for networks
+/// of `levels` levels (0 for one that does not run).
+#[allow(clippy::too_many_arguments)]
+pub fn record_plan(
+    pipeline: &ComputePipeline,
+    device: &ash::Device,
+    cmd: vk::CommandBuffer,
+    set: vk::DescriptorSet,
+    extent: vk::Extent2D,
+    levels: [u32; 2],
+    table: &CounterRange,
+    patches: &CounterRange,
+) {
+    use crate::shaders::plan_patches as plan;
+    DescriptorWrites::new(pipeline)
+        .buffer(
+            plan::binding::SEGMENTATION,
+            table.buffer,
+            table.offset,
+            table.range,
+        )
+        .buffer(
+            plan::binding::PATCHES,
+            patches.buffer,
+            patches.offset,
+            patches.range,
+        )
+        .update(device, set);
+    let params = plan::Params {
+        extent: [extent.width, extent.height],
+        margin: PATCH_MARGIN,
+        group_edge: GROUP_EDGE,
+        levels,
+    };
+    let one = vk::Extent2D {
+        width: 1,
+        height: 1,
+    };
+    pipeline.dispatch(device, cmd, set, &params, one);
+}
+
+/// What `blend_patches` reads: the region mask and the FI and near-BE networks' tensors (a
+/// network that is off this frame has an empty patch, and its tensors are not read).
+pub struct BlendInputs<'a> {
+    pub regions: &'a OwnedImage,
+    pub networks: [&'a NetworkTensors; 2],
+}
+
+/// Records `blend_patches`: the networks' results scattered into `warped` under the region
+/// masks, over the blend patch.
+pub fn record_blend(
+    pipeline: &ComputePipeline,
+    device: &ash::Device,
+    cmd: vk::CommandBuffer,
+    set: vk::DescriptorSet,
+    inputs: &BlendInputs,
+    patches: &CounterRange,
+    warped: &OwnedImage,
+) {
+    use crate::shaders::blend_patches::binding as blend;
+    let general = vk::ImageLayout::GENERAL;
+    let views = inputs.networks.map(|t| (t.input.view, t.output().view));
+    DescriptorWrites::new(pipeline)
+        .image(blend::REGIONS, inputs.regions.view, general)
+        .image(blend::FI_INPUT, views[0].0, general)
+        .image(blend::FI_OUTPUT, views[0].1, general)
+        .image(blend::NEAR_BE_INPUT, views[1].0, general)
+        .image(blend::NEAR_BE_OUTPUT, views[1].1, general)
+        .buffer(
+            blend::PATCHES,
+            patches.buffer,
+            patches.offset,
+            patches.range,
+        )
+        .image(blend::WARPED, warped.view, general)
+        .update(device, set);
+    let blend_patch = patch_record(patches, PATCH_SLOT_BLEND);
+    pipeline.dispatch_indirect(
+        device,
+        cmd,
+        set,
+        &(),
+        blend_patch.buffer,
+        dispatch_offset(blend_patch, 0),
+    );
+}
+
+/// The two networks of PATCHEX_PRESET_NETWORKS, compiled, with their tensors.
+pub struct Inpainting {
+    /// FI, then near-BE.
+    pub networks: [(NetworkPipelines, NetworkTensors); 2],
+}
+
+impl Inpainting {
+    /// Compiles `networks` (FI, near-BE) with `instances` descriptor sets each, and makes their
+    /// tensors for patches as large as `max_extent`.
+    pub fn new(
+        gpu: &Gpu,
+        allocator: &mut Allocator,
+        networks: [Network; 2],
+        instances: usize,
+        max_extent: vk::Extent2D,
+    ) -> Result<Self> {
+        let mut built: Vec<(NetworkPipelines, NetworkTensors)> = Vec::new();
+        for network in networks {
+            let multiple = network.multiple();
+            let extent = vk::Extent2D {
+                width: max_extent.width.next_multiple_of(multiple),
+                height: max_extent.height.next_multiple_of(multiple),
+            };
+            let made = NetworkPipelines::new(gpu, network, instances).and_then(|mut pipelines| {
+                match NetworkTensors::new(gpu, allocator, &pipelines.network, extent) {
+                    Ok(tensors) => Ok((pipelines, tensors)),
+                    Err(error) => {
+                        pipelines.destroy(&gpu.device);
+                        Err(error)
+                    }
+                }
+            });
+            match made {
+                Ok(pair) => built.push(pair),
+                Err(error) => {
+                    for (mut pipelines, mut tensors) in built {
+                        pipelines.destroy(&gpu.device);
+                        tensors.destroy(gpu, allocator);
+                    }
+                    return Err(error);
+                }
+            }
+        }
+        let networks = <[_; 2]>::try_from(built).unwrap_or_else(|_| unreachable!("two networks"));
+        Ok(Self { networks })
+    }
+
+    /// Level counts for `plan_patches`: 0 for a network that is switched off.
+    pub fn levels(&self, run: [bool; 2]) -> [u32; 2] {
+        [0, 1].map(|i| {
+            if run[i] {
+                self.networks[i].0.network.widths.len() as u32
+            } else {
+                0
+            }
+        })
+    }
+
+    pub fn tensors(&self) -> [&NetworkTensors; 2] {
+        [&self.networks[0].1, &self.networks[1].1]
+    }
+
+    pub fn size_bytes(&self) -> u64 {
+        self.networks.iter().map(|(_, t)| t.size_bytes()).sum()
+    }
+
+    /// Every tensor image, for their first layout transition.
+    pub fn images(&mut self) -> impl Iterator<Item = &mut OwnedImage> {
+        self.networks
+            .iter_mut()
+            .flat_map(|(_, t)| std::iter::once(&mut t.input).chain(t.layers.iter_mut()))
+    }
+
+    pub fn destroy(&mut self, gpu: &Gpu, allocator: &mut Allocator) {
+        for (pipelines, tensors) in &mut self.networks {
+            pipelines.destroy(&gpu.device);
+            tensors.destroy(gpu, allocator);
+        }
+    }
+}
+
+/// The extent `plan_patches` wrote into the patch record at `offset` of the counters.
+pub fn read_patch_extent(counters: &crate::vk::buffer::ReadbackBuffer, offset: u64) -> [u32; 2] {
+    [
+        counters.read_u32(offset + 8),
+        counters.read_u32(offset + 12),
+    ]
 }

@@ -30,7 +30,7 @@ pub use crate::vk::image::Texture;
 pub const SANITIZE_COUNTER_BYTES: u64 = 4;
 
 /// Every stage a frame can run, with the name reports give it.
-pub const STAGE_NAMES: [(PatchexStage, &str); 10] = [
+pub const STAGE_NAMES: [(PatchexStage, &str); 12] = [
     (PATCHEX_STAGE_DEMODULATE, "demodulate"),
     (PATCHEX_STAGE_PACK_SOURCE_GBUFFER, "pack source"),
     (PATCHEX_STAGE_SHADOW_FLOW, "shadow flow"),
@@ -39,6 +39,8 @@ pub const STAGE_NAMES: [(PatchexStage, &str); 10] = [
     (PATCHEX_STAGE_SHADOW_WARP, "shadow warp"),
     (PATCHEX_STAGE_SEGMENT, "segment"),
     (PATCHEX_STAGE_LBP, "lbp"),
+    (PATCHEX_STAGE_INFERENCE, "inference"),
+    (PATCHEX_STAGE_BLEND, "blend"),
     (PATCHEX_STAGE_REMODULATE, "remodulate"),
     (PATCHEX_STAGE_DIAGNOSTICS, "diagnostics"),
 ];
@@ -75,6 +77,8 @@ impl Pipelines {
     pub const SHADOW_FLOW_SOLVE: usize = 16;
     pub const WRITE_SHADOW_DIAGNOSTICS: usize = 17;
     pub const SHADOW_FLOW_UPSAMPLE: usize = 18;
+    pub const PLAN_PATCHES: usize = 19;
+    pub const BLEND_PATCHES: usize = 20;
 
     /// How many pipelines a device holds.
     pub const COUNT: usize = Self::SHADERS.len();
@@ -100,7 +104,7 @@ impl Pipelines {
             }
     }
 
-    const SHADERS: [shaders::ShaderInfo; 19] = [
+    const SHADERS: [shaders::ShaderInfo; 21] = [
         shaders::demodulate::SHADER,
         shaders::pack_gbuffer::SHADER,
         shaders::warp_gbuffer::SHADER,
@@ -120,6 +124,8 @@ impl Pipelines {
         shaders::shadow_flow_solve::SHADER,
         shaders::write_shadow_diagnostics::SHADER,
         shaders::shadow_flow_upsample::SHADER,
+        shaders::plan_patches::SHADER,
+        shaders::blend_patches::SHADER,
     ];
 
     fn new(gpu: &Gpu) -> Result<Self> {

@@ -4,6 +4,7 @@
 
 pub mod demodulate;
 pub mod gbuffer;
+pub mod inpaint;
 pub mod lbp;
 pub mod network;
 pub mod optical_flow;
@@ -54,6 +55,8 @@ pub struct Extrapolation {
     pub warped: warp::Warped,
     pub segmented: segmentation::Segmented,
     pub lbp: Image,
+    /// With networks: their patches, outputs and the blended frame remodulation read.
+    pub inpainted: Option<inpaint::Inpainted>,
     pub shadows: Option<Shadows>,
     /// Pixels of frame t and of the target whose inputs (or result) were sanitised.
     pub source_sanitized: u32,
@@ -68,6 +71,7 @@ pub fn extrapolate(
     alpha: f32,
     warp: &crate::passes::warp::WarpSettings,
     segmentation: &crate::passes::segmentation::SegmentationSettings,
+    networks: [Option<&crate::network::Network>; 2],
 ) -> Extrapolation {
     use crate::passes::pack_gbuffer::params as pack_params;
     let extent = ash::vk::Extent2D {
@@ -172,8 +176,18 @@ pub fn extrapolate(
         segmentation.growth,
     );
     let lbp = lbp::lbp(&warped.warped);
+    let inpainted = networks.iter().any(Option::is_some).then(|| {
+        inpaint::inpaint(
+            networks,
+            &warped.warped,
+            target.material,
+            &lbp,
+            &segmented.regions,
+            &segmented.rects,
+        )
+    });
     let (output, target_sanitized) = remodulate::remodulate(
-        &warped.warped,
+        inpainted.as_ref().map_or(&warped.warped, |i| &i.blended),
         shadows
             .as_ref()
             .map(|s| [&s.warped_layer.warped, &s.surface_layer.warped]),
@@ -186,6 +200,7 @@ pub fn extrapolate(
         warped,
         segmented,
         lbp,
+        inpainted,
         shadows,
         source_sanitized,
         target_sanitized,

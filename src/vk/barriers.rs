@@ -204,6 +204,30 @@ pub fn compute_to_compute(device: &ash::Device, cmd: vk::CommandBuffer, from_tra
     }
 }
 
+/// As `compute_to_compute`, when the next passes also read what was written as indirect
+/// dispatch arguments (the networks' patch records).
+pub fn compute_to_indirect(device: &ash::Device, cmd: vk::CommandBuffer) {
+    let memory = vk::MemoryBarrier::default()
+        .src_access_mask(vk::AccessFlags::SHADER_WRITE)
+        .dst_access_mask(
+            vk::AccessFlags::SHADER_READ
+                | vk::AccessFlags::SHADER_WRITE
+                | vk::AccessFlags::INDIRECT_COMMAND_READ,
+        );
+    // SAFETY: cmd is recording.
+    unsafe {
+        device.cmd_pipeline_barrier(
+            cmd,
+            vk::PipelineStageFlags::COMPUTE_SHADER,
+            vk::PipelineStageFlags::COMPUTE_SHADER | vk::PipelineStageFlags::DRAW_INDIRECT,
+            vk::DependencyFlags::empty(),
+            &[memory],
+            &[],
+            &[],
+        )
+    };
+}
+
 /// Orders earlier compute reads and writes before transfer writes of the same call (the fill
 /// that clears counters an earlier extrapolation of this slot may still hold).
 pub fn compute_to_transfer(device: &ash::Device, cmd: vk::CommandBuffer) {

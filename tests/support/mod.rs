@@ -84,17 +84,38 @@ impl Rig {
         Self::on_engine(engine, Some(intercept), max_width, max_height)
     }
 
+    /// A rig whose create info the test edits first (a preset, a chain).
+    pub fn with_create_info(
+        max_width: u32,
+        max_height: u32,
+        edit: impl FnOnce(&mut PatchexCreateInfo),
+    ) -> Self {
+        let engine = Engine::new(&EngineOptions::default()).expect("a Vulkan device");
+        Self::on_engine_with(engine, None, max_width, max_height, edit)
+    }
+
     fn on_engine(
         engine: Engine,
         intercept: Option<Intercept>,
         max_width: u32,
         max_height: u32,
     ) -> Self {
+        Self::on_engine_with(engine, intercept, max_width, max_height, |_| {})
+    }
+
+    fn on_engine_with(
+        engine: Engine,
+        intercept: Option<Intercept>,
+        max_width: u32,
+        max_height: u32,
+        edit: impl FnOnce(&mut PatchexCreateInfo),
+    ) -> Self {
         let library = open_library();
-        let info = match &intercept {
+        let mut info = match &intercept {
             Some(intercept) => Self::create_info_through(&engine, intercept, max_width, max_height),
             None => Self::create_info(&engine, max_width, max_height),
         };
+        edit(&mut info);
         let context = create(&library, &info).unwrap_or_else(|(_, message)| panic!("{message}"));
         engine.assert_validation_clean();
         Self {

@@ -16,6 +16,7 @@ use std::ffi::c_void;
 
 use patchex::abi::*;
 use patchex::camera::Camera;
+use patchex::context::NetworkSwitches;
 use patchex::error::PatchexResult;
 use patchex::passes::segmentation::SegmentationSettings;
 use patchex::passes::warp::WarpSettings;
@@ -72,6 +73,8 @@ pub struct Outcome {
 pub struct Chained {
     pub warp: Option<WarpSettings>,
     pub segmentation: Option<SegmentationSettings>,
+    /// Which networks run (a context made with PATCHEX_PRESET_NETWORKS only).
+    pub networks: Option<NetworkSwitches>,
 }
 
 fn warp_struct(settings: &WarpSettings) -> PatchexWarpSettings {
@@ -134,10 +137,21 @@ pub fn run_plugin_on(
     let diagnostics_image = output_image(engine, width as u32, height as u32);
 
     // The chain, linked back to front: diagnostics, then whatever settings the test gives.
-    let segmentation = chained.segmentation.as_ref().map(segmentation_struct);
+    let mut segmentation = chained.segmentation.as_ref().map(segmentation_struct);
     let mut warp = chained.warp.as_ref().map(warp_struct);
+    let networks = chained.networks.map(|run| PatchexNetworkSettings {
+        header: PatchexStructHeader::of::<PatchexNetworkSettings>(
+            PATCHEX_STRUCT_TYPE_NETWORK_SETTINGS,
+        ),
+        run_fi: run.fi as u32,
+        run_near_be: run.near_be as u32,
+    });
     let mut next: *const c_void = std::ptr::null();
-    if let Some(segmentation) = &segmentation {
+    if let Some(networks) = &networks {
+        next = networks as *const _ as *const c_void;
+    }
+    if let Some(segmentation) = &mut segmentation {
+        segmentation.header.next = next;
         next = segmentation as *const _ as *const c_void;
     }
     if let Some(warp) = &mut warp {
@@ -201,6 +215,7 @@ pub fn assert_matches_reference(
         outcome.stats.extrapolations[0].alpha,
         &chained.warp.unwrap_or_default(),
         &chained.segmentation.unwrap_or_default(),
+        [None, None],
     );
     let warped = &expected.warped;
     let at_threshold = |x: usize, y: usize| {

@@ -1,0 +1,91 @@
+// Plans where the two inpainting networks run, from the object table that grow_regions left:
+// the FI patch bounds every dynamic object's pixels, the near-BE patch every grown rectangle.
+// Each is widened by a margin of context, clamped to the frame, rounded up to its network's
+// multiple (patch texels past the frame read as zero), and given the indirect dispatch of each
+// of its network's levels. The blend patch bounds both, for the pass that scatters the results
+// back. A frame without dynamic objects, or a network that is off (levels 0), gets an empty
+// patch that dispatches no workgroup. src/reference/inpaint.rs mirrors this pass.
+// #import segmentation
+// #import patch
+
+struct Params {
+    extent: vec2u,
+    margin: u32,
+    group_edge: u32,
+    // Levels of the FI and the near-BE network; 0 for a network that does not run.
+    levels: vec2u,
+}
+var<immediate> params: Params;
+
+@group(0) @binding(0) var<storage, read_write> segmentation: Segmentation;
+@group(0) @binding(1) var<storage, read_write> patches: array<PatchSlot, 3>;
+
+const EMPTY: u32 = 0xffffffffu;
+
+// A rectangle [lo, hi) of the frame; empty unless lo < hi on both axes.
+struct Span {
+    lo: vec2u,
+    hi: vec2u,
+}
+
+fn union_span(a: Span, b: Span) -> Span {
+    if (any(b.lo >= b.hi)) {
+        return a;
+    }
+    return Span(min(a.lo, b.lo), max(a.hi, b.hi));
+}
+
+// The patch a network with `levels` levels runs on over `span`, as (origin, end).
+fn plan(span: Span, levels: u32) -> Span {
+    if (levels == 0u || any(span.lo >= span.hi)) {
+        return Span(vec2u(0u), vec2u(0u));
+    }
+    let origin = span.lo - min(span.lo, vec2u(params.margin));
+    let end = min(span.hi + vec2u(params.margin), params.extent);
+    let multiple = 1u << (levels - 1u);
+    return Span(origin, origin + (end - origin + vec2u(multiple - 1u)) / multiple * multiple);
+}
+
+fn write_patch(slot: u32, planned: Span, levels: u32) {
+    let extent = planned.hi - planned.lo;
+    patches[slot].value.origin = planned.lo;
+    patches[slot].value.extent = extent;
+    for (var level = 0u; level < 6u; level++) {
+        var groups = vec2u(0u);
+        if (level < levels) {
+            groups = ((extent >> vec2u(level)) + vec2u(params.group_edge - 1u)) / params.group_edge;
+        }
+        patches[slot].value.dispatch[level] = vec4u(groups, 1u, 0u);
+    }
+}
+
+@compute @workgroup_size(1, 1, 1)
+fn main() {
+    let nothing = Span(vec2u(EMPTY), vec2u(0u));
+    var fi = nothing;
+    var near_be = nothing;
+    let count = min(atomicLoad(&segmentation.rect_count), MAX_OBJECTS);
+    for (var i = 0u; i < count; i++) {
+        let rect = segmentation.rects[i];
+        let object = rect.object_id;
+        let lo = vec2u(
+            EMPTY - atomicLoad(&segmentation.objects[object].min_flipped[0]),
+            EMPTY - atomicLoad(&segmentation.objects[object].min_flipped[1]),
+        );
+        let hi = vec2u(
+            atomicLoad(&segmentation.objects[object].max[0]),
+            atomicLoad(&segmentation.objects[object].max[1]),
+        ) + vec2u(1u);
+        fi = union_span(fi, Span(lo, hi));
+        near_be = union_span(near_be, Span(vec2u(rect.left, rect.top), vec2u(rect.right, rect.bottom)));
+    }
+    let fi_planned = plan(fi, params.levels.x);
+    let near_be_planned = plan(near_be, params.levels.y);
+    write_patch(PATCH_FI, fi_planned, params.levels.x);
+    write_patch(PATCH_NEAR_BE, near_be_planned, params.levels.y);
+    // The blend is one dispatch at the frame's resolution over what either network wrote.
+    var blend = union_span(union_span(nothing, fi_planned), near_be_planned);
+    blend.hi = min(blend.hi, params.extent);
+    blend.lo = min(blend.lo, blend.hi);
+    write_patch(PATCH_BLEND, blend, 1u);
+}

@@ -1,0 +1,213 @@
+//! Mirror of the passes around the inpainting networks: `plan_patches.wgsl` (where each network
+//! runs), `network_inputs.wgsl` (what it reads) and `blend_patches.wgsl` (where its result
+//! goes). The networks themselves are `reference::network::forward`.
+
+use glam::Vec3;
+
+use super::gbuffer::sanitize;
+use super::network::{forward, Planes};
+use super::{round_to_f16, Image};
+use crate::network::{Network, INPUT_CHANNELS};
+use crate::passes::inpaint::PATCH_MARGIN;
+use crate::passes::segmentation::{REGION_FI, REGION_NEAR_BE};
+
+/// A rectangle of the frame a pass runs over: `[origin, origin + extent)`, possibly reaching
+/// past the frame's right and bottom edges (those texels read as zero).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Patch {
+    pub origin: [u32; 2],
+    pub extent: [u32; 2],
+}
+
+impl Patch {
+    pub fn is_empty(&self) -> bool {
+        self.extent[0] == 0 || self.extent[1] == 0
+    }
+
+    fn contains(&self, x: usize, y: usize) -> bool {
+        let inside = |p: usize, axis: usize| {
+            p >= self.origin[axis] as usize && p < (self.origin[axis] + self.extent[axis]) as usize
+        };
+        inside(x, 0) && inside(y, 1)
+    }
+}
+
+/// `[lo, hi)` on both axes; `None` is the empty span.
+type Span = Option<([u32; 2], [u32; 2])>;
+
+fn union(a: Span, b: Span) -> Span {
+    match (a, b) {
+        (Some((alo, ahi)), Some((blo, bhi))) => Some((
+            [alo[0].min(blo[0]), alo[1].min(blo[1])],
+            [ahi[0].max(bhi[0]), ahi[1].max(bhi[1])],
+        )),
+        (a, None) => a,
+        (None, b) => b,
+    }
+}
+
+/// The patches `plan_patches.wgsl` writes.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Patches {
+    pub fi: Patch,
+    pub near_be: Patch,
+    pub blend: Patch,
+}
+
+/// Plans the patches of a frame of `extent` from its segmentation: FI bounds the FI pixels of
+/// `regions`, near-BE the grown `rects`. `levels` are the FI and near-BE networks' level
+/// counts, 0 for a network that does not run.
+pub fn plan_patches(
+    regions: &Image,
+    rects: &[crate::abi::PatchexRegionRect],
+    levels: [u32; 2],
+) -> Patches {
+    let extent = [regions.width as u32, regions.height as u32];
+    let mut fi: Span = None;
+    for y in 0..regions.height {
+        for x in 0..regions.width {
+            if regions.at(x, y)[0] as u32 == REGION_FI {
+                let p = [x as u32, y as u32];
+                fi = union(fi, Some((p, [p[0] + 1, p[1] + 1])));
+            }
+        }
+    }
+    let near_be = rects.iter().fold(None, |span, r| {
+        union(
+            span,
+            Some(([r.x, r.y], [r.x + r.width, r.y + r.height])).filter(|_| r.width * r.height > 0),
+        )
+    });
+    let plan = |span: Span, levels: u32| -> Patch {
+        let Some((lo, hi)) = span.filter(|_| levels > 0) else {
+            return Patch::default();
+        };
+        let multiple = 1 << (levels - 1);
+        let origin = lo.map(|v| v.saturating_sub(PATCH_MARGIN));
+        let end = [0, 1].map(|a| (hi[a] + PATCH_MARGIN).min(extent[a]));
+        Patch {
+            origin,
+            extent: [0, 1].map(|a| (end[a] - origin[a]).div_ceil(multiple) * multiple),
+        }
+    };
+    let fi = plan(fi, levels[0]);
+    let near_be = plan(near_be, levels[1]);
+    let as_span = |p: Patch| {
+        (!p.is_empty()).then(|| {
+            (
+                p.origin,
+                [p.origin[0] + p.extent[0], p.origin[1] + p.extent[1]],
+            )
+        })
+    };
+    let blend = union(as_span(fi), as_span(near_be)).map_or(Patch::default(), |(lo, hi)| {
+        let hi = [hi[0].min(extent[0]), hi[1].min(extent[1])];
+        Patch {
+            origin: lo,
+            extent: [hi[0] - lo[0], hi[1] - lo[1]],
+        }
+    });
+    Patches { fi, near_be, blend }
+}
+
+/// The network's input planes over `patch` (`network_inputs.wgsl`), rounded to f16 as the GPU
+/// stores them: warped colour, hole, roughness, metallic, LBP, zero.
+pub fn gather_inputs(
+    warped: &Image,
+    material: Option<&Image>,
+    lbp: &Image,
+    patch: Patch,
+) -> Planes {
+    let [width, height] = patch.extent.map(|v| v as usize);
+    let mut planes = Planes::zeros(INPUT_CHANNELS, width, height);
+    for y in 0..height {
+        for x in 0..width {
+            let (fx, fy) = (patch.origin[0] as usize + x, patch.origin[1] as usize + y);
+            if fx >= warped.width || fy >= warped.height {
+                continue;
+            }
+            let w = warped.at(fx, fy);
+            let (metallic, roughness) = match material {
+                Some(material) => {
+                    let m = material.at(fx, fy);
+                    let roughness = m.get(2).copied().unwrap_or(0.0);
+                    let (v, _) = sanitize(Vec3::new(m[0], roughness, 0.0), 0.0, 1.0);
+                    (v.x, v.y)
+                }
+                None => (0.0, 0.5),
+            };
+            let values = [
+                w[0],
+                w[1],
+                w[2],
+                1.0 - w[3],
+                roughness,
+                metallic,
+                lbp.at(fx, fy)[0],
+                0.0,
+            ];
+            for (c, v) in values.into_iter().enumerate() {
+                planes.values[(c * height + y) * width + x] = round_to_f16(v);
+            }
+        }
+    }
+    planes
+}
+
+/// What the networks did to one frame.
+pub struct Inpainted {
+    pub patches: Patches,
+    /// The FI and near-BE networks' outputs over their patches (empty when they did not run).
+    pub outputs: [Planes; 2],
+    /// The warped frame with the repaired pixels blended in.
+    pub blended: Image,
+}
+
+/// Runs both networks on their patches and blends their results into `warped`
+/// (`blend_patches.wgsl`).
+pub fn inpaint(
+    networks: [Option<&Network>; 2],
+    warped: &Image,
+    material: Option<&Image>,
+    lbp: &Image,
+    regions: &Image,
+    rects: &[crate::abi::PatchexRegionRect],
+) -> Inpainted {
+    let levels = networks.map(|n| n.map_or(0, |n| n.widths.len() as u32));
+    let patches = plan_patches(regions, rects, levels);
+    let outputs =
+        [(networks[0], patches.fi), (networks[1], patches.near_be)].map(|(network, patch)| {
+            match network {
+                Some(network) if !patch.is_empty() => {
+                    let input = gather_inputs(warped, material, lbp, patch);
+                    forward(network, &input, true)
+                }
+                _ => Planes::zeros(0, 0, 0),
+            }
+        });
+    let mut blended = warped.clone();
+    let sources = [
+        (REGION_FI, patches.fi, &outputs[0]),
+        (REGION_NEAR_BE, patches.near_be, &outputs[1]),
+    ];
+    for y in 0..warped.height {
+        for x in 0..warped.width {
+            if !patches.blend.contains(x, y) {
+                continue;
+            }
+            let region = regions.at(x, y)[0] as u32;
+            for (id, patch, output) in &sources {
+                if region == *id && !patch.is_empty() && patch.contains(x, y) {
+                    let (px, py) = (x - patch.origin[0] as usize, y - patch.origin[1] as usize);
+                    let rgb = [0, 1, 2].map(|c| output.at(c, px, py));
+                    blended.set(x, y, &[rgb[0], rgb[1], rgb[2], warped.at(x, y)[3]]);
+                }
+            }
+        }
+    }
+    Inpainted {
+        patches,
+        outputs,
+        blended,
+    }
+}

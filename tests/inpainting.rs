@@ -1,0 +1,231 @@
+//! PATCHEX_PRESET_NETWORKS through the C ABI under validation: the planned patches, both
+//! networks and the blend against the plain-Rust reference on rendered frames; a frame without
+//! dynamic objects runs no network; networks switched off per call; weight files by path.
+//!
+//! Tolerance: outside the networks' regions the plugin must match the reference as the warp-only
+//! pipeline does (`support/pipeline.rs`). Inside them the networks add f16 storage of every
+//! tensor, and a pixel at one of the warp's thresholds (excused there) changes the inputs of
+//! every network pixel that sees it, so a repaired pixel matches within 1% plus 2e-3 and at most
+//! 1% of the repaired pixels may miss that.
+
+mod support;
+
+use std::ffi::{c_void, CString};
+
+use patchex::abi::*;
+use patchex::camera::Camera;
+use patchex::context::NetworkSwitches;
+use patchex::error::PatchexResult;
+use patchex::network::{self, Network};
+use patchex::passes::segmentation::{REGION_FI, REGION_NEAR_BE};
+use patchex::reference::{self, Extrapolation, Image};
+use support::pipeline::{inputs, run_plugin, Chained, Outcome};
+use support::rendered::render;
+use support::scene::Frame;
+use support::*;
+
+const WIDTH: u32 = 128;
+const HEIGHT: u32 = 72;
+
+fn shipped() -> [Network; 2] {
+    [
+        Network::from_safetensors(network::SHIPPED_FI, "fi").unwrap(),
+        Network::from_safetensors(network::SHIPPED_NEAR_BE, "near_be").unwrap(),
+    ]
+}
+
+fn networks_rig() -> Rig {
+    Rig::with_create_info(WIDTH, HEIGHT, |info| info.preset = PATCHEX_PRESET_NETWORKS)
+}
+
+fn expected(source: &Frame, target: &Frame, networks: [Option<&Network>; 2]) -> Extrapolation {
+    let source_camera = Camera::from_abi(&source.camera, "source").unwrap();
+    let target_camera = Camera::from_abi(&target.camera, "target").unwrap();
+    reference::extrapolate(
+        &inputs(source, &source_camera),
+        &inputs(target, &target_camera),
+        None,
+        0.5,
+        &Default::default(),
+        &Default::default(),
+        networks,
+    )
+}
+
+/// Largest component difference relative to the tolerance `relative * |want| + absolute`.
+fn error(got: &[f32], want: &[f32], relative: f32, absolute: f32) -> f32 {
+    (0..3)
+        .map(|c| (got[c] - want[c]).abs() / (relative * want[c].abs() + absolute))
+        .fold(0.0, f32::max)
+}
+
+/// Checks the plugin's output against the reference with networks; returns the mean absolute
+/// change the networks made to the repaired pixels.
+fn assert_matches(outcome: &Outcome, with: &Extrapolation, without: &Extrapolation) -> f32 {
+    let regions = &with.segmented.regions;
+    let (mut repaired, mut missed, mut outside_missed, mut change) = (0, 0, 0, 0.0);
+    for y in 0..HEIGHT as usize {
+        for x in 0..WIDTH as usize {
+            let (got, want) = (outcome.output.at(x, y), with.output.at(x, y));
+            let region = regions.at(x, y)[0] as u32;
+            if region == REGION_FI || region == REGION_NEAR_BE {
+                repaired += 1;
+                missed += (error(got, want, 1e-2, 2e-3) > 1.0) as usize;
+                let before = without.output.at(x, y);
+                change += (0..3).map(|c| (want[c] - before[c]).abs()).sum::<f32>() / 3.0;
+            } else {
+                outside_missed += (error(got, want, 2e-3, 1e-4) > 1.0) as usize;
+            }
+        }
+    }
+    println!("{missed} of {repaired} repaired pixels and {outside_missed} others missed");
+    assert!(repaired > 0, "the frame has dynamic objects");
+    assert!(
+        missed * 100 <= repaired,
+        "{missed} of {repaired} repaired pixels differ"
+    );
+    // Far background is the warp's, bit for bit but for threshold pixels (support/pipeline.rs).
+    assert!(outside_missed * 200 <= (WIDTH * HEIGHT) as usize);
+    change / repaired as f32
+}
+
+#[test]
+fn networks_repair_their_regions_as_the_reference_does() {
+    let sequence = render("crossing_street.toml", 2, WIDTH, HEIGHT);
+    let (source, target) = (&sequence.frames[0], &sequence.frames[1]);
+    let rig = networks_rig();
+    let outcome = run_plugin(&rig, source, target, 0.5, &Chained::default());
+    let [fi, near_be] = shipped();
+    let with = expected(source, target, [Some(&fi), Some(&near_be)]);
+    let without = expected(source, target, [None, None]);
+    let change = assert_matches(&outcome, &with, &without);
+    println!("the networks change repaired pixels by {change} on average");
+    assert!(change > 1e-4, "the networks changed the repaired pixels");
+
+    let stats = &outcome.stats.extrapolations[0];
+    for stage in [PATCHEX_STAGE_INFERENCE, PATCHEX_STAGE_BLEND] {
+        assert!(stats.stages_run & 1 << stage != 0, "stage {stage} ran");
+        assert!(
+            stats.gpu_ms[stage as usize] > 0.0,
+            "stage {stage} was timed"
+        );
+    }
+    let pixels = (WIDTH * HEIGHT) as f32;
+    let segmented = &with.segmented;
+    let repaired = (segmented.fi_pixels + segmented.near_be_pixels) as f32 / pixels;
+    assert_eq!(stats.repaired_fraction, repaired);
+    let patches = with.inpainted.as_ref().unwrap().patches;
+    println!("patches: {patches:?}");
+    // Cost follows the objects: the patches cover the characters, not the frame.
+    let area = |p: reference::inpaint::Patch| p.extent[0] * p.extent[1];
+    assert!(area(patches.near_be) < WIDTH * HEIGHT);
+}
+
+#[test]
+fn a_network_switched_off_leaves_its_region_to_the_warp() {
+    let sequence = render("crossing_street.toml", 2, WIDTH, HEIGHT);
+    let (source, target) = (&sequence.frames[0], &sequence.frames[1]);
+    let rig = networks_rig();
+    let chained = Chained {
+        networks: Some(NetworkSwitches {
+            fi: false,
+            near_be: true,
+        }),
+        ..Chained::default()
+    };
+    let outcome = run_plugin(&rig, source, target, 0.5, &chained);
+    let [_, near_be] = shipped();
+    let with = expected(source, target, [None, Some(&near_be)]);
+    let without = expected(source, target, [None, None]);
+    assert_matches(&outcome, &with, &without);
+    let stats = &outcome.stats.extrapolations[0];
+    let pixels = (WIDTH * HEIGHT) as f32;
+    assert_eq!(
+        stats.repaired_fraction,
+        with.segmented.near_be_pixels as f32 / pixels
+    );
+}
+
+#[test]
+fn a_frame_without_dynamic_objects_runs_no_network() {
+    let sequence = render("crossing_street.toml", 2, WIDTH, HEIGHT);
+    let static_frame = |frame: &Frame| {
+        let mut frame = frame.clone();
+        frame.stencil = Image::new(WIDTH as usize, HEIGHT as usize, 1);
+        frame
+    };
+    let (source, target) = (
+        static_frame(&sequence.frames[0]),
+        static_frame(&sequence.frames[1]),
+    );
+    let rig = networks_rig();
+    let outcome = run_plugin(&rig, &source, &target, 0.5, &Chained::default());
+    let stats = &outcome.stats.extrapolations[0];
+    assert_eq!(stats.object_count, 0);
+    assert_eq!(stats.repaired_fraction, 0.0);
+    for stage in [PATCHEX_STAGE_INFERENCE, PATCHEX_STAGE_BLEND] {
+        assert_eq!(stats.stages_run & 1 << stage, 0, "stage {stage} ran");
+    }
+    // And the output is the warp-only pipeline's.
+    let without = expected(&source, &target, [None, None]);
+    let missed = (0..HEIGHT as usize)
+        .flat_map(|y| (0..WIDTH as usize).map(move |x| (x, y)))
+        .filter(|&(x, y)| error(outcome.output.at(x, y), without.output.at(x, y), 2e-3, 1e-4) > 1.0)
+        .count();
+    assert!(
+        missed * 200 <= (WIDTH * HEIGHT) as usize,
+        "{missed} pixels differ"
+    );
+}
+
+/// `PatchexNetworkWeights` loads weight files by path (the test's tiny network); a missing or
+/// broken file, and network settings without the networks preset, are refused with a reason.
+#[test]
+fn weight_files_and_network_settings_are_checked_at_create() {
+    let tiny = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/fixtures/network/tiny.safetensors"
+    );
+    let tiny = CString::new(tiny).unwrap();
+    let missing = CString::new("/nonexistent/fi.safetensors").unwrap();
+    let broken_file = tempfile::NamedTempFile::new().unwrap();
+    std::fs::write(broken_file.path(), b"not a network").unwrap();
+    let broken = CString::new(broken_file.path().to_str().unwrap()).unwrap();
+    let engine = patchex_harness::Engine::new(&Default::default()).unwrap();
+    let library = open_library();
+    let weights = |fi: &CString| PatchexNetworkWeights {
+        header: PatchexStructHeader::of::<PatchexNetworkWeights>(
+            PATCHEX_STRUCT_TYPE_NETWORK_WEIGHTS,
+        ),
+        fi_path: fi.as_ptr(),
+        near_be_path: std::ptr::null(),
+    };
+    let create_with = |preset, chain: *const c_void| {
+        let mut info = Rig::create_info(&engine, 64, 32);
+        info.preset = preset;
+        info.header.next = chain;
+        create(&library, &info)
+    };
+
+    let tiny_weights = weights(&tiny);
+    let context = create_with(PATCHEX_PRESET_NETWORKS, &tiny_weights as *const _ as _)
+        .unwrap_or_else(|(_, message)| panic!("{message}"));
+    // SAFETY: a live context of this library, destroyed once.
+    unsafe { (library.destroy)(context) };
+
+    for (path, reason) in [(&missing, "cannot read"), (&broken, "safetensors")] {
+        let chain = weights(path);
+        let (result, message) =
+            create_with(PATCHEX_PRESET_NETWORKS, &chain as *const _ as _).expect_err("refused");
+        assert_eq!(result, PatchexResult::ErrorInvalidArgument);
+        assert!(message.contains(reason), "{message}");
+    }
+    let (result, message) =
+        create_with(PATCHEX_PRESET_WARP_ONLY, &tiny_weights as *const _ as _).expect_err("refused");
+    assert_eq!(result, PatchexResult::ErrorInvalidArgument);
+    assert!(message.contains("PATCHEX_PRESET_NETWORKS"), "{message}");
+    let (result, message) = create_with(7, std::ptr::null()).expect_err("refused");
+    assert_eq!(result, PatchexResult::ErrorInvalidArgument);
+    assert!(message.contains("preset 7"), "{message}");
+    engine.assert_validation_clean();
+}
