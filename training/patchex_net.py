@@ -17,7 +17,7 @@ import torch
 import torch.nn as nn
 import torch.nn.functional as F
 
-# Input planes, in the order the GPU packs them (src/network/inputs.rs).
+# Input planes, in the order the GPU packs them (shaders/network_inputs.wgsl).
 INPUT_NAMES = ["colour_r", "colour_g", "colour_b", "hole", "roughness", "metallic", "lbp", "zero"]
 INPUT_CHANNELS = len(INPUT_NAMES)
 

@@ -27,6 +27,8 @@ enum Command {
     /// Score every method against the rendered ground truth of datasets: PSNR, SSIM and FLIP
     /// over the frame, holes, FI and near-BE, and GPU time; writes tables and picture strips.
     Eval(commands::eval::EvalArgs),
+    /// Write the inpainting networks' training patches from datasets (for training/train.py).
+    Patches(commands::patches::PatchesArgs),
     /// Render a scene file into a G-buffer dataset sequence.
     Render(commands::render::RenderArgs),
     /// Make a contact sheet PNG of one dataset frame: colour and every G-buffer layer.
@@ -42,6 +44,7 @@ fn main() -> ExitCode {
         Command::Bench(args) => commands::bench::run(args),
         Command::Calibrate(args) => commands::calibrate::run(args),
         Command::Eval(args) => commands::eval::run(args),
+        Command::Patches(args) => commands::patches::run(args),
         Command::Render(args) => commands::render::run(args),
         Command::Sheet(args) => commands::sheet::run(args),
         Command::Inspect(args) => commands::inspect::run(args),

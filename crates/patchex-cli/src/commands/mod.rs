@@ -5,6 +5,7 @@ pub mod eval;
 pub mod inspect;
 pub mod interpolate;
 pub mod metrics;
+pub mod patches;
 pub mod picture;
 pub mod plugin_driver;
 pub mod render;

@@ -1,0 +1,224 @@
+//! `patchex patches DATASET... --out DIR`: the inpainting networks' training data. For every
+//! target frame it runs the plugin's plain-Rust reference extrapolation (bit for bit what the
+//! shaders compute, within f16 rounding), plans the FI and near-BE patches as the plugin does,
+//! and writes each patch as one safetensors file for `training/train.py`:
+//!
+//! - `input` (8, H, W): the planes the network reads, as the GPU gathers them;
+//! - `target` (3, H, W): the rendered target's demodulated colour, what the network should output;
+//! - `region` (H, W): 1 on the pixels whose result is used (the patch's region), else 0;
+//! - `hole` (H, W): 1 where the warp found no source.
+//!
+//! Metadata names the dataset, the frame, the network and the patch's place in the frame.
+
+use std::collections::HashMap;
+use std::path::PathBuf;
+
+use clap::Args;
+use patchex::abi::{PatchexCamera, PATCHEX_DEPTH_LINEAR_VIEW_Z, PATCHEX_NORMAL_SIGNED};
+use patchex::camera::Camera;
+use patchex::passes::segmentation::{SegmentationSettings, REGION_FI, REGION_NEAR_BE};
+use patchex::passes::warp::WarpSettings;
+use patchex::reference::inpaint::{gather_inputs, plan_patches, Patch};
+use patchex::reference::network::Planes;
+use patchex::reference::{self, demodulate::demodulate, FrameInputs, Image};
+use patchex_scene::dataset::{
+    Dataset, BASE_COLOR, CUSTOM_STENCIL, FINAL_IMAGE, METALLIC, MOTION_VECTOR, ROUGHNESS,
+    SCENE_DEPTH, SPECULAR, WORLD_NORMAL,
+};
+use patchex_scene::FrameLayers;
+use safetensors::tensor::{Dtype, TensorView};
+
+use super::CommandResult;
+
+/// Levels of the FI and near-BE networks (`FI_WIDTHS`, `NEAR_BE_WIDTHS` in
+/// training/patchex_net.py): patches are planned as the plugin plans them for these.
+const LEVELS: [u32; 2] = [3, 3];
+
+#[derive(Args)]
+pub struct PatchesArgs {
+    /// Dataset folders written by `patchex render`.
+    #[arg(required = true)]
+    datasets: Vec<PathBuf>,
+    /// Output folder for <dataset>_<frame>_<fi|near_be>.safetensors.
+    #[arg(long)]
+    out: PathBuf,
+}
+
+/// One instant's layers as the reference's images.
+struct Frame {
+    color: Image,
+    base_color: Image,
+    material: Image,
+    depth: Image,
+    normal: Image,
+    stencil: Image,
+    motion: Image,
+    camera: Camera,
+}
+
+fn gather(layers: &FrameLayers, names: &[(&str, usize)]) -> Image {
+    Image::from_fn(layers.width, layers.height, names.len(), |x, y| {
+        names
+            .iter()
+            .map(|(name, channel)| layers.layer(name).value(x, y, *channel))
+            .collect()
+    })
+}
+
+fn rgb1(layers: &FrameLayers, name: &str) -> Image {
+    Image::from_fn(layers.width, layers.height, 4, |x, y| {
+        let p = layers.layer(name).pixel(x, y);
+        vec![p[0], p[1], p[2], 1.0]
+    })
+}
+
+fn frame(dataset: &Dataset, index: usize) -> Result<Frame, Box<dyn std::error::Error>> {
+    let layers = dataset.read_frame(index)?;
+    let info = &dataset.manifest.frames[index];
+    let camera = PatchexCamera {
+        view: info.view,
+        projection: info.proj,
+        jitter: [0.0, 0.0],
+        near: dataset.manifest.near,
+        far: dataset.manifest.far,
+        depth_convention: PATCHEX_DEPTH_LINEAR_VIEW_Z,
+    };
+    Ok(Frame {
+        color: rgb1(&layers, FINAL_IMAGE),
+        base_color: rgb1(&layers, BASE_COLOR),
+        material: gather(&layers, &[(METALLIC, 0), (SPECULAR, 0), (ROUGHNESS, 0)]),
+        depth: gather(&layers, &[(SCENE_DEPTH, 0)]),
+        normal: rgb1(&layers, WORLD_NORMAL),
+        stencil: gather(&layers, &[(CUSTOM_STENCIL, 0)]),
+        motion: gather(&layers, &[(MOTION_VECTOR, 0), (MOTION_VECTOR, 1)]),
+        camera: Camera::from_abi(&camera, "dataset camera")?,
+    })
+}
+
+fn inputs(frame: &Frame) -> FrameInputs<'_> {
+    FrameInputs {
+        color: Some(&frame.color),
+        base_color: &frame.base_color,
+        material: Some(&frame.material),
+        depth: &frame.depth,
+        normal: &frame.normal,
+        stencil: Some(&frame.stencil),
+        motion: Some(&frame.motion),
+        camera: &frame.camera,
+        normal_encoding: PATCHEX_NORMAL_SIGNED,
+        motion_vector_scale: [1.0, 1.0],
+    }
+}
+
+/// `channels` planes of `image` over `patch`, zero past the frame.
+fn crop(image: &Image, channels: usize, patch: Patch, f: impl Fn(&[f32], usize) -> f32) -> Planes {
+    let [width, height] = patch.extent.map(|v| v as usize);
+    let mut planes = Planes::zeros(channels, width, height);
+    for y in 0..height {
+        for x in 0..width {
+            let (fx, fy) = (patch.origin[0] as usize + x, patch.origin[1] as usize + y);
+            if fx < image.width && fy < image.height {
+                for c in 0..channels {
+                    planes.values[(c * height + y) * width + x] = f(image.at(fx, fy), c);
+                }
+            }
+        }
+    }
+    planes
+}
+
+fn write(
+    path: &std::path::Path,
+    tensors: &[(&str, &Planes)],
+    metadata: HashMap<String, String>,
+) -> CommandResult {
+    let bytes: Vec<Vec<u8>> = tensors
+        .iter()
+        .map(|(_, p)| p.values.iter().flat_map(|v| v.to_le_bytes()).collect())
+        .collect();
+    let views = tensors
+        .iter()
+        .zip(&bytes)
+        .map(|((name, planes), bytes)| {
+            let shape = vec![planes.channels, planes.height, planes.width];
+            Ok((name.to_string(), TensorView::new(Dtype::F32, shape, bytes)?))
+        })
+        .collect::<Result<Vec<_>, safetensors::SafeTensorError>>()?;
+    std::fs::write(path, safetensors::serialize(views, Some(metadata))?)?;
+    Ok(())
+}
+
+pub fn run(args: PatchesArgs) -> CommandResult {
+    std::fs::create_dir_all(&args.out)?;
+    let mut written = 0;
+    for dir in &args.datasets {
+        let dataset = Dataset::open(dir)?;
+        let name = dir
+            .file_name()
+            .map_or("dataset".into(), |n| n.to_string_lossy().into_owned());
+        let targets = (0..dataset.manifest.frames.len()).filter(|&i| {
+            let (source, alpha) = dataset.manifest.source_of(i);
+            alpha > 0.0 && source != i
+        });
+        for target_index in targets {
+            let (source_index, alpha) = dataset.manifest.source_of(target_index);
+            let (source, target) = (
+                frame(&dataset, source_index)?,
+                frame(&dataset, target_index)?,
+            );
+            let result = reference::extrapolate(
+                &inputs(&source),
+                &inputs(&target),
+                None,
+                alpha,
+                &WarpSettings::default(),
+                &SegmentationSettings::default(),
+                [None, None],
+            );
+            let (truth, _) = demodulate(&target.color, &target.base_color, Some(&target.material));
+            let regions = &result.segmented.regions;
+            let patches = plan_patches(regions, &result.segmented.rects, LEVELS);
+            for (network, region_id, patch) in [
+                ("fi", REGION_FI, patches.fi),
+                ("near_be", REGION_NEAR_BE, patches.near_be),
+            ] {
+                if patch.is_empty() {
+                    continue;
+                }
+                let warped = &result.warped.warped;
+                let input = gather_inputs(warped, Some(&target.material), &result.lbp, patch);
+                let target_planes = crop(&truth, 3, patch, |p, c| p[c]);
+                let region = crop(regions, 1, patch, |p, _| {
+                    (p[0] as u32 == region_id) as u32 as f32
+                });
+                let hole = crop(warped, 1, patch, |p, _| 1.0 - p[3]);
+                let metadata = HashMap::from([
+                    ("dataset".to_string(), name.clone()),
+                    ("frame".to_string(), target_index.to_string()),
+                    ("network".to_string(), network.to_string()),
+                    ("alpha".to_string(), alpha.to_string()),
+                    ("origin".to_string(), format!("{:?}", patch.origin)),
+                ]);
+                write(
+                    &args
+                        .out
+                        .join(format!("{name}_{target_index:04}_{network}.safetensors")),
+                    &[
+                        ("input", &input),
+                        ("target", &target_planes),
+                        ("region", &region),
+                        ("hole", &hole),
+                    ],
+                    metadata,
+                )?;
+                written += 1;
+            }
+            println!(
+                "{name} frame {target_index}: FI {:?}, near-BE {:?}",
+                patches.fi, patches.near_be
+            );
+        }
+    }
+    println!("{written} patches written to {}", args.out.display());
+    Ok(())
+}
