@@ -2,9 +2,16 @@
 // (PatchEX's F = M1*F1 + M2*F2 + M3*F3): FI pixels take the FI network's result, near-BE pixels
 // the near-BE network's, far-BE pixels keep the warp's. It runs over the blend patch only, so
 // its cost follows the patches' area. The warp's hole flag (alpha) is kept: it says what was
-// guessed, and the diagnostics report it. src/reference/inpaint.rs mirrors this pass.
+// guessed, and the diagnostics report it. With `whole_frame` (the ablation of foveated
+// segmentation) every pixel takes the FI network's result. src/reference/inpaint.rs mirrors
+// this pass.
 // #import patch
 // #import segmentation
+
+struct Params {
+    whole_frame: u32,
+}
+var<immediate> params: Params;
 
 @group(0) @binding(0) var regions: texture_2d<u32>;
 @group(0) @binding(1) var fi_input: texture_2d_array<f32>;
@@ -28,7 +35,7 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     let near_be_patch = patches[PATCH_NEAR_BE].value;
     let p = blend.origin + id.xy;
     let region = textureLoad(regions, p, 0).r;
-    if (region == REGION_FI && inside(p, fi_patch.origin, fi_patch.extent)) {
+    if ((region == REGION_FI || params.whole_frame != 0u) && inside(p, fi_patch.origin, fi_patch.extent)) {
         let q = p - fi_patch.origin;
         // The gathered input's alpha is the hole mask.
         let hole = textureLoad(fi_input, q, 0, 0).a;

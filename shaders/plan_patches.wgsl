@@ -4,7 +4,8 @@
 // multiple (patch texels past the frame read as zero), and given the indirect dispatch of each
 // of its network's levels. The blend patch bounds both, for the pass that scatters the results
 // back. A frame without dynamic objects, or a network that is off (levels 0), gets an empty
-// patch that dispatches no workgroup. src/reference/inpaint.rs mirrors this pass.
+// patch that dispatches no workgroup. With `whole_frame` (the ablation of foveated segmentation)
+// the FI patch is the whole frame instead. src/reference/inpaint.rs mirrors this pass.
 // #import segmentation
 // #import patch
 
@@ -14,6 +15,7 @@ struct Params {
     group_edge: u32,
     // Levels of the FI and the near-BE network; 0 for a network that does not run.
     levels: vec2u,
+    whole_frame: u32,
 }
 var<immediate> params: Params;
 
@@ -78,6 +80,9 @@ fn main() {
         ) + vec2u(1u);
         fi = union_span(fi, Span(lo, hi));
         near_be = union_span(near_be, Span(vec2u(rect.left, rect.top), vec2u(rect.right, rect.bottom)));
+    }
+    if (params.whole_frame != 0u) {
+        fi = Span(vec2u(0u), params.extent);
     }
     let fi_planned = plan(fi, params.levels.x);
     let near_be_planned = plan(near_be, params.levels.y);

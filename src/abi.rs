@@ -411,7 +411,7 @@ pub struct PatchexNetworkWeights {
 
 /// Chainable on PatchexCreateInfo (context default) or PatchexExtrapolateDesc (this call) with
 /// PATCHEX_PRESET_NETWORKS: which region's network runs. A network that is off leaves its
-/// region as the warp made it. Both run by default.
+/// region as the warp made it. Both run by default, each on its region's patch.
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
 pub struct PatchexNetworkSettings {
@@ -419,6 +419,10 @@ pub struct PatchexNetworkSettings {
     pub header: PatchexStructHeader,
     pub run_fi: PatchexBool,
     pub run_near_be: PatchexBool,
+    /// Runs the FI network over the whole frame and takes its result for every pixel; the
+    /// near-BE network does not run. The paper's ablation of foveated segmentation: it costs
+    /// the whole frame's inference and is less accurate (README, evaluation). Needs run_fi.
+    pub whole_frame: PatchexBool,
 }
 
 /// Chainable on PatchexExtrapolateDesc: an engine image that receives per-pixel intermediate

@@ -287,6 +287,8 @@ pub struct NetworkWeightPaths {
 pub struct NetworkSwitches {
     pub fi: bool,
     pub near_be: bool,
+    /// The FI network over the whole frame instead of the patches (needs `fi`).
+    pub whole_frame: bool,
 }
 
 impl Default for NetworkSwitches {
@@ -294,7 +296,15 @@ impl Default for NetworkSwitches {
         Self {
             fi: true,
             near_be: true,
+            whole_frame: false,
         }
+    }
+}
+
+impl NetworkSwitches {
+    /// Which of the FI and near-BE networks run: whole-frame runs FI alone.
+    pub fn running(&self) -> [bool; 2] {
+        [self.fi, self.near_be && !self.whole_frame]
     }
 }
 
@@ -696,6 +706,7 @@ impl Context {
                 stages,
                 alpha: 0.0,
                 camera_cut: false,
+                whole_frame: false,
             },
             extrapolations: Vec::new(),
         });
@@ -939,7 +950,8 @@ impl Context {
                     self.ring
                         .descriptor_set(slot, region, Pipelines::PLAN_PATCHES),
                     inputs.extent,
-                    inpainting.levels([run_networks.fi, run_networks.near_be]),
+                    inpainting.levels(run_networks.running()),
+                    run_networks.whole_frame,
                     &object_table,
                     &patches,
                 );
@@ -979,6 +991,7 @@ impl Context {
                     &inpaint::BlendInputs {
                         regions: &work[WorkImages::REGIONS],
                         networks: inpainting.tensors(),
+                        whole_frame: run_networks.whole_frame,
                     },
                     &patches,
                     &work[WorkImages::WARPED],
@@ -1064,6 +1077,7 @@ impl Context {
             stages,
             alpha: inputs.alpha,
             camera_cut,
+            whole_frame: self.inpainting.is_some() && run_networks.whole_frame,
         });
         Ok(if camera_cut {
             PatchexResult::RenderInstead
@@ -1166,10 +1180,13 @@ impl Context {
             }
             stats.fi_fraction = segmented.fi_pixels as f32 / pixels;
             stats.near_be_fraction = segmented.near_be_pixels as f32 / pixels;
-            stats.repaired_fraction = (fi_ran as u32 * segmented.fi_pixels
-                + near_be_ran as u32 * segmented.near_be_pixels)
-                as f32
-                / pixels;
+            stats.repaired_fraction = if region_record.whole_frame {
+                fi_ran as u32 as f32
+            } else {
+                (fi_ran as u32 * segmented.fi_pixels
+                    + near_be_ran as u32 * segmented.near_be_pixels) as f32
+                    / pixels
+            };
             stats.object_count = segmented.rects.len() as u32;
             for (reported, rect) in stats.rects.iter_mut().zip(&segmented.rects) {
                 *reported = *rect;

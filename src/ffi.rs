@@ -198,10 +198,22 @@ unsafe fn read_chain(
                     kind,
                     "PatchexNetworkSettings",
                 )?;
-                extensions.networks = Some(NetworkSwitches {
+                let switches = NetworkSwitches {
                     fi: boolean(settings.run_fi, "PatchexNetworkSettings.run_fi")?,
                     near_be: boolean(settings.run_near_be, "PatchexNetworkSettings.run_near_be")?,
-                });
+                    whole_frame: boolean(
+                        settings.whole_frame,
+                        "PatchexNetworkSettings.whole_frame",
+                    )?,
+                };
+                if switches.whole_frame && !switches.fi {
+                    bail!(
+                        ErrorInvalidArgument,
+                        "PatchexNetworkSettings.whole_frame runs the FI network over the whole \
+                         frame: it needs run_fi"
+                    );
+                }
+                extensions.networks = Some(switches);
             }
             _ => unreachable!("every accepted struct type is handled"),
         }

@@ -18,6 +18,7 @@ use patchex::context::NetworkSwitches;
 use patchex::error::PatchexResult;
 use patchex::network::{self, Network};
 use patchex::passes::segmentation::{REGION_FI, REGION_NEAR_BE};
+use patchex::reference::inpaint::Networks;
 use patchex::reference::{self, Extrapolation, Image};
 use support::pipeline::{inputs, run_plugin, Chained, Outcome};
 use support::rendered::render;
@@ -38,7 +39,7 @@ fn networks_rig() -> Rig {
     Rig::with_create_info(WIDTH, HEIGHT, |info| info.preset = PATCHEX_PRESET_NETWORKS)
 }
 
-fn expected(source: &Frame, target: &Frame, networks: [Option<&Network>; 2]) -> Extrapolation {
+fn expected(source: &Frame, target: &Frame, networks: Networks) -> Extrapolation {
     let source_camera = Camera::from_abi(&source.camera, "source").unwrap();
     let target_camera = Camera::from_abi(&target.camera, "target").unwrap();
     reference::extrapolate(
@@ -60,15 +61,20 @@ fn error(got: &[f32], want: &[f32], relative: f32, absolute: f32) -> f32 {
 }
 
 /// Checks the plugin's output against the reference with networks; returns the mean absolute
-/// change the networks made to the repaired pixels.
-fn assert_matches(outcome: &Outcome, with: &Extrapolation, without: &Extrapolation) -> f32 {
+/// change the networks made to the repaired pixels (every pixel with `whole_frame`).
+fn assert_matches(
+    outcome: &Outcome,
+    with: &Extrapolation,
+    without: &Extrapolation,
+    whole_frame: bool,
+) -> f32 {
     let regions = &with.segmented.regions;
     let (mut repaired, mut missed, mut outside_missed, mut change) = (0, 0, 0, 0.0);
     for y in 0..HEIGHT as usize {
         for x in 0..WIDTH as usize {
             let (got, want) = (outcome.output.at(x, y), with.output.at(x, y));
             let region = regions.at(x, y)[0] as u32;
-            if region == REGION_FI || region == REGION_NEAR_BE {
+            if whole_frame || region == REGION_FI || region == REGION_NEAR_BE {
                 repaired += 1;
                 missed += (error(got, want, 1e-2, 2e-3) > 1.0) as usize;
                 let before = without.output.at(x, y);
@@ -96,9 +102,17 @@ fn networks_repair_their_regions_as_the_reference_does() {
     let rig = networks_rig();
     let outcome = run_plugin(&rig, source, target, 0.5, &Chained::default());
     let [fi, near_be] = shipped();
-    let with = expected(source, target, [Some(&fi), Some(&near_be)]);
-    let without = expected(source, target, [None, None]);
-    let change = assert_matches(&outcome, &with, &without);
+    let with = expected(
+        source,
+        target,
+        Networks {
+            fi: Some(&fi),
+            near_be: Some(&near_be),
+            whole_frame: false,
+        },
+    );
+    let without = expected(source, target, Networks::default());
+    let change = assert_matches(&outcome, &with, &without, false);
     println!("the networks change repaired pixels by {change} on average");
     assert!(change > 1e-4, "the networks changed the repaired pixels");
 
@@ -129,21 +143,58 @@ fn a_network_switched_off_leaves_its_region_to_the_warp() {
     let chained = Chained {
         networks: Some(NetworkSwitches {
             fi: false,
-            near_be: true,
+            ..NetworkSwitches::default()
         }),
         ..Chained::default()
     };
     let outcome = run_plugin(&rig, source, target, 0.5, &chained);
     let [_, near_be] = shipped();
-    let with = expected(source, target, [None, Some(&near_be)]);
-    let without = expected(source, target, [None, None]);
-    assert_matches(&outcome, &with, &without);
+    let with = expected(
+        source,
+        target,
+        Networks {
+            near_be: Some(&near_be),
+            ..Networks::default()
+        },
+    );
+    let without = expected(source, target, Networks::default());
+    assert_matches(&outcome, &with, &without, false);
     let stats = &outcome.stats.extrapolations[0];
     let pixels = (WIDTH * HEIGHT) as f32;
     assert_eq!(
         stats.repaired_fraction,
         with.segmented.near_be_pixels as f32 / pixels
     );
+}
+
+/// The ablation of foveated segmentation: the FI network over the whole frame, every pixel
+/// repaired, as the reference does.
+#[test]
+fn whole_frame_runs_the_fi_network_over_every_pixel() {
+    let sequence = render("crossing_street.toml", 2, WIDTH, HEIGHT);
+    let (source, target) = (&sequence.frames[0], &sequence.frames[1]);
+    let rig = networks_rig();
+    let chained = Chained {
+        networks: Some(NetworkSwitches {
+            whole_frame: true,
+            ..NetworkSwitches::default()
+        }),
+        ..Chained::default()
+    };
+    let outcome = run_plugin(&rig, source, target, 0.5, &chained);
+    let [fi, near_be] = shipped();
+    let networks = Networks {
+        fi: Some(&fi),
+        near_be: Some(&near_be),
+        whole_frame: true,
+    };
+    let with = expected(source, target, networks);
+    let without = expected(source, target, Networks::default());
+    assert_matches(&outcome, &with, &without, true);
+    let patches = with.inpainted.as_ref().unwrap().patches;
+    assert_eq!(patches.blend.extent, [WIDTH, HEIGHT]);
+    assert!(patches.near_be.is_empty());
+    assert_eq!(outcome.stats.extrapolations[0].repaired_fraction, 1.0);
 }
 
 #[test]
@@ -167,7 +218,7 @@ fn a_frame_without_dynamic_objects_runs_no_network() {
         assert_eq!(stats.stages_run & 1 << stage, 0, "stage {stage} ran");
     }
     // And the output is the warp-only pipeline's.
-    let without = expected(&source, &target, [None, None]);
+    let without = expected(&source, &target, Networks::default());
     let missed = (0..HEIGHT as usize)
         .flat_map(|y| (0..WIDTH as usize).map(move |x| (x, y)))
         .filter(|&(x, y)| error(outcome.output.at(x, y), without.output.at(x, y), 2e-3, 1e-4) > 1.0)
@@ -224,6 +275,18 @@ fn weight_files_and_network_settings_are_checked_at_create() {
         create_with(PATCHEX_PRESET_WARP_ONLY, &tiny_weights as *const _ as _).expect_err("refused");
     assert_eq!(result, PatchexResult::ErrorInvalidArgument);
     assert!(message.contains("PATCHEX_PRESET_NETWORKS"), "{message}");
+    let whole_frame_without_fi = PatchexNetworkSettings {
+        header: PatchexStructHeader::of::<PatchexNetworkSettings>(
+            PATCHEX_STRUCT_TYPE_NETWORK_SETTINGS,
+        ),
+        run_fi: 0,
+        run_near_be: 1,
+        whole_frame: 1,
+    };
+    let chain = &whole_frame_without_fi as *const _ as _;
+    let (result, message) = create_with(PATCHEX_PRESET_NETWORKS, chain).expect_err("refused");
+    assert_eq!(result, PatchexResult::ErrorInvalidArgument);
+    assert!(message.contains("whole_frame"), "{message}");
     let (result, message) = create_with(7, std::ptr::null()).expect_err("refused");
     assert_eq!(result, PatchexResult::ErrorInvalidArgument);
     assert!(message.contains("preset 7"), "{message}");

@@ -111,7 +111,7 @@ fn reference_run(
         alpha,
         &Default::default(),
         &Default::default(),
-        [None, None],
+        Default::default(),
     )
 }
 

@@ -311,7 +311,7 @@ pub fn patch_record(patches: &CounterRange, slot: u64) -> PatchRecord {
 }
 
 /// Records `plan_patches`: the FI, near-BE and blend patches from the object table, for networks
-/// of `levels` levels (0 for one that does not run).
+/// of `levels` levels (0 for one that does not run); with `whole_frame`, FI's is the frame.
 #[allow(clippy::too_many_arguments)]
 pub fn record_plan(
     pipeline: &ComputePipeline,
@@ -320,6 +320,7 @@ pub fn record_plan(
     set: vk::DescriptorSet,
     extent: vk::Extent2D,
     levels: [u32; 2],
+    whole_frame: bool,
     table: &CounterRange,
     patches: &CounterRange,
 ) {
@@ -343,6 +344,8 @@ pub fn record_plan(
         margin: PATCH_MARGIN,
         group_edge: GROUP_EDGE,
         levels,
+        whole_frame: whole_frame as u32,
+        _pad_end: [0; 4],
     };
     let one = vk::Extent2D {
         width: 1,
@@ -356,6 +359,8 @@ pub fn record_plan(
 pub struct BlendInputs<'a> {
     pub regions: &'a OwnedImage,
     pub networks: [&'a NetworkTensors; 2],
+    /// Every pixel of the FI patch takes the FI network's result.
+    pub whole_frame: bool,
 }
 
 /// Records `blend_patches`: the networks' results scattered into `warped` under the region
@@ -391,7 +396,9 @@ pub fn record_blend(
         device,
         cmd,
         set,
-        &(),
+        &crate::shaders::blend_patches::Params {
+            whole_frame: inputs.whole_frame as u32,
+        },
         blend_patch.buffer,
         dispatch_offset(blend_patch, 0),
     );

@@ -46,6 +46,21 @@ fn union(a: Span, b: Span) -> Span {
     }
 }
 
+/// The networks a reference extrapolation runs (`PatchexNetworkSettings`); none by default.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Networks<'a> {
+    pub fi: Option<&'a Network>,
+    pub near_be: Option<&'a Network>,
+    /// The FI network over the whole frame, repairing every pixel; near-BE does not run.
+    pub whole_frame: bool,
+}
+
+impl Networks<'_> {
+    pub fn any(&self) -> bool {
+        self.fi.is_some() || self.near_be.is_some()
+    }
+}
+
 /// The patches `plan_patches.wgsl` writes.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Patches {
@@ -55,12 +70,13 @@ pub struct Patches {
 }
 
 /// Plans the patches of a frame of `extent` from its segmentation: FI bounds the FI pixels of
-/// `regions`, near-BE the grown `rects`. `levels` are the FI and near-BE networks' level
-/// counts, 0 for a network that does not run.
+/// `regions`, near-BE the grown `rects`; with `whole_frame`, FI bounds the frame. `levels` are
+/// the FI and near-BE networks' level counts, 0 for a network that does not run.
 pub fn plan_patches(
     regions: &Image,
     rects: &[crate::abi::PatchexRegionRect],
     levels: [u32; 2],
+    whole_frame: bool,
 ) -> Patches {
     let extent = [regions.width as u32, regions.height as u32];
     let mut fi: Span = None;
@@ -71,6 +87,9 @@ pub fn plan_patches(
                 fi = union(fi, Some((p, [p[0] + 1, p[1] + 1])));
             }
         }
+    }
+    if whole_frame {
+        fi = Some(([0, 0], extent));
     }
     let near_be = rects.iter().fold(None, |span, r| {
         union(
@@ -163,28 +182,28 @@ pub struct Inpainted {
     pub blended: Image,
 }
 
-/// Runs both networks on their patches and blends their results into `warped`
+/// Runs the networks on their patches and blends their results into `warped`
 /// (`blend_patches.wgsl`).
 pub fn inpaint(
-    networks: [Option<&Network>; 2],
+    networks: Networks,
     warped: &Image,
     material: Option<&Image>,
     lbp: &Image,
     regions: &Image,
     rects: &[crate::abi::PatchexRegionRect],
 ) -> Inpainted {
-    let levels = networks.map(|n| n.map_or(0, |n| n.widths.len() as u32));
-    let patches = plan_patches(regions, rects, levels);
-    let outputs =
-        [(networks[0], patches.fi), (networks[1], patches.near_be)].map(|(network, patch)| {
-            match network {
-                Some(network) if !patch.is_empty() => {
-                    let input = gather_inputs(warped, material, lbp, patch);
-                    forward(network, &input, true)
-                }
-                _ => Planes::zeros(0, 0, 0),
+    let near_be = networks.near_be.filter(|_| !networks.whole_frame);
+    let levels = [networks.fi, near_be].map(|n| n.map_or(0, |n| n.widths.len() as u32));
+    let patches = plan_patches(regions, rects, levels, networks.whole_frame);
+    let outputs = [(networks.fi, patches.fi), (near_be, patches.near_be)].map(
+        |(network, patch)| match network {
+            Some(network) if !patch.is_empty() => {
+                let input = gather_inputs(warped, material, lbp, patch);
+                forward(network, &input, true)
             }
-        });
+            _ => Planes::zeros(0, 0, 0),
+        },
+    );
     let mut blended = warped.clone();
     let sources = [
         (REGION_FI, patches.fi, &outputs[0]),
@@ -196,6 +215,11 @@ pub fn inpaint(
                 continue;
             }
             let region = regions.at(x, y)[0] as u32;
+            let region = if networks.whole_frame {
+                REGION_FI
+            } else {
+                region
+            };
             for (id, patch, output) in &sources {
                 if region == *id && !patch.is_empty() && patch.contains(x, y) {
                     let (px, py) = (x - patch.origin[0] as usize, y - patch.origin[1] as usize);

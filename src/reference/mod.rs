@@ -71,7 +71,7 @@ pub fn extrapolate(
     alpha: f32,
     warp: &crate::passes::warp::WarpSettings,
     segmentation: &crate::passes::segmentation::SegmentationSettings,
-    networks: [Option<&crate::network::Network>; 2],
+    networks: inpaint::Networks,
 ) -> Extrapolation {
     use crate::passes::pack_gbuffer::params as pack_params;
     let extent = ash::vk::Extent2D {
@@ -176,7 +176,7 @@ pub fn extrapolate(
         segmentation.growth,
     );
     let lbp = lbp::lbp(&warped.warped);
-    let inpainted = networks.iter().any(Option::is_some).then(|| {
+    let inpainted = networks.any().then(|| {
         inpaint::inpaint(
             networks,
             &warped.warped,

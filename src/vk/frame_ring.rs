@@ -31,6 +31,8 @@ pub struct RegionRecord {
     pub alpha: f32,
     /// The target was a camera cut from frame t.
     pub camera_cut: bool,
+    /// The FI network ran over the whole frame (`PatchexNetworkSettings.whole_frame`).
+    pub whole_frame: bool,
 }
 
 #[derive(Clone, Debug)]

@@ -145,6 +145,7 @@ pub fn run_plugin_on(
         ),
         run_fi: run.fi as u32,
         run_near_be: run.near_be as u32,
+        whole_frame: run.whole_frame as u32,
     });
     let mut next: *const c_void = std::ptr::null();
     if let Some(networks) = &networks {
@@ -215,7 +216,7 @@ pub fn assert_matches_reference(
         outcome.stats.extrapolations[0].alpha,
         &chained.warp.unwrap_or_default(),
         &chained.segmentation.unwrap_or_default(),
-        [None, None],
+        Default::default(),
     );
     let warped = &expected.warped;
     let at_threshold = |x: usize, y: usize| {

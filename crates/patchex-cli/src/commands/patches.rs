@@ -173,11 +173,11 @@ pub fn run(args: PatchesArgs) -> CommandResult {
                 alpha,
                 &WarpSettings::default(),
                 &SegmentationSettings::default(),
-                [None, None],
+                Default::default(),
             );
             let (truth, _) = demodulate(&target.color, &target.base_color, Some(&target.material));
             let regions = &result.segmented.regions;
-            let patches = plan_patches(regions, &result.segmented.rects, LEVELS);
+            let patches = plan_patches(regions, &result.segmented.rects, LEVELS, false);
             for (network, region_id, patch) in [
                 ("fi", REGION_FI, patches.fi),
                 ("near_be", REGION_NEAR_BE, patches.near_be),
