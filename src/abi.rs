@@ -255,7 +255,9 @@ pub struct PatchexFrameDesc {
     pub color: PatchexImage,
     /// Base colour (albedo) in RGB.
     pub base_color: PatchexImage,
-    /// Optional: R metallic, G specular (Unreal's GBufferB). Absent means metallic 0, specular 0.5.
+    /// Optional: R metallic, G specular, B roughness (Unreal's GBufferB). Absent means
+    /// metallic 0, specular 0.5, roughness 0.5. Roughness is read by the inpainting networks
+    /// only; a two-channel image reads roughness 0.
     pub material: PatchexImage,
     pub geometry: PatchexGeometry,
 }
@@ -276,6 +278,7 @@ pub struct PatchexExtrapolateDesc {
     pub width: u32,
     pub height: u32,
     pub base_color: PatchexImage,
+    /// As PatchexFrameDesc's, at the target instant.
     pub material: PatchexImage,
     pub geometry: PatchexGeometry,
     /// Receives the extrapolated linear HDR colour. R16G16B16A16_SFLOAT with STORAGE usage.

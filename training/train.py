@@ -10,7 +10,8 @@ a batch of 16 random 64x64 crops centred on pixels of the region, flipped left-r
 The loss follows the paper (section 5.3), over the pixels whose result the plugin keeps (the
 patch's region), on Reinhard-tone-mapped colour so that bright pixels do not drown the rest:
 L1 over the region + 0.5 L1 over its holes + 0.5 L1 over its valid pixels + 0.1 perceptual
-(feature L1) + 0.01 style (Gram-matrix L1). The perceptual and style terms use VGG-16's first
+(feature L1) + 0.01 style (Gram-matrix L1); `--no-perceptual` drops the last two (the paper's
+ablation). The perceptual and style terms use VGG-16's first
 three blocks when `--vgg16 PATH` names a file of its ImageNet weights (a PyTorch state dict with
 torchvision's `features.N.weight` names); otherwise a fixed, seeded, randomly initialised
 network of the same shape (random-feature perceptual loss): no download is needed, and the
@@ -104,8 +105,9 @@ def gram(f):
 
 
 class Loss:
-    def __init__(self, features, mean, std):
+    def __init__(self, features, mean, std, perceptual_weights):
         self.features, self.mean, self.std = features, mean, std
+        self.perceptual_weight, self.style_weight = perceptual_weights
 
     def __call__(self, output, target, region, hole):
         out, tgt = tone_map(output), tone_map(target)
@@ -123,7 +125,8 @@ class Loss:
         ft = self.features((tgt - self.mean) / self.std)
         perceptual = sum((a - b).abs().mean() for a, b in zip(fc, ft))
         style = sum((gram(a) - gram(b)).abs().mean() for a, b in zip(fc, ft))
-        total = l1 + 0.5 * l1_hole + 0.5 * l1_valid + 0.1 * perceptual + 0.01 * style
+        total = l1 + 0.5 * l1_hole + 0.5 * l1_valid
+        total = total + self.perceptual_weight * perceptual + self.style_weight * style
         parts = {"l1": l1, "hole": l1_hole, "valid": l1_valid, "perceptual": perceptual, "style": style}
         return total, {k: v.item() for k, v in parts.items()}
 
@@ -257,6 +260,11 @@ def main():
     parser.add_argument("--vgg16", help="VGG-16 ImageNet state dict for the perceptual terms")
     parser.add_argument("--test-scenes", default="crossing_street,fast_run")
     parser.add_argument("--networks", default="fi,near_be")
+    parser.add_argument(
+        "--no-perceptual",
+        action="store_true",
+        help="drop the perceptual and style terms (the paper's ablation); still reported",
+    )
     args = parser.parse_args()
 
     torch.set_num_threads(max(1, os.cpu_count() or 1))
@@ -264,11 +272,14 @@ def main():
     os.makedirs(args.out, exist_ok=True)
     test_scenes = set(filter(None, args.test_scenes.split(",")))
     features, mean, std, perceptual_name = feature_network(args.vgg16)
-    loss_fn = Loss(features, mean, std)
+    perceptual_weights = (0.0, 0.0) if args.no_perceptual else (0.1, 0.01)
+    loss_fn = Loss(features, mean, std, perceptual_weights)
     started = time.time()
     manifest = {
         "command": "python training/train.py " + " ".join(
-            f"--{k.replace('_', '-')} {v}" for k, v in vars(args).items() if v is not None
+            f"--{k.replace('_', '-')}" if v is True else f"--{k.replace('_', '-')} {v}"
+            for k, v in vars(args).items()
+            if v is not None and v is not False
         ),
         "seed": args.seed,
         "epochs": args.epochs,
@@ -277,6 +288,7 @@ def main():
         "crop": CROP,
         "learning_rate": args.lr,
         "perceptual": perceptual_name,
+        "loss_weights": {"l1": 1.0, "hole": 0.5, "valid": 0.5, "perceptual": perceptual_weights[0], "style": perceptual_weights[1]},
         "test_scenes": sorted(test_scenes),
         "networks": {},
     }

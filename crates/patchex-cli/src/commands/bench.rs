@@ -23,7 +23,7 @@ use serde_json::json;
 
 use super::metrics::{error_maps, Pooled};
 use super::picture::tone_map;
-use super::plugin_driver::PluginDriver;
+use super::plugin_driver::{NetworkChoice, PluginDriver};
 use super::render::parse_size;
 use super::CommandResult;
 
@@ -34,6 +34,10 @@ pub enum Configuration {
     OcclusionMotion,
     Gbuffer,
     GbufferShadows,
+    /// The full method: G-buffer warp, shadows and the networks on their patches.
+    Patchex,
+    /// The same networks over the whole frame (the ablation of foveated segmentation).
+    PatchexWholeFrame,
 }
 
 impl Configuration {
@@ -43,6 +47,8 @@ impl Configuration {
             Configuration::OcclusionMotion => "occlusion-motion-vector warp",
             Configuration::Gbuffer => "G-buffer-guided warp",
             Configuration::GbufferShadows => "G-buffer-guided warp + shadows",
+            Configuration::Patchex => "PatchEX: + networks on patches",
+            Configuration::PatchexWholeFrame => "PatchEX, networks over the whole frame",
         }
     }
 
@@ -50,7 +56,22 @@ impl Configuration {
         match self {
             Configuration::MotionVector => PATCHEX_WARP_MOTION_VECTOR,
             Configuration::OcclusionMotion => PATCHEX_WARP_OCCLUSION_MOTION_VECTOR,
-            Configuration::Gbuffer | Configuration::GbufferShadows => PATCHEX_WARP_GBUFFER_GUIDED,
+            _ => PATCHEX_WARP_GBUFFER_GUIDED,
+        }
+    }
+
+    fn with_shadows(self) -> bool {
+        self >= Configuration::GbufferShadows
+    }
+
+    fn networks(self) -> Option<NetworkChoice> {
+        match self {
+            Configuration::Patchex => Some(NetworkChoice::default()),
+            Configuration::PatchexWholeFrame => Some(NetworkChoice {
+                weights: None,
+                whole_frame: true,
+            }),
+            _ => None,
         }
     }
 
@@ -60,6 +81,8 @@ impl Configuration {
             Configuration::OcclusionMotion => RGBColor(86, 180, 233),
             Configuration::Gbuffer => RGBColor(0, 158, 115),
             Configuration::GbufferShadows => RGBColor(204, 121, 167),
+            Configuration::Patchex => RGBColor(213, 94, 0),
+            Configuration::PatchexWholeFrame => RGBColor(0, 114, 178),
         }
     }
 }
@@ -85,7 +108,7 @@ pub struct BenchArgs {
     #[arg(
         long,
         value_delimiter = ',',
-        default_value = "motion-vector,occlusion-motion,gbuffer,gbuffer-shadows"
+        default_value = "motion-vector,occlusion-motion,gbuffer,gbuffer-shadows,patchex,patchex-whole-frame"
     )]
     configurations: Vec<Configuration>,
     /// Frames of the doubled stream rendered per scene and size; targets are the odd frames
@@ -122,9 +145,8 @@ const STAGE_GROUPS: [(&str, &[PatchexStage]); 5] = [
             PATCHEX_STAGE_LBP,
         ],
     ),
-    // The inpainting networks (issue 6) are not in this build.
-    ("inference", &[]),
-    ("blending", &[PATCHEX_STAGE_REMODULATE]),
+    ("inference", &[PATCHEX_STAGE_INFERENCE]),
+    ("blending", &[PATCHEX_STAGE_BLEND, PATCHEX_STAGE_REMODULATE]),
 ];
 
 /// One configuration at one size, over every scene's targets.
@@ -219,13 +241,14 @@ fn measure(
                    target: &FrameLayers,
                    index: usize| {
         frame_index += 2;
-        let shadows = configuration == Configuration::GbufferShadows;
+        let shadows = configuration.with_shadows();
         driver.extrapolate(
             frame_index,
             (source, &manifest.frames[index - 1]),
             (target, &manifest.frames[index]),
             0.5,
             Some(configuration.warp()),
+            configuration.networks().as_ref(),
             false,
             shadows.then_some(Some((earlier, &manifest.frames[index - 3]))),
         )
@@ -284,7 +307,7 @@ fn report(args: &BenchArgs, configurations: &[Configuration], results: &[Vec<Mea
         "Every configuration on the same targets of {} ({} frames each, targets from frame 3 \
          on, alpha 0.5), quality of the tone-mapped frame against the rendered target; GPU ms \
          per target from timestamp queries (submit plus extrapolation), grouped as the PatchEX \
-         runtime table. Inference is empty: the networks are not in this build.\n",
+         runtime table.\n",
         scenes.join(" and "),
         args.frames
     )
@@ -351,14 +374,55 @@ fn report(args: &BenchArgs, configurations: &[Configuration], results: &[Vec<Mea
         .map_or(0.0, |m| m.dynamic_fraction / m.targets.max(1) as f64);
     writeln!(
         out,
-        "\nDynamic content (FI plus near-BE) covers {:.1}% of the target pixels on average. No \
-         stage of this build depends on its area: every pass runs over the whole frame, and the \
-         segmentation's cost is per pixel. With the networks, inference will follow the patch \
-         area.",
+        "\nDynamic content (FI plus near-BE) covers {:.1}% of the target pixels on average. \
+         Inference and the blend run over the patches around it; every other pass runs over the \
+         whole frame.",
         100.0 * dynamic
     )
     .unwrap();
+    patch_ratio_table(&mut out, args, configurations, results);
     out
+}
+
+/// Inference time of the networks over the whole frame against on their patches, per size:
+/// what foveated segmentation saves.
+fn patch_ratio_table(
+    out: &mut String,
+    args: &BenchArgs,
+    configurations: &[Configuration],
+    results: &[Vec<Measured>],
+) {
+    let find = |wanted| configurations.iter().position(|c| *c == wanted);
+    let (Some(patches), Some(whole)) = (
+        find(Configuration::Patchex),
+        find(Configuration::PatchexWholeFrame),
+    ) else {
+        return;
+    };
+    let inference = STAGE_GROUPS
+        .iter()
+        .position(|(name, _)| *name == "inference")
+        .expect("an inference group");
+    writeln!(
+        out,
+        "\nNetwork inference on the patches against the same networks over the whole frame, \
+         GPU ms per target, measured in this run:\n\n\
+         | size | patches ms | whole frame ms | whole frame / patches |\n|---|---|---|---|"
+    )
+    .unwrap();
+    for (size, row) in args.sizes.iter().zip(results) {
+        let (on_patches, on_frame) = (
+            row[patches].mean_group_ms(inference),
+            row[whole].mean_group_ms(inference),
+        );
+        writeln!(
+            out,
+            "| {} | {on_patches:.1} | {on_frame:.1} | {:.1}x |",
+            size_label(*size),
+            on_frame / on_patches
+        )
+        .unwrap();
+    }
 }
 
 fn report_json(

@@ -15,7 +15,7 @@ use patchex_scene::dataset::{render_sequence, Dataset, FrameRole, SequenceOption
 use patchex_scene::{Gpu, GpuOptions, World};
 
 use super::picture::{psnr, tone_map, write_strip};
-use super::plugin_driver::PluginDriver;
+use super::plugin_driver::{NetworkChoice, PluginDriver};
 use super::render::parse_size;
 use super::CommandResult;
 
@@ -44,6 +44,11 @@ pub struct DemoArgs {
     /// shadows creep and change shape, it costs more than it gains (README, Evaluation).
     #[arg(long)]
     shadows: bool,
+    /// Run the inpainting networks on the FI and near-BE patches (PATCHEX_PRESET_NETWORKS, the
+    /// built-in weights). Off by default: the shipped weights barely change the frame yet
+    /// (README, Evaluation).
+    #[arg(long)]
+    networks: bool,
 }
 
 struct Row {
@@ -121,6 +126,7 @@ pub fn run(args: DemoArgs) -> CommandResult {
             (&target_layers, &manifest.frames[target]),
             0.5,
             None,
+            args.networks.then(NetworkChoice::default).as_ref(),
             false,
             args.shadows.then_some(earlier),
         )?;

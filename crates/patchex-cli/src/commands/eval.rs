@@ -5,6 +5,9 @@
 //!
 //! Every method is scored over the same pixels: the regions are the plugin's (they depend only
 //! on the target's G-buffers), and the holes are those of the default G-buffer-guided warp.
+//!
+//! The network methods (PatchEX and its ablations) are meant for the test scenes, which the
+//! shipped networks never saw in training (assets/networks/manifest.json).
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
@@ -22,7 +25,7 @@ use serde_json::json;
 use super::interpolate::interpolate;
 use super::metrics::{error_maps, ErrorMaps, Pooled};
 use super::picture::{to_rgb8, tone_map, write_grid};
-use super::plugin_driver::PluginDriver;
+use super::plugin_driver::{NetworkChoice, PluginDriver};
 use super::CommandResult;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, ValueEnum)]
@@ -35,6 +38,16 @@ pub enum Method {
     /// The default warp with the shadow sub-task: shadows of dynamic objects separated, tracked
     /// by optical flow and moved.
     GbufferShadows,
+    /// PatchEX: the G-buffer-guided warp, the shadow sub-task and the inpainting networks on
+    /// the FI and near-BE patches (PATCHEX_PRESET_NETWORKS).
+    Patchex,
+    /// Ablation: PatchEX without shadow separation.
+    PatchexNoShadows,
+    /// Ablation: PatchEX without foveated segmentation (the FI network over the whole frame).
+    PatchexWholeFrame,
+    /// Ablation: PatchEX with networks trained without the perceptual and style terms
+    /// (`--no-perceptual-weights`).
+    PatchexNoPerceptual,
     /// Bidirectional interpolation with frame t+1: the upper reference, a frame of latency.
     Interpolation,
 }
@@ -47,6 +60,10 @@ impl Method {
             Method::OcclusionMotion => "occlusion-motion-vector warp",
             Method::Gbuffer => "G-buffer-guided warp (default)",
             Method::GbufferShadows => "G-buffer-guided warp + shadow sub-task",
+            Method::Patchex => "PatchEX (warp + shadows + networks on patches)",
+            Method::PatchexNoShadows => "PatchEX without shadow separation",
+            Method::PatchexWholeFrame => "PatchEX without foveated segmentation",
+            Method::PatchexNoPerceptual => "PatchEX without the perceptual term",
             Method::Interpolation => "interpolation (uses frame t+1)",
         }
     }
@@ -55,8 +72,39 @@ impl Method {
         match self {
             Method::MotionVector => Some(PATCHEX_WARP_MOTION_VECTOR),
             Method::OcclusionMotion => Some(PATCHEX_WARP_OCCLUSION_MOTION_VECTOR),
-            Method::Gbuffer | Method::GbufferShadows => Some(PATCHEX_WARP_GBUFFER_GUIDED),
+            Method::Gbuffer
+            | Method::GbufferShadows
+            | Method::Patchex
+            | Method::PatchexNoShadows
+            | Method::PatchexWholeFrame
+            | Method::PatchexNoPerceptual => Some(PATCHEX_WARP_GBUFFER_GUIDED),
             Method::Copy | Method::Interpolation => None,
+        }
+    }
+
+    fn with_shadows(self) -> bool {
+        matches!(
+            self,
+            Method::GbufferShadows
+                | Method::Patchex
+                | Method::PatchexWholeFrame
+                | Method::PatchexNoPerceptual
+        )
+    }
+
+    /// The inpainting networks the method runs, if any.
+    fn networks(self, args: &EvalArgs) -> Option<NetworkChoice> {
+        match self {
+            Method::Patchex | Method::PatchexNoShadows => Some(NetworkChoice::default()),
+            Method::PatchexWholeFrame => Some(NetworkChoice {
+                weights: None,
+                whole_frame: true,
+            }),
+            Method::PatchexNoPerceptual => Some(NetworkChoice {
+                weights: Some(args.no_perceptual_weights.clone()),
+                whole_frame: false,
+            }),
+            _ => None,
         }
     }
 }
@@ -82,6 +130,9 @@ pub struct EvalArgs {
     /// Run the plugin under the Vulkan validation layer; fail on any message.
     #[arg(long)]
     validation: bool,
+    /// Weights of the ablation without the perceptual term (fi.safetensors, near_be.safetensors).
+    #[arg(long, default_value = "assets/networks/ablations/no_perceptual")]
+    no_perceptual_weights: PathBuf,
 }
 
 /// A pixel is in a dynamic object's shadow where the mask is below this.
@@ -278,25 +329,27 @@ fn evaluate(
             .zip(&current.layer(SHADOW_MASK).data)
             .map(|(before, after)| *before < SHADOWED || *after < SHADOWED)
             .collect();
-        let mut run_plugin = |kind, with_diagnostics, with_shadows: bool| {
-            // Two indices a run: frame t-1 and frame t when shadows are tracked.
-            frame_index += 2;
-            driver.extrapolate(
-                frame_index,
-                (&previous, &manifest.frames[source]),
-                (&current, &manifest.frames[target]),
-                alpha,
-                Some(kind),
-                with_diagnostics,
-                with_shadows.then(|| {
-                    earlier
-                        .as_ref()
-                        .map(|(layers, index)| (layers, &manifest.frames[*index]))
-                }),
-            )
-        };
+        let mut run_plugin =
+            |kind, networks: Option<NetworkChoice>, with_diagnostics, with_shadows: bool| {
+                // Two indices a run: frame t-1 and frame t when shadows are tracked.
+                frame_index += 2;
+                driver.extrapolate(
+                    frame_index,
+                    (&previous, &manifest.frames[source]),
+                    (&current, &manifest.frames[target]),
+                    alpha,
+                    Some(kind),
+                    networks.as_ref(),
+                    with_diagnostics,
+                    with_shadows.then(|| {
+                        earlier
+                            .as_ref()
+                            .map(|(layers, index)| (layers, &manifest.frames[*index]))
+                    }),
+                )
+            };
         // The default warp's diagnostics give every method's regions and holes.
-        let reference = run_plugin(PATCHEX_WARP_GBUFFER_GUIDED, true, false)?;
+        let reference = run_plugin(PATCHEX_WARP_GBUFFER_GUIDED, None, true, false)?;
         let diagnostics = reference.diagnostics.as_ref().expect("asked for");
         let holes: Vec<bool> = diagnostics.chunks(4).map(|d| d[0] > 0.5).collect();
         let regions: Vec<u32> = diagnostics
@@ -316,7 +369,8 @@ fn evaluate(
                     (tone_map(&reference.color, 4), Some(reference.stats))
                 }
                 Some(kind) => {
-                    let run = run_plugin(kind, false, method == Method::GbufferShadows)?;
+                    let run =
+                        run_plugin(kind, method.networks(args), false, method.with_shadows())?;
                     (tone_map(&run.color, 4), Some(run.stats))
                 }
                 None if method == Method::Copy => {

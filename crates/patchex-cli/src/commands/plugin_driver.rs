@@ -1,8 +1,12 @@
 //! Plays the engine for the plugin on dataset frames: uploads a frame's layers into engine-owned
 //! images, calls `patchex_submit_gbuffers` and `patchex_extrapolate` through the C ABI of the
-//! loaded shared library, and reads the output back.
+//! loaded shared library, and reads the output back. Warp-only calls go to a context made with
+//! PATCHEX_PRESET_WARP_ONLY; calls with networks to one made with PATCHEX_PRESET_NETWORKS per
+//! weights folder, made on first use.
 
-use std::ffi::c_void;
+use std::cell::RefCell;
+use std::ffi::{c_void, CString};
+use std::path::{Path, PathBuf};
 use std::ptr;
 
 use ash::vk;
@@ -14,15 +18,27 @@ use patchex::passes::warp::WarpSettings;
 use patchex_harness::{Engine, EngineImage, EngineOptions};
 use patchex_scene::dataset::{
     FrameInfo, FrameLayers, Manifest, BASE_COLOR, CUSTOM_STENCIL, FINAL_IMAGE,
-    FINAL_IMAGE_NO_DYNAMIC_SHADOWS, METALLIC, MOTION_VECTOR, SCENE_DEPTH, SHADOW_MASK, SPECULAR,
-    WORLD_NORMAL,
+    FINAL_IMAGE_NO_DYNAMIC_SHADOWS, METALLIC, MOTION_VECTOR, ROUGHNESS, SCENE_DEPTH, SHADOW_MASK,
+    SPECULAR, WORLD_NORMAL,
 };
 
 /// The layout the driver keeps every engine image in between calls.
 const LAYOUT: vk::ImageLayout = vk::ImageLayout::GENERAL;
 
+/// The inpainting networks a call runs (PATCHEX_PRESET_NETWORKS).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct NetworkChoice {
+    /// A folder with fi.safetensors and near_be.safetensors; the built-in weights without one.
+    pub weights: Option<PathBuf>,
+    /// The FI network over the whole frame (`PatchexNetworkSettings.whole_frame`).
+    pub whole_frame: bool,
+}
+
 pub struct PluginDriver {
+    /// PATCHEX_PRESET_WARP_ONLY.
     context: *mut PatchexContext,
+    /// PATCHEX_PRESET_NETWORKS, one per weights folder.
+    network_contexts: RefCell<Vec<(Option<PathBuf>, *mut PatchexContext)>>,
     library: PatchexLibrary,
     pub engine: Engine,
     width: u32,
@@ -87,26 +103,10 @@ impl PluginDriver {
         // SAFETY: the library is built from this workspace.
         let library = unsafe { PatchexLibrary::open(&path)? };
         let (width, height) = (manifest.width as u32, manifest.height as u32);
-        let info = PatchexCreateInfo::new(
-            engine.instance.handle(),
-            engine.physical_device,
-            engine.device.handle(),
-            engine.get_instance_proc_addr(),
-            engine.queue_family_index,
-            width,
-            height,
-        );
-        let mut context = ptr::null_mut();
-        // SAFETY: valid create info from a live engine.
-        let result = unsafe { (library.create)(&info, &mut context) };
-        if result != PatchexResult::Success {
-            // SAFETY: NULL asks for this thread's last error.
-            return Err(format!("patchex_create: {}", unsafe {
-                library.last_error_message(ptr::null())
-            }));
-        }
+        let context = create(&library, &engine, width, height, None)?;
         Ok(Self {
             context,
+            network_contexts: RefCell::new(Vec::new()),
             library,
             engine,
             width,
@@ -114,6 +114,27 @@ impl PluginDriver {
             near: manifest.near,
             far: manifest.far,
         })
+    }
+
+    /// The context that runs `networks`, made on first use.
+    fn context_for(&self, networks: Option<&NetworkChoice>) -> Result<*mut PatchexContext, String> {
+        let Some(networks) = networks else {
+            return Ok(self.context);
+        };
+        let mut contexts = self.network_contexts.borrow_mut();
+        if let Some((_, context)) = contexts.iter().find(|(w, _)| *w == networks.weights) {
+            return Ok(*context);
+        }
+        let weights = Some(networks.weights.as_deref());
+        let context = create(
+            &self.library,
+            &self.engine,
+            self.width,
+            self.height,
+            weights,
+        )?;
+        contexts.push((networks.weights.clone(), context));
+        Ok(context)
     }
 
     fn upload(
@@ -146,6 +167,7 @@ impl PluginDriver {
                     &[
                         layers.layer(METALLIC).plane(0),
                         layers.layer(SPECULAR).plane(0),
+                        layers.layer(ROUGHNESS).plane(0),
                     ],
                 ),
             ),
@@ -216,7 +238,8 @@ impl PluginDriver {
     }
 
     /// Submits `source` as frame `frame_index` and extrapolates the `target` instant from it,
-    /// with the context's default warp or `warp`, and the diagnostics image if asked. With
+    /// with the context's default warp or `warp`, the inpainting `networks` if given, and the
+    /// diagnostics image if asked. With
     /// `shadows`, both frames go with their shadow input, and frame t-1 (`shadows`' frame, when
     /// there is one) is submitted first as frame `frame_index - 1`, so the shadow's motion is
     /// tracked.
@@ -228,9 +251,11 @@ impl PluginDriver {
         target: (&FrameLayers, &FrameInfo),
         alpha: f32,
         warp: Option<PatchexWarpKind>,
+        networks: Option<&NetworkChoice>,
         with_diagnostics: bool,
         shadows: Option<Option<(&FrameLayers, &FrameInfo)>>,
     ) -> Result<Extrapolated, String> {
+        let context = self.context_for(networks)?;
         let with_shadows = shadows.is_some();
         let earlier = shadows
             .flatten()
@@ -239,12 +264,28 @@ impl PluginDriver {
         let target = self.upload(target.0, target.1, false, false);
         let output = self.output_image();
         let diagnostics_image = with_diagnostics.then(|| self.output_image());
+        let network_settings = networks.map(|networks| PatchexNetworkSettings {
+            header: PatchexStructHeader::of::<PatchexNetworkSettings>(
+                PATCHEX_STRUCT_TYPE_NETWORK_SETTINGS,
+            ),
+            run_fi: 1,
+            run_near_be: 1,
+            whole_frame: networks.whole_frame as PatchexBool,
+        });
+        // The chain, back to front: network settings, warp settings, then diagnostics.
+        let mut next: *const c_void = ptr::null();
+        if let Some(settings) = &network_settings {
+            next = settings as *const PatchexNetworkSettings as *const c_void;
+        }
         let warp_settings = warp.map(|kind| {
             let defaults = WarpSettings::default();
             PatchexWarpSettings {
-                header: PatchexStructHeader::of::<PatchexWarpSettings>(
-                    PATCHEX_STRUCT_TYPE_WARP_SETTINGS,
-                ),
+                header: PatchexStructHeader {
+                    next,
+                    ..PatchexStructHeader::of::<PatchexWarpSettings>(
+                        PATCHEX_STRUCT_TYPE_WARP_SETTINGS,
+                    )
+                },
                 kind,
                 kernel_radius: defaults.kernel_radius,
                 sigma_spatial: defaults.sigma_spatial,
@@ -254,8 +295,6 @@ impl PluginDriver {
                 occlusion_search_radius: defaults.occlusion_search_radius,
             }
         });
-        // The chain, back to front: warp settings, then diagnostics.
-        let mut next: *const c_void = ptr::null();
         if let Some(settings) = &warp_settings {
             next = settings as *const PatchexWarpSettings as *const c_void;
         }
@@ -312,17 +351,17 @@ impl PluginDriver {
             // SAFETY: live context; the images live until the submission completes.
             unsafe {
                 if let Some(earlier_frame) = &earlier_frame {
-                    results[0] = (self.library.submit_gbuffers)(self.context, cmd, earlier_frame);
+                    results[0] = (self.library.submit_gbuffers)(context, cmd, earlier_frame);
                 }
-                results[1] = (self.library.submit_gbuffers)(self.context, cmd, &frame);
-                results[2] = (self.library.extrapolate)(self.context, cmd, &extrapolate);
+                results[1] = (self.library.submit_gbuffers)(context, cmd, &frame);
+                results[2] = (self.library.extrapolate)(context, cmd, &extrapolate);
             }
         });
         // A camera cut (RENDER_INSTEAD, positive) still writes the output: the stats say so.
         if results.iter().any(|result| (*result as i32) < 0) {
             // SAFETY: live context.
             return Err(format!("patchex: {}", unsafe {
-                self.library.last_error_message(self.context)
+                self.library.last_error_message(context)
             }));
         }
         // SAFETY: zeroed stats are a valid bit pattern; the header is set before the call.
@@ -330,8 +369,7 @@ impl PluginDriver {
         stats.header =
             PatchexStructHeader::of::<PatchexFrameStats>(PATCHEX_STRUCT_TYPE_FRAME_STATS);
         // SAFETY: live context, writable stats; the frame's fence has signalled.
-        let result =
-            unsafe { (self.library.get_frame_stats)(self.context, frame_index, &mut stats) };
+        let result = unsafe { (self.library.get_frame_stats)(context, frame_index, &mut stats) };
         if result != PatchexResult::Success {
             return Err(format!("patchex_get_frame_stats returned {result:?}"));
         }
@@ -353,6 +391,63 @@ impl Drop for PluginDriver {
         unsafe {
             let _ = self.engine.device.device_wait_idle();
             (self.library.destroy)(self.context);
+            for (_, context) in self.network_contexts.get_mut().drain(..) {
+                (self.library.destroy)(context);
+            }
         }
     }
+}
+
+/// A context for `width` x `height` on `engine`: warp-only without `networks`, else with the
+/// networks of the weights folder it names (or the built-in ones).
+fn create(
+    library: &PatchexLibrary,
+    engine: &Engine,
+    width: u32,
+    height: u32,
+    networks: Option<Option<&Path>>,
+) -> Result<*mut PatchexContext, String> {
+    let mut info = PatchexCreateInfo::new(
+        engine.instance.handle(),
+        engine.physical_device,
+        engine.device.handle(),
+        engine.get_instance_proc_addr(),
+        engine.queue_family_index,
+        width,
+        height,
+    );
+    let path = |name: &str, folder: &Path| {
+        CString::new(folder.join(name).to_string_lossy().as_bytes())
+            .map_err(|_| format!("{}: a path with a NUL byte", folder.display()))
+    };
+    let paths = match networks.flatten() {
+        Some(folder) => Some((
+            path("fi.safetensors", folder)?,
+            path("near_be.safetensors", folder)?,
+        )),
+        None => None,
+    };
+    let weights = paths.as_ref().map(|(fi, near_be)| PatchexNetworkWeights {
+        header: PatchexStructHeader::of::<PatchexNetworkWeights>(
+            PATCHEX_STRUCT_TYPE_NETWORK_WEIGHTS,
+        ),
+        fi_path: fi.as_ptr(),
+        near_be_path: near_be.as_ptr(),
+    });
+    if networks.is_some() {
+        info.preset = PATCHEX_PRESET_NETWORKS;
+    }
+    if let Some(weights) = &weights {
+        info.header.next = weights as *const PatchexNetworkWeights as *const c_void;
+    }
+    let mut context = ptr::null_mut();
+    // SAFETY: valid create info from a live engine; the chained paths outlive the call.
+    let result = unsafe { (library.create)(&info, &mut context) };
+    if result != PatchexResult::Success {
+        // SAFETY: NULL asks for this thread's last error.
+        return Err(format!("patchex_create: {}", unsafe {
+            library.last_error_message(ptr::null())
+        }));
+    }
+    Ok(context)
 }
