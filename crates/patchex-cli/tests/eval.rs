@@ -94,6 +94,39 @@ fn eval_scores_every_method_over_every_region() {
     assert!(methods[copy]["gpu_ms"].is_null());
 }
 
+/// PatchEX and two ablations through the networks preset, under validation: the networks ran
+/// (inference and blend timed) and are scored as every other method.
+#[test]
+fn eval_scores_the_networks_and_their_ablations() {
+    let out = tempfile::tempdir().unwrap();
+    let dataset = render_crossing_street(out.path(), "160x90");
+    let report = out.path().join("eval");
+    run(&[
+        "eval",
+        dataset.to_str().unwrap(),
+        "--methods",
+        "gbuffer,patchex,patchex-no-shadows,patchex-whole-frame",
+        "--validation",
+        "--out",
+        report.to_str().unwrap(),
+    ]);
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(report.join("eval.json")).unwrap()).unwrap();
+    let methods = json["scenes"][0]["methods"].as_array().unwrap();
+    let stage = |method: usize, name: &str| {
+        methods[method]["gpu_ms_per_stage"][name]
+            .as_f64()
+            .unwrap_or(0.0)
+    };
+    assert_eq!(stage(0, "inference"), 0.0);
+    for method in 1..4 {
+        assert!(stage(method, "inference") > 0.0, "{}", methods[method]);
+        assert!(stage(method, "blend") > 0.0, "{}", methods[method]);
+        let psnr = methods[method]["regions"]["frame"]["psnr"].as_f64().unwrap();
+        assert!(psnr > 20.0, "{}", methods[method]);
+    }
+}
+
 /// Calibration on characters walking across a street: the extension of the high-variation
 /// region beside each character grows with its horizontal motion, as the paper found.
 #[test]
