@@ -2,7 +2,8 @@
 # Renders every scene in scenes/ at 640x360 (17 frames: 8 targets between rendered frames), fits
 # the segmentation's k_x and k_y on them, and scores every method against the ground truth.
 # Writes out/datasets/, out/calibration.json and out/eval/ (eval.md, eval.json, strips/); then
-# renders three scenes as 3x streams and scores both instants into out/eval_3x/.
+# renders three scenes as 3x streams and scores both instants into out/eval_3x/; last, PatchEX
+# and its ablations on the two test scenes into out/eval_networks/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
@@ -24,3 +25,6 @@ for name in crossing_street fast_run shadow_terrain; do
 done
 target/release/patchex eval "${datasets_3x[@]}" --out out/eval_3x \
     --methods copy,motion-vector,occlusion-motion,gbuffer,gbuffer-shadows
+# PatchEX and its ablations on the test scenes, which the shipped networks never saw in training.
+target/release/patchex eval out/datasets/crossing_street out/datasets/fast_run --out out/eval_networks \
+    --methods copy,motion-vector,occlusion-motion,gbuffer,gbuffer-shadows,patchex,patchex-no-shadows,patchex-whole-frame,patchex-no-perceptual,interpolation

@@ -5,7 +5,9 @@
 # Writes out/datasets_train/, out/patches/ and out/networks/ (weights, manifest.json,
 # loss_curve.png); copy out/networks/* to assets/networks/ to ship them. PyTorch (~3 GB) goes
 # into out/torchenv; about 15 minutes of training on two CPU cores, less on a GPU.
-# Arguments are passed to training/train.py (e.g. --vgg16 PATH, --epochs N).
+# Arguments are passed to training/train.py (e.g. --vgg16 PATH, --epochs N); the ablation without
+# the perceptual term is `scripts/train.sh --no-perceptual --out out/networks_no_perceptual`
+# (shipped in assets/networks/ablations/no_perceptual/).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh python3-venv
