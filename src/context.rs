@@ -348,19 +348,18 @@ impl Context {
             );
         }
         // Read before any Vulkan object is made: a bad file costs nothing to refuse.
-        let networks = match with_networks {
-            true => {
-                let paths = defaults.network_weights.clone().unwrap_or_default();
-                Some([
-                    network::load(paths.fi.as_deref(), network::SHIPPED_FI, "FI")?,
-                    network::load(
-                        paths.near_be.as_deref(),
-                        network::SHIPPED_NEAR_BE,
-                        "near-BE",
-                    )?,
-                ])
-            }
-            false => None,
+        let networks = if with_networks {
+            let paths = defaults.network_weights.clone().unwrap_or_default();
+            Some([
+                network::load(paths.fi.as_deref(), network::SHIPPED_FI, "FI")?,
+                network::load(
+                    paths.near_be.as_deref(),
+                    network::SHIPPED_NEAR_BE,
+                    "near-BE",
+                )?,
+            ])
+        } else {
+            None
         };
         if !(1..=MAX_FRAMES_IN_FLIGHT).contains(&info.frames_in_flight) {
             bail!(

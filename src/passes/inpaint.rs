@@ -217,6 +217,14 @@ pub struct NetworkRun<'a> {
     pub patch: PatchRecord,
 }
 
+impl NetworkRun<'_> {
+    /// This run's descriptor sets: the gather's, then one per layer.
+    fn sets(&self) -> &[vk::DescriptorSet] {
+        let per_instance = 1 + self.pipelines.layers.len();
+        &self.pipelines.sets[self.instance * per_instance..][..per_instance]
+    }
+}
+
 /// Records the gather and every layer of each network in `runs`, level by level across the
 /// networks: one barrier orders a step of all of them, so no network waits for another's work.
 /// Each patch record must be written and visible to compute shaders and indirect reads.
@@ -224,12 +232,8 @@ pub fn record(gpu: &Gpu, cmd: vk::CommandBuffer, inputs: &FrameInputs, runs: &[N
     let device = &gpu.device;
     let general = vk::ImageLayout::GENERAL;
     let material = inputs.material.unwrap_or(inputs.placeholder);
-    let sets = |run: &NetworkRun| {
-        let per_instance = 1 + run.pipelines.layers.len();
-        run.pipelines.sets[run.instance * per_instance..][..per_instance].to_vec()
-    };
     for run in runs {
-        let set = sets(run)[0];
+        let set = run.sets()[0];
         DescriptorWrites::new(&run.pipelines.gather)
             .image(binding::WARPED, inputs.warped.view, inputs.warped.layout)
             .image(binding::MATERIAL, material.view, material.layout)
@@ -269,7 +273,7 @@ pub fn record(gpu: &Gpu, cmd: vk::CommandBuffer, inputs: &FrameInputs, runs: &[N
                 Tensor::Input => tensors.input.view,
                 Tensor::Layer(n) => tensors.layers[n].view,
             };
-            let set = sets(run)[1 + n];
+            let set = run.sets()[1 + n];
             let main = view(layer.main);
             DescriptorWrites::new(pipeline)
                 .image(0, main, general)

@@ -30,7 +30,10 @@ fn bench_measures_every_configuration_at_every_size_and_plots_the_trade() {
         for group in ["G-buffer", "warping", "preprocessing", "blending"] {
             assert!(row["gpu_ms"][group].as_f64().unwrap() > 0.0, "{row}");
         }
-        let networks = row["configuration"].as_str().unwrap().starts_with("Patchex");
+        let networks = row["configuration"]
+            .as_str()
+            .unwrap()
+            .starts_with("Patchex");
         let inference = row["gpu_ms"]["inference"].as_f64().unwrap();
         assert_eq!(inference > 0.0, networks, "{row}");
     }

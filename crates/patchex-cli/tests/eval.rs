@@ -113,17 +113,16 @@ fn eval_scores_the_networks_and_their_ablations() {
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(report.join("eval.json")).unwrap()).unwrap();
     let methods = json["scenes"][0]["methods"].as_array().unwrap();
-    let stage = |method: usize, name: &str| {
-        methods[method]["gpu_ms_per_stage"][name]
-            .as_f64()
-            .unwrap_or(0.0)
+    let stage = |method: &serde_json::Value, name: &str| {
+        method["gpu_ms_per_stage"][name].as_f64().unwrap_or(0.0)
     };
-    assert_eq!(stage(0, "inference"), 0.0);
-    for method in 1..4 {
-        assert!(stage(method, "inference") > 0.0, "{}", methods[method]);
-        assert!(stage(method, "blend") > 0.0, "{}", methods[method]);
-        let psnr = methods[method]["regions"]["frame"]["psnr"].as_f64().unwrap();
-        assert!(psnr > 20.0, "{}", methods[method]);
+    assert_eq!(methods.len(), 4);
+    assert_eq!(stage(&methods[0], "inference"), 0.0);
+    for method in &methods[1..] {
+        assert!(stage(method, "inference") > 0.0, "{method}");
+        assert!(stage(method, "blend") > 0.0, "{method}");
+        let psnr = method["regions"]["frame"]["psnr"].as_f64().unwrap();
+        assert!(psnr > 20.0, "{method}");
     }
 }
 
