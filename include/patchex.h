@@ -296,7 +296,9 @@ typedef struct PatchexFrameDesc {
   struct PatchexImage color;
   // Base colour (albedo) in RGB.
   struct PatchexImage base_color;
-  // Optional: R metallic, G specular (Unreal's GBufferB). Absent means metallic 0, specular 0.5.
+  // Optional: R metallic, G specular, B roughness (Unreal's GBufferB). Absent means
+  // metallic 0, specular 0.5, roughness 0.5. Roughness is read by the inpainting networks
+  // only; a two-channel image reads roughness 0.
   struct PatchexImage material;
   struct PatchexGeometry geometry;
 } PatchexFrameDesc;
@@ -315,6 +317,7 @@ typedef struct PatchexExtrapolateDesc {
   uint32_t width;
   uint32_t height;
   struct PatchexImage base_color;
+  // As PatchexFrameDesc's, at the target instant.
   struct PatchexImage material;
   struct PatchexGeometry geometry;
   // Receives the extrapolated linear HDR colour. R16G16B16A16_SFLOAT with STORAGE usage.

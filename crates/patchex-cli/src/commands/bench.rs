@@ -89,11 +89,12 @@ impl Configuration {
 
 #[derive(Args)]
 pub struct BenchArgs {
-    /// Scene files (TOML) to render and measure.
+    /// Scene files (TOML) to render and measure; by default the test scenes, which the shipped
+    /// networks never saw in training.
     #[arg(
         long,
         value_delimiter = ',',
-        default_value = "scenes/shadow_terrain.toml,scenes/crossing_street.toml"
+        default_value = "scenes/crossing_street.toml,scenes/fast_run.toml"
     )]
     scenes: Vec<PathBuf>,
     /// Resolutions, WIDTHxHEIGHT.
