@@ -378,7 +378,8 @@ typedef struct PatchexExtrapolationStats {
   // The stages this extrapolation ran, as bits 1 << PATCHEX_STAGE_*.
   uint32_t stages_run;
   // Fraction of target pixels whose colour an inpainting network replaced (FI and near-BE
-  // pixels of the networks that ran); 0 without networks or dynamic objects.
+  // pixels of the networks that ran; 1 with PatchexNetworkSettings.whole_frame); 0 without
+  // networks or dynamic objects.
   float repaired_fraction;
 } PatchexExtrapolationStats;
 

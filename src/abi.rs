@@ -543,7 +543,8 @@ pub struct PatchexExtrapolationStats {
     /// The stages this extrapolation ran, as bits 1 << PATCHEX_STAGE_*.
     pub stages_run: u32,
     /// Fraction of target pixels whose colour an inpainting network replaced (FI and near-BE
-    /// pixels of the networks that ran); 0 without networks or dynamic objects.
+    /// pixels of the networks that ran; 1 with PatchexNetworkSettings.whole_frame); 0 without
+    /// networks or dynamic objects.
     pub repaired_fraction: f32,
 }
 
