@@ -1,13 +1,14 @@
-//! GPU time per stage of the warp-only pipeline, without and with the shadow sub-task, at 360p,
-//! 720p and 1080p, from Vulkan timestamp queries, validation off. Run with `cargo bench --bench extrapolate` (set PATCHEX_DEVICE to
-//! pick a device by name). Reports medians and, since the machine may be shared and noisy,
+//! GPU time per stage of the warp pipeline, without and with the shadow sub-task
+//! (PATCHEX_PRESET_WARP_AND_SHADOWS), at 360p, 720p and 1080p, from Vulkan timestamp queries,
+//! validation off. Run with `cargo bench --bench extrapolate` (set PATCHEX_DEVICE to pick a
+//! device by name). Reports medians and, since the machine may be shared and noisy,
 //! ratios between sizes measured in the same run.
 
 #[path = "../tests/support/mod.rs"]
 mod support;
 
 use glam::Vec2;
-use patchex::abi::{PatchexStage, PATCHEX_STAGE_DIAGNOSTICS};
+use patchex::abi::{PatchexStage, PATCHEX_PRESET_WARP_AND_SHADOWS, PATCHEX_STAGE_DIAGNOSTICS};
 use patchex::error::PatchexResult;
 use patchex::passes::STAGE_NAMES;
 use patchex_harness::EngineOptions;
@@ -35,7 +36,9 @@ fn measure(width: usize, height: usize, shadows: bool) -> (Vec<f32>, f32, String
         validation: false,
         ..Default::default()
     };
-    let rig = Rig::with_options(width as u32, height as u32, &options);
+    let rig = Rig::configured(width as u32, height as u32, &options, |info| {
+        info.preset = PATCHEX_PRESET_WARP_AND_SHADOWS
+    });
     let engine = &rig.engine;
     let family = engine.queue_family_index;
     let (gpu_source, gpu_target) = (

@@ -178,8 +178,11 @@ typedef struct PatchexStructHeader {
   const void *next;
 } PatchexStructHeader;
 
-// Trade of speed against accuracy. The shadow sub-task runs in either preset whenever a frame
-// comes with a PatchexShadowInput.
+// Trade of speed against accuracy: which sub-tasks a context can run, cheapest first (README,
+// Speed against accuracy, has their measured cost and quality). The preset fixes what a context
+// compiles and may allocate; per frame the engine runs less by leaving the shadow input off or
+// switching networks off (PatchexNetworkSettings), and a frame without dynamic objects runs no
+// network whatever the preset.
 typedef uint32_t PatchexPreset;
 
 // Severity passed to the log callback.
@@ -443,14 +446,22 @@ typedef uint32_t PatchexStage;
 
 #define PATCHEX_STRUCT_TYPE_NETWORK_SETTINGS 12
 
-// Demodulate, G-buffer-guided warp, remodulate. Holes keep the warp's nearest colour.
+// Demodulate, warp (PatchexWarpSettings), remodulate. Holes keep the warp's nearest colour.
 #define PATCHEX_PRESET_WARP_ONLY 0
 
 // The warp, then PatchEX's two inpainting networks repair the foreground-interaction and
-// near-background patches around dynamic objects (far background keeps the warp). A frame
-// without dynamic objects runs no network. Compiles the networks at create (seconds on a CPU
-// driver) and holds their tensors for a patch as large as the maximum extent.
+// near-background patches around dynamic objects (far background keeps the warp). Compiles
+// the networks at create (seconds on a CPU driver) and holds their tensors for a patch as
+// large as the maximum extent.
 #define PATCHEX_PRESET_NETWORKS 1
+
+// The warp, and the shadow sub-task on frames that come with a PatchexShadowInput: the shadows
+// of dynamic objects tracked and moved on their own. Presets without it refuse the input.
+#define PATCHEX_PRESET_WARP_AND_SHADOWS 2
+
+// Everything, PatchEX as published: the warp, the shadow sub-task (with a shadow input) and the
+// inpainting networks.
+#define PATCHEX_PRESET_FULL 3
 
 // Linear view-space depth: distance along the camera's forward axis, in world units.
 #define PATCHEX_DEPTH_LINEAR_VIEW_Z 0
@@ -508,8 +519,8 @@ typedef uint32_t PatchexStage;
 // Extrapolation of a frame with a shadow input: the shadow layer's warp.
 #define PATCHEX_STAGE_SHADOW_WARP 9
 
-// PATCHEX_PRESET_NETWORKS, a frame with dynamic objects: patch planning, the networks' input
-// gathering and both networks.
+// A networks preset (PATCHEX_PRESET_NETWORKS or FULL), a frame with dynamic objects: patch
+// planning, the networks' input gathering and both networks.
 #define PATCHEX_STAGE_INFERENCE 10
 
 // The networks' results blended back under the region masks.

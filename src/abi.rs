@@ -68,16 +68,25 @@ impl PatchexStructHeader {
     }
 }
 
-/// Trade of speed against accuracy. The shadow sub-task runs in either preset whenever a frame
-/// comes with a PatchexShadowInput.
+/// Trade of speed against accuracy: which sub-tasks a context can run, cheapest first (README,
+/// Speed against accuracy, has their measured cost and quality). The preset fixes what a context
+/// compiles and may allocate; per frame the engine runs less by leaving the shadow input off or
+/// switching networks off (PatchexNetworkSettings), and a frame without dynamic objects runs no
+/// network whatever the preset.
 pub type PatchexPreset = u32;
-/// Demodulate, G-buffer-guided warp, remodulate. Holes keep the warp's nearest colour.
+/// Demodulate, warp (PatchexWarpSettings), remodulate. Holes keep the warp's nearest colour.
 pub const PATCHEX_PRESET_WARP_ONLY: PatchexPreset = 0;
 /// The warp, then PatchEX's two inpainting networks repair the foreground-interaction and
-/// near-background patches around dynamic objects (far background keeps the warp). A frame
-/// without dynamic objects runs no network. Compiles the networks at create (seconds on a CPU
-/// driver) and holds their tensors for a patch as large as the maximum extent.
+/// near-background patches around dynamic objects (far background keeps the warp). Compiles
+/// the networks at create (seconds on a CPU driver) and holds their tensors for a patch as
+/// large as the maximum extent.
 pub const PATCHEX_PRESET_NETWORKS: PatchexPreset = 1;
+/// The warp, and the shadow sub-task on frames that come with a PatchexShadowInput: the shadows
+/// of dynamic objects tracked and moved on their own. Presets without it refuse the input.
+pub const PATCHEX_PRESET_WARP_AND_SHADOWS: PatchexPreset = 2;
+/// Everything, PatchEX as published: the warp, the shadow sub-task (with a shadow input) and the
+/// inpainting networks.
+pub const PATCHEX_PRESET_FULL: PatchexPreset = 3;
 
 /// How the depth image encodes depth.
 pub type PatchexDepthConvention = u32;
@@ -337,12 +346,13 @@ pub struct PatchexSegmentationSettings {
     pub growth_y: f32,
 }
 
-/// Chainable on PatchexFrameDesc: the shadows cast by dynamic objects in frame t. Warping moves
-/// what is painted on surfaces, but a moving character's shadow moves over ground whose motion
-/// vectors are zero; with this input patchex separates that shadow from frame t, estimates its
-/// motion from the masks of frames t-1 and t (Farneback dense optical flow, at half
-/// resolution), moves it to the target instant with the occlusion-motion-vector warp, and swaps
-/// it for the shadow the frame's own warp carried along. Without it the shadow sub-task does
+/// Chainable on PatchexFrameDesc, with PATCHEX_PRESET_WARP_AND_SHADOWS or PATCHEX_PRESET_FULL:
+/// the shadows cast by dynamic objects in frame t. Warping moves what is painted on surfaces,
+/// but a moving character's shadow moves over ground whose motion vectors are zero; with this
+/// input patchex separates that shadow from frame t, estimates its motion from the masks of
+/// frames t-1 and t (Farneback dense optical flow, at half resolution), moves it to the target
+/// instant with the occlusion-motion-vector warp, and swaps it for the shadow the frame's own
+/// warp carried along. Without it the shadow sub-task does
 /// not run and costs nothing; its motion is known from the second consecutive frame with it.
 ///
 /// Separation, per pixel of frame t, with m the demodulation factor of the frame's colour: the
@@ -379,8 +389,9 @@ pub const PATCHEX_DEFAULT_FLOW_WINDOW_RADIUS: u32 = 7;
 pub const PATCHEX_DEFAULT_FLOW_POLY_RADIUS: u32 = 2;
 pub const PATCHEX_DEFAULT_FLOW_POLY_SIGMA: f32 = 1.1;
 
-/// Chainable on PatchexCreateInfo (context default) or PatchexFrameDesc (this frame): the dense
-/// optical flow that tracks the dynamic-caster shadow mask between frames t-1 and t.
+/// Chainable on PatchexCreateInfo (context default) or PatchexFrameDesc (this frame), with a
+/// shadows preset (PATCHEX_PRESET_WARP_AND_SHADOWS or FULL): the dense optical flow that
+/// tracks the dynamic-caster shadow mask between frames t-1 and t.
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
 pub struct PatchexShadowFlowSettings {
@@ -398,9 +409,10 @@ pub struct PatchexShadowFlowSettings {
     pub poly_sigma: f32,
 }
 
-/// Chainable on PatchexCreateInfo with PATCHEX_PRESET_NETWORKS: the networks' weights from files
-/// instead of the ones built into the library (safetensors written by training/train.py; the
-/// file names its topology). A null path keeps that network's built-in weights.
+/// Chainable on PatchexCreateInfo with a networks preset (PATCHEX_PRESET_NETWORKS or FULL): the
+/// networks' weights from files instead of the ones built into the library (safetensors written
+/// by training/train.py; the file names its topology). A null path keeps that network's
+/// built-in weights.
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
 pub struct PatchexNetworkWeights {
@@ -413,8 +425,9 @@ pub struct PatchexNetworkWeights {
 }
 
 /// Chainable on PatchexCreateInfo (context default) or PatchexExtrapolateDesc (this call) with
-/// PATCHEX_PRESET_NETWORKS: which region's network runs. A network that is off leaves its
-/// region as the warp made it. Both run by default, each on its region's patch.
+/// a networks preset (PATCHEX_PRESET_NETWORKS or FULL): which region's network runs. A network
+/// that is off leaves its region as the warp made it. Both run by default, each on its region's
+/// patch.
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
 pub struct PatchexNetworkSettings {
@@ -473,8 +486,8 @@ pub const PATCHEX_STAGE_DIAGNOSTICS: PatchexStage = 7;
 pub const PATCHEX_STAGE_SHADOW_FLOW: PatchexStage = 8;
 /// Extrapolation of a frame with a shadow input: the shadow layer's warp.
 pub const PATCHEX_STAGE_SHADOW_WARP: PatchexStage = 9;
-/// PATCHEX_PRESET_NETWORKS, a frame with dynamic objects: patch planning, the networks' input
-/// gathering and both networks.
+/// A networks preset (PATCHEX_PRESET_NETWORKS or FULL), a frame with dynamic objects: patch
+/// planning, the networks' input gathering and both networks.
 pub const PATCHEX_STAGE_INFERENCE: PatchexStage = 10;
 /// The networks' results blended back under the region masks.
 pub const PATCHEX_STAGE_BLEND: PatchexStage = 11;

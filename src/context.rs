@@ -316,7 +316,7 @@ pub struct Context {
     placeholders: Placeholders,
     work: Option<WorkImages>,
     shadows: Option<ShadowImages>,
-    /// PATCHEX_PRESET_NETWORKS: the two inpainting networks.
+    /// PATCHEX_PRESET_NETWORKS and PATCHEX_PRESET_FULL: the two inpainting networks.
     inpainting: Option<Inpainting>,
     /// Which of the alternating expansion images holds the last submitted frame's.
     shadow_current: usize,
@@ -325,26 +325,41 @@ pub struct Context {
     default_segmentation: SegmentationSettings,
     default_flow: FlowSettings,
     default_networks: NetworkSwitches,
+    /// The preset runs the shadow sub-task on frames with a shadow input.
+    with_shadows: bool,
     source: Option<SourceFrame>,
 }
+
+const NEEDS_SHADOW_PRESET: &str =
+    "needs a context made with PATCHEX_PRESET_WARP_AND_SHADOWS or PATCHEX_PRESET_FULL";
 
 impl Context {
     /// # Safety
     /// The handles in `info` must be live objects of one Vulkan instance.
     pub unsafe fn new(info: &PatchexCreateInfo, defaults: Extensions) -> Result<Self> {
-        let with_networks = match info.preset {
-            PATCHEX_PRESET_WARP_ONLY => false,
-            PATCHEX_PRESET_NETWORKS => true,
+        let (with_networks, with_shadows) = match info.preset {
+            PATCHEX_PRESET_WARP_ONLY => (false, false),
+            PATCHEX_PRESET_NETWORKS => (true, false),
+            PATCHEX_PRESET_WARP_AND_SHADOWS => (false, true),
+            PATCHEX_PRESET_FULL => (true, true),
             other => bail!(
                 ErrorInvalidArgument,
-                "PatchexCreateInfo.preset {other} is not a preset: PATCHEX_PRESET_WARP_ONLY (0) or \
-                 PATCHEX_PRESET_NETWORKS (1)"
+                "PatchexCreateInfo.preset {other} is not a preset: PATCHEX_PRESET_WARP_ONLY (0), \
+                 PATCHEX_PRESET_NETWORKS (1), PATCHEX_PRESET_WARP_AND_SHADOWS (2) or \
+                 PATCHEX_PRESET_FULL (3)"
             ),
         };
         if !with_networks && (defaults.network_weights.is_some() || defaults.networks.is_some()) {
             bail!(
                 ErrorInvalidArgument,
-                "PatchexNetworkWeights and PatchexNetworkSettings need PATCHEX_PRESET_NETWORKS"
+                "PatchexNetworkWeights and PatchexNetworkSettings need PATCHEX_PRESET_NETWORKS or \
+                 PATCHEX_PRESET_FULL"
+            );
+        }
+        if !with_shadows && defaults.flow.is_some() {
+            bail!(
+                ErrorInvalidArgument,
+                "PatchexShadowFlowSettings {NEEDS_SHADOW_PRESET}"
             );
         }
         // Read before any Vulkan object is made: a bad file costs nothing to refuse.
@@ -413,6 +428,7 @@ impl Context {
             default_segmentation: defaults.segmentation.unwrap_or_default(),
             default_flow: defaults.flow.unwrap_or_default(),
             default_networks: defaults.networks.unwrap_or_default(),
+            with_shadows,
             source: None,
         };
         let one = vk::Extent2D {
@@ -533,6 +549,12 @@ impl Context {
         extensions: Extensions,
     ) -> Result<()> {
         self.check_queue_family(desc.queue_family_index, "PatchexFrameDesc")?;
+        if !self.with_shadows && (extensions.shadow.is_some() || extensions.flow.is_some()) {
+            bail!(
+                ErrorInvalidArgument,
+                "PatchexShadowInput and PatchexShadowFlowSettings {NEEDS_SHADOW_PRESET}"
+            );
+        }
         let inputs = inputs::source(&self.gpu, desc, self.max_extent)?;
         let shadow_inputs = extensions
             .shadow
@@ -785,7 +807,8 @@ impl Context {
         if self.inpainting.is_none() && extensions.networks.is_some() {
             bail!(
                 ErrorInvalidArgument,
-                "PatchexNetworkSettings needs a context made with PATCHEX_PRESET_NETWORKS"
+                "PatchexNetworkSettings needs a context made with PATCHEX_PRESET_NETWORKS or \
+                 PATCHEX_PRESET_FULL"
             );
         }
         let run_networks = extensions.networks.unwrap_or(self.default_networks);

@@ -197,8 +197,9 @@ fn whole_frame_runs_the_fi_network_over_every_pixel() {
     assert_eq!(outcome.stats.extrapolations[0].repaired_fraction, 1.0);
 }
 
+/// PATCHEX_PRESET_FULL on a static frame without a shadow input: a warp alone.
 #[test]
-fn a_frame_without_dynamic_objects_runs_no_network() {
+fn a_frame_without_dynamic_objects_runs_no_network_and_no_shadow_pass() {
     let sequence = render("crossing_street.toml", 2, WIDTH, HEIGHT);
     let static_frame = |frame: &Frame| {
         let mut frame = frame.clone();
@@ -209,14 +210,23 @@ fn a_frame_without_dynamic_objects_runs_no_network() {
         static_frame(&sequence.frames[0]),
         static_frame(&sequence.frames[1]),
     );
-    let rig = networks_rig();
+    let rig = Rig::with_create_info(WIDTH, HEIGHT, |info| info.preset = PATCHEX_PRESET_FULL);
     let outcome = run_plugin(&rig, &source, &target, 0.5, &Chained::default());
     let stats = &outcome.stats.extrapolations[0];
     assert_eq!(stats.object_count, 0);
     assert_eq!(stats.repaired_fraction, 0.0);
-    for stage in [PATCHEX_STAGE_INFERENCE, PATCHEX_STAGE_BLEND] {
+    for stage in [
+        PATCHEX_STAGE_INFERENCE,
+        PATCHEX_STAGE_BLEND,
+        PATCHEX_STAGE_SHADOW_WARP,
+    ] {
         assert_eq!(stats.stages_run & 1 << stage, 0, "stage {stage} ran");
     }
+    assert_eq!(
+        outcome.stats.submit_stages_run & 1 << PATCHEX_STAGE_SHADOW_FLOW,
+        0
+    );
+    assert_ne!(stats.stages_run & 1 << PATCHEX_STAGE_WARP, 0);
     // And the output is the warp-only pipeline's.
     let without = expected(&source, &target, Networks::default());
     let missed = (0..HEIGHT as usize)

@@ -26,6 +26,13 @@ use support::*;
 
 const LUMINANCE: Vec3 = Vec3::new(0.2126, 0.7152, 0.0722);
 
+/// A rig whose context runs the shadow sub-task on frames with a shadow input.
+fn shadows_rig(max_width: u32, max_height: u32) -> Rig {
+    Rig::with_create_info(max_width, max_height, |info| {
+        info.preset = PATCHEX_PRESET_WARP_AND_SHADOWS
+    })
+}
+
 /// What one run of three frames gave back.
 struct ShadowOutcome {
     output: Image,
@@ -133,7 +140,7 @@ fn shadow_passes_match_their_references_on_rendered_frames() {
     let [previous, _, source, target] = &sequence.frames[..] else {
         unreachable!("four frames")
     };
-    let rig = Rig::new(W, H);
+    let rig = shadows_rig(W, H);
     let outcome = run_with_shadows(&rig, previous, source, target, 0.5, true);
     let messages = rig.engine.take_validation_messages();
     assert!(messages.is_empty(), "validation: {messages:?}");
@@ -207,7 +214,7 @@ fn shadow_flow_follows_the_true_motion_of_the_shadow() {
     let previous = scene.render(-FRAME_TIME, Vec2::ZERO, -2.0 * FRAME_TIME);
     let source = scene.render(0.0, Vec2::ZERO, -FRAME_TIME);
     let target = scene.render(0.5 * FRAME_TIME, Vec2::ZERO, 0.0);
-    let rig = Rig::new(160, 96);
+    let rig = shadows_rig(160, 96);
     let outcome = run_with_shadows(&rig, &previous, &source, &target, 0.5, true);
     let truth = source
         .shadow_motion
@@ -271,7 +278,7 @@ fn shadow_flow_matches_the_displacement_of_a_rendered_shadow() {
     // Frames 0 and 8 of the doubled stream, submitted as consecutive frames: a larger step.
     let sequence = support::rendered::render("shadow_terrain.toml", 9, W, H);
     let (previous, source) = (&sequence.frames[0], &sequence.frames[8]);
-    let rig = Rig::new(W, H);
+    let rig = shadows_rig(W, H);
     let outcome = run_with_shadows(&rig, previous, source, source, 0.5, true);
     let truth = shadow_centre(previous) - shadow_centre(source);
     let (mut flow, mut count) = (Vec2::ZERO, 0);
@@ -300,9 +307,9 @@ fn moving_the_shadow_brings_the_extrapolation_closer_to_the_rendered_target() {
     let previous = scene.render(-FRAME_TIME, Vec2::ZERO, -2.0 * FRAME_TIME);
     let source = scene.render(0.0, Vec2::ZERO, -FRAME_TIME);
     let target = scene.render(0.5 * FRAME_TIME, Vec2::ZERO, 0.0);
-    let rig = Rig::new(160, 96);
+    let rig = shadows_rig(160, 96);
     let without = run_with_shadows(&rig, &previous, &source, &target, 0.5, false);
-    let rig = Rig::new(160, 96);
+    let rig = shadows_rig(160, 96);
     let with = run_with_shadows(&rig, &previous, &source, &target, 0.5, true);
 
     // Scored where frame t or the target has shadow: where the shadow was and where it went.
@@ -340,7 +347,7 @@ fn without_a_shadow_input_no_shadow_pass_runs() {
     let previous = scene.render(-FRAME_TIME, Vec2::ZERO, -2.0 * FRAME_TIME);
     let source = scene.render(0.0, Vec2::ZERO, -FRAME_TIME);
     let target = scene.render(0.5 * FRAME_TIME, Vec2::ZERO, 0.0);
-    let rig = Rig::new(160, 96);
+    let rig = shadows_rig(160, 96);
     let without = run_with_shadows(&rig, &previous, &source, &target, 0.5, false);
     let memory_without = without.stats.device_memory_bytes;
     let shadow_stages = |stats: &PatchexFrameStats| {
@@ -353,7 +360,7 @@ fn without_a_shadow_input_no_shadow_pass_runs() {
     // Nothing of the shadow layer reached the diagnostics image, which stays as uploaded.
     assert!(without.diagnostics.data.iter().all(|v| *v == 0.0));
 
-    let rig = Rig::new(160, 96);
+    let rig = shadows_rig(160, 96);
     let with = run_with_shadows(&rig, &previous, &source, &target, 0.5, true);
     assert_eq!(with.stats.timings_valid, 1);
     let (flow_ms, warp_ms) = shadow_stages(&with.stats);
@@ -368,7 +375,7 @@ fn without_a_shadow_input_no_shadow_pass_runs() {
 fn bad_shadow_inputs_and_flow_settings_are_refused() {
     let scene = shadow_scene();
     let source = scene.render(0.0, Vec2::ZERO, -FRAME_TIME);
-    let rig = Rig::new(160, 96);
+    let rig = shadows_rig(160, 96);
     let family = rig.engine.queue_family_index;
     let gpu = GpuFrame::upload(&rig.engine, &source);
 
@@ -438,6 +445,25 @@ fn bad_shadow_inputs_and_flow_settings_are_refused() {
     );
     let messages = rig.engine.take_validation_messages();
     assert!(messages.is_empty(), "validation: {messages:?}");
+
+    // A preset without the shadow sub-task refuses the input instead of ignoring it.
+    let warp_only = Rig::new(160, 96);
+    let gpu = GpuFrame::upload(&warp_only.engine, &source);
+    let shadow = gpu.shadow_input();
+    let mut desc = gpu.frame_desc(1, warp_only.engine.queue_family_index);
+    desc.header.next = &shadow as *const _ as *const c_void;
+    let mut result = PatchexResult::Success;
+    warp_only
+        .engine
+        .run(|cmd| result = warp_only.submit(cmd, &desc));
+    assert_eq!(result, PatchexResult::ErrorInvalidArgument);
+    assert!(
+        warp_only
+            .last_error()
+            .contains("PATCHEX_PRESET_WARP_AND_SHADOWS"),
+        "{}",
+        warp_only.last_error()
+    );
 }
 
 /// NaN and infinity in the shadow inputs (and in frame t-1's mask): the output stays finite,
@@ -459,7 +485,7 @@ fn non_finite_shadow_inputs_are_sanitised_and_counted() {
             .color_without_dynamic_shadows
             .set(x, y + 1, &[bad, 0.5, bad, 1.0]);
     }
-    let rig = Rig::new(160, 96);
+    let rig = shadows_rig(160, 96);
     let outcome = run_with_shadows(&rig, &previous, &source, &target, 0.5, true);
     let expected = reference_run(&previous, &source, &target, 0.5);
     let shadows = expected.shadows.as_ref().expect("a shadow input was given");
@@ -483,7 +509,7 @@ fn non_finite_shadow_inputs_are_sanitised_and_counted() {
 /// statistics say when the shadows' motion was tracked.
 #[test]
 fn shadow_history_survives_resizes_resets_and_gaps() {
-    let rig = Rig::new(160, 96);
+    let rig = shadows_rig(160, 96);
     let engine = &rig.engine;
     let family = engine.queue_family_index;
     // (size, reset, with shadow input, what the shadow sub-task had to work with)

@@ -408,7 +408,7 @@ pub fn record_blend(
     );
 }
 
-/// The two networks of PATCHEX_PRESET_NETWORKS, compiled, with their tensors.
+/// The two networks of the networks presets (NETWORKS, FULL), compiled, with their tensors.
 pub struct Inpainting {
     /// FI, then near-BE.
     pub networks: [(NetworkPipelines, NetworkTensors); 2],

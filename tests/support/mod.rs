@@ -60,12 +60,7 @@ impl Rig {
     }
 
     pub fn with_options(max_width: u32, max_height: u32, options: &EngineOptions) -> Self {
-        Self::on_engine(
-            Engine::new(options).expect("a Vulkan device"),
-            None,
-            max_width,
-            max_height,
-        )
+        Self::configured(max_width, max_height, options, |_| {})
     }
 
     /// A rig whose plugin loads Vulkan through an [`Intercept`], which counts its objects and
@@ -90,7 +85,17 @@ impl Rig {
         max_height: u32,
         edit: impl FnOnce(&mut PatchexCreateInfo),
     ) -> Self {
-        let engine = Engine::new(&EngineOptions::default()).expect("a Vulkan device");
+        Self::configured(max_width, max_height, &EngineOptions::default(), edit)
+    }
+
+    /// A rig on an engine made with `options`, whose create info the caller edits first.
+    pub fn configured(
+        max_width: u32,
+        max_height: u32,
+        options: &EngineOptions,
+        edit: impl FnOnce(&mut PatchexCreateInfo),
+    ) -> Self {
+        let engine = Engine::new(options).expect("a Vulkan device");
         Self::on_engine_with(engine, None, max_width, max_height, edit)
     }
 

@@ -44,8 +44,8 @@ pub struct DemoArgs {
     /// shadows creep and change shape, it costs more than it gains (README, Evaluation).
     #[arg(long)]
     shadows: bool,
-    /// Run the inpainting networks on the FI and near-BE patches (PATCHEX_PRESET_NETWORKS, the
-    /// built-in weights). Off by default: the shipped weights barely change the frame yet
+    /// Run the inpainting networks on the FI and near-BE patches (with --shadows,
+    /// PATCHEX_PRESET_FULL; the built-in weights). Off by default: the shipped weights barely change the frame yet
     /// (README, Evaluation).
     #[arg(long)]
     networks: bool,
@@ -155,17 +155,25 @@ pub fn run(args: DemoArgs) -> CommandResult {
     bar.finish();
     check_validation(args.validation, driver.validation_messages(), "plugin")?;
 
+    // The preset whose passes ran: the driver's contexts can do more, and run what is asked.
+    let preset = match (args.networks, args.shadows) {
+        (false, false) => "warp_only",
+        (true, false) => "networks",
+        (false, true) => "warp_and_shadows",
+        (true, true) => "full",
+    };
     let summary = summary_markdown(
         &world.description.name,
         manifest.width,
         manifest.height,
+        preset,
         &driver.engine.device_name,
         &rows,
     );
     std::fs::write(args.out.join("summary.md"), &summary)?;
     std::fs::write(
         args.out.join("summary.json"),
-        summary_json(&world.description.name, &rows),
+        summary_json(&world.description.name, preset, &rows),
     )?;
     println!("{summary}");
     println!("pictures: {}", strips_dir.display());
@@ -210,13 +218,14 @@ fn summary_markdown(
     scene: &str,
     width: usize,
     height: usize,
+    preset: &str,
     device: &str,
     rows: &[Row],
 ) -> String {
     let mut out = String::new();
     writeln!(
         out,
-        "## patchex demo: {scene}, {width}x{height}, warp-only preset, on {device}\n"
+        "## patchex demo: {scene}, {width}x{height}, preset {preset}, on {device}\n"
     )
     .unwrap();
     writeln!(
@@ -273,7 +282,7 @@ fn summary_markdown(
     out
 }
 
-fn summary_json(scene: &str, rows: &[Row]) -> String {
+fn summary_json(scene: &str, preset: &str, rows: &[Row]) -> String {
     let rows: Vec<String> = rows
         .iter()
         .map(|r| {
@@ -289,5 +298,5 @@ fn summary_json(scene: &str, rows: &[Row]) -> String {
             )
         })
         .collect();
-    format!("{{\n  \"scene\": \"{scene}\",\n  \"preset\": \"warp_only\",\n  \"targets\": [\n{}\n  ]\n}}\n", rows.join(",\n"))
+    format!("{{\n  \"scene\": \"{scene}\",\n  \"preset\": \"{preset}\",\n  \"targets\": [\n{}\n  ]\n}}\n", rows.join(",\n"))
 }

@@ -39,7 +39,7 @@ pub enum Method {
     /// by optical flow and moved.
     GbufferShadows,
     /// PatchEX: the G-buffer-guided warp, the shadow sub-task and the inpainting networks on
-    /// the FI and near-BE patches (PATCHEX_PRESET_NETWORKS).
+    /// the FI and near-BE patches (PATCHEX_PRESET_FULL).
     Patchex,
     /// Ablation: PatchEX without shadow separation.
     PatchexNoShadows,

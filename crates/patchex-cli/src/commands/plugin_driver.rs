@@ -1,8 +1,9 @@
 //! Plays the engine for the plugin on dataset frames: uploads a frame's layers into engine-owned
 //! images, calls `patchex_submit_gbuffers` and `patchex_extrapolate` through the C ABI of the
-//! loaded shared library, and reads the output back. Warp-only calls go to a context made with
-//! PATCHEX_PRESET_WARP_ONLY; calls with networks to one made with PATCHEX_PRESET_NETWORKS per
-//! weights folder, made on first use.
+//! loaded shared library, and reads the output back. Calls without networks go to a context made
+//! with PATCHEX_PRESET_WARP_AND_SHADOWS; calls with networks to one made with PATCHEX_PRESET_FULL
+//! per weights folder, made on first use. Both presets run the shadow sub-task only on frames
+//! that come with a shadow input, so one context serves calls with and without it.
 
 use std::cell::RefCell;
 use std::ffi::{c_void, CString};
@@ -25,7 +26,7 @@ use patchex_scene::dataset::{
 /// The layout the driver keeps every engine image in between calls.
 const LAYOUT: vk::ImageLayout = vk::ImageLayout::GENERAL;
 
-/// The inpainting networks a call runs (PATCHEX_PRESET_NETWORKS).
+/// The inpainting networks a call runs (PATCHEX_PRESET_FULL).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct NetworkChoice {
     /// A folder with fi.safetensors and near_be.safetensors; the built-in weights without one.
@@ -35,9 +36,9 @@ pub struct NetworkChoice {
 }
 
 pub struct PluginDriver {
-    /// PATCHEX_PRESET_WARP_ONLY.
+    /// PATCHEX_PRESET_WARP_AND_SHADOWS.
     context: *mut PatchexContext,
-    /// PATCHEX_PRESET_NETWORKS, one per weights folder.
+    /// PATCHEX_PRESET_FULL, one per weights folder.
     network_contexts: RefCell<Vec<(Option<PathBuf>, *mut PatchexContext)>>,
     library: PatchexLibrary,
     pub engine: Engine,
@@ -398,8 +399,8 @@ impl Drop for PluginDriver {
     }
 }
 
-/// A context for `width` x `height` on `engine`: warp-only without `networks`, else with the
-/// networks of the weights folder it names (or the built-in ones).
+/// A context for `width` x `height` on `engine`: the warp and shadows without `networks`, else
+/// with the networks of the weights folder it names (or the built-in ones) as well.
 fn create(
     library: &PatchexLibrary,
     engine: &Engine,
@@ -434,9 +435,10 @@ fn create(
         fi_path: fi.as_ptr(),
         near_be_path: near_be.as_ptr(),
     });
-    if networks.is_some() {
-        info.preset = PATCHEX_PRESET_NETWORKS;
-    }
+    info.preset = match networks {
+        Some(_) => PATCHEX_PRESET_FULL,
+        None => PATCHEX_PRESET_WARP_AND_SHADOWS,
+    };
     if let Some(weights) = &weights {
         info.header.next = weights as *const PatchexNetworkWeights as *const c_void;
     }

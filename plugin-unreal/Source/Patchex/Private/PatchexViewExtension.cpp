@@ -15,7 +15,7 @@
 static TAutoConsoleVariable<int32> CVarEnable(TEXT("r.Patchex.Enable"), 0,
 	TEXT("1: generate every second frame with patchex (Vulkan RHI only)."), ECVF_RenderThreadSafe);
 static TAutoConsoleVariable<int32> CVarPreset(TEXT("r.Patchex.Preset"), PATCHEX_PRESET_WARP_ONLY,
-	TEXT("patchex preset, PATCHEX_PRESET_* (0: warp only, 1: with the inpainting networks). Applied when the context is created."), ECVF_RenderThreadSafe);
+	TEXT("patchex preset, PATCHEX_PRESET_* (0: warp only, 1: with the inpainting networks; 2 and 3 add the shadow sub-task, which this plugin does not feed yet). Applied when the context is created."), ECVF_RenderThreadSafe);
 static TAutoConsoleVariable<int32> CVarWarp(TEXT("r.Patchex.Warp"), PATCHEX_WARP_GBUFFER_GUIDED,
 	TEXT("0: G-buffer-guided warp, 1: motion vectors, 2: occlusion motion vectors."), ECVF_RenderThreadSafe);
 static TAutoConsoleVariable<int32> CVarKernelRadius(TEXT("r.Patchex.KernelRadius"), PATCHEX_DEFAULT_KERNEL_RADIUS,
