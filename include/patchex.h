@@ -59,7 +59,7 @@
 #include <vulkan/vulkan.h>
 
 // Version of this ABI, returned by `patchex_abi_version`; bumped on any incompatible change.
-#define PATCHEX_ABI_VERSION 5
+#define PATCHEX_ABI_VERSION 6
 
 // The warp settings a context uses unless told otherwise: a 3x3 gather; a texel keeps most of
 // its weight within ~5% relative depth, ~0.1 of (1 - cos) of normal angle (about 25 degrees),
@@ -384,6 +384,10 @@ typedef struct PatchexExtrapolationStats {
   // pixels of the networks that ran; 1 with PatchexNetworkSettings.whole_frame); 0 without
   // networks or dynamic objects.
   float repaired_fraction;
+  // Target pixels whose depth, normal or motion vector has a NaN or infinite component. The
+  // passes are written so that these never reach the output: such a pixel's warp finds no
+  // agreeing source (a hole) or falls off-screen, and the result stays finite.
+  uint32_t invalid_geometry_pixels;
 } PatchexExtrapolationStats;
 
 // `PatchexFrameStats.shadow_history`.
@@ -406,6 +410,9 @@ typedef struct PatchexFrameStats {
   // float (65504), or a base colour, metallic, specular or shadow-mask value that is NaN or
   // outside [0, 1]. NaN becomes 0, everything else the nearest usable value.
   uint32_t source_sanitized_pixels;
+  // Pixels of frame t whose depth or normal has a NaN or infinite component (its motion
+  // vectors are not read). The warp takes nothing from them that is not finite.
+  uint32_t source_invalid_geometry_pixels;
   uint32_t extrapolation_count;
   struct PatchexExtrapolationStats extrapolations[PATCHEX_MAX_EXTRAPOLATIONS_PER_FRAME];
   // Device memory the context holds now, in bytes.

@@ -1,6 +1,8 @@
 // Turns one instant's engine G-buffer (depth in any supported convention, normals in either
 // encoding, optional stencil) into the plugin's canonical form, so every later pass reads one
 // layout: geometry = (world position, linear depth), normal_id = (world normal, object id).
+// Pixels with a NaN or infinite depth, normal or (for the target) motion vector are counted:
+// later passes treat them as holes or static background, and the statistics say how many.
 // #import gbuffer
 
 const DEPTH_LINEAR_VIEW_Z: u32 = 0u;
@@ -17,6 +19,7 @@ struct Params {
     extent: vec2u,
     normal_encoding: u32,
     has_stencil: u32,
+    has_motion: u32,
 }
 var<immediate> params: Params;
 
@@ -25,6 +28,14 @@ var<immediate> params: Params;
 @group(0) @binding(2) var stencil: texture_2d<u32>;
 @group(0) @binding(3) var geometry: texture_storage_2d<rgba32float, write>;
 @group(0) @binding(4) var normal_id: texture_storage_2d<rgba16float, write>;
+@group(0) @binding(5) var motion: texture_2d<f32>;
+@group(0) @binding(6) var<storage, read_write> counters: GeometryCounters;
+
+struct GeometryCounters {
+    invalid_pixels: atomic<u32>,
+}
+
+var<workgroup> group_invalid: atomic<u32>;
 
 fn unproject(ndc: vec2f, device_depth: f32) -> vec4f {
     return params.inv_view_proj * vec4f(ndc, device_depth, 1.0);
@@ -53,16 +64,13 @@ fn surface(ndc: vec2f, stored_depth: f32) -> vec4f {
     return vec4f(position, dot(position - params.camera_position, params.camera_forward));
 }
 
-@compute @workgroup_size(8, 8, 1)
-fn main(@builtin(global_invocation_id) id: vec3u) {
-    let p = id.xy;
-    if (any(p >= params.extent)) {
-        return;
-    }
+fn pack_pixel(p: vec2u) -> bool {
     let ndc = (vec2f(p) + 0.5) / vec2f(params.extent) * 2.0 - 1.0;
-    textureStore(geometry, p, surface(ndc, textureLoad(depth, p, 0).r));
+    let stored_depth = textureLoad(depth, p, 0).r;
+    textureStore(geometry, p, surface(ndc, stored_depth));
 
-    var n = textureLoad(normal, p, 0).xyz;
+    let stored_normal = textureLoad(normal, p, 0).xyz;
+    var n = stored_normal;
     if (params.normal_encoding == NORMAL_UNORM) {
         n = n * 2.0 - 1.0;
     }
@@ -73,4 +81,26 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
         object_id = textureLoad(stencil, p, 0).r;
     }
     textureStore(normal_id, p, vec4f(n, f32(object_id)));
+
+    var finite = is_finite(vec4f(stored_normal, stored_depth));
+    if (params.has_motion != ABSENT) {
+        finite = finite && is_finite(vec4f(textureLoad(motion, p, 0).xy, 0.0, 0.0));
+    }
+    return !finite;
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_index) lane: u32) {
+    if (lane == 0u) {
+        atomicStore(&group_invalid, 0u);
+    }
+    workgroupBarrier();
+    let p = id.xy;
+    if (all(p < params.extent) && pack_pixel(p)) {
+        atomicAdd(&group_invalid, 1u);
+    }
+    workgroupBarrier();
+    if (lane == 0u) {
+        atomicAdd(&counters.invalid_pixels, atomicLoad(&group_invalid));
+    }
 }

@@ -26,7 +26,7 @@ pub type PFN_vkGetInstanceProcAddr = Option<vk::PFN_vkGetInstanceProcAddr>;
 pub type PFN_vkGetDeviceProcAddr = Option<vk::PFN_vkGetDeviceProcAddr>;
 
 /// Version of this ABI, returned by `patchex_abi_version`; bumped on any incompatible change.
-pub const PATCHEX_ABI_VERSION: u32 = 5;
+pub const PATCHEX_ABI_VERSION: u32 = 6;
 
 /// 0 or 1; any other value is rejected as an invalid argument.
 pub type PatchexBool = u32;
@@ -559,6 +559,10 @@ pub struct PatchexExtrapolationStats {
     /// pixels of the networks that ran; 1 with PatchexNetworkSettings.whole_frame); 0 without
     /// networks or dynamic objects.
     pub repaired_fraction: f32,
+    /// Target pixels whose depth, normal or motion vector has a NaN or infinite component. The
+    /// passes are written so that these never reach the output: such a pixel's warp finds no
+    /// agreeing source (a hole) or falls off-screen, and the result stays finite.
+    pub invalid_geometry_pixels: u32,
 }
 
 /// Bits of `PatchexExtrapolationStats.render_instead_reasons`.
@@ -594,6 +598,9 @@ pub struct PatchexFrameStats {
     /// float (65504), or a base colour, metallic, specular or shadow-mask value that is NaN or
     /// outside [0, 1]. NaN becomes 0, everything else the nearest usable value.
     pub source_sanitized_pixels: u32,
+    /// Pixels of frame t whose depth or normal has a NaN or infinite component (its motion
+    /// vectors are not read). The warp takes nothing from them that is not finite.
+    pub source_invalid_geometry_pixels: u32,
     pub extrapolation_count: u32,
     pub extrapolations: [PatchexExtrapolationStats; PATCHEX_MAX_EXTRAPOLATIONS_PER_FRAME],
     /// Device memory the context holds now, in bytes.

@@ -39,7 +39,9 @@ const SANITIZE_COUNTERS_OFFSET: u64 = 256;
 /// Holes of the shadow layer's two warps, kept apart from the frame's.
 const SHADOW_WARP_COUNTERS_OFFSET: u64 = 512;
 const SURFACE_LAYER_COUNTERS_OFFSET: u64 = 768;
-const OBJECT_TABLE_OFFSET: u64 = 1024;
+/// The G-buffer packing's count of NaN and infinite geometry.
+const GEOMETRY_COUNTERS_OFFSET: u64 = 1024;
+const OBJECT_TABLE_OFFSET: u64 = 1280;
 /// The networks' patch records (`inpaint::PATCH_SLOT_*`).
 const PATCHES_OFFSET: u64 = (OBJECT_TABLE_OFFSET + segmentation::TABLE_BYTES).next_multiple_of(256);
 pub const COUNTER_BYTES: u64 = PATCHES_OFFSET + inpaint::PATCH_SLOTS_BYTES;
@@ -579,7 +581,8 @@ impl Context {
             }),
             None => None,
         };
-        let pack_inputs = pack_inputs(&mut access, &inputs.geometry, placeholder_uint)?;
+        let pack_inputs =
+            pack_inputs(&mut access, &inputs.geometry, placeholder, placeholder_uint)?;
 
         self.ring
             .collect(&self.gpu, &mut self.allocator, inputs.frame_index);
@@ -635,6 +638,12 @@ impl Context {
                 &pack_gbuffer::PackOutputs {
                     geometry: &work[WorkImages::SOURCE_GEOMETRY],
                     normal_id: &work[WorkImages::SOURCE_NORMAL_ID],
+                    counters: self.ring.counter_range(
+                        slot,
+                        0,
+                        GEOMETRY_COUNTERS_OFFSET,
+                        pack_gbuffer::COUNTER_BYTES,
+                    ),
                 },
             )
         });
@@ -780,10 +789,13 @@ impl Context {
         }
         let (placeholder, placeholder_uint) = self.placeholder_textures();
         let mut access = EngineImageAccess::default();
-        let pack_inputs = pack_inputs(&mut access, &inputs.geometry, placeholder_uint)?;
+        let motion = access.read(&inputs.motion_vectors)?;
+        let pack_inputs = pack_gbuffer::PackInputs {
+            motion: Some(motion),
+            ..pack_inputs(&mut access, &inputs.geometry, placeholder, placeholder_uint)?
+        };
         let base_color = access.read(&inputs.base_color)?;
         let material = access.read_optional(inputs.material.as_ref())?;
-        let motion = access.read(&inputs.motion_vectors)?;
         let output = access.write(&inputs.output)?;
         let diagnostics_image = match &extensions.diagnostics {
             Some(image) => Some(access.write(&ImportedImage::import_required(
@@ -850,6 +862,12 @@ impl Context {
                 &pack_gbuffer::PackOutputs {
                     geometry: &work[WorkImages::TARGET_GEOMETRY],
                     normal_id: &work[WorkImages::TARGET_NORMAL_ID],
+                    counters: self.ring.counter_range(
+                        slot,
+                        region,
+                        GEOMETRY_COUNTERS_OFFSET,
+                        pack_gbuffer::COUNTER_BYTES,
+                    ),
                 },
             )
         });
@@ -1173,6 +1191,10 @@ impl Context {
                 .ring
                 .counters
                 .read_u32(counters + SANITIZE_COUNTERS_OFFSET);
+            stats.invalid_geometry_pixels = self
+                .ring
+                .counters
+                .read_u32(counters + GEOMETRY_COUNTERS_OFFSET);
             stats.largest_motion = f32::from_bits(
                 self.ring
                     .counters
@@ -1226,6 +1248,10 @@ impl Context {
                 .ring
                 .counters
                 .read_u32(self.ring.counter_offset(slot, 0) + SANITIZE_COUNTERS_OFFSET),
+            source_invalid_geometry_pixels: self
+                .ring
+                .counters
+                .read_u32(self.ring.counter_offset(slot, 0) + GEOMETRY_COUNTERS_OFFSET),
             extrapolation_count: record.extrapolations.len() as u32,
             extrapolations,
             device_memory_bytes: self.device_memory_bytes(),
@@ -1283,9 +1309,11 @@ fn stage_bits(stages: &[PatchexStage]) -> u32 {
 }
 
 /// Registers the reads of one instant's geometry and returns them as the pack pass's inputs.
+/// Frame t's G-buffer packing inputs; the target's add its motion vectors.
 fn pack_inputs(
     access: &mut EngineImageAccess,
     geometry: &GeometryInputs,
+    placeholder: Texture,
     placeholder_uint: Texture,
 ) -> Result<pack_gbuffer::PackInputs> {
     Ok(pack_gbuffer::PackInputs {
@@ -1293,6 +1321,8 @@ fn pack_inputs(
         normal: access.read(&geometry.normal)?,
         normal_encoding: geometry.normal_encoding,
         stencil: access.read_optional(geometry.stencil.as_ref())?,
+        motion: None,
+        placeholder,
         placeholder_uint,
     })
 }

@@ -57,7 +57,17 @@ fn nan_and_infinite_geometry_never_reaches_the_output() {
             frame.motion.set(x + 1, 24, &[0.0, value]);
         }
     }
-    run_and_compare(&source, &target, 0.5);
+    let rig = Rig::new(WIDTH as u32, HEIGHT as u32);
+    let outcome = run_plugin(&rig, &source, &target, 0.5, &Chained::default());
+    assert_matches_reference(&source, &target, &outcome, &Chained::default());
+    assert!(outcome.output.data.iter().all(|v| v.is_finite()));
+    // NaN, +inf and -inf are counted (1e30 is finite): frame t's depth and normal, and the
+    // target's as well as its two motion vectors.
+    assert_eq!(outcome.stats.source_invalid_geometry_pixels, 3 * 2);
+    assert_eq!(
+        outcome.stats.extrapolations[0].invalid_geometry_pixels,
+        3 * 4
+    );
 }
 
 #[test]

@@ -39,6 +39,14 @@ fn metallic_roughness(material: texture_2d<f32>, p: vec2u, has_material: u32) ->
     return sanitize_unit(vec3f(textureLoad(material, p, 0).rb, 0.0)).value.xy;
 }
 
+// The largest finite f32.
+const MAX_FINITE: f32 = 3.40282347e38;
+
+// False for NaN (which fails every comparison) and for infinities.
+fn is_finite(v: vec4f) -> bool {
+    return all(abs(v) <= vec4f(MAX_FINITE));
+}
+
 fn is_sky(linear_depth: f32) -> bool {
     return linear_depth >= 0.5 * SKY_DEPTH;
 }

@@ -4,8 +4,6 @@
 
 // A source texel agrees with the target when its geometry weight reaches this value.
 const AGREEMENT_THRESHOLD: f32 = 0.5;
-// The largest finite f32.
-const MAX_FINITE: f32 = 3.40282347e38;
 // Grazing surfaces stretch a pixel's footprint by 1 / cos(angle), up to this cosine.
 const MIN_FACING: f32 = 0.25;
 

@@ -1,6 +1,7 @@
 //! Packs one instant's engine G-buffer into the plugin's canonical images:
 //! geometry = (world position, linear depth), normal_id = (unit world normal, object id).
-//! Runs for frame t at submit and for the target instant at extrapolation.
+//! Runs for frame t at submit and for the target instant at extrapolation, and counts the
+//! pixels whose geometry is NaN or infinite.
 
 use ash::vk;
 
@@ -8,6 +9,7 @@ use crate::abi::PatchexNormalEncoding;
 use crate::camera::Camera;
 use crate::passes::Texture;
 use crate::shaders::pack_gbuffer::{binding, Params};
+use crate::vk::buffer::CounterRange;
 use crate::vk::image::OwnedImage;
 use crate::vk::pipeline::{ComputePipeline, DescriptorWrites};
 
@@ -17,19 +19,27 @@ pub struct PackInputs {
     pub normal_encoding: PatchexNormalEncoding,
     /// `None`: every pixel is static geometry (id 0); `placeholder_uint` is bound.
     pub stencil: Option<Texture>,
+    /// The target's motion vectors, checked for NaN and infinity; frame t's are not read.
+    pub motion: Option<Texture>,
+    pub placeholder: Texture,
     pub placeholder_uint: Texture,
 }
 
 pub struct PackOutputs<'a> {
     pub geometry: &'a OwnedImage,
     pub normal_id: &'a OwnedImage,
+    /// `GeometryCounters`: one u32, the pixels with a NaN or infinite input.
+    pub counters: CounterRange,
 }
+
+pub const COUNTER_BYTES: u64 = 4;
 
 pub fn params(
     camera: &Camera,
     extent: vk::Extent2D,
     normal_encoding: u32,
     has_stencil: bool,
+    has_motion: bool,
 ) -> Params {
     Params {
         inv_view_proj: camera.inverse_view_projection().to_cols_array_2d(),
@@ -40,6 +50,8 @@ pub fn params(
         extent: [extent.width, extent.height],
         normal_encoding,
         has_stencil: has_stencil as u32,
+        has_motion: has_motion as u32,
+        ..Default::default()
     }
 }
 
@@ -55,6 +67,7 @@ pub fn record(
     outputs: &PackOutputs,
 ) {
     let stencil = inputs.stencil.unwrap_or(inputs.placeholder_uint);
+    let motion = inputs.motion.unwrap_or(inputs.placeholder);
     DescriptorWrites::new(pipeline)
         .image(binding::DEPTH, inputs.depth.view, inputs.depth.layout)
         .image(binding::NORMAL, inputs.normal.view, inputs.normal.layout)
@@ -69,12 +82,20 @@ pub fn record(
             outputs.normal_id.view,
             vk::ImageLayout::GENERAL,
         )
+        .image(binding::MOTION, motion.view, motion.layout)
+        .buffer(
+            binding::COUNTERS,
+            outputs.counters.buffer,
+            outputs.counters.offset,
+            outputs.counters.range,
+        )
         .update(device, set);
     let params = params(
         camera,
         extent,
         inputs.normal_encoding,
         inputs.stencil.is_some(),
+        inputs.motion.is_some(),
     );
     pipeline.dispatch(device, cmd, set, &params, extent);
 }

@@ -61,6 +61,9 @@ pub struct Extrapolation {
     /// Pixels of frame t and of the target whose inputs (or result) were sanitised.
     pub source_sanitized: u32,
     pub target_sanitized: u32,
+    /// Pixels of frame t and of the target with NaN or infinite geometry.
+    pub source_invalid_geometry: u32,
+    pub target_invalid_geometry: u32,
 }
 
 /// The whole extrapolation, pass by pass, as the plugin records it.
@@ -78,16 +81,18 @@ pub fn extrapolate(
         width: source.base_color.width as u32,
         height: source.base_color.height as u32,
     };
-    let pack = |frame: &FrameInputs| {
+    // Frame t's motion vectors are not read; the target's are checked.
+    let pack = |frame: &FrameInputs, motion: Option<&Image>| {
         let params = pack_params(
             frame.camera,
             extent,
             frame.normal_encoding,
             frame.stencil.is_some(),
+            motion.is_some(),
         );
-        pack_gbuffer::pack_gbuffer(frame.depth, frame.normal, frame.stencil, &params)
+        pack_gbuffer::pack_gbuffer(frame.depth, frame.normal, frame.stencil, motion, &params)
     };
-    let (source_packed, target_packed) = (pack(source), pack(target));
+    let (source_packed, target_packed) = (pack(source, None), pack(target, target.motion));
     let color = source.color.expect("frame t has colour");
     let separated = shadow_inputs.map(|shadow| {
         separate_shadows::separate(
@@ -204,6 +209,8 @@ pub fn extrapolate(
         shadows,
         source_sanitized,
         target_sanitized,
+        source_invalid_geometry: source_packed.invalid_pixels,
+        target_invalid_geometry: target_packed.invalid_pixels,
     }
 }
 

@@ -14,6 +14,8 @@ pub struct Packed {
     pub geometry: Image,
     /// (unit world normal, object id).
     pub normal_id: Image,
+    /// Pixels whose depth, normal or motion vector has a NaN or infinite component.
+    pub invalid_pixels: u32,
 }
 
 fn surface(params: &Params, ndc: Vec2, stored_depth: f32) -> Vec4 {
@@ -43,11 +45,12 @@ fn surface(params: &Params, ndc: Vec2, stored_depth: f32) -> Vec4 {
     position.extend((position - camera_position).dot(Vec3::from(params.camera_forward)))
 }
 
-/// `stencil` holds object ids as floats; `None` means all static.
+/// `stencil` holds object ids as floats; `None` means all static. `motion` is only checked.
 pub fn pack_gbuffer(
     depth: &Image,
     normal: &Image,
     stencil: Option<&Image>,
+    motion: Option<&Image>,
     params: &Params,
 ) -> Packed {
     let (width, height) = (params.extent[0] as usize, params.extent[1] as usize);
@@ -75,8 +78,20 @@ pub fn pack_gbuffer(
             round_to_f16(id),
         ]
     });
+    let finite = |image: &Image, x, y, channels: usize| {
+        image.at(x, y)[..channels].iter().all(|v| v.is_finite())
+    };
+    let invalid_pixels = (0..height)
+        .flat_map(|y| (0..width).map(move |x| (x, y)))
+        .filter(|&(x, y)| {
+            !(finite(depth, x, y, 1)
+                && finite(normal, x, y, 3)
+                && motion.is_none_or(|motion| finite(motion, x, y, 2)))
+        })
+        .count() as u32;
     Packed {
         geometry,
         normal_id,
+        invalid_pixels,
     }
 }

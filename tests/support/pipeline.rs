@@ -281,6 +281,14 @@ pub fn assert_matches_reference(
         expected.source_sanitized
     );
     assert_eq!(stats.sanitized_pixels, expected.target_sanitized);
+    assert_eq!(
+        outcome.stats.source_invalid_geometry_pixels,
+        expected.source_invalid_geometry
+    );
+    assert_eq!(
+        stats.invalid_geometry_pixels,
+        expected.target_invalid_geometry
+    );
 
     // Segmentation: exact.
     let segmented = &expected.segmented;
