@@ -426,6 +426,10 @@ typedef struct PatchexFrameStats {
 // Which backward warp carries frame t to the target instant.
 typedef uint32_t PatchexWarpKind;
 
+// How the networks store their tensors between layers. Either format is one every Vulkan device
+// supports for storage images; the arithmetic is f32 in both.
+typedef uint32_t PatchexTensorPrecision;
+
 // Stage indices into the `gpu_ms` arrays.
 typedef uint32_t PatchexStage;
 
@@ -452,6 +456,8 @@ typedef uint32_t PatchexStage;
 #define PATCHEX_STRUCT_TYPE_NETWORK_WEIGHTS 11
 
 #define PATCHEX_STRUCT_TYPE_NETWORK_SETTINGS 12
+
+#define PATCHEX_STRUCT_TYPE_NETWORK_PRECISION 13
 
 // Demodulate, warp (PatchexWarpSettings), remodulate. Holes keep the warp's nearest colour.
 #define PATCHEX_PRESET_WARP_ONLY 0
@@ -500,6 +506,13 @@ typedef uint32_t PatchexStage;
 #define PATCHEX_LOG_WARNING 1
 
 #define PATCHEX_LOG_INFO 2
+
+// RGBA16F: half the memory and bandwidth of FP32. The default; it changes the repaired colour by
+// well under what the networks repair (README, the inpainting networks).
+#define PATCHEX_TENSOR_PRECISION_FP16 0
+
+// RGBA32F for every layer's output (the gathered input stays RGBA16F): the networks as trained.
+#define PATCHEX_TENSOR_PRECISION_FP32 1
 
 // Demodulation of frame t; with a PatchexShadowInput, the shadow separation in its place.
 #define PATCHEX_STAGE_DEMODULATE 0

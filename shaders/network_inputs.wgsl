@@ -26,8 +26,9 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     var surface = vec4f(0.0);
     if (all(f < params.frame_extent)) {
         let w = textureLoad(warped, f, 0);
-        // The warp marks holes with alpha 0; their colour is its best guess.
-        colour_hole = vec4f(w.rgb, 1.0 - w.a);
+        // The warp marks holes with alpha 0; their colour is its best guess. A dark texel under
+        // bright light demodulates past what RGBA16F holds: it is held to that range.
+        colour_hole = vec4f(sanitize_color(w.rgb).value, 1.0 - w.a);
         let metallic_roughness = metallic_roughness(material, f, params.has_material);
         surface = vec4f(metallic_roughness.y, metallic_roughness.x, textureLoad(lbp, f, 0).r, 0.0);
     }

@@ -45,6 +45,7 @@ pub const PATCHEX_STRUCT_TYPE_SHADOW_FLOW_SETTINGS: PatchexStructType = 9;
 pub const PATCHEX_STRUCT_TYPE_SHADOW_DIAGNOSTICS: PatchexStructType = 10;
 pub const PATCHEX_STRUCT_TYPE_NETWORK_WEIGHTS: PatchexStructType = 11;
 pub const PATCHEX_STRUCT_TYPE_NETWORK_SETTINGS: PatchexStructType = 12;
+pub const PATCHEX_STRUCT_TYPE_NETWORK_PRECISION: PatchexStructType = 13;
 
 /// The first fields of every versioned struct, read before the rest.
 #[repr(C)]
@@ -422,6 +423,25 @@ pub struct PatchexNetworkWeights {
     pub fi_path: *const c_char,
     /// UTF-8 path of the near-background network, or null.
     pub near_be_path: *const c_char,
+}
+
+/// How the networks store their tensors between layers. Either format is one every Vulkan device
+/// supports for storage images; the arithmetic is f32 in both.
+pub type PatchexTensorPrecision = u32;
+/// RGBA16F: half the memory and bandwidth of FP32. The default; it changes the repaired colour by
+/// well under what the networks repair (README, the inpainting networks).
+pub const PATCHEX_TENSOR_PRECISION_FP16: PatchexTensorPrecision = 0;
+/// RGBA32F for every layer's output (the gathered input stays RGBA16F): the networks as trained.
+pub const PATCHEX_TENSOR_PRECISION_FP32: PatchexTensorPrecision = 1;
+
+/// Chainable on PatchexCreateInfo with a networks preset (PATCHEX_PRESET_NETWORKS or FULL): the
+/// storage precision of the networks' tensors, fixed when the context compiles them.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct PatchexNetworkPrecision {
+    /// PATCHEX_STRUCT_TYPE_NETWORK_PRECISION, sizeof(PatchexNetworkPrecision), chain.
+    pub header: PatchexStructHeader,
+    pub tensors: PatchexTensorPrecision,
 }
 
 /// Chainable on PatchexCreateInfo (context default) or PatchexExtrapolateDesc (this call) with

@@ -12,7 +12,7 @@ use crate::abi::*;
 use crate::camera::Camera;
 use crate::error::{bail, PatchexResult, Result};
 use crate::inputs::{self, GeometryInputs, SourceInputs, TargetInputs};
-use crate::network;
+use crate::network::{self, TensorPrecision};
 use crate::passes::inpaint::{self, Inpainting};
 use crate::passes::segmentation::{self, SegmentationSettings};
 use crate::passes::shadow_flow::{self, FlowSettings};
@@ -275,6 +275,7 @@ pub struct Extensions {
     pub flow: Option<FlowSettings>,
     pub network_weights: Option<NetworkWeightPaths>,
     pub networks: Option<NetworkSwitches>,
+    pub network_precision: Option<TensorPrecision>,
 }
 
 /// Weight files in place of the built-in networks (`PatchexNetworkWeights`).
@@ -351,11 +352,15 @@ impl Context {
                  PATCHEX_PRESET_FULL (3)"
             ),
         };
-        if !with_networks && (defaults.network_weights.is_some() || defaults.networks.is_some()) {
+        if !with_networks
+            && (defaults.network_weights.is_some()
+                || defaults.networks.is_some()
+                || defaults.network_precision.is_some())
+        {
             bail!(
                 ErrorInvalidArgument,
-                "PatchexNetworkWeights and PatchexNetworkSettings need PATCHEX_PRESET_NETWORKS or \
-                 PATCHEX_PRESET_FULL"
+                "PatchexNetworkWeights, PatchexNetworkSettings and PatchexNetworkPrecision need \
+                 PATCHEX_PRESET_NETWORKS or PATCHEX_PRESET_FULL"
             );
         }
         if !with_shadows && defaults.flow.is_some() {
@@ -460,6 +465,7 @@ impl Context {
                 &context.gpu,
                 &mut context.allocator,
                 networks,
+                defaults.network_precision.unwrap_or_default(),
                 instances,
                 context.max_extent,
             )?);

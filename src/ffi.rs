@@ -11,6 +11,7 @@ use crate::abi::*;
 use crate::context::{Context, Extensions, NetworkSwitches, NetworkWeightPaths};
 use crate::error::{bail, Error, PatchexResult, Result};
 use crate::inputs::boolean;
+use crate::network::TensorPrecision;
 use crate::passes::segmentation::SegmentationSettings;
 use crate::passes::shadow_flow::FlowSettings;
 use crate::passes::warp::WarpSettings;
@@ -215,6 +216,22 @@ unsafe fn read_chain(
                 }
                 extensions.networks = Some(switches);
             }
+            PATCHEX_STRUCT_TYPE_NETWORK_PRECISION => {
+                let precision = read_versioned(
+                    next.cast::<PatchexNetworkPrecision>(),
+                    kind,
+                    "PatchexNetworkPrecision",
+                )?;
+                extensions.network_precision = Some(match precision.tensors {
+                    PATCHEX_TENSOR_PRECISION_FP16 => TensorPrecision::F16,
+                    PATCHEX_TENSOR_PRECISION_FP32 => TensorPrecision::F32,
+                    other => bail!(
+                        ErrorInvalidArgument,
+                        "PatchexNetworkPrecision.tensors {other} is not a precision: \
+                         PATCHEX_TENSOR_PRECISION_FP16 (0) or PATCHEX_TENSOR_PRECISION_FP32 (1)"
+                    ),
+                });
+            }
             _ => unreachable!("every accepted struct type is handled"),
         }
         next = header.next;
@@ -339,6 +356,7 @@ pub unsafe extern "C" fn patchex_create(
                 PATCHEX_STRUCT_TYPE_SHADOW_FLOW_SETTINGS,
                 PATCHEX_STRUCT_TYPE_NETWORK_WEIGHTS,
                 PATCHEX_STRUCT_TYPE_NETWORK_SETTINGS,
+                PATCHEX_STRUCT_TYPE_NETWORK_PRECISION,
             ],
             "PatchexCreateInfo",
         )

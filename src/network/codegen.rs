@@ -3,8 +3,8 @@
 //! on a CPU driver this runs about 10x faster than reading weights from a buffer in a loop
 //! (`shared/LAVAPIPE.md`), and a GPU driver folds them into its instruction stream as well.
 //!
-//! Every tensor lives in an RGBA16F image array, four channels a layer, the patch at its
-//! origin; layer `level` covers `patch.extent >> level` texels. Each invocation computes every
+//! Every tensor lives in an RGBA16F (or, with `TensorPrecision::F32`, RGBA32F) image array, four
+//! channels a layer, the patch at its origin; layer `level` covers `patch.extent >> level` texels. Each invocation computes every
 //! output channel of one texel, so each input texel is fetched once per tap.
 
 use std::fmt::Write;
@@ -12,7 +12,7 @@ use std::fmt::Write;
 use naga::back::spv;
 
 use super::weights::MAX_LEVELS;
-use super::{ConvWeights, Layer, LayerKind};
+use super::{ConvWeights, Layer, LayerKind, TensorPrecision};
 use crate::error::{bail, Result};
 use crate::shaders::{Binding, DescriptorKind, ShaderInfo};
 
@@ -69,16 +69,19 @@ pub fn shader_info(layer: &Layer) -> ShaderInfo {
 }
 
 /// WGSL source of `layer`.
-pub fn wgsl(layer: &Layer) -> String {
+pub fn wgsl(layer: &Layer, precision: TensorPrecision) -> String {
     let mut s = String::new();
     let level = layer.level;
     s.push_str(PATCH_WGSL);
     s.push_str(
-        "@group(0) @binding(0) var main_input: texture_2d_array<f32>;
+        &"@group(0) @binding(0) var main_input: texture_2d_array<f32>;
 @group(0) @binding(1) var skip_input: texture_2d_array<f32>;
 @group(0) @binding(2) var network_input: texture_2d_array<f32>;
-@group(0) @binding(3) var layer_output: texture_storage_2d_array<rgba16float, write>;
+@group(0) @binding(3) var layer_output: texture_storage_2d_array<OUTPUT_FORMAT, write>;
 @group(0) @binding(4) var<storage, read> network_patch: Patch;
+
+// Every output is held to the half-float range, so that FP16 storage never makes an infinity.
+const MAX_HALF: f32 = 65504.0;
 
 fn elu(x: vec4f) -> vec4f {
     return select(exp(x) - 1.0, x, x > vec4f(0.0));
@@ -90,7 +93,8 @@ fn sigmoid(x: vec4f) -> vec4f {
 
 @compute @workgroup_size(8, 8, 1)
 fn main(@builtin(global_invocation_id) id: vec3u) {
-",
+"
+        .replace("OUTPUT_FORMAT", precision.wgsl_format()),
     );
     // The main input's extent in this layer's coordinates: a stride-2 layer reads the level
     // above at twice its own size, an upsampling one reads the level below doubled.
@@ -185,7 +189,11 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
                 "vec4f(textureLoad(network_input, id.xy, 0, 0).rgb + acc0_0.rgb, 1.0)".into()
             }
         };
-        writeln!(s, "    textureStore(layer_output, id.xy, {o}, {value});").unwrap();
+        writeln!(
+            s,
+            "    textureStore(layer_output, id.xy, {o}, clamp({value}, vec4f(-MAX_HALF), vec4f(MAX_HALF)));"
+        )
+        .unwrap();
     }
     s.push_str("}\n");
     s

@@ -34,6 +34,33 @@ pub fn load(path: Option<&Path>, shipped: &[u8], name: &str) -> Result<Network> 
     }
 }
 
+/// How the layers store their outputs (`PatchexNetworkPrecision`); the arithmetic is f32 either
+/// way, and the gathered input is always RGBA16F.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum TensorPrecision {
+    /// RGBA16F: half the memory and bandwidth of f32.
+    #[default]
+    F16,
+    F32,
+}
+
+impl TensorPrecision {
+    pub fn format(self) -> ash::vk::Format {
+        match self {
+            Self::F16 => ash::vk::Format::R16G16B16A16_SFLOAT,
+            Self::F32 => ash::vk::Format::R32G32B32A32_SFLOAT,
+        }
+    }
+
+    /// The storage texel format in WGSL.
+    pub fn wgsl_format(self) -> &'static str {
+        match self {
+            Self::F16 => "rgba16float",
+            Self::F32 => "rgba32float",
+        }
+    }
+}
+
 /// Planes the network reads, in order (`training/patchex_net.py`, `INPUT_NAMES`): warped
 /// demodulated colour (3), hole mask, roughness, metallic, LBP code / 255, and one zero plane
 /// that rounds the input up to two RGBA images.

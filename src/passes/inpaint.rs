@@ -9,7 +9,7 @@ use gpu_allocator::vulkan::Allocator;
 use crate::error::Result;
 use crate::network::codegen::{self, GROUP_EDGE, PATCH_BYTES};
 use crate::network::weights::MAX_LEVELS;
-use crate::network::{Network, Tensor, INPUT_CHANNELS};
+use crate::network::{Network, Tensor, TensorPrecision, INPUT_CHANNELS};
 use crate::passes::{CounterRange, Texture};
 use crate::shaders::network_inputs::{binding, Params, SHADER};
 use crate::vk::barriers;
@@ -25,6 +25,8 @@ pub const PATCH_MARGIN: u32 = 8;
 /// (one per extrapolation that may be recorded before an earlier one completes).
 pub struct NetworkPipelines {
     pub network: Network,
+    /// The format every layer writes its output in.
+    pub precision: TensorPrecision,
     gather: ComputePipeline,
     layers: Vec<ComputePipeline>,
     pool: vk::DescriptorPool,
@@ -33,9 +35,15 @@ pub struct NetworkPipelines {
 }
 
 impl NetworkPipelines {
-    pub fn new(gpu: &Gpu, network: Network, instances: usize) -> Result<Self> {
+    pub fn new(
+        gpu: &Gpu,
+        network: Network,
+        precision: TensorPrecision,
+        instances: usize,
+    ) -> Result<Self> {
         let mut built = Self {
             network,
+            precision,
             gather: ComputePipeline::new(gpu, SHADER)?,
             layers: Vec::new(),
             pool: vk::DescriptorPool::null(),
@@ -54,7 +62,7 @@ impl NetworkPipelines {
     fn build(&mut self, gpu: &Gpu, instances: usize) -> Result<()> {
         for layer in &self.network.layers {
             let what = format!("network layer {}", layer.name);
-            let spirv = codegen::compile(&codegen::wgsl(layer), &what)?;
+            let spirv = codegen::compile(&codegen::wgsl(layer, self.precision), &what)?;
             self.layers.push(
                 ComputePipeline::from_spirv(gpu, codegen::shader_info(layer), &spirv)
                     .map_err(|e| e.during(&what))?,
@@ -97,32 +105,33 @@ impl NetworkPipelines {
     }
 }
 
-/// The images of one network run: the gathered input and every layer's output, as RGBA16F
-/// arrays of four channels a layer, sized for the largest patch.
+/// The images of one network run: the gathered input (RGBA16F) and every layer's output (in the
+/// pipelines' precision), as arrays of four channels a layer, sized for the largest patch.
 pub struct NetworkTensors {
     pub input: OwnedImage,
     pub layers: Vec<OwnedImage>,
 }
 
 impl NetworkTensors {
-    /// Room for patches up to `max_extent`, which must be a multiple of `network.multiple()`.
+    /// Room for patches up to `max_extent`, which must be a multiple of the network's
+    /// `multiple()`.
     pub fn new(
         gpu: &Gpu,
         allocator: &mut Allocator,
-        network: &Network,
+        pipelines: &NetworkPipelines,
         max_extent: vk::Extent2D,
     ) -> Result<Self> {
+        let network = &pipelines.network;
         // Transfer source: tests and debug tools read tensors back.
         let usage = vk::ImageUsageFlags::STORAGE
             | vk::ImageUsageFlags::SAMPLED
             | vk::ImageUsageFlags::TRANSFER_SRC;
-        let format = vk::Format::R16G16B16A16_SFLOAT;
         let mut tensors = Self {
             input: OwnedImage::array(
                 gpu,
                 allocator,
                 "patchex network input",
-                format,
+                vk::Format::R16G16B16A16_SFLOAT,
                 max_extent,
                 usage,
                 INPUT_CHANNELS.div_ceil(4) as u32,
@@ -138,7 +147,7 @@ impl NetworkTensors {
                 gpu,
                 allocator,
                 "patchex network layer",
-                format,
+                pipelines.precision.format(),
                 extent,
                 usage,
                 layer.output_channels().div_ceil(4) as u32,
@@ -421,6 +430,7 @@ impl Inpainting {
         gpu: &Gpu,
         allocator: &mut Allocator,
         networks: [Network; 2],
+        precision: TensorPrecision,
         instances: usize,
         max_extent: vk::Extent2D,
     ) -> Result<Self> {
@@ -431,15 +441,15 @@ impl Inpainting {
                 width: max_extent.width.next_multiple_of(multiple),
                 height: max_extent.height.next_multiple_of(multiple),
             };
-            let made = NetworkPipelines::new(gpu, network, instances).and_then(|mut pipelines| {
-                match NetworkTensors::new(gpu, allocator, &pipelines.network, extent) {
+            let made = NetworkPipelines::new(gpu, network, precision, instances).and_then(
+                |mut pipelines| match NetworkTensors::new(gpu, allocator, &pipelines, extent) {
                     Ok(tensors) => Ok((pipelines, tensors)),
                     Err(error) => {
                         pipelines.destroy(&gpu.device);
                         Err(error)
                     }
-                }
-            });
+                },
+            );
             match made {
                 Ok(pair) => built.push(pair),
                 Err(error) => {

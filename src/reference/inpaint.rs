@@ -4,10 +4,10 @@
 
 use glam::Vec3;
 
-use super::gbuffer::sanitize;
+use super::gbuffer::{sanitize, sanitize_color};
 use super::network::{forward, Planes};
 use super::{round_to_f16, Image};
-use crate::network::{Network, INPUT_CHANNELS};
+use crate::network::{Network, TensorPrecision, INPUT_CHANNELS};
 use crate::passes::inpaint::PATCH_MARGIN;
 use crate::passes::segmentation::{REGION_FI, REGION_NEAR_BE};
 
@@ -53,6 +53,8 @@ pub struct Networks<'a> {
     pub near_be: Option<&'a Network>,
     /// The FI network over the whole frame, repairing every pixel; near-BE does not run.
     pub whole_frame: bool,
+    /// How the layers' outputs are stored (`PatchexNetworkPrecision`).
+    pub precision: TensorPrecision,
 }
 
 impl Networks<'_> {
@@ -130,7 +132,8 @@ pub fn plan_patches(
 }
 
 /// The network's input planes over `patch` (`network_inputs.wgsl`), rounded to f16 as the GPU
-/// stores them: warped colour, hole, roughness, metallic, LBP, zero.
+/// stores them: warped colour (held to the half-float range), hole, roughness, metallic, LBP,
+/// zero.
 pub fn gather_inputs(
     warped: &Image,
     material: Option<&Image>,
@@ -146,6 +149,7 @@ pub fn gather_inputs(
                 continue;
             }
             let w = warped.at(fx, fy);
+            let (colour, _) = sanitize_color(Vec3::from_slice(w));
             let (metallic, roughness) = match material {
                 Some(material) => {
                     let m = material.at(fx, fy);
@@ -156,9 +160,9 @@ pub fn gather_inputs(
                 None => (0.0, 0.5),
             };
             let values = [
-                w[0],
-                w[1],
-                w[2],
+                colour.x,
+                colour.y,
+                colour.z,
                 1.0 - w[3],
                 roughness,
                 metallic,
@@ -199,7 +203,7 @@ pub fn inpaint(
         |(network, patch)| match network {
             Some(network) if !patch.is_empty() => {
                 let input = gather_inputs(warped, material, lbp, patch);
-                forward(network, &input, true)
+                forward(network, &input, networks.precision == TensorPrecision::F16)
             }
             _ => Planes::zeros(0, 0, 0),
         },

@@ -1,7 +1,8 @@
 //! Plain-Rust forward pass of an inpainting network, the oracle for the generated shaders.
-//! Tensors are planar (`[channel][y][x]`). Like the GPU, which keeps every tensor in RGBA16F
-//! images, each layer's output is rounded to f16 when `f16_storage` is set.
+//! Tensors are planar (`[channel][y][x]`). As on the GPU, each layer's output is held to the
+//! half-float range and, when `f16_storage` is set (RGBA16F tensors), rounded to f16.
 
+use super::gbuffer::MAX_HALF;
 use crate::network::{Layer, LayerKind, Network, Tensor, INPUT_CHANNELS};
 
 /// A planar tensor.
@@ -61,8 +62,9 @@ pub fn forward(network: &Network, input: &Planes, f16_storage: bool) -> Planes {
             Tensor::Layer(n) => &outputs[n],
         };
         let mut out = run_layer(layer, tensor(layer.main), layer.skip.map(tensor), input);
-        if f16_storage {
-            for v in &mut out.values {
+        for v in &mut out.values {
+            *v = v.clamp(-MAX_HALF, MAX_HALF);
+            if f16_storage {
                 *v = half::f16::from_f32(*v).to_f32();
             }
         }

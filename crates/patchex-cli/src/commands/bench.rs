@@ -38,6 +38,8 @@ pub enum Configuration {
     Patchex,
     /// The same networks over the whole frame (the ablation of foveated segmentation).
     PatchexWholeFrame,
+    /// The full method with the networks' tensors in FP32 instead of FP16.
+    PatchexFp32,
 }
 
 impl Configuration {
@@ -49,6 +51,7 @@ impl Configuration {
             Configuration::GbufferShadows => "G-buffer-guided warp + shadows",
             Configuration::Patchex => "PatchEX: + networks on patches",
             Configuration::PatchexWholeFrame => "PatchEX, networks over the whole frame",
+            Configuration::PatchexFp32 => "PatchEX, FP32 tensors",
         }
     }
 
@@ -68,8 +71,12 @@ impl Configuration {
         match self {
             Configuration::Patchex => Some(NetworkChoice::default()),
             Configuration::PatchexWholeFrame => Some(NetworkChoice {
-                weights: None,
                 whole_frame: true,
+                ..Default::default()
+            }),
+            Configuration::PatchexFp32 => Some(NetworkChoice {
+                fp32_tensors: true,
+                ..Default::default()
             }),
             _ => None,
         }
@@ -83,6 +90,7 @@ impl Configuration {
             Configuration::GbufferShadows => RGBColor(204, 121, 167),
             Configuration::Patchex => RGBColor(213, 94, 0),
             Configuration::PatchexWholeFrame => RGBColor(0, 114, 178),
+            Configuration::PatchexFp32 => RGBColor(120, 60, 20),
         }
     }
 }

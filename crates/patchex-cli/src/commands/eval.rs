@@ -97,12 +97,12 @@ impl Method {
         match self {
             Method::Patchex | Method::PatchexNoShadows => Some(NetworkChoice::default()),
             Method::PatchexWholeFrame => Some(NetworkChoice {
-                weights: None,
                 whole_frame: true,
+                ..Default::default()
             }),
             Method::PatchexNoPerceptual => Some(NetworkChoice {
                 weights: Some(args.no_perceptual_weights.clone()),
-                whole_frame: false,
+                ..Default::default()
             }),
             _ => None,
         }

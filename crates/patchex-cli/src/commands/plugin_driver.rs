@@ -33,13 +33,25 @@ pub struct NetworkChoice {
     pub weights: Option<PathBuf>,
     /// The FI network over the whole frame (`PatchexNetworkSettings.whole_frame`).
     pub whole_frame: bool,
+    /// Tensors stored in FP32 rather than FP16 (`PatchexNetworkPrecision`).
+    pub fp32_tensors: bool,
+}
+
+/// What a networks context is made with: weights folder, FP32 tensors.
+type ContextKey = (Option<PathBuf>, bool);
+
+impl NetworkChoice {
+    /// `whole_frame` is chosen per call, the rest when the context is made.
+    fn context_key(&self) -> ContextKey {
+        (self.weights.clone(), self.fp32_tensors)
+    }
 }
 
 pub struct PluginDriver {
     /// PATCHEX_PRESET_WARP_AND_SHADOWS.
     context: *mut PatchexContext,
-    /// PATCHEX_PRESET_FULL, one per weights folder.
-    network_contexts: RefCell<Vec<(Option<PathBuf>, *mut PatchexContext)>>,
+    /// PATCHEX_PRESET_FULL, one per weights folder and precision.
+    network_contexts: RefCell<Vec<(ContextKey, *mut PatchexContext)>>,
     library: PatchexLibrary,
     pub engine: Engine,
     width: u32,
@@ -123,18 +135,18 @@ impl PluginDriver {
             return Ok(self.context);
         };
         let mut contexts = self.network_contexts.borrow_mut();
-        if let Some((_, context)) = contexts.iter().find(|(w, _)| *w == networks.weights) {
+        let key = networks.context_key();
+        if let Some((_, context)) = contexts.iter().find(|(k, _)| *k == key) {
             return Ok(*context);
         }
-        let weights = Some(networks.weights.as_deref());
         let context = create(
             &self.library,
             &self.engine,
             self.width,
             self.height,
-            weights,
+            Some(networks),
         )?;
-        contexts.push((networks.weights.clone(), context));
+        contexts.push((key, context));
         Ok(context)
     }
 
@@ -400,13 +412,13 @@ impl Drop for PluginDriver {
 }
 
 /// A context for `width` x `height` on `engine`: the warp and shadows without `networks`, else
-/// with the networks of the weights folder it names (or the built-in ones) as well.
+/// with the networks of the weights folder they name (or the built-in ones), in their precision.
 fn create(
     library: &PatchexLibrary,
     engine: &Engine,
     width: u32,
     height: u32,
-    networks: Option<Option<&Path>>,
+    networks: Option<&NetworkChoice>,
 ) -> Result<*mut PatchexContext, String> {
     let mut info = PatchexCreateInfo::new(
         engine.instance.handle(),
@@ -421,17 +433,30 @@ fn create(
         CString::new(folder.join(name).to_string_lossy().as_bytes())
             .map_err(|_| format!("{}: a path with a NUL byte", folder.display()))
     };
-    let paths = match networks.flatten() {
+    let paths = match networks.and_then(|n| n.weights.as_deref()) {
         Some(folder) => Some((
             path("fi.safetensors", folder)?,
             path("near_be.safetensors", folder)?,
         )),
         None => None,
     };
+    // The chain: the weights (when a folder is named), then the precision (when FP32).
+    let precision = networks
+        .filter(|n| n.fp32_tensors)
+        .map(|_| PatchexNetworkPrecision {
+            header: PatchexStructHeader::of::<PatchexNetworkPrecision>(
+                PATCHEX_STRUCT_TYPE_NETWORK_PRECISION,
+            ),
+            tensors: PATCHEX_TENSOR_PRECISION_FP32,
+        });
+    let precision_link = precision.as_ref().map_or(ptr::null(), |p| {
+        p as *const PatchexNetworkPrecision as *const c_void
+    });
     let weights = paths.as_ref().map(|(fi, near_be)| PatchexNetworkWeights {
-        header: PatchexStructHeader::of::<PatchexNetworkWeights>(
-            PATCHEX_STRUCT_TYPE_NETWORK_WEIGHTS,
-        ),
+        header: PatchexStructHeader {
+            next: precision_link,
+            ..PatchexStructHeader::of::<PatchexNetworkWeights>(PATCHEX_STRUCT_TYPE_NETWORK_WEIGHTS)
+        },
         fi_path: fi.as_ptr(),
         near_be_path: near_be.as_ptr(),
     });
@@ -439,9 +464,9 @@ fn create(
         Some(_) => PATCHEX_PRESET_FULL,
         None => PATCHEX_PRESET_WARP_AND_SHADOWS,
     };
-    if let Some(weights) = &weights {
-        info.header.next = weights as *const PatchexNetworkWeights as *const c_void;
-    }
+    info.header.next = weights.as_ref().map_or(precision_link, |w| {
+        w as *const PatchexNetworkWeights as *const c_void
+    });
     let mut context = ptr::null_mut();
     // SAFETY: valid create info from a live engine; the chained paths outlive the call.
     let result = unsafe { (library.create)(&info, &mut context) };
