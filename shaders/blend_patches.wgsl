@@ -3,8 +3,10 @@
 // the near-BE network's, far-BE pixels keep the warp's. It runs over the blend patch only, so
 // its cost follows the patches' area. The warp's hole flag (alpha) is kept: it says what was
 // guessed, and the diagnostics report it. With `whole_frame` (the ablation of foveated
-// segmentation) every pixel takes the FI network's result. src/reference/inpaint.rs mirrors
-// this pass.
+// segmentation) every pixel takes the FI network's result. A network's result is its correction
+// (output minus its input colour) added to the warped colour: at a resolution divisor d the
+// correction is upsampled bilinearly (texel centres at d-pixel spacing, clamped at the patch's
+// edges) and the frame keeps its own detail. src/reference/inpaint.rs mirrors this pass.
 // #import patch
 // #import segmentation
 
@@ -19,10 +21,27 @@ var<immediate> params: Params;
 @group(0) @binding(3) var near_be_input: texture_2d_array<f32>;
 @group(0) @binding(4) var near_be_output: texture_2d_array<f32>;
 @group(0) @binding(5) var<storage, read> patches: array<PatchSlot, 3>;
-@group(0) @binding(6) var warped: texture_storage_2d<rgba32float, write>;
+@group(0) @binding(6) var warped: texture_storage_2d<rgba32float, read_write>;
 
-fn inside(p: vec2u, origin: vec2u, extent: vec2u) -> bool {
-    return all(p >= origin) && all(p - origin < extent);
+fn inside(p: vec2u, rect: Patch) -> bool {
+    return all(p >= rect.origin) && all(p - rect.origin < rect.extent * rect.divisor);
+}
+
+// The warped colour `here` at frame pixel `p` of `rect`, corrected by the network.
+fn repaired(input: texture_2d_array<f32>, output: texture_2d_array<f32>, rect: Patch, p: vec2u, here: vec4f) -> vec4f {
+    let q = p - rect.origin;
+    let last = rect.extent - vec2u(1u);
+    let t = clamp((vec2f(q) + 0.5) / f32(rect.divisor) - 0.5, vec2f(0.0), vec2f(last));
+    let lo = vec2u(floor(t));
+    let hi = min(lo + vec2u(1u), last);
+    let f = t - floor(t);
+    let c00 = textureLoad(output, lo, 0, 0).rgb - textureLoad(input, lo, 0, 0).rgb;
+    let c10 = textureLoad(output, vec2u(hi.x, lo.y), 0, 0).rgb - textureLoad(input, vec2u(hi.x, lo.y), 0, 0).rgb;
+    let c01 = textureLoad(output, vec2u(lo.x, hi.y), 0, 0).rgb - textureLoad(input, vec2u(lo.x, hi.y), 0, 0).rgb;
+    let c11 = textureLoad(output, hi, 0, 0).rgb - textureLoad(input, hi, 0, 0).rgb;
+    let correction = mix(mix(c00, c10, f.x), mix(c01, c11, f.x), f.y);
+    // The warp's hole flag (alpha) is kept: it says what was guessed.
+    return vec4f(here.rgb + correction, here.a);
 }
 
 @compute @workgroup_size(8, 8, 1)
@@ -35,14 +54,9 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     let near_be_patch = patches[PATCH_NEAR_BE].value;
     let p = blend.origin + id.xy;
     let region = textureLoad(regions, p, 0).r;
-    if ((region == REGION_FI || params.whole_frame != 0u) && inside(p, fi_patch.origin, fi_patch.extent)) {
-        let q = p - fi_patch.origin;
-        // The gathered input's alpha is the hole mask.
-        let hole = textureLoad(fi_input, q, 0, 0).a;
-        textureStore(warped, p, vec4f(textureLoad(fi_output, q, 0, 0).rgb, 1.0 - hole));
-    } else if (region == REGION_NEAR_BE && inside(p, near_be_patch.origin, near_be_patch.extent)) {
-        let q = p - near_be_patch.origin;
-        let hole = textureLoad(near_be_input, q, 0, 0).a;
-        textureStore(warped, p, vec4f(textureLoad(near_be_output, q, 0, 0).rgb, 1.0 - hole));
+    if ((region == REGION_FI || params.whole_frame != 0u) && inside(p, fi_patch)) {
+        textureStore(warped, p, repaired(fi_input, fi_output, fi_patch, p, textureLoad(warped, p)));
+    } else if (region == REGION_NEAR_BE && inside(p, near_be_patch)) {
+        textureStore(warped, p, repaired(near_be_input, near_be_output, near_be_patch, p, textureLoad(warped, p)));
     }
 }

@@ -1,6 +1,8 @@
 // Gathers an inpainting network's input planes over its patch (training/patchex_net.py,
 // INPUT_NAMES): the warped demodulated colour, the hole mask, roughness, metallic and the LBP
-// code. Patch texels outside the frame are zero, as in training's padding.
+// code. Patch texels outside the frame are zero, as in training's padding. With a resolution
+// divisor d a texel is the mean of its d x d pixels (those outside the frame counting as zero),
+// so the hole plane holds the share of holes among them.
 // #import patch
 // #import gbuffer
 
@@ -21,17 +23,23 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     if (any(id.xy >= network_patch.extent)) {
         return;
     }
-    let f = network_patch.origin + id.xy;
+    let d = network_patch.divisor;
     var colour_hole = vec4f(0.0);
     var surface = vec4f(0.0);
-    if (all(f < params.frame_extent)) {
-        let w = textureLoad(warped, f, 0);
-        // The warp marks holes with alpha 0; their colour is its best guess. A dark texel under
-        // bright light demodulates past what RGBA16F holds: it is held to that range.
-        colour_hole = vec4f(sanitize_color(w.rgb).value, 1.0 - w.a);
-        let metallic_roughness = metallic_roughness(material, f, params.has_material);
-        surface = vec4f(metallic_roughness.y, metallic_roughness.x, textureLoad(lbp, f, 0).r, 0.0);
+    for (var j = 0u; j < d; j++) {
+        for (var i = 0u; i < d; i++) {
+            let f = network_patch.origin + id.xy * d + vec2u(i, j);
+            if (all(f < params.frame_extent)) {
+                let w = textureLoad(warped, f, 0);
+                // The warp marks holes with alpha 0; their colour is its best guess. A dark texel
+                // under bright light demodulates past what RGBA16F holds: it is held to that range.
+                colour_hole += vec4f(sanitize_color(w.rgb).value, 1.0 - w.a);
+                let metallic_roughness = metallic_roughness(material, f, params.has_material);
+                surface += vec4f(metallic_roughness.y, metallic_roughness.x, textureLoad(lbp, f, 0).r, 0.0);
+            }
+        }
     }
-    textureStore(network_input, id.xy, 0, colour_hole);
-    textureStore(network_input, id.xy, 1, surface);
+    let mean = 1.0 / f32(d * d);
+    textureStore(network_input, id.xy, 0, colour_hole * mean);
+    textureStore(network_input, id.xy, 1, surface * mean);
 }

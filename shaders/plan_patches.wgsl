@@ -2,7 +2,8 @@
 // the FI patch bounds every dynamic object's pixels, the near-BE patch every grown rectangle.
 // Each is widened by a margin of context, clamped to the frame, rounded up to its network's
 // multiple (patch texels past the frame read as zero), and given the indirect dispatch of each
-// of its network's levels. The blend patch bounds both, for the pass that scatters the results
+// of its network's levels. With a resolution divisor d a network texel covers d x d pixels, so
+// the patch's extent in texels is a d-th of its extent in the frame. The blend patch bounds both, for the pass that scatters the results
 // back. A frame without dynamic objects, or a network that is off (levels 0), gets an empty
 // patch that dispatches no workgroup. With `whole_frame` (the ablation of foveated segmentation)
 // the FI patch is the whole frame instead. src/reference/inpaint.rs mirrors this pass.
@@ -16,6 +17,7 @@ struct Params {
     // Levels of the FI and the near-BE network; 0 for a network that does not run.
     levels: vec2u,
     whole_frame: u32,
+    divisor: u32,
 }
 var<immediate> params: Params;
 
@@ -37,21 +39,24 @@ fn union_span(a: Span, b: Span) -> Span {
     return Span(min(a.lo, b.lo), max(a.hi, b.hi));
 }
 
-// The patch a network with `levels` levels runs on over `span`, as (origin, end).
+// The frame pixels a network with `levels` levels covers over `span`, as (origin, end).
 fn plan(span: Span, levels: u32) -> Span {
     if (levels == 0u || any(span.lo >= span.hi)) {
         return Span(vec2u(0u), vec2u(0u));
     }
     let origin = span.lo - min(span.lo, vec2u(params.margin));
     let end = min(span.hi + vec2u(params.margin), params.extent);
+    let d = params.divisor;
     let multiple = 1u << (levels - 1u);
-    return Span(origin, origin + (end - origin + vec2u(multiple - 1u)) / multiple * multiple);
+    let texels = ((end - origin + vec2u(d - 1u)) / d + vec2u(multiple - 1u)) / multiple * multiple;
+    return Span(origin, origin + texels * d);
 }
 
-fn write_patch(slot: u32, planned: Span, levels: u32) {
-    let extent = planned.hi - planned.lo;
+fn write_patch(slot: u32, planned: Span, levels: u32, divisor: u32) {
+    let extent = (planned.hi - planned.lo) / divisor;
     patches[slot].value.origin = planned.lo;
     patches[slot].value.extent = extent;
+    patches[slot].value.divisor = divisor;
     for (var level = 0u; level < 6u; level++) {
         var groups = vec2u(0u);
         if (level < levels) {
@@ -86,11 +91,11 @@ fn main() {
     }
     let fi_planned = plan(fi, params.levels.x);
     let near_be_planned = plan(near_be, params.levels.y);
-    write_patch(PATCH_FI, fi_planned, params.levels.x);
-    write_patch(PATCH_NEAR_BE, near_be_planned, params.levels.y);
+    write_patch(PATCH_FI, fi_planned, params.levels.x, params.divisor);
+    write_patch(PATCH_NEAR_BE, near_be_planned, params.levels.y, params.divisor);
     // The blend is one dispatch at the frame's resolution over what either network wrote.
     var blend = union_span(union_span(nothing, fi_planned), near_be_planned);
     blend.hi = min(blend.hi, params.extent);
     blend.lo = min(blend.lo, blend.hi);
-    write_patch(PATCH_BLEND, blend, 1u);
+    write_patch(PATCH_BLEND, blend, 1u, 1u);
 }

@@ -459,6 +459,10 @@ pub struct PatchexNetworkSettings {
     /// near-BE network does not run. The paper's ablation of foveated segmentation: it costs
     /// the whole frame's inference and is less accurate (README, evaluation). Needs run_fi.
     pub whole_frame: PatchexBool,
+    /// Frame pixels per network texel on each axis: 1 (the frame's resolution, the default), 2
+    /// or 4. A network at divisor d reads each d x d block's mean and is upsampled bilinearly
+    /// onto its region: about 1/d^2 of the inference time, and a blurrier repair.
+    pub resolution_divisor: u32,
 }
 
 /// Chainable on PatchexExtrapolateDesc: an engine image that receives per-pixel intermediate

@@ -292,6 +292,8 @@ pub struct NetworkSwitches {
     pub near_be: bool,
     /// The FI network over the whole frame instead of the patches (needs `fi`).
     pub whole_frame: bool,
+    /// Frame pixels per network texel on each axis: 1, 2 or 4.
+    pub divisor: u32,
 }
 
 impl Default for NetworkSwitches {
@@ -300,6 +302,7 @@ impl Default for NetworkSwitches {
             fi: true,
             near_be: true,
             whole_frame: false,
+            divisor: 1,
         }
     }
 }
@@ -998,6 +1001,7 @@ impl Context {
                     inputs.extent,
                     inpainting.levels(run_networks.running()),
                     run_networks.whole_frame,
+                    run_networks.divisor,
                     &object_table,
                     &patches,
                 );

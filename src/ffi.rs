@@ -206,7 +206,15 @@ unsafe fn read_chain(
                         settings.whole_frame,
                         "PatchexNetworkSettings.whole_frame",
                     )?,
+                    divisor: settings.resolution_divisor,
                 };
+                if ![1, 2, 4].contains(&switches.divisor) {
+                    bail!(
+                        ErrorInvalidArgument,
+                        "PatchexNetworkSettings.resolution_divisor {} must be 1, 2 or 4",
+                        switches.divisor
+                    );
+                }
                 if switches.whole_frame && !switches.fi {
                     bail!(
                         ErrorInvalidArgument,

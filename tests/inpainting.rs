@@ -167,6 +167,45 @@ fn a_network_switched_off_leaves_its_region_to_the_warp() {
     );
 }
 
+/// Both networks at half and at a quarter of the frame's resolution, per call: the patches
+/// hold a half (a quarter) of the texels per axis, each the mean of its block, and the results
+/// are upsampled onto the regions as the reference does.
+#[test]
+fn networks_at_a_lower_resolution_match_the_reference() {
+    let sequence = render("crossing_street.toml", 2, WIDTH, HEIGHT);
+    let (source, target) = (&sequence.frames[0], &sequence.frames[1]);
+    let [fi, near_be] = shipped();
+    let without = expected(source, target, Networks::default());
+    let mut extents = Vec::new();
+    for divisor in [1, 2, 4] {
+        let rig = networks_rig();
+        let chained = Chained {
+            networks: Some(NetworkSwitches {
+                divisor,
+                ..NetworkSwitches::default()
+            }),
+            ..Chained::default()
+        };
+        let outcome = run_plugin(&rig, source, target, 0.5, &chained);
+        let networks = Networks {
+            fi: Some(&fi),
+            near_be: Some(&near_be),
+            divisor,
+            ..Networks::default()
+        };
+        let with = expected(source, target, networks);
+        let change = assert_matches(&outcome, &with, &without, false);
+        let patches = with.inpainted.as_ref().unwrap().patches;
+        println!("divisor {divisor}: {patches:?}, change {change}");
+        assert!(change > 1e-4, "the networks changed the repaired pixels");
+        extents.push(patches.near_be.extent);
+        let stats = &outcome.stats.extrapolations[0];
+        assert!(stats.stages_run & 1 << PATCHEX_STAGE_INFERENCE != 0);
+    }
+    // The texels per axis shrink with the divisor (up to rounding to the network's multiple).
+    assert!(extents[1][0] * 2 <= extents[0][0] + 8 && extents[2][0] * 4 <= extents[0][0] + 32);
+}
+
 /// The ablation of foveated segmentation: the FI network over the whole frame, every pixel
 /// repaired, as the reference does.
 #[test]
@@ -379,11 +418,22 @@ fn weight_files_and_network_settings_are_checked_at_create() {
         run_fi: 0,
         run_near_be: 1,
         whole_frame: 1,
+        resolution_divisor: 1,
     };
     let chain = &whole_frame_without_fi as *const _ as _;
     let (result, message) = create_with(PATCHEX_PRESET_NETWORKS, chain).expect_err("refused");
     assert_eq!(result, PatchexResult::ErrorInvalidArgument);
     assert!(message.contains("whole_frame"), "{message}");
+    let divisor_three = PatchexNetworkSettings {
+        run_fi: 1,
+        whole_frame: 0,
+        resolution_divisor: 3,
+        ..whole_frame_without_fi
+    };
+    let chain = &divisor_three as *const _ as _;
+    let (result, message) = create_with(PATCHEX_PRESET_NETWORKS, chain).expect_err("refused");
+    assert_eq!(result, PatchexResult::ErrorInvalidArgument);
+    assert!(message.contains("resolution_divisor 3"), "{message}");
     let (result, message) = create_with(7, std::ptr::null()).expect_err("refused");
     assert_eq!(result, PatchexResult::ErrorInvalidArgument);
     assert!(message.contains("preset 7"), "{message}");

@@ -49,10 +49,12 @@ pub const BINDINGS: [Binding; 5] = [
     },
 ];
 
-/// The `Patch` record the layers read: origin and padded extent of the patch in the frame, then
-/// the indirect dispatch of each level.
+/// The `Patch` record the layers read: origin, padded extent and resolution divisor of the
+/// patch, then the indirect dispatch of each level.
 pub const PATCH_WGSL: &str = include_str!("../../shaders/include/patch.wgsl");
-pub const PATCH_BYTES: u64 = 16 + 16 * MAX_LEVELS as u64;
+/// Where the dispatches start in the record.
+pub const PATCH_DISPATCH_OFFSET: u64 = 32;
+pub const PATCH_BYTES: u64 = PATCH_DISPATCH_OFFSET + 16 * MAX_LEVELS as u64;
 
 /// The reflection of a generated layer shader (its code is made at run time).
 pub fn shader_info(layer: &Layer) -> ShaderInfo {

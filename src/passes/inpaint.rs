@@ -7,7 +7,7 @@ use ash::vk;
 use gpu_allocator::vulkan::Allocator;
 
 use crate::error::Result;
-use crate::network::codegen::{self, GROUP_EDGE, PATCH_BYTES};
+use crate::network::codegen::{self, GROUP_EDGE, PATCH_BYTES, PATCH_DISPATCH_OFFSET};
 use crate::network::weights::MAX_LEVELS;
 use crate::network::{Network, Tensor, TensorPrecision, INPUT_CHANNELS};
 use crate::passes::{CounterRange, Texture};
@@ -201,7 +201,8 @@ pub struct PatchRecord {
 /// The bytes of a `Patch` record for a patch the host chose (the pipeline's patches are planned
 /// on the GPU): `origin` and `extent` in frame texels, the extent a multiple of the network's.
 pub fn patch_bytes(network: &Network, origin: [u32; 2], extent: [u32; 2]) -> Vec<u8> {
-    let mut words = vec![origin[0], origin[1], extent[0], extent[1]];
+    let divisor = 1;
+    let mut words = vec![origin[0], origin[1], extent[0], extent[1], divisor, 0, 0, 0];
     for level in 0..MAX_LEVELS {
         let groups = |size: u32| (size >> level).div_ceil(GROUP_EDGE);
         let used = level < network.widths.len();
@@ -304,7 +305,7 @@ pub fn record(gpu: &Gpu, cmd: vk::CommandBuffer, inputs: &FrameInputs, runs: &[N
 }
 
 fn dispatch_offset(patch: PatchRecord, level: u32) -> u64 {
-    patch.offset + 16 + 16 * level as u64
+    patch.offset + PATCH_DISPATCH_OFFSET + 16 * level as u64
 }
 
 /// The three patch records of an extrapolation (`PatchSlot` in shaders/include/patch.wgsl),
@@ -324,7 +325,8 @@ pub fn patch_record(patches: &CounterRange, slot: u64) -> PatchRecord {
 }
 
 /// Records `plan_patches`: the FI, near-BE and blend patches from the object table, for networks
-/// of `levels` levels (0 for one that does not run); with `whole_frame`, FI's is the frame.
+/// of `levels` levels (0 for one that does not run) at resolution `divisor`; with
+/// `whole_frame`, FI's is the frame.
 #[allow(clippy::too_many_arguments)]
 pub fn record_plan(
     pipeline: &ComputePipeline,
@@ -334,6 +336,7 @@ pub fn record_plan(
     extent: vk::Extent2D,
     levels: [u32; 2],
     whole_frame: bool,
+    divisor: u32,
     table: &CounterRange,
     patches: &CounterRange,
 ) {
@@ -358,7 +361,7 @@ pub fn record_plan(
         group_edge: GROUP_EDGE,
         levels,
         whole_frame: whole_frame as u32,
-        _pad_end: [0; 4],
+        divisor,
     };
     let one = vk::Extent2D {
         width: 1,

@@ -11,12 +11,24 @@ use crate::network::{Network, TensorPrecision, INPUT_CHANNELS};
 use crate::passes::inpaint::PATCH_MARGIN;
 use crate::passes::segmentation::{REGION_FI, REGION_NEAR_BE};
 
-/// A rectangle of the frame a pass runs over: `[origin, origin + extent)`, possibly reaching
-/// past the frame's right and bottom edges (those texels read as zero).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+/// Where a pass runs: `extent` texels from `origin` in the frame, each covering `divisor` x
+/// `divisor` pixels, possibly reaching past the frame's right and bottom edges (those pixels
+/// read as zero).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Patch {
     pub origin: [u32; 2],
     pub extent: [u32; 2],
+    pub divisor: u32,
+}
+
+impl Default for Patch {
+    fn default() -> Self {
+        Self {
+            origin: [0; 2],
+            extent: [0; 2],
+            divisor: 1,
+        }
+    }
 }
 
 impl Patch {
@@ -26,7 +38,8 @@ impl Patch {
 
     fn contains(&self, x: usize, y: usize) -> bool {
         let inside = |p: usize, axis: usize| {
-            p >= self.origin[axis] as usize && p < (self.origin[axis] + self.extent[axis]) as usize
+            let origin = self.origin[axis] as usize;
+            p >= origin && p < origin + (self.extent[axis] * self.divisor) as usize
         };
         inside(x, 0) && inside(y, 1)
     }
@@ -55,6 +68,8 @@ pub struct Networks<'a> {
     pub whole_frame: bool,
     /// How the layers' outputs are stored (`PatchexNetworkPrecision`).
     pub precision: TensorPrecision,
+    /// Frame pixels per network texel on each axis (`resolution_divisor`); 0 means 1.
+    pub divisor: u32,
 }
 
 impl Networks<'_> {
@@ -73,12 +88,14 @@ pub struct Patches {
 
 /// Plans the patches of a frame of `extent` from its segmentation: FI bounds the FI pixels of
 /// `regions`, near-BE the grown `rects`; with `whole_frame`, FI bounds the frame. `levels` are
-/// the FI and near-BE networks' level counts, 0 for a network that does not run.
+/// the FI and near-BE networks' level counts, 0 for a network that does not run; their texels
+/// cover `divisor` pixels a side.
 pub fn plan_patches(
     regions: &Image,
     rects: &[crate::abi::PatchexRegionRect],
     levels: [u32; 2],
     whole_frame: bool,
+    divisor: u32,
 ) -> Patches {
     let extent = [regions.width as u32, regions.height as u32];
     let mut fi: Span = None;
@@ -108,7 +125,9 @@ pub fn plan_patches(
         let end = [0, 1].map(|a| (hi[a] + PATCH_MARGIN).min(extent[a]));
         Patch {
             origin,
-            extent: [0, 1].map(|a| (end[a] - origin[a]).div_ceil(multiple) * multiple),
+            extent: [0, 1]
+                .map(|a| (end[a] - origin[a]).div_ceil(divisor).div_ceil(multiple) * multiple),
+            divisor,
         }
     };
     let fi = plan(fi, levels[0]);
@@ -117,7 +136,7 @@ pub fn plan_patches(
         (!p.is_empty()).then(|| {
             (
                 p.origin,
-                [p.origin[0] + p.extent[0], p.origin[1] + p.extent[1]],
+                [0, 1].map(|a| p.origin[a] + p.extent[a] * p.divisor),
             )
         })
     };
@@ -126,6 +145,7 @@ pub fn plan_patches(
         Patch {
             origin: lo,
             extent: [hi[0] - lo[0], hi[1] - lo[1]],
+            divisor: 1,
         }
     });
     Patches { fi, near_be, blend }
@@ -133,7 +153,7 @@ pub fn plan_patches(
 
 /// The network's input planes over `patch` (`network_inputs.wgsl`), rounded to f16 as the GPU
 /// stores them: warped colour (held to the half-float range), hole, roughness, metallic, LBP,
-/// zero.
+/// zero. A texel is the mean of its `divisor` x `divisor` pixels, those outside the frame zero.
 pub fn gather_inputs(
     warped: &Image,
     material: Option<&Image>,
@@ -141,47 +161,78 @@ pub fn gather_inputs(
     patch: Patch,
 ) -> Planes {
     let [width, height] = patch.extent.map(|v| v as usize);
+    let d = patch.divisor as usize;
     let mut planes = Planes::zeros(INPUT_CHANNELS, width, height);
     for y in 0..height {
         for x in 0..width {
-            let (fx, fy) = (patch.origin[0] as usize + x, patch.origin[1] as usize + y);
-            if fx >= warped.width || fy >= warped.height {
-                continue;
-            }
-            let w = warped.at(fx, fy);
-            let (colour, _) = sanitize_color(Vec3::from_slice(w));
-            let (metallic, roughness) = match material {
-                Some(material) => {
-                    let m = material.at(fx, fy);
-                    let roughness = m.get(2).copied().unwrap_or(0.0);
-                    let (v, _) = sanitize(Vec3::new(m[0], roughness, 0.0), 0.0, 1.0);
-                    (v.x, v.y)
+            let mut sum = [0.0f32; INPUT_CHANNELS];
+            for j in 0..d {
+                for i in 0..d {
+                    let fx = patch.origin[0] as usize + x * d + i;
+                    let fy = patch.origin[1] as usize + y * d + j;
+                    if fx >= warped.width || fy >= warped.height {
+                        continue;
+                    }
+                    let w = warped.at(fx, fy);
+                    let (colour, _) = sanitize_color(Vec3::from_slice(w));
+                    let (metallic, roughness) = match material {
+                        Some(material) => {
+                            let m = material.at(fx, fy);
+                            let roughness = m.get(2).copied().unwrap_or(0.0);
+                            let (v, _) = sanitize(Vec3::new(m[0], roughness, 0.0), 0.0, 1.0);
+                            (v.x, v.y)
+                        }
+                        None => (0.0, 0.5),
+                    };
+                    let values = [
+                        colour.x,
+                        colour.y,
+                        colour.z,
+                        1.0 - w[3],
+                        roughness,
+                        metallic,
+                        lbp.at(fx, fy)[0],
+                        0.0,
+                    ];
+                    for (total, v) in sum.iter_mut().zip(values) {
+                        *total += v;
+                    }
                 }
-                None => (0.0, 0.5),
-            };
-            let values = [
-                colour.x,
-                colour.y,
-                colour.z,
-                1.0 - w[3],
-                roughness,
-                metallic,
-                lbp.at(fx, fy)[0],
-                0.0,
-            ];
-            for (c, v) in values.into_iter().enumerate() {
-                planes.values[(c * height + y) * width + x] = round_to_f16(v);
+            }
+            let mean = 1.0 / (d * d) as f32;
+            for (c, total) in sum.into_iter().enumerate() {
+                planes.values[(c * height + y) * width + x] = round_to_f16(total * mean);
             }
         }
     }
     planes
 }
 
+/// A network's correction at frame pixel (x, y) of `patch` (`blend_patches.wgsl`), upsampled
+/// bilinearly from its texels.
+fn corrected(correction: &Planes, patch: &Patch, x: usize, y: usize) -> [f32; 3] {
+    let d = patch.divisor as f32;
+    let q = [x - patch.origin[0] as usize, y - patch.origin[1] as usize];
+    let last = [correction.width - 1, correction.height - 1];
+    let t = [0, 1].map(|a| ((q[a] as f32 + 0.5) / d - 0.5).clamp(0.0, last[a] as f32));
+    let lo = t.map(|v| v.floor() as usize);
+    let hi = [0, 1].map(|a| (lo[a] + 1).min(last[a]));
+    let f = [0, 1].map(|a| t[a] - t[a].floor());
+    let mix = |a: f32, b: f32, t: f32| a * (1.0 - t) + b * t;
+    [0, 1, 2].map(|c| {
+        let at = |x: usize, y: usize| correction.at(c, x, y);
+        let top = mix(at(lo[0], lo[1]), at(hi[0], lo[1]), f[0]);
+        let bottom = mix(at(lo[0], hi[1]), at(hi[0], hi[1]), f[0]);
+        mix(top, bottom, f[1])
+    })
+}
+
 /// What the networks did to one frame.
 pub struct Inpainted {
     pub patches: Patches,
-    /// The FI and near-BE networks' outputs over their patches (empty when they did not run).
-    pub outputs: [Planes; 2],
+    /// The FI and near-BE networks' corrections over their patches: output colour minus input
+    /// colour (empty when they did not run).
+    pub corrections: [Planes; 2],
     /// The warped frame with the repaired pixels blended in.
     pub blended: Image,
 }
@@ -198,20 +249,27 @@ pub fn inpaint(
 ) -> Inpainted {
     let near_be = networks.near_be.filter(|_| !networks.whole_frame);
     let levels = [networks.fi, near_be].map(|n| n.map_or(0, |n| n.widths.len() as u32));
-    let patches = plan_patches(regions, rects, levels, networks.whole_frame);
-    let outputs = [(networks.fi, patches.fi), (near_be, patches.near_be)].map(
+    let divisor = networks.divisor.max(1);
+    let patches = plan_patches(regions, rects, levels, networks.whole_frame, divisor);
+    let corrections = [(networks.fi, patches.fi), (near_be, patches.near_be)].map(
         |(network, patch)| match network {
             Some(network) if !patch.is_empty() => {
                 let input = gather_inputs(warped, material, lbp, patch);
-                forward(network, &input, networks.precision == TensorPrecision::F16)
+                let mut output =
+                    forward(network, &input, networks.precision == TensorPrecision::F16);
+                // The colour planes come first in both.
+                for (o, i) in output.values.iter_mut().zip(&input.values) {
+                    *o -= i;
+                }
+                output
             }
             _ => Planes::zeros(0, 0, 0),
         },
     );
     let mut blended = warped.clone();
     let sources = [
-        (REGION_FI, patches.fi, &outputs[0]),
-        (REGION_NEAR_BE, patches.near_be, &outputs[1]),
+        (REGION_FI, patches.fi, &corrections[0]),
+        (REGION_NEAR_BE, patches.near_be, &corrections[1]),
     ];
     for y in 0..warped.height {
         for x in 0..warped.width {
@@ -224,18 +282,18 @@ pub fn inpaint(
             } else {
                 region
             };
-            for (id, patch, output) in &sources {
+            for (id, patch, correction) in &sources {
                 if region == *id && !patch.is_empty() && patch.contains(x, y) {
-                    let (px, py) = (x - patch.origin[0] as usize, y - patch.origin[1] as usize);
-                    let rgb = [0, 1, 2].map(|c| output.at(c, px, py));
-                    blended.set(x, y, &[rgb[0], rgb[1], rgb[2], warped.at(x, y)[3]]);
+                    let c = corrected(correction, patch, x, y);
+                    let w = warped.at(x, y);
+                    blended.set(x, y, &[w[0] + c[0], w[1] + c[1], w[2] + c[2], w[3]]);
                 }
             }
         }
     }
     Inpainted {
         patches,
-        outputs,
+        corrections,
         blended,
     }
 }

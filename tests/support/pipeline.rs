@@ -146,6 +146,7 @@ pub fn run_plugin_on(
         run_fi: run.fi as u32,
         run_near_be: run.near_be as u32,
         whole_frame: run.whole_frame as u32,
+        resolution_divisor: run.divisor,
     });
     let mut next: *const c_void = std::ptr::null();
     if let Some(networks) = &networks {

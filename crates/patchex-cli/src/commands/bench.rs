@@ -40,6 +40,8 @@ pub enum Configuration {
     PatchexWholeFrame,
     /// The full method with the networks' tensors in FP32 instead of FP16.
     PatchexFp32,
+    /// The full method with the networks at half the frame's resolution.
+    PatchexHalfResolution,
 }
 
 impl Configuration {
@@ -52,6 +54,7 @@ impl Configuration {
             Configuration::Patchex => "PatchEX: + networks on patches",
             Configuration::PatchexWholeFrame => "PatchEX, networks over the whole frame",
             Configuration::PatchexFp32 => "PatchEX, FP32 tensors",
+            Configuration::PatchexHalfResolution => "PatchEX, networks at half resolution",
         }
     }
 
@@ -78,6 +81,10 @@ impl Configuration {
                 fp32_tensors: true,
                 ..Default::default()
             }),
+            Configuration::PatchexHalfResolution => Some(NetworkChoice {
+                resolution_divisor: 2,
+                ..Default::default()
+            }),
             _ => None,
         }
     }
@@ -91,6 +98,7 @@ impl Configuration {
             Configuration::Patchex => RGBColor(213, 94, 0),
             Configuration::PatchexWholeFrame => RGBColor(0, 114, 178),
             Configuration::PatchexFp32 => RGBColor(120, 60, 20),
+            Configuration::PatchexHalfResolution => RGBColor(240, 228, 66),
         }
     }
 }

@@ -35,6 +35,8 @@ pub struct NetworkChoice {
     pub whole_frame: bool,
     /// Tensors stored in FP32 rather than FP16 (`PatchexNetworkPrecision`).
     pub fp32_tensors: bool,
+    /// Frame pixels per network texel on each axis (`PatchexNetworkSettings`); 0 means 1.
+    pub resolution_divisor: u32,
 }
 
 /// What a networks context is made with: weights folder, FP32 tensors.
@@ -284,6 +286,7 @@ impl PluginDriver {
             run_fi: 1,
             run_near_be: 1,
             whole_frame: networks.whole_frame as PatchexBool,
+            resolution_divisor: networks.resolution_divisor.max(1),
         });
         // The chain, back to front: network settings, warp settings, then diagnostics.
         let mut next: *const c_void = ptr::null();
