@@ -21,7 +21,7 @@ fn bench_measures_every_configuration_at_every_size_and_plots_the_trade() {
         serde_json::from_str(&std::fs::read_to_string(out.path().join("bench.json")).unwrap())
             .unwrap();
     let rows = json["rows"].as_array().unwrap();
-    assert_eq!(rows.len(), 2 * 6, "two sizes, six configurations");
+    assert_eq!(rows.len(), 2 * 8, "two sizes, eight configurations");
     for row in rows {
         // Targets 3 (frames 0, 2 and 3); every stage group took time, inference only where
         // networks ran.
@@ -45,11 +45,14 @@ fn bench_measures_every_configuration_at_every_size_and_plots_the_trade() {
             .as_f64()
             .unwrap()
     };
-    assert!(total("G-buffer-guided warp + shadows", 108) > total("G-buffer-guided warp", 108));
+    assert!(
+        total("G-buffer-guided warp + shadows (WARP_AND_SHADOWS)", 108)
+            > total("G-buffer-guided warp (WARP_ONLY)", 108)
+    );
 
     let markdown = std::fs::read_to_string(out.path().join("bench.md")).unwrap();
     assert!(
-        markdown.contains("| 108p | G-buffer-guided warp + shadows |"),
+        markdown.contains("| 108p | G-buffer-guided warp + shadows (WARP_AND_SHADOWS) |"),
         "{markdown}"
     );
     assert!(markdown.contains("Growth with resolution"), "{markdown}");

@@ -27,13 +27,15 @@ use super::plugin_driver::{NetworkChoice, PluginDriver};
 use super::render::parse_size;
 use super::CommandResult;
 
-/// What the engine can choose in this build, cheapest first.
+/// What the engine can choose in this build: a preset with its knobs, cheapest first.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, ValueEnum)]
 pub enum Configuration {
     MotionVector,
     OcclusionMotion,
     Gbuffer,
     GbufferShadows,
+    /// The networks without the shadow sub-task (PATCHEX_PRESET_NETWORKS).
+    PatchexNoShadows,
     /// The full method: G-buffer warp, shadows and the networks on their patches.
     Patchex,
     /// The same networks over the whole frame (the ablation of foveated segmentation).
@@ -47,14 +49,15 @@ pub enum Configuration {
 impl Configuration {
     fn label(self) -> &'static str {
         match self {
-            Configuration::MotionVector => "motion-vector warp",
-            Configuration::OcclusionMotion => "occlusion-motion-vector warp",
-            Configuration::Gbuffer => "G-buffer-guided warp",
-            Configuration::GbufferShadows => "G-buffer-guided warp + shadows",
-            Configuration::Patchex => "PatchEX: + networks on patches",
-            Configuration::PatchexWholeFrame => "PatchEX, networks over the whole frame",
-            Configuration::PatchexFp32 => "PatchEX, FP32 tensors",
-            Configuration::PatchexHalfResolution => "PatchEX, networks at half resolution",
+            Configuration::MotionVector => "motion-vector warp (WARP_ONLY)",
+            Configuration::OcclusionMotion => "occlusion-motion-vector warp (WARP_ONLY)",
+            Configuration::Gbuffer => "G-buffer-guided warp (WARP_ONLY)",
+            Configuration::GbufferShadows => "G-buffer-guided warp + shadows (WARP_AND_SHADOWS)",
+            Configuration::PatchexNoShadows => "warp + networks (NETWORKS)",
+            Configuration::Patchex => "PatchEX: warp + shadows + networks (FULL)",
+            Configuration::PatchexWholeFrame => "PatchEX, networks over the whole frame (FULL)",
+            Configuration::PatchexFp32 => "PatchEX, FP32 tensors (FULL)",
+            Configuration::PatchexHalfResolution => "PatchEX, networks at half resolution (FULL)",
         }
     }
 
@@ -67,12 +70,14 @@ impl Configuration {
     }
 
     fn with_shadows(self) -> bool {
-        self >= Configuration::GbufferShadows
+        self >= Configuration::GbufferShadows && self != Configuration::PatchexNoShadows
     }
 
     fn networks(self) -> Option<NetworkChoice> {
         match self {
-            Configuration::Patchex => Some(NetworkChoice::default()),
+            Configuration::Patchex | Configuration::PatchexNoShadows => {
+                Some(NetworkChoice::default())
+            }
             Configuration::PatchexWholeFrame => Some(NetworkChoice {
                 whole_frame: true,
                 ..Default::default()
@@ -95,6 +100,7 @@ impl Configuration {
             Configuration::OcclusionMotion => RGBColor(86, 180, 233),
             Configuration::Gbuffer => RGBColor(0, 158, 115),
             Configuration::GbufferShadows => RGBColor(204, 121, 167),
+            Configuration::PatchexNoShadows => RGBColor(0, 0, 0),
             Configuration::Patchex => RGBColor(213, 94, 0),
             Configuration::PatchexWholeFrame => RGBColor(0, 114, 178),
             Configuration::PatchexFp32 => RGBColor(120, 60, 20),
@@ -125,7 +131,7 @@ pub struct BenchArgs {
     #[arg(
         long,
         value_delimiter = ',',
-        default_value = "motion-vector,occlusion-motion,gbuffer,gbuffer-shadows,patchex,patchex-whole-frame"
+        default_value = "motion-vector,occlusion-motion,gbuffer,gbuffer-shadows,patchex-no-shadows,patchex,patchex-half-resolution,patchex-whole-frame"
     )]
     configurations: Vec<Configuration>,
     /// Frames of the doubled stream rendered per scene and size; targets are the odd frames
