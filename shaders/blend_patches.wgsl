@@ -27,6 +27,11 @@ fn inside(p: vec2u, rect: Patch) -> bool {
     return all(p >= rect.origin) && all(p - rect.origin < rect.extent * rect.divisor);
 }
 
+// The network's correction at one texel of its patch: its output minus its input colour.
+fn correction_at(input: texture_2d_array<f32>, output: texture_2d_array<f32>, texel: vec2u) -> vec3f {
+    return textureLoad(output, texel, 0, 0).rgb - textureLoad(input, texel, 0, 0).rgb;
+}
+
 // The warped colour `here` at frame pixel `p` of `rect`, corrected by the network.
 fn repaired(input: texture_2d_array<f32>, output: texture_2d_array<f32>, rect: Patch, p: vec2u, here: vec4f) -> vec4f {
     let q = p - rect.origin;
@@ -35,11 +40,9 @@ fn repaired(input: texture_2d_array<f32>, output: texture_2d_array<f32>, rect: P
     let lo = vec2u(floor(t));
     let hi = min(lo + vec2u(1u), last);
     let f = t - floor(t);
-    let c00 = textureLoad(output, lo, 0, 0).rgb - textureLoad(input, lo, 0, 0).rgb;
-    let c10 = textureLoad(output, vec2u(hi.x, lo.y), 0, 0).rgb - textureLoad(input, vec2u(hi.x, lo.y), 0, 0).rgb;
-    let c01 = textureLoad(output, vec2u(lo.x, hi.y), 0, 0).rgb - textureLoad(input, vec2u(lo.x, hi.y), 0, 0).rgb;
-    let c11 = textureLoad(output, hi, 0, 0).rgb - textureLoad(input, hi, 0, 0).rgb;
-    let correction = mix(mix(c00, c10, f.x), mix(c01, c11, f.x), f.y);
+    let top = mix(correction_at(input, output, lo), correction_at(input, output, vec2u(hi.x, lo.y)), f.x);
+    let bottom = mix(correction_at(input, output, vec2u(lo.x, hi.y)), correction_at(input, output, hi), f.x);
+    let correction = mix(top, bottom, f.y);
     // The warp's hole flag (alpha) is kept: it says what was guessed.
     return vec4f(here.rgb + correction, here.a);
 }

@@ -460,8 +460,9 @@ pub struct PatchexNetworkSettings {
     /// the whole frame's inference and is less accurate (README, evaluation). Needs run_fi.
     pub whole_frame: PatchexBool,
     /// Frame pixels per network texel on each axis: 1 (the frame's resolution, the default), 2
-    /// or 4. A network at divisor d reads each d x d block's mean and is upsampled bilinearly
-    /// onto its region: about 1/d^2 of the inference time, and a blurrier repair.
+    /// or 4. A network at divisor d reads each d x d block's mean, and its correction is
+    /// upsampled bilinearly and added to the warped colour: about 1/d^2 of the inference time
+    /// for a smoother correction (README, Speed against accuracy).
     pub resolution_divisor: u32,
 }
 
