@@ -60,7 +60,7 @@ fn union(a: Span, b: Span) -> Span {
 }
 
 /// The networks a reference extrapolation runs (`PatchexNetworkSettings`); none by default.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Copy, Debug)]
 pub struct Networks<'a> {
     pub fi: Option<&'a Network>,
     pub near_be: Option<&'a Network>,
@@ -68,8 +68,20 @@ pub struct Networks<'a> {
     pub whole_frame: bool,
     /// How the layers' outputs are stored (`PatchexNetworkPrecision`).
     pub precision: TensorPrecision,
-    /// Frame pixels per network texel on each axis (`resolution_divisor`); 0 means 1.
+    /// Frame pixels per network texel on each axis (`resolution_divisor`).
     pub divisor: u32,
+}
+
+impl Default for Networks<'_> {
+    fn default() -> Self {
+        Self {
+            fi: None,
+            near_be: None,
+            whole_frame: false,
+            precision: TensorPrecision::default(),
+            divisor: 1,
+        }
+    }
 }
 
 impl Networks<'_> {
@@ -249,8 +261,13 @@ pub fn inpaint(
 ) -> Inpainted {
     let near_be = networks.near_be.filter(|_| !networks.whole_frame);
     let levels = [networks.fi, near_be].map(|n| n.map_or(0, |n| n.widths.len() as u32));
-    let divisor = networks.divisor.max(1);
-    let patches = plan_patches(regions, rects, levels, networks.whole_frame, divisor);
+    let patches = plan_patches(
+        regions,
+        rects,
+        levels,
+        networks.whole_frame,
+        networks.divisor,
+    );
     let corrections = [(networks.fi, patches.fi), (near_be, patches.near_be)].map(
         |(network, patch)| match network {
             Some(network) if !patch.is_empty() => {

@@ -70,7 +70,13 @@ impl Configuration {
     }
 
     fn with_shadows(self) -> bool {
-        self >= Configuration::GbufferShadows && self != Configuration::PatchexNoShadows
+        !matches!(
+            self,
+            Configuration::MotionVector
+                | Configuration::OcclusionMotion
+                | Configuration::Gbuffer
+                | Configuration::PatchexNoShadows
+        )
     }
 
     fn networks(self) -> Option<NetworkChoice> {

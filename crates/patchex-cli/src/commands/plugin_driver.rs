@@ -27,7 +27,7 @@ use patchex_scene::dataset::{
 const LAYOUT: vk::ImageLayout = vk::ImageLayout::GENERAL;
 
 /// The inpainting networks a call runs (PATCHEX_PRESET_FULL).
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct NetworkChoice {
     /// A folder with fi.safetensors and near_be.safetensors; the built-in weights without one.
     pub weights: Option<PathBuf>,
@@ -35,8 +35,20 @@ pub struct NetworkChoice {
     pub whole_frame: bool,
     /// Tensors stored in FP32 rather than FP16 (`PatchexNetworkPrecision`).
     pub fp32_tensors: bool,
-    /// Frame pixels per network texel on each axis (`PatchexNetworkSettings`); 0 means 1.
+    /// Frame pixels per network texel on each axis (`PatchexNetworkSettings`).
     pub resolution_divisor: u32,
+}
+
+impl Default for NetworkChoice {
+    /// The built-in weights on their patches, at the frame's resolution, FP16 tensors.
+    fn default() -> Self {
+        Self {
+            weights: None,
+            whole_frame: false,
+            fp32_tensors: false,
+            resolution_divisor: 1,
+        }
+    }
 }
 
 /// What a networks context is made with: weights folder, FP32 tensors.
@@ -286,7 +298,7 @@ impl PluginDriver {
             run_fi: 1,
             run_near_be: 1,
             whole_frame: networks.whole_frame as PatchexBool,
-            resolution_divisor: networks.resolution_divisor.max(1),
+            resolution_divisor: networks.resolution_divisor,
         });
         // The chain, back to front: network settings, warp settings, then diagnostics.
         let mut next: *const c_void = ptr::null();
