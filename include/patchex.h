@@ -1,7 +1,7 @@
 /*
  * patchex: real-time frame extrapolation for Vulkan engines (PatchEX, Dixit and Sarangi 2024).
  *
- * CALL SEQUENCE, per engine frame F (frame_index strictly increasing):
+ * CALL SEQUENCE, per engine frame F (frame_index increasing; a reset may restart it):
  *   patchex_submit_gbuffers(ctx, cmd, {frame F's colour and G-buffer})
  *   patchex_extrapolate(ctx, cmd, {target instant F + alpha: its G-buffer, output image})
  *     (up to PATCHEX_MAX_EXTRAPOLATIONS_PER_FRAME times, e.g. alpha 1/3 then 2/3)
@@ -27,9 +27,10 @@
  *
  * LIFETIMES. Inputs are read when the command buffer executes and are not needed afterwards:
  * patchex copies what it keeps from frame t. Command buffers must be submitted in the order
- * they were recorded. When the engine records frame F, the GPU must have finished everything
- * recorded for frame F - frames_in_flight (its submit and its extrapolations): so one command
- * buffer may hold work for at most frames_in_flight consecutive frames. Handles cannot be checked for liveness: an image
+ * they were recorded. When the engine records a frame's submit, the GPU must have finished
+ * everything recorded for the frame submitted frames_in_flight submits earlier (its submit and
+ * its extrapolations): so one command buffer may hold work for at most frames_in_flight
+ * consecutive frames. Handles cannot be checked for liveness: an image
  * or view destroyed before the call, or before its command buffer has executed, is undefined
  * behaviour, as for any Vulkan use of it. Destroy every context before its device.
  *
@@ -59,7 +60,7 @@
 #include <vulkan/vulkan.h>
 
 // Version of this ABI, returned by `patchex_abi_version`; bumped on any incompatible change.
-#define PATCHEX_ABI_VERSION 6
+#define PATCHEX_ABI_VERSION 7
 
 // The warp settings a context uses unless told otherwise: a 3x3 gather; a texel keeps most of
 // its weight within ~5% relative depth, ~0.1 of (1 - cos) of normal angle (about 25 degrees),
@@ -254,9 +255,11 @@ typedef struct PatchexCamera {
   float projection[16];
   // Sub-pixel offset of the sample positions, in pixels (x right, y down).
   float jitter[2];
-  float near;
-  // May be +infinity (infinite far plane).
-  float far;
+  // Distance to the near plane, in world units, > 0. Named `near_plane` because `<windows.h>`
+  // defines `near` and `far` as empty macros.
+  float near_plane;
+  // Distance to the far plane, > near_plane; may be +infinity (infinite far plane).
+  float far_plane;
   PatchexDepthConvention depth_convention;
 } PatchexCamera;
 
@@ -287,9 +290,14 @@ typedef struct PatchexFrameDesc {
   // (PatchexShadowInput turns the shadow sub-task on for this frame; PatchexShadowFlowSettings
   // overrides the context's flow settings for it).
   struct PatchexStructHeader header;
-  // Strictly increasing. A gap (not previous + 1) resets history like `reset`.
+  // The engine's frame number. Without `reset` it must exceed the previous submit's
+  // (PATCHEX_RESULT_ERROR_OUT_OF_ORDER otherwise); a gap (not previous + 1) drops history as
+  // `reset` does. Any value is allowed with `reset`, including a lower or equal one and after
+  // UINT64_MAX: a reset may restart the numbering. patchex_get_frame_stats finds frames by
+  // this index (the newest frame of that index, when a reset repeated one).
   uint64_t frame_index;
-  // Camera cut or teleport: history from earlier frames is dropped.
+  // 1 for a camera cut, teleport or level load: history from earlier frames is dropped, and
+  // `frame_index` may start over.
   PatchexBool reset;
   // Queue family of the command buffer's pool.
   uint32_t queue_family_index;
@@ -432,6 +440,152 @@ typedef uint32_t PatchexTensorPrecision;
 
 // Stage indices into the `gpu_ms` arrays.
 typedef uint32_t PatchexStage;
+
+// Chainable on PatchexCreateInfo (context default) or PatchexExtrapolateDesc (this call).
+typedef struct PatchexWarpSettings {
+  // PATCHEX_STRUCT_TYPE_WARP_SETTINGS, sizeof(PatchexWarpSettings), chain.
+  struct PatchexStructHeader header;
+  PatchexWarpKind kind;
+  // G-buffer-guided warp: gather radius in pixels, 0 to 3 (a (2r+1)^2 kernel).
+  uint32_t kernel_radius;
+  // Gaussian sigma of the spatial weight, in pixels (> 0).
+  float sigma_spatial;
+  // Tolerance on relative depth for dynamic objects (> 0).
+  float sigma_depth;
+  // Tolerance on 1 - dot(normals) (> 0).
+  float sigma_normal;
+  // Tolerance on world-position distance for static geometry, in pixel footprints on the
+  // target's surface (> 0).
+  float sigma_position;
+  // Occlusion-motion-vector warp: radius in pixels searched for a better motion vector,
+  // 0 to 16 (every second pixel is tried).
+  uint32_t occlusion_search_radius;
+} PatchexWarpSettings;
+
+// Chainable on PatchexCreateInfo (context default) or PatchexExtrapolateDesc (this call).
+// Foveated segmentation (PatchEX Algorithm 1): the near-background region of a dynamic object
+// is its bounding rectangle grown by `growth_x * mean|v_x|` left and right and by
+// `growth_y * mean|v_y|` above and below, where v is the motion of the object's pixels.
+typedef struct PatchexSegmentationSettings {
+  // PATCHEX_STRUCT_TYPE_SEGMENTATION_SETTINGS, sizeof(PatchexSegmentationSettings), chain.
+  struct PatchexStructHeader header;
+  // k_x, finite and 0 to 64. The default is fitted by `patchex calibrate`.
+  float growth_x;
+  // k_y, finite and 0 to 64.
+  float growth_y;
+} PatchexSegmentationSettings;
+
+// Chainable on PatchexFrameDesc, with PATCHEX_PRESET_WARP_AND_SHADOWS or PATCHEX_PRESET_FULL:
+// the shadows cast by dynamic objects in frame t. Warping moves what is painted on surfaces,
+// but a moving character's shadow moves over ground whose motion vectors are zero; with this
+// input patchex separates that shadow from frame t, estimates its motion from the masks of
+// frames t-1 and t (Farneback dense optical flow, at half resolution), moves it to the target
+// instant with the occlusion-motion-vector warp, and swaps it for the shadow the frame's own
+// warp carried along. Without it the shadow sub-task does
+// not run and costs nothing; its motion is known from the second consecutive frame with it.
+//
+// Separation, per pixel of frame t, with m the demodulation factor of the frame's colour: the
+// shadow layer is (color - color_without_dynamic_shadows) / m, on static pixels (dynamic
+// objects keep the shadows on them, which move with them). Nothing is divided by the mask, so
+// a fully shadowed pixel (mask 0) is as stable as a lit one. On static target pixels the
+// shading becomes max(warped shading - carried layer + moved layer, 0), where the moved layer
+// found a receiver.
+//
+// What an engine provides: the mask is the sun's visibility through dynamic casters only
+// (1 lit, 0 fully shadowed; static casters excluded), and the colour is frame t lit as if
+// dynamic casters cast no shadow. A deferred renderer gets both from its directional light's
+// pass: evaluate the light once with the dynamic-caster shadow term and once without it
+// (Unreal: a second projection of the movable-object shadow into its own screen shadow mask,
+// and SceneColor plus (1 - mask) times the light's contribution; see plugin-unreal/README.md).
+typedef struct PatchexShadowInput {
+  // PATCHEX_STRUCT_TYPE_SHADOW_INPUT, sizeof(PatchexShadowInput), chain.
+  struct PatchexStructHeader header;
+  // Visibility of the sun through dynamic casters, in [0, 1], in the first channel. Float or
+  // UNORM formats. Values outside [0, 1] or NaN are sanitised and counted.
+  struct PatchexImage mask;
+  // Frame t's linear HDR colour without the shadows of dynamic casters; formats as `color`.
+  struct PatchexImage color_without_dynamic_shadows;
+} PatchexShadowInput;
+
+// Chainable on PatchexCreateInfo (context default) or PatchexFrameDesc (this frame), with a
+// shadows preset (PATCHEX_PRESET_WARP_AND_SHADOWS or FULL): the dense optical flow that
+// tracks the dynamic-caster shadow mask between frames t-1 and t.
+typedef struct PatchexShadowFlowSettings {
+  // PATCHEX_STRUCT_TYPE_SHADOW_FLOW_SETTINGS, sizeof(PatchexShadowFlowSettings), chain.
+  struct PatchexStructHeader header;
+  // Pyramid levels, 1 to 6; each halves the resolution and doubles the motion it can follow.
+  uint32_t levels;
+  // Flow refinements per level, 1 to 10.
+  uint32_t iterations;
+  // Half-size of the window the flow is fitted over, 1 to 15 (a (2r+1)^2 window).
+  uint32_t window_radius;
+  // Half-size of the polynomial expansion's neighbourhood, 1 to 3.
+  uint32_t poly_radius;
+  // Gaussian sigma of the polynomial expansion's weights, in pixels, 0.1 to 4.
+  float poly_sigma;
+} PatchexShadowFlowSettings;
+
+// Chainable on PatchexCreateInfo with a networks preset (PATCHEX_PRESET_NETWORKS or FULL): the
+// networks' weights from files instead of the ones built into the library (safetensors written
+// by training/train.py; the file names its topology). A null path keeps that network's
+// built-in weights.
+typedef struct PatchexNetworkWeights {
+  // PATCHEX_STRUCT_TYPE_NETWORK_WEIGHTS, sizeof(PatchexNetworkWeights), chain.
+  struct PatchexStructHeader header;
+  // UTF-8 path of the foreground-interaction network, or null.
+  const char *fi_path;
+  // UTF-8 path of the near-background network, or null.
+  const char *near_be_path;
+} PatchexNetworkWeights;
+
+// Chainable on PatchexCreateInfo (context default) or PatchexExtrapolateDesc (this call) with
+// a networks preset (PATCHEX_PRESET_NETWORKS or FULL): which region's network runs. A network
+// that is off leaves its region as the warp made it. Both run by default, each on its region's
+// patch.
+typedef struct PatchexNetworkSettings {
+  // PATCHEX_STRUCT_TYPE_NETWORK_SETTINGS, sizeof(PatchexNetworkSettings), chain.
+  struct PatchexStructHeader header;
+  PatchexBool run_fi;
+  PatchexBool run_near_be;
+  // Runs the FI network over the whole frame and takes its result for every pixel; the
+  // near-BE network does not run. The paper's ablation of foveated segmentation: it costs
+  // the whole frame's inference and is less accurate (README, evaluation). Needs run_fi.
+  PatchexBool whole_frame;
+  // Frame pixels per network texel on each axis: 1 (the frame's resolution, the default), 2
+  // or 4. A network at divisor d reads each d x d block's mean, and its correction is
+  // upsampled bilinearly and added to the warped colour: about 1/d^2 of the inference time
+  // for a smoother correction (README, Speed against accuracy).
+  uint32_t resolution_divisor;
+} PatchexNetworkSettings;
+
+// Chainable on PatchexCreateInfo with a networks preset (PATCHEX_PRESET_NETWORKS or FULL): the
+// storage precision of the networks' tensors, fixed when the context compiles them.
+typedef struct PatchexNetworkPrecision {
+  // PATCHEX_STRUCT_TYPE_NETWORK_PRECISION, sizeof(PatchexNetworkPrecision), chain.
+  struct PatchexStructHeader header;
+  PatchexTensorPrecision tensors;
+} PatchexNetworkPrecision;
+
+// Chainable on PatchexExtrapolateDesc: an engine image that receives per-pixel intermediate
+// results, for debug views and evaluation. R16G16B16A16_SFLOAT with STORAGE usage, the size of
+// the output. R = hole (1, the warp's colour is a guess) or valid (0); G = region (0 far
+// background, 0.5 near background, 1 foreground interaction); B = LBP code / 255; A = 1.
+typedef struct PatchexDiagnostics {
+  // PATCHEX_STRUCT_TYPE_DIAGNOSTICS, sizeof(PatchexDiagnostics), chain.
+  struct PatchexStructHeader header;
+  struct PatchexImage image;
+} PatchexDiagnostics;
+
+// Chainable on PatchexExtrapolateDesc: an engine image that receives the shadow sub-task's
+// intermediate results, written only when frame t came with a PatchexShadowInput.
+// R16G16B16A16_SFLOAT with STORAGE usage, the size of the output. RG = the shadow mask's flow at
+// this pixel of frame t (its displacement to frame t-1, in pixels); B = luminance of frame t's
+// demodulated shadow layer; A = luminance of that layer warped to the target instant.
+typedef struct PatchexShadowDiagnostics {
+  // PATCHEX_STRUCT_TYPE_SHADOW_DIAGNOSTICS, sizeof(PatchexShadowDiagnostics), chain.
+  struct PatchexStructHeader header;
+  struct PatchexImage image;
+} PatchexShadowDiagnostics;
 
 #define PATCHEX_STRUCT_TYPE_CREATE_INFO 1
 

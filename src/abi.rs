@@ -26,7 +26,7 @@ pub type PFN_vkGetInstanceProcAddr = Option<vk::PFN_vkGetInstanceProcAddr>;
 pub type PFN_vkGetDeviceProcAddr = Option<vk::PFN_vkGetDeviceProcAddr>;
 
 /// Version of this ABI, returned by `patchex_abi_version`; bumped on any incompatible change.
-pub const PATCHEX_ABI_VERSION: u32 = 6;
+pub const PATCHEX_ABI_VERSION: u32 = 7;
 
 /// 0 or 1; any other value is rejected as an invalid argument.
 pub type PatchexBool = u32;
@@ -158,9 +158,11 @@ pub struct PatchexCamera {
     pub projection: [f32; 16],
     /// Sub-pixel offset of the sample positions, in pixels (x right, y down).
     pub jitter: [f32; 2],
-    pub near: f32,
-    /// May be +infinity (infinite far plane).
-    pub far: f32,
+    /// Distance to the near plane, in world units, > 0. Named `near_plane` because `<windows.h>`
+    /// defines `near` and `far` as empty macros.
+    pub near_plane: f32,
+    /// Distance to the far plane, > near_plane; may be +infinity (infinite far plane).
+    pub far_plane: f32,
     pub depth_convention: PatchexDepthConvention,
 }
 
@@ -253,9 +255,14 @@ pub struct PatchexFrameDesc {
     /// (PatchexShadowInput turns the shadow sub-task on for this frame; PatchexShadowFlowSettings
     /// overrides the context's flow settings for it).
     pub header: PatchexStructHeader,
-    /// Strictly increasing. A gap (not previous + 1) resets history like `reset`.
+    /// The engine's frame number. Without `reset` it must exceed the previous submit's
+    /// (PATCHEX_RESULT_ERROR_OUT_OF_ORDER otherwise); a gap (not previous + 1) drops history as
+    /// `reset` does. Any value is allowed with `reset`, including a lower or equal one and after
+    /// UINT64_MAX: a reset may restart the numbering. patchex_get_frame_stats finds frames by
+    /// this index (the newest frame of that index, when a reset repeated one).
     pub frame_index: u64,
-    /// Camera cut or teleport: history from earlier frames is dropped.
+    /// 1 for a camera cut, teleport or level load: history from earlier frames is dropped, and
+    /// `frame_index` may start over.
     pub reset: PatchexBool,
     /// Queue family of the command buffer's pool.
     pub queue_family_index: u32,

@@ -33,19 +33,19 @@ impl Camera {
                 "{name}.jitter {jitter} must be finite and under 1 pixel"
             );
         }
-        if !(camera.near.is_finite() && camera.near > 0.0) {
+        if !(camera.near_plane.is_finite() && camera.near_plane > 0.0) {
             bail!(
                 ErrorInvalidArgument,
-                "{name}.near {} must be finite and positive",
-                camera.near
+                "{name}.near_plane {} must be finite and positive",
+                camera.near_plane
             );
         }
-        if camera.far.is_nan() || camera.far <= camera.near {
+        if camera.far_plane.is_nan() || camera.far_plane <= camera.near_plane {
             bail!(
                 ErrorInvalidArgument,
-                "{name}.far {} must exceed near {} (+infinity allowed)",
-                camera.far,
-                camera.near
+                "{name}.far_plane {} must exceed near_plane {} (+infinity allowed)",
+                camera.far_plane,
+                camera.near_plane
             );
         }
         if camera.depth_convention > PATCHEX_DEPTH_HARDWARE_REVERSED {
@@ -59,8 +59,8 @@ impl Camera {
             view,
             projection,
             jitter,
-            near: camera.near,
-            far: camera.far,
+            near: camera.near_plane,
+            far: camera.far_plane,
             depth_convention: camera.depth_convention,
         };
         if camera.perspective_axis().length_squared() < 1e-12 {

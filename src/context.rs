@@ -54,6 +54,8 @@ struct ImageSpec {
     atlas: bool,
     /// Cleared with vkCmdClearColorImage.
     cleared: bool,
+    /// Blitted into an engine image.
+    blitted: bool,
 }
 
 const fn frame_image(name: &'static str, format: vk::Format) -> ImageSpec {
@@ -62,6 +64,7 @@ const fn frame_image(name: &'static str, format: vk::Format) -> ImageSpec {
         format,
         atlas: false,
         cleared: false,
+        blitted: false,
     }
 }
 
@@ -71,6 +74,7 @@ const fn atlas_image(name: &'static str, format: vk::Format) -> ImageSpec {
         format,
         atlas: true,
         cleared: false,
+        blitted: false,
     }
 }
 
@@ -111,6 +115,9 @@ impl<const N: usize> ImageSet<N> {
             let mut usage = vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::STORAGE;
             if spec.cleared {
                 usage |= vk::ImageUsageFlags::TRANSFER_DST;
+            }
+            if spec.blitted {
+                usage |= vk::ImageUsageFlags::TRANSFER_SRC;
             }
             let size = if spec.atlas {
                 shadow_flow::atlas_extent(extent)
@@ -173,6 +180,17 @@ impl WorkImages {
         frame_image("patchex regions", vk::Format::R32_UINT),
         frame_image("patchex lbp", vk::Format::R32_SFLOAT),
     ];
+}
+
+/// The extrapolated frame before its blit into an output whose format a shader cannot store
+/// (`BLIT_OUTPUT_FORMATS`), made at the first such output.
+type OutputStaging = ImageSet<1>;
+
+impl OutputStaging {
+    const SPECS: [ImageSpec; 1] = [ImageSpec {
+        blitted: true,
+        ..frame_image("patchex output staging", vk::Format::R16G16B16A16_SFLOAT)
+    }];
 }
 
 /// The shadow sub-task's images, made at the first frame with a shadow input.
@@ -258,6 +276,9 @@ struct Placeholders {
 /// Frame t, as the last submit left it.
 struct SourceFrame {
     frame_index: u64,
+    /// Which submit of the context it was (1, 2, ...): frame indices may restart after a reset,
+    /// so the frame ring and image retirement count submits instead.
+    serial: u64,
     extent: vk::Extent2D,
     camera: Camera,
     /// It came with a shadow input: its layer and flow are in the shadow images.
@@ -322,6 +343,7 @@ pub struct Context {
     placeholders: Placeholders,
     work: Option<WorkImages>,
     shadows: Option<ShadowImages>,
+    output_staging: Option<OutputStaging>,
     /// PATCHEX_PRESET_NETWORKS and PATCHEX_PRESET_FULL: the two inpainting networks.
     inpainting: Option<Inpainting>,
     /// Which of the alternating expansion images holds the last submitted frame's.
@@ -428,6 +450,7 @@ impl Context {
             },
             work: None,
             shadows: None,
+            output_staging: None,
             inpainting: None,
             shadow_current: 0,
             max_extent: vk::Extent2D {
@@ -491,17 +514,20 @@ impl Context {
         let Some(previous) = &self.source else {
             return Ok(PATCHEX_RESET_FIRST_FRAME);
         };
+        if inputs.reset {
+            // A reset starts a new history, so the engine may restart its numbering with it.
+            return Ok(PATCHEX_RESET_REQUESTED);
+        }
         if inputs.frame_index <= previous.frame_index {
             bail!(
                 ErrorOutOfOrder,
-                "PatchexFrameDesc.frame_index {} does not increase (previous {})",
+                "PatchexFrameDesc.frame_index {} does not increase (previous {}); set reset to \
+                 start a new numbering",
                 inputs.frame_index,
                 previous.frame_index
             );
         }
-        Ok(if inputs.reset {
-            PATCHEX_RESET_REQUESTED
-        } else if inputs.frame_index != previous.frame_index + 1 {
+        Ok(if inputs.frame_index != previous.frame_index + 1 {
             PATCHEX_RESET_FRAME_GAP
         } else {
             PATCHEX_RESET_NONE
@@ -509,7 +535,7 @@ impl Context {
     }
 
     /// Grows the working images to hold `extent`; the old ones wait out the frames in flight.
-    fn ensure_work_images(&mut self, extent: vk::Extent2D, frame_index: u64) -> Result<()> {
+    fn ensure_work_images(&mut self, extent: vk::Extent2D, serial: u64) -> Result<()> {
         if let Some(work) = grown(
             &self.gpu,
             &mut self.allocator,
@@ -518,7 +544,7 @@ impl Context {
             &WorkImages::SPECS,
         )? {
             if let Some(old) = self.work.replace(work) {
-                retire(&mut self.ring, old, frame_index);
+                retire(&mut self.ring, old, serial);
             }
         }
         Ok(())
@@ -526,7 +552,7 @@ impl Context {
 
     /// Makes or grows the shadow images to the working images' extent. Returns whether they
     /// were (re)made, which loses frame t-1's expansion.
-    fn ensure_shadow_images(&mut self, frame_index: u64) -> Result<bool> {
+    fn ensure_shadow_images(&mut self, serial: u64) -> Result<bool> {
         let extent = self.work.as_ref().expect("made first").extent;
         let Some(shadows) = grown(
             &self.gpu,
@@ -539,7 +565,7 @@ impl Context {
             return Ok(false);
         };
         if let Some(old) = self.shadows.replace(shadows) {
-            retire(&mut self.ring, old, frame_index);
+            retire(&mut self.ring, old, serial);
         }
         Ok(true)
     }
@@ -593,9 +619,9 @@ impl Context {
         let pack_inputs =
             pack_inputs(&mut access, &inputs.geometry, placeholder, placeholder_uint)?;
 
-        self.ring
-            .collect(&self.gpu, &mut self.allocator, inputs.frame_index);
-        self.ensure_work_images(inputs.extent, inputs.frame_index)?;
+        let serial = self.source.as_ref().map_or(1, |s| s.serial + 1);
+        self.ring.collect(&self.gpu, &mut self.allocator, serial);
+        self.ensure_work_images(inputs.extent, serial)?;
         // Frame t-1's expansion is usable when it was made, unbroken, on the same images.
         let mut track = reset_reason == PATCHEX_RESET_NONE
             && self
@@ -603,12 +629,12 @@ impl Context {
                 .as_ref()
                 .is_some_and(|s| s.has_shadows && s.extent == inputs.extent);
         if shadow_inputs.is_some() {
-            track &= !self.ensure_shadow_images(inputs.frame_index)?;
+            track &= !self.ensure_shadow_images(serial)?;
             self.shadow_current = 1 - self.shadow_current;
         }
 
         // Everything is validated and allocated: from here on the call cannot fail.
-        let slot = self.ring.slot_of(inputs.frame_index);
+        let slot = self.ring.slot_of(serial);
         let device = &self.gpu.device;
         let mut owned: Vec<&mut OwnedImage> = Vec::new();
         for set_images in [
@@ -738,6 +764,7 @@ impl Context {
         };
         self.ring.slots[slot].record = Some(FrameRecord {
             frame_index: inputs.frame_index,
+            serial,
             extent: inputs.extent,
             reset_reason,
             shadow_history,
@@ -751,6 +778,7 @@ impl Context {
         });
         self.source = Some(SourceFrame {
             frame_index: inputs.frame_index,
+            serial,
             extent: inputs.extent,
             camera: inputs.geometry.camera,
             has_shadows: shadow_inputs.is_some(),
@@ -784,7 +812,7 @@ impl Context {
                 source.extent.height
             );
         }
-        let slot = self.ring.slot_of(source.frame_index);
+        let slot = self.ring.slot_of(source.serial);
         let done = self.ring.slots[slot]
             .record
             .as_ref()
@@ -810,7 +838,7 @@ impl Context {
             Some(image) => Some(access.write(&ImportedImage::import_required(
                 &self.gpu,
                 image,
-                &ImageRole::output("PatchexDiagnostics.image"),
+                &ImageRole::diagnostics("PatchexDiagnostics.image"),
                 inputs.extent,
             )?)?),
             None => None,
@@ -820,7 +848,7 @@ impl Context {
             Some(image) => Some(access.write(&ImportedImage::import_required(
                 &self.gpu,
                 image,
-                &ImageRole::output("PatchexShadowDiagnostics.image"),
+                &ImageRole::diagnostics("PatchexShadowDiagnostics.image"),
                 inputs.extent,
             )?)?),
             None => None,
@@ -843,7 +871,22 @@ impl Context {
             inputs.geometry.motion_vector_scale,
         );
 
-        // Everything is validated: from here on the call cannot fail.
+        if inputs.output.written_by_blit {
+            let extent = self.work.as_ref().expect("made by the submit").extent;
+            if let Some(staging) = grown(
+                &self.gpu,
+                &mut self.allocator,
+                &self.output_staging,
+                extent,
+                &OutputStaging::SPECS,
+            )? {
+                if let Some(old) = self.output_staging.replace(staging) {
+                    retire(&mut self.ring, old, source.serial);
+                }
+            }
+        }
+
+        // Everything is validated and allocated: from here on the call cannot fail.
         let region = 1 + done;
         let device = &self.gpu.device;
         let work = self
@@ -853,6 +896,13 @@ impl Context {
         let object_table =
             self.ring
                 .counter_range(slot, region, OBJECT_TABLE_OFFSET, segmentation::TABLE_BYTES);
+        let staging = match self.output_staging.as_mut() {
+            Some(staging) if inputs.output.written_by_blit => {
+                barriers::initialize_owned(device, cmd, &mut [&mut staging.images[0]]);
+                Some(&staging.images[0])
+            }
+            _ => None,
+        };
         access.acquire(device, cmd);
         self.ring.clear_counters(device, cmd, slot, region);
         let mut timed = TimedRegion::begin(&self.ring, device, cmd, slot, region);
@@ -1068,14 +1118,18 @@ impl Context {
                     target_normal_id: (&work[WorkImages::TARGET_NORMAL_ID]).into(),
                     placeholder,
                 },
-                output,
+                staging.map_or(output, Texture::from),
                 &self.ring.counter_range(
                     slot,
                     region,
                     SANITIZE_COUNTERS_OFFSET,
                     SANITIZE_COUNTER_BYTES,
                 ),
-            )
+            );
+            if let Some(staging) = staging {
+                barriers::compute_to_transfer(device, cmd);
+                blit(device, cmd, staging, &inputs.output, inputs.extent);
+            }
         });
         let shadow_diagnostics = shadow_diagnostics_image.zip(shadows);
         if diagnostics_image.is_some() || shadow_diagnostics.is_some() {
@@ -1142,11 +1196,15 @@ impl Context {
         frame_index: u64,
         out: &mut PatchexFrameStats,
     ) -> Result<PatchexResult> {
-        let slot = self.ring.slot_of(frame_index);
-        let Some(record) = self.ring.slots[slot]
-            .record
-            .as_ref()
-            .filter(|r| r.frame_index == frame_index)
+        // After a reset that restarted the numbering, the newest frame of that index answers.
+        let Some((slot, record)) = self
+            .ring
+            .slots
+            .iter()
+            .enumerate()
+            .filter_map(|(slot, s)| Some((slot, s.record.as_ref()?)))
+            .filter(|(_, r)| r.frame_index == frame_index)
+            .max_by_key(|(_, r)| r.serial)
         else {
             bail!(
                 ErrorFrameNotFound,
@@ -1278,6 +1336,7 @@ impl Context {
     fn device_memory_bytes(&self) -> u64 {
         self.work.as_ref().map_or(0, |w| w.size_bytes())
             + self.shadows.as_ref().map_or(0, |s| s.size_bytes())
+            + self.output_staging.as_ref().map_or(0, |s| s.size_bytes())
             + self.ring.retired_bytes()
             + self.ring.counters.size_bytes()
             + self.placeholders.float.size_bytes()
@@ -1306,10 +1365,51 @@ fn grown<const N: usize>(
     ImageSet::new(gpu, allocator, size, specs).map(Some)
 }
 
-/// Hands `set`'s images to the ring: the previous frame is the last whose commands may use them.
-fn retire<const N: usize>(ring: &mut FrameRing, set: ImageSet<N>, frame_index: u64) {
+/// Hands `set`'s images to the ring at submit `serial`: the previous submit is the last whose
+/// commands may use them.
+fn retire<const N: usize>(ring: &mut FrameRing, set: ImageSet<N>, serial: u64) {
     for image in set.images {
-        ring.retire(frame_index.saturating_sub(1), image);
+        ring.retire(serial.saturating_sub(1), image);
+    }
+}
+
+/// Copies the frame's extent of `from` (GENERAL) into the engine's `to` (TRANSFER_DST_OPTIMAL),
+/// converting to its format. The extents match, so no texel is filtered.
+fn blit(
+    device: &ash::Device,
+    cmd: vk::CommandBuffer,
+    from: &OwnedImage,
+    to: &ImportedImage,
+    extent: vk::Extent2D,
+) {
+    let corner = vk::Offset3D {
+        x: extent.width as i32,
+        y: extent.height as i32,
+        z: 1,
+    };
+    let layer = vk::ImageSubresourceLayers {
+        aspect_mask: vk::ImageAspectFlags::COLOR,
+        mip_level: 0,
+        base_array_layer: 0,
+        layer_count: 1,
+    };
+    let region = vk::ImageBlit {
+        src_subresource: layer,
+        src_offsets: [vk::Offset3D::default(), corner],
+        dst_subresource: layer,
+        dst_offsets: [vk::Offset3D::default(), corner],
+    };
+    // SAFETY: cmd is recording; both images are live and in the layouts named.
+    unsafe {
+        device.cmd_blit_image(
+            cmd,
+            from.image,
+            vk::ImageLayout::GENERAL,
+            to.image,
+            vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+            &[region],
+            vk::Filter::NEAREST,
+        );
     }
 }
 
@@ -1342,10 +1442,12 @@ impl Drop for Context {
         let gpu = &self.gpu;
         let work = self.work.take().map(|w| w.images);
         let shadows = self.shadows.take().map(|s| s.images);
+        let staging = self.output_staging.take().map(|s| s.images);
         for mut image in work
             .into_iter()
             .flatten()
             .chain(shadows.into_iter().flatten())
+            .chain(staging.into_iter().flatten())
         {
             image.destroy(gpu, &mut self.allocator);
         }

@@ -159,6 +159,27 @@ fn submit_with_image_in_undefined_layout() {
 }
 
 #[test]
+fn submit_with_a_depth_stencil_layout_for_a_colour_image() {
+    rejected_submit(PatchexResult::ErrorInvalidLayout, |d| {
+        d.color.layout = vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL
+    });
+}
+
+#[test]
+fn submit_with_a_colour_layout_for_an_image_without_colour_attachment_usage() {
+    rejected_submit(PatchexResult::ErrorInvalidLayout, |d| {
+        d.base_color.layout = vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL
+    });
+}
+
+#[test]
+fn submit_with_a_stencil_only_layout_for_a_colour_image() {
+    rejected_submit(PatchexResult::ErrorInvalidLayout, |d| {
+        d.geometry.depth.layout = vk::ImageLayout::STENCIL_READ_ONLY_OPTIMAL
+    });
+}
+
+#[test]
 fn submit_with_image_smaller_than_the_frame() {
     rejected_submit(PatchexResult::ErrorMismatchedExtent, |d| {
         d.geometry.normal.width = WIDTH - 1
@@ -261,7 +282,16 @@ fn extrapolate_into_output_without_storage_usage() {
 #[test]
 fn extrapolate_into_unsupported_output_format() {
     rejected_extrapolate(PatchexResult::ErrorUnsupportedFormat, |d| {
-        d.output.format = vk::Format::R8G8B8A8_UNORM
+        d.output.format = vk::Format::R16G16_SFLOAT
+    });
+}
+
+/// Outputs in formats a shader cannot store are written by a blit, which needs TRANSFER_DST.
+#[test]
+fn extrapolate_into_blitted_output_without_transfer_usage() {
+    rejected_extrapolate(PatchexResult::ErrorMissingImageUsage, |d| {
+        d.output.format = vk::Format::B8G8R8A8_SRGB;
+        d.output.usage = vk::ImageUsageFlags::STORAGE;
     });
 }
 
@@ -434,6 +464,71 @@ fn frame_gaps_and_reset_flags_are_reported() {
     assert_eq!(case.rig.stats(4).1.reset_reason, PATCHEX_RESET_FRAME_GAP);
     assert_eq!(case.rig.stats(5).1.reset_reason, PATCHEX_RESET_REQUESTED);
     case.expect(case.rig.stats(2).0, PatchexResult::ErrorFrameNotFound);
+}
+
+/// A reset starts a new history, so it may restart the numbering (a lower or equal index); the
+/// stats of a repeated index are the newest frame's.
+#[test]
+fn reset_restarts_the_frame_numbering() {
+    let case = Case::new();
+    for (index, reset) in [(10, 0), (11, 0), (3, 1), (4, 0), (4, 1)] {
+        let mut desc = case.frame(index);
+        desc.reset = reset;
+        case.rig.engine.run(|cmd| {
+            assert_eq!(
+                case.rig.submit(cmd, &desc),
+                PatchexResult::Success,
+                "{}",
+                case.rig.last_error()
+            );
+            assert_eq!(
+                case.rig.extrapolate(cmd, &case.target()),
+                PatchexResult::Success
+            );
+        });
+    }
+    let (result, stats) = case.rig.stats(4);
+    assert_eq!(result, PatchexResult::Success);
+    assert_eq!(
+        stats.reset_reason, PATCHEX_RESET_REQUESTED,
+        "the newest frame 4"
+    );
+    assert_eq!(stats.extrapolation_count, 1);
+    // Two frames in flight: the ring holds both frames 4, and frame 3 has left it.
+    case.expect(case.rig.stats(3).0, PatchexResult::ErrorFrameNotFound);
+}
+
+/// The largest index is a frame like any other; only a reset may follow it.
+#[test]
+fn largest_frame_index_is_followed_by_a_reset() {
+    let case = Case::new();
+    case.rig.engine.run(|cmd| {
+        assert_eq!(
+            case.rig.submit(cmd, &case.frame(u64::MAX)),
+            PatchexResult::Success
+        );
+        assert_eq!(
+            case.rig.extrapolate(cmd, &case.target()),
+            PatchexResult::Success
+        );
+    });
+    assert_eq!(case.rig.stats(u64::MAX).0, PatchexResult::Success);
+    case.rig.engine.run(|cmd| {
+        case.expect(
+            case.rig.submit(cmd, &case.frame(0)),
+            PatchexResult::ErrorOutOfOrder,
+        );
+        let mut restart = case.frame(0);
+        restart.reset = 1;
+        assert_eq!(case.rig.submit(cmd, &restart), PatchexResult::Success);
+        assert_eq!(
+            case.rig.extrapolate(cmd, &case.target()),
+            PatchexResult::Success
+        );
+    });
+    let (result, stats) = case.rig.stats(0);
+    assert_eq!(result, PatchexResult::Success);
+    assert_eq!(stats.reset_reason, PATCHEX_RESET_REQUESTED);
 }
 
 #[test]

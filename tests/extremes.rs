@@ -85,7 +85,7 @@ fn depth_at_the_near_and_far_planes_in_every_convention() {
         let planes = match convention {
             PATCHEX_DEPTH_HARDWARE => [0.0, 1.0],
             PATCHEX_DEPTH_HARDWARE_REVERSED => [1.0, 0.0],
-            _ => [camera.near, camera.far],
+            _ => [camera.near_plane, camera.far_plane],
         };
         for frame in [&mut source, &mut target] {
             for x in 0..WIDTH {

@@ -28,3 +28,56 @@ fn committed_header_matches_cbindgen_output() {
         "include/patchex.h is stale: run `PATCHEX_BLESS_HEADER=1 cargo test --test header` and commit it"
     );
 }
+
+/// The name `PATCHEX_STRUCT_TYPE_SHADOW_FLOW_SETTINGS` gives its struct: `PatchexShadowFlowSettings`.
+fn struct_of_type_constant(constant: &str) -> String {
+    let words = constant
+        .trim_start_matches("PATCHEX_STRUCT_TYPE_")
+        .split('_');
+    let camel: String = words
+        .map(|word| word[..1].to_string() + &word[1..].to_lowercase())
+        .collect();
+    format!("Patchex{camel}")
+}
+
+/// cbindgen emits only the types an exported function names. Every struct a `struct_type`
+/// constant tags (the chained extensions above all) and every `#[repr(C)]` struct of the ABI
+/// must reach C callers all the same.
+#[test]
+fn header_declares_every_struct_of_the_abi() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let abi = std::fs::read_to_string(root.join("src/abi.rs")).expect("src/abi.rs reads");
+    let header = std::fs::read_to_string(root.join("include/patchex.h")).expect("header reads");
+    let tagged = abi.lines().filter_map(|line| {
+        let constant = line.strip_prefix("pub const PATCHEX_STRUCT_TYPE_")?;
+        let name = constant.split(':').next()?;
+        Some(struct_of_type_constant(&format!(
+            "PATCHEX_STRUCT_TYPE_{name}"
+        )))
+    });
+    let lines: Vec<&str> = abi.lines().collect();
+    let repr_c = lines.windows(3).filter_map(|window| {
+        if !window[0].starts_with("#[repr(C)]") {
+            return None;
+        }
+        let declaration = window[1..].iter().find(|l| l.starts_with("pub struct "))?;
+        let name = declaration
+            .strip_prefix("pub struct ")?
+            .split([' ', '{'])
+            .next()?;
+        Some(name.to_string())
+    });
+    let structs: Vec<String> = tagged.chain(repr_c).collect();
+    assert!(
+        structs.len() > 20,
+        "the scan finds the ABI's structs: {structs:?}"
+    );
+    let missing: Vec<&String> = structs
+        .iter()
+        .filter(|name| !header.contains(&format!("typedef struct {name} {{")))
+        .collect();
+    assert!(
+        missing.is_empty(),
+        "include/patchex.h lacks {missing:?}: add them to cbindgen.toml's [export] include"
+    );
+}

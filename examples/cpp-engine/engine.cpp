@@ -147,8 +147,8 @@ PatchexCamera camera_at(float t) {
   Mat4 view = view_at(t), projection = perspective();
   std::memcpy(camera.view, view.data(), sizeof camera.view);
   std::memcpy(camera.projection, projection.data(), sizeof camera.projection);
-  camera.near = kNear;
-  camera.far = kFar;
+  camera.near_plane = kNear;
+  camera.far_plane = kFar;
   camera.depth_convention = PATCHEX_DEPTH_HARDWARE;
   return camera;
 }

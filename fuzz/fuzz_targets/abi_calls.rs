@@ -347,8 +347,8 @@ fn camera(u: &mut Unstructured, world: &World) -> Result<PatchexCamera> {
             0 => camera.view[u.choose_index(16)?] = u.arbitrary()?,
             1 => camera.projection[u.choose_index(16)?] = u.arbitrary()?,
             2 => camera.jitter = u.arbitrary()?,
-            3 => camera.near = u.arbitrary()?,
-            4 => camera.far = u.arbitrary()?,
+            3 => camera.near_plane = u.arbitrary()?,
+            4 => camera.far_plane = u.arbitrary()?,
             _ => camera.depth_convention = u.int_in_range(0..=4)?,
         }
     }

@@ -25,8 +25,14 @@ fn is_readable_layout(layout: vk::ImageLayout) -> bool {
 struct EngineImageUse {
     image: ImportedImage,
     layout_in_pass: vk::ImageLayout,
-    written: bool,
+    /// How the plugin accesses it: SHADER_READ, SHADER_WRITE, or TRANSFER_WRITE (a blit).
+    access: vk::AccessFlags,
 }
+
+/// Every stage the plugin touches an engine image in: its passes and its blits.
+const PLUGIN_STAGES: vk::PipelineStageFlags = vk::PipelineStageFlags::from_raw(
+    vk::PipelineStageFlags::COMPUTE_SHADER.as_raw() | vk::PipelineStageFlags::TRANSFER.as_raw(),
+);
 
 /// The engine images one call touches, each once, with the layout its passes use.
 #[derive(Default)]
@@ -51,7 +57,7 @@ impl EngineImageAccess {
 
     fn read_layout(&mut self, image: &ImportedImage) -> Result<vk::ImageLayout> {
         if let Some(existing) = self.uses.iter().find(|u| u.image.image == image.image) {
-            if existing.written {
+            if existing.access != vk::AccessFlags::SHADER_READ {
                 bail!(
                     ErrorInvalidArgument,
                     "the output image is also passed as an input"
@@ -77,12 +83,13 @@ impl EngineImageAccess {
         self.uses.push(EngineImageUse {
             image: *image,
             layout_in_pass,
-            written: false,
+            access: vk::AccessFlags::SHADER_READ,
         });
         Ok(layout_in_pass)
     }
 
-    /// Registers a storage write; the image is written in GENERAL layout.
+    /// Registers a write: a storage write in GENERAL layout, or for an image written by a blit
+    /// (`ImportedImage::written_by_blit`) a transfer write in TRANSFER_DST_OPTIMAL.
     pub fn write(&mut self, image: &ImportedImage) -> Result<Texture> {
         if self.uses.iter().any(|u| u.image.image == image.image) {
             bail!(
@@ -90,11 +97,18 @@ impl EngineImageAccess {
                 "an image the plugin writes is also passed as another input or output"
             );
         }
-        let layout_in_pass = vk::ImageLayout::GENERAL;
+        let (layout_in_pass, access) = if image.written_by_blit {
+            (
+                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                vk::AccessFlags::TRANSFER_WRITE,
+            )
+        } else {
+            (vk::ImageLayout::GENERAL, vk::AccessFlags::SHADER_WRITE)
+        };
         self.uses.push(EngineImageUse {
             image: *image,
             layout_in_pass,
-            written: true,
+            access,
         });
         Ok(Texture {
             view: image.view,
@@ -110,11 +124,7 @@ impl EngineImageAccess {
             .map(|u| {
                 barrier(&u.image)
                     .src_access_mask(vk::AccessFlags::MEMORY_WRITE)
-                    .dst_access_mask(if u.written {
-                        vk::AccessFlags::SHADER_WRITE
-                    } else {
-                        vk::AccessFlags::SHADER_READ
-                    })
+                    .dst_access_mask(u.access)
                     .old_layout(u.image.layout)
                     .new_layout(u.layout_in_pass)
             })
@@ -124,7 +134,7 @@ impl EngineImageAccess {
             device.cmd_pipeline_barrier(
                 cmd,
                 vk::PipelineStageFlags::ALL_COMMANDS,
-                vk::PipelineStageFlags::COMPUTE_SHADER,
+                PLUGIN_STAGES,
                 vk::DependencyFlags::empty(),
                 &[],
                 &[],
@@ -141,11 +151,7 @@ impl EngineImageAccess {
             .iter()
             .map(|u| {
                 barrier(&u.image)
-                    .src_access_mask(if u.written {
-                        vk::AccessFlags::SHADER_WRITE
-                    } else {
-                        vk::AccessFlags::empty()
-                    })
+                    .src_access_mask(u.access & !vk::AccessFlags::SHADER_READ)
                     .dst_access_mask(vk::AccessFlags::MEMORY_READ | vk::AccessFlags::MEMORY_WRITE)
                     .old_layout(u.layout_in_pass)
                     .new_layout(u.image.layout)
@@ -155,7 +161,7 @@ impl EngineImageAccess {
         unsafe {
             device.cmd_pipeline_barrier(
                 cmd,
-                vk::PipelineStageFlags::COMPUTE_SHADER,
+                PLUGIN_STAGES,
                 vk::PipelineStageFlags::ALL_COMMANDS,
                 vk::DependencyFlags::empty(),
                 &[],
@@ -228,12 +234,13 @@ pub fn compute_to_indirect(device: &ash::Device, cmd: vk::CommandBuffer) {
     };
 }
 
-/// Orders earlier compute reads and writes before transfer writes of the same call (the fill
-/// that clears counters an earlier extrapolation of this slot may still hold).
+/// Orders earlier compute reads and writes before transfers of the same call: the fill that
+/// clears counters an earlier extrapolation of this slot may still hold, and the blit of the
+/// output's working image.
 pub fn compute_to_transfer(device: &ash::Device, cmd: vk::CommandBuffer) {
     let memory = vk::MemoryBarrier::default()
         .src_access_mask(vk::AccessFlags::SHADER_WRITE)
-        .dst_access_mask(vk::AccessFlags::TRANSFER_WRITE);
+        .dst_access_mask(vk::AccessFlags::TRANSFER_READ | vk::AccessFlags::TRANSFER_WRITE);
     // SAFETY: cmd is recording.
     unsafe {
         device.cmd_pipeline_barrier(

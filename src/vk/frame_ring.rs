@@ -38,6 +38,8 @@ pub struct RegionRecord {
 #[derive(Clone, Debug)]
 pub struct FrameRecord {
     pub frame_index: u64,
+    /// The context's submit count at this frame; slots and retirement go by it.
+    pub serial: u64,
     pub extent: vk::Extent2D,
     pub reset_reason: PatchexResetReason,
     pub shadow_history: PatchexShadowHistory,
@@ -132,8 +134,9 @@ impl FrameRing {
         }
     }
 
-    pub fn slot_of(&self, frame_index: u64) -> usize {
-        (frame_index % self.slots.len() as u64) as usize
+    /// The slot of the context's `serial`th submit.
+    pub fn slot_of(&self, serial: u64) -> usize {
+        (serial % self.slots.len() as u64) as usize
     }
 
     pub fn descriptor_set(&self, slot: usize, region: usize, pipeline: usize) -> vk::DescriptorSet {
@@ -191,18 +194,18 @@ impl FrameRing {
         self.counter_stride * (slot * REGIONS_PER_SLOT + region) as u64
     }
 
-    /// Keeps `image` alive until the GPU can no longer use it: frames up to `last_frame_using_it`
-    /// may still run, so it goes once frame `last_frame_using_it + frames_in_flight` is submitted.
-    pub fn retire(&mut self, last_frame_using_it: u64, image: OwnedImage) {
-        self.retired.push((last_frame_using_it, image));
+    /// Keeps `image` alive until the GPU can no longer use it: submits up to serial
+    /// `last_serial_using_it` may still run, so it goes at submit `last + frames_in_flight`.
+    pub fn retire(&mut self, last_serial_using_it: u64, image: OwnedImage) {
+        self.retired.push((last_serial_using_it, image));
     }
 
-    /// Destroys retired images no frame in flight can still use, at the submit of `frame_index`.
-    pub fn collect(&mut self, gpu: &Gpu, allocator: &mut Allocator, frame_index: u64) {
+    /// Destroys retired images no frame in flight can still use, at submit `serial`.
+    pub fn collect(&mut self, gpu: &Gpu, allocator: &mut Allocator, serial: u64) {
         let frames_in_flight = self.slots.len() as u64;
         let (done, alive): (Vec<_>, Vec<_>) = std::mem::take(&mut self.retired)
             .into_iter()
-            .partition(|(last, _)| frame_index >= last.saturating_add(frames_in_flight));
+            .partition(|(last, _)| serial >= last.saturating_add(frames_in_flight));
         self.retired = alive;
         for (_, mut image) in done {
             image.destroy(gpu, allocator);

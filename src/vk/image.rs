@@ -17,6 +17,9 @@ pub struct ImageRole<'a> {
     pub usage: vk::ImageUsageFlags,
     /// Format feature the device must support for this use.
     pub feature: vk::FormatFeatureFlags,
+    /// Formats the plugin writes by blitting a working image into the engine's (outputs whose
+    /// format a shader cannot store): they need TRANSFER_DST usage and BLIT_DST support instead.
+    pub blit_formats: &'static [vk::Format],
 }
 
 /// Colour formats readable as `texture_2d<f32>`.
@@ -67,7 +70,23 @@ pub const MASK_FORMATS: &[vk::Format] = &[
     vk::Format::R32G32B32A32_SFLOAT,
     vk::Format::R8G8B8A8_UNORM,
 ];
-pub const OUTPUT_FORMATS: &[vk::Format] = &[vk::Format::R16G16B16A16_SFLOAT];
+/// The output: RGBA16F is written by the last pass itself; the formats engines keep scene
+/// colour or present from are written through a working RGBA16F image and a blit, which
+/// converts as the format stores (UNORM clamps to [0, 1], SRGB encodes, B10G11R11 drops alpha
+/// and negatives).
+pub const OUTPUT_FORMATS: &[vk::Format] = &[
+    vk::Format::R16G16B16A16_SFLOAT,
+    vk::Format::B10G11R11_UFLOAT_PACK32,
+    vk::Format::A2B10G10R10_UNORM_PACK32,
+    vk::Format::R8G8B8A8_UNORM,
+    vk::Format::R8G8B8A8_SRGB,
+    vk::Format::B8G8R8A8_UNORM,
+    vk::Format::B8G8R8A8_SRGB,
+];
+/// The output formats written through a blit (every output format but RGBA16F).
+pub const BLIT_OUTPUT_FORMATS: &[vk::Format] = OUTPUT_FORMATS.split_at(1).1;
+/// Diagnostics images, written by their passes directly.
+pub const DIAGNOSTICS_FORMATS: &[vk::Format] = &[vk::Format::R16G16B16A16_SFLOAT];
 
 impl<'a> ImageRole<'a> {
     pub const fn input(name: &'a str, formats: &'static [vk::Format]) -> Self {
@@ -76,15 +95,39 @@ impl<'a> ImageRole<'a> {
             formats,
             usage: vk::ImageUsageFlags::SAMPLED,
             feature: vk::FormatFeatureFlags::SAMPLED_IMAGE,
+            blit_formats: &[],
         }
     }
 
+    /// The extrapolated frame.
     pub const fn output(name: &'a str) -> Self {
         Self {
             name,
             formats: OUTPUT_FORMATS,
             usage: vk::ImageUsageFlags::STORAGE,
             feature: vk::FormatFeatureFlags::STORAGE_IMAGE,
+            blit_formats: BLIT_OUTPUT_FORMATS,
+        }
+    }
+
+    /// A diagnostics image, written by a pass.
+    pub const fn diagnostics(name: &'a str) -> Self {
+        Self {
+            formats: DIAGNOSTICS_FORMATS,
+            blit_formats: &[],
+            ..Self::output(name)
+        }
+    }
+
+    /// The usage and format feature an image of `format` needs in this role.
+    fn needs(&self, format: vk::Format) -> (vk::ImageUsageFlags, vk::FormatFeatureFlags) {
+        if self.blit_formats.contains(&format) {
+            (
+                vk::ImageUsageFlags::TRANSFER_DST,
+                vk::FormatFeatureFlags::BLIT_DST,
+            )
+        } else {
+            (self.usage, self.feature)
         }
     }
 }
@@ -96,6 +139,8 @@ pub struct ImportedImage {
     pub view: vk::ImageView,
     pub format: vk::Format,
     pub layout: vk::ImageLayout,
+    /// An output the plugin fills by a blit from a working image (`ImageRole::blit_formats`).
+    pub written_by_blit: bool,
 }
 
 impl ImportedImage {
@@ -125,20 +170,20 @@ impl ImportedImage {
                 role.formats
             );
         }
-        if !gpu.format_features(desc.format).contains(role.feature) {
+        let (usage, feature) = role.needs(desc.format);
+        if !gpu.format_features(desc.format).contains(feature) {
             bail!(
                 ErrorUnsupportedFormat,
-                "{name}: the device does not support {:?} for format {:?}",
-                role.feature,
+                "{name}: the device does not support {feature:?} for format {:?}",
                 desc.format
             );
         }
-        if !desc.usage.contains(role.usage) {
+        if !desc.usage.contains(usage) {
             bail!(
                 ErrorMissingImageUsage,
-                "{name}: usage {:?} lacks {:?}",
+                "{name}: usage {:?} lacks {usage:?}, which a {:?} image needs here",
                 desc.usage,
-                role.usage
+                desc.format
             );
         }
         if !is_supported_layout(desc.layout) {
@@ -146,6 +191,15 @@ impl ImportedImage {
                 ErrorInvalidLayout,
                 "{name}: layout {:?} is not one the plugin can transition from and back to",
                 desc.layout
+            );
+        }
+        if let Err(reason) = layout_fits_image(desc.layout, aspects_of(desc.format), desc.usage) {
+            bail!(
+                ErrorInvalidLayout,
+                "{name}: layout {:?} cannot hold a {:?} image with usage {:?}: {reason}",
+                desc.layout,
+                desc.format,
+                desc.usage
             );
         }
         if desc.width < extent.width || desc.height < extent.height {
@@ -163,6 +217,7 @@ impl ImportedImage {
             view: desc.view,
             format: desc.format,
             layout: desc.layout,
+            written_by_blit: role.blit_formats.contains(&desc.format),
         }))
     }
 
@@ -185,16 +240,101 @@ impl ImportedImage {
 
     /// Aspects a barrier on this image must name (both for combined depth/stencil formats).
     pub fn barrier_aspects(&self) -> vk::ImageAspectFlags {
-        match self.format {
-            vk::Format::D16_UNORM | vk::Format::D32_SFLOAT => vk::ImageAspectFlags::DEPTH,
-            vk::Format::S8_UINT => vk::ImageAspectFlags::STENCIL,
-            vk::Format::D16_UNORM_S8_UINT
-            | vk::Format::D24_UNORM_S8_UINT
-            | vk::Format::D32_SFLOAT_S8_UINT => {
-                vk::ImageAspectFlags::DEPTH | vk::ImageAspectFlags::STENCIL
-            }
-            _ => vk::ImageAspectFlags::COLOR,
+        aspects_of(self.format)
+    }
+}
+
+/// Every aspect of an image of `format`.
+fn aspects_of(format: vk::Format) -> vk::ImageAspectFlags {
+    match format {
+        vk::Format::D16_UNORM | vk::Format::D32_SFLOAT => vk::ImageAspectFlags::DEPTH,
+        vk::Format::S8_UINT => vk::ImageAspectFlags::STENCIL,
+        vk::Format::D16_UNORM_S8_UINT
+        | vk::Format::D24_UNORM_S8_UINT
+        | vk::Format::D32_SFLOAT_S8_UINT => {
+            vk::ImageAspectFlags::DEPTH | vk::ImageAspectFlags::STENCIL
         }
+        _ => vk::ImageAspectFlags::COLOR,
+    }
+}
+
+/// Whether an image with `aspects` and `usage` can be in `layout`, as the barrier that moves it
+/// out requires (VkImageMemoryBarrier's oldLayout rules); otherwise why not.
+fn layout_fits_image(
+    layout: vk::ImageLayout,
+    aspects: vk::ImageAspectFlags,
+    usage: vk::ImageUsageFlags,
+) -> std::result::Result<(), &'static str> {
+    use vk::ImageAspectFlags as A;
+    use vk::ImageLayout as L;
+    use vk::ImageUsageFlags as U;
+    let color = aspects == A::COLOR;
+    let (depth, stencil) = (aspects.contains(A::DEPTH), aspects.contains(A::STENCIL));
+    let needs = |wanted: U, what| {
+        if usage.intersects(wanted) {
+            Ok(())
+        } else {
+            Err(what)
+        }
+    };
+    let colour_only = |what| if color { Ok(()) } else { Err(what) };
+    let depth_stencil = |what| if color { Err(what) } else { Ok(()) };
+    const DS_ATTACHMENT: &str = "a depth/stencil layout needs a depth/stencil format and \
+                                 DEPTH_STENCIL_ATTACHMENT usage";
+    match layout {
+        L::GENERAL => Ok(()),
+        L::COLOR_ATTACHMENT_OPTIMAL | L::PRESENT_SRC_KHR => {
+            colour_only("a colour layout needs a colour format")?;
+            if layout == L::COLOR_ATTACHMENT_OPTIMAL {
+                needs(U::COLOR_ATTACHMENT, "it needs COLOR_ATTACHMENT usage")?;
+            }
+            Ok(())
+        }
+        L::DEPTH_STENCIL_ATTACHMENT_OPTIMAL
+        | L::DEPTH_STENCIL_READ_ONLY_OPTIMAL
+        | L::DEPTH_READ_ONLY_STENCIL_ATTACHMENT_OPTIMAL
+        | L::DEPTH_ATTACHMENT_STENCIL_READ_ONLY_OPTIMAL => {
+            depth_stencil(DS_ATTACHMENT)?;
+            needs(U::DEPTH_STENCIL_ATTACHMENT, DS_ATTACHMENT)
+        }
+        // The separate layouts name one aspect; the plugin's barrier names every aspect of the
+        // image, so they fit only formats that have just that aspect.
+        L::DEPTH_ATTACHMENT_OPTIMAL | L::DEPTH_READ_ONLY_OPTIMAL => {
+            if !(depth && !stencil) {
+                return Err(
+                    "a depth-only layout needs a depth-only format (D16_UNORM, D32_SFLOAT)",
+                );
+            }
+            needs(U::DEPTH_STENCIL_ATTACHMENT, DS_ATTACHMENT)
+        }
+        L::STENCIL_ATTACHMENT_OPTIMAL | L::STENCIL_READ_ONLY_OPTIMAL => {
+            if !(stencil && !depth) {
+                return Err("a stencil-only layout needs a stencil-only format (S8_UINT)");
+            }
+            needs(U::DEPTH_STENCIL_ATTACHMENT, DS_ATTACHMENT)
+        }
+        L::SHADER_READ_ONLY_OPTIMAL => needs(
+            U::SAMPLED | U::INPUT_ATTACHMENT,
+            "it needs SAMPLED or INPUT_ATTACHMENT usage",
+        ),
+        L::TRANSFER_SRC_OPTIMAL => needs(U::TRANSFER_SRC, "it needs TRANSFER_SRC usage"),
+        L::TRANSFER_DST_OPTIMAL => needs(U::TRANSFER_DST, "it needs TRANSFER_DST usage"),
+        L::ATTACHMENT_OPTIMAL => {
+            let attachment = if color {
+                U::COLOR_ATTACHMENT
+            } else {
+                U::DEPTH_STENCIL_ATTACHMENT
+            };
+            needs(
+                attachment,
+                "it needs the attachment usage of the image's aspect",
+            )
+        }
+        L::READ_ONLY_OPTIMAL => needs(
+            U::SAMPLED | U::INPUT_ATTACHMENT | U::DEPTH_STENCIL_ATTACHMENT,
+            "it needs SAMPLED, INPUT_ATTACHMENT or DEPTH_STENCIL_ATTACHMENT usage",
+        ),
+        _ => Err("the plugin does not take images in it"),
     }
 }
 

@@ -118,8 +118,8 @@ impl Scene {
             view: self.view(time).to_cols_array(),
             projection: self.projection(jitter).to_cols_array(),
             jitter: jitter.into(),
-            near: NEAR,
-            far: if self.depth_convention == PATCHEX_DEPTH_HARDWARE_REVERSED {
+            near_plane: NEAR,
+            far_plane: if self.depth_convention == PATCHEX_DEPTH_HARDWARE_REVERSED {
                 f32::INFINITY
             } else {
                 FAR

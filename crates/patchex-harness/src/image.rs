@@ -2,6 +2,7 @@
 
 use ash::vk;
 
+use crate::texel::{decode, encode, texel_layout};
 use crate::Engine;
 
 /// A 2D image owned by the engine (mip 0, layer 0), with its view and dedicated memory.
@@ -14,20 +15,6 @@ pub struct EngineImage {
     pub usage: vk::ImageUsageFlags,
     memory: vk::DeviceMemory,
     device: ash::Device,
-}
-
-/// Channels and bytes per channel of the formats the harness can fill and read.
-fn texel_layout(format: vk::Format) -> (usize, usize) {
-    match format {
-        vk::Format::R32G32B32A32_SFLOAT => (4, 4),
-        vk::Format::R16G16B16A16_SFLOAT => (4, 2),
-        vk::Format::R32G32_SFLOAT => (2, 4),
-        vk::Format::R16G16_SFLOAT => (2, 2),
-        vk::Format::R32_SFLOAT | vk::Format::D32_SFLOAT => (1, 4),
-        vk::Format::R8_UINT => (1, 1),
-        vk::Format::R8G8B8A8_UNORM => (4, 1),
-        other => panic!("the harness does not handle {other:?}"),
-    }
 }
 
 fn aspect(format: vk::Format) -> vk::ImageAspectFlags {
@@ -200,8 +187,8 @@ impl ImageRef {
     /// Reads the image, which must be in `layout`, and leaves it there. Validation's layout
     /// tracking reports it when the image is in fact in another layout.
     pub fn read(&self, engine: &Engine, layout: vk::ImageLayout) -> Vec<f32> {
-        let (channels, bytes_per_channel) = texel_layout(self.format);
-        let size = (self.width * self.height) as u64 * (channels * bytes_per_channel) as u64;
+        let (_, bytes_per_texel) = texel_layout(self.format);
+        let size = (self.width * self.height) as u64 * bytes_per_texel as u64;
         let staging = StagingBuffer::new(engine, size);
         engine.run(|cmd| {
             self.record_barrier(
@@ -284,38 +271,6 @@ fn range(format: vk::Format) -> vk::ImageSubresourceRange {
         level_count: 1,
         base_array_layer: 0,
         layer_count: 1,
-    }
-}
-
-fn encode(format: vk::Format, values: &[f32]) -> Vec<u8> {
-    match texel_layout(format) {
-        (_, 4) => values.iter().flat_map(|v| v.to_ne_bytes()).collect(),
-        (_, 2) => values
-            .iter()
-            .flat_map(|v| half::f16::from_f32(*v).to_ne_bytes())
-            .collect(),
-        _ if format == vk::Format::R8G8B8A8_UNORM => values
-            .iter()
-            .map(|v| (v.clamp(0.0, 1.0) * 255.0).round() as u8)
-            .collect(),
-        _ => values.iter().map(|v| *v as u8).collect(),
-    }
-}
-
-fn decode(format: vk::Format, bytes: &[u8]) -> Vec<f32> {
-    match texel_layout(format) {
-        (_, 4) => bytes
-            .chunks_exact(4)
-            .map(|b| f32::from_ne_bytes(b.try_into().unwrap()))
-            .collect(),
-        (_, 2) => bytes
-            .chunks_exact(2)
-            .map(|b| half::f16::from_ne_bytes(b.try_into().unwrap()).to_f32())
-            .collect(),
-        _ if format == vk::Format::R8G8B8A8_UNORM => {
-            bytes.iter().map(|b| *b as f32 / 255.0).collect()
-        }
-        _ => bytes.iter().map(|b| *b as f32).collect(),
     }
 }
 

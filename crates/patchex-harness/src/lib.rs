@@ -7,6 +7,7 @@
 mod engine;
 mod image;
 pub mod intercept;
+pub mod texel;
 
 pub use engine::{Engine, EngineOptions, FrameLoop, ThreadPool};
 pub use image::{EngineImage, ImageRef};

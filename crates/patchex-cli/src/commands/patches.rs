@@ -79,8 +79,8 @@ fn frame(dataset: &Dataset, index: usize) -> Result<Frame, Box<dyn std::error::E
         view: info.view,
         projection: info.proj,
         jitter: [0.0, 0.0],
-        near: dataset.manifest.near,
-        far: dataset.manifest.far,
+        near_plane: dataset.manifest.near,
+        far_plane: dataset.manifest.far,
         depth_convention: PATCHEX_DEPTH_LINEAR_VIEW_Z,
     };
     Ok(Frame {

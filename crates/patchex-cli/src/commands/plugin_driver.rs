@@ -212,8 +212,8 @@ impl PluginDriver {
                 view: info.view,
                 projection: info.proj,
                 jitter: [0.0, 0.0],
-                near: self.near,
-                far: self.far,
+                near_plane: self.near,
+                far_plane: self.far,
                 depth_convention: PATCHEX_DEPTH_LINEAR_VIEW_Z,
             },
         }

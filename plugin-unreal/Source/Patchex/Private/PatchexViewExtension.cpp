@@ -129,8 +129,8 @@ PatchexCamera CameraOf(const FViewMatrices& Matrices, const FIntPoint& Extent, f
 	const FVector2D Jitter = Matrices.GetTemporalAAJitter();  // NDC units
 	Camera.jitter[0] = float(0.5 * Jitter.X * Extent.X);
 	Camera.jitter[1] = float(-0.5 * Jitter.Y * Extent.Y);
-	Camera.near = NearPlane;
-	Camera.far = INFINITY;  // Unreal's reversed-Z projection has an infinite far plane
+	Camera.near_plane = NearPlane;
+	Camera.far_plane = INFINITY;  // Unreal's reversed-Z projection has an infinite far plane
 	Camera.depth_convention = PATCHEX_DEPTH_HARDWARE_REVERSED;
 	return Camera;
 }
