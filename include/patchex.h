@@ -700,6 +700,10 @@ typedef struct PatchexShadowDiagnostics {
 // The networks' results blended back under the region masks.
 #define PATCHEX_STAGE_BLEND 11
 
+// An output in a packed format (every output format but R16G16B16A16_SFLOAT): the frame
+// packed into the format's texels and copied into the output image.
+#define PATCHEX_STAGE_PACK_OUTPUT 12
+
 #define PATCHEX_RESET_NONE 0
 
 #define PATCHEX_RESET_FIRST_FRAME 1

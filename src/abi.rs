@@ -523,6 +523,9 @@ pub const PATCHEX_STAGE_SHADOW_WARP: PatchexStage = 9;
 pub const PATCHEX_STAGE_INFERENCE: PatchexStage = 10;
 /// The networks' results blended back under the region masks.
 pub const PATCHEX_STAGE_BLEND: PatchexStage = 11;
+/// An output in a packed format (every output format but R16G16B16A16_SFLOAT): the frame
+/// packed into the format's texels and copied into the output image.
+pub const PATCHEX_STAGE_PACK_OUTPUT: PatchexStage = 12;
 /// Size of the `gpu_ms` arrays; stages added later take indices below it.
 pub const PATCHEX_STAGE_SLOTS: usize = 16;
 

@@ -18,8 +18,8 @@ use crate::passes::segmentation::{self, SegmentationSettings};
 use crate::passes::shadow_flow::{self, FlowSettings};
 use crate::passes::warp::WarpSettings;
 use crate::passes::{
-    demodulate, diagnostics, lbp, pack_gbuffer, remodulate, separate_shadows, warp, Pipelines,
-    Texture, SANITIZE_COUNTER_BYTES,
+    demodulate, diagnostics, lbp, pack_gbuffer, pack_output, remodulate, separate_shadows, warp,
+    Pipelines, Texture, SANITIZE_COUNTER_BYTES,
 };
 use crate::vk::barriers::{self, EngineImageAccess};
 use crate::vk::device::Gpu;
@@ -54,8 +54,8 @@ struct ImageSpec {
     atlas: bool,
     /// Cleared with vkCmdClearColorImage.
     cleared: bool,
-    /// Blitted into an engine image.
-    blitted: bool,
+    /// Copied into an engine image.
+    copied_out: bool,
 }
 
 const fn frame_image(name: &'static str, format: vk::Format) -> ImageSpec {
@@ -64,7 +64,7 @@ const fn frame_image(name: &'static str, format: vk::Format) -> ImageSpec {
         format,
         atlas: false,
         cleared: false,
-        blitted: false,
+        copied_out: false,
     }
 }
 
@@ -74,7 +74,7 @@ const fn atlas_image(name: &'static str, format: vk::Format) -> ImageSpec {
         format,
         atlas: true,
         cleared: false,
-        blitted: false,
+        copied_out: false,
     }
 }
 
@@ -116,7 +116,7 @@ impl<const N: usize> ImageSet<N> {
             if spec.cleared {
                 usage |= vk::ImageUsageFlags::TRANSFER_DST;
             }
-            if spec.blitted {
+            if spec.copied_out {
                 usage |= vk::ImageUsageFlags::TRANSFER_SRC;
             }
             let size = if spec.atlas {
@@ -182,15 +182,22 @@ impl WorkImages {
     ];
 }
 
-/// The extrapolated frame before its blit into an output whose format a shader cannot store
-/// (`BLIT_OUTPUT_FORMATS`), made at the first such output.
-type OutputStaging = ImageSet<1>;
+/// For an output whose format a shader cannot store (`PACKED_OUTPUT_FORMATS`): the extrapolated
+/// frame, and its texels packed in the output's format for the copy. Made at the first such
+/// output.
+type OutputStaging = ImageSet<2>;
 
 impl OutputStaging {
-    const SPECS: [ImageSpec; 1] = [ImageSpec {
-        blitted: true,
-        ..frame_image("patchex output staging", vk::Format::R16G16B16A16_SFLOAT)
-    }];
+    const FRAME: usize = 0;
+    const PACKED: usize = 1;
+
+    const SPECS: [ImageSpec; 2] = [
+        frame_image("patchex output frame", vk::Format::R16G16B16A16_SFLOAT),
+        ImageSpec {
+            copied_out: true,
+            ..frame_image("patchex packed output", vk::Format::R32_UINT)
+        },
+    ];
 }
 
 /// The shadow sub-task's images, made at the first frame with a shadow input.
@@ -871,7 +878,7 @@ impl Context {
             inputs.geometry.motion_vector_scale,
         );
 
-        if inputs.output.written_by_blit {
+        if inputs.output.written_by_copy {
             let extent = self.work.as_ref().expect("made by the submit").extent;
             if let Some(staging) = grown(
                 &self.gpu,
@@ -897,9 +904,10 @@ impl Context {
             self.ring
                 .counter_range(slot, region, OBJECT_TABLE_OFFSET, segmentation::TABLE_BYTES);
         let staging = match self.output_staging.as_mut() {
-            Some(staging) if inputs.output.written_by_blit => {
-                barriers::initialize_owned(device, cmd, &mut [&mut staging.images[0]]);
-                Some(&staging.images[0])
+            Some(staging) if inputs.output.written_by_copy => {
+                let [frame, packed] = &mut staging.images;
+                barriers::initialize_owned(device, cmd, &mut [frame, packed]);
+                Some(&*staging)
             }
             _ => None,
         };
@@ -1118,19 +1126,39 @@ impl Context {
                     target_normal_id: (&work[WorkImages::TARGET_NORMAL_ID]).into(),
                     placeholder,
                 },
-                staging.map_or(output, Texture::from),
+                staging.map_or(output, |s| (&s[OutputStaging::FRAME]).into()),
                 &self.ring.counter_range(
                     slot,
                     region,
                     SANITIZE_COUNTERS_OFFSET,
                     SANITIZE_COUNTER_BYTES,
                 ),
-            );
-            if let Some(staging) = staging {
-                barriers::compute_to_transfer(device, cmd);
-                blit(device, cmd, staging, &inputs.output, inputs.extent);
-            }
+            )
         });
+        if let Some(staging) = staging {
+            let encoding = pack_output::encoding(inputs.output.format)
+                .expect("every copied output format has an encoding");
+            barriers::compute_to_compute(device, cmd, false);
+            timed.stage(PATCHEX_STAGE_PACK_OUTPUT, || {
+                pack_output::record(
+                    self.pipelines.get(Pipelines::PACK_OUTPUT),
+                    device,
+                    cmd,
+                    self.ring
+                        .descriptor_set(slot, region, Pipelines::PACK_OUTPUT),
+                    inputs.extent,
+                    &pack_output::Packing {
+                        encoding,
+                        frame: &staging[OutputStaging::FRAME],
+                        packed: &staging[OutputStaging::PACKED],
+                    },
+                );
+                let packed = &staging[OutputStaging::PACKED];
+                barriers::owned_for_copy(device, cmd, packed, false);
+                copy_packed(device, cmd, packed, &inputs.output, inputs.extent);
+                barriers::owned_for_copy(device, cmd, packed, true);
+            });
+        }
         let shadow_diagnostics = shadow_diagnostics_image.zip(shadows);
         if diagnostics_image.is_some() || shadow_diagnostics.is_some() {
             timed.stage(PATCHEX_STAGE_DIAGNOSTICS, || {
@@ -1373,42 +1401,41 @@ fn retire<const N: usize>(ring: &mut FrameRing, set: ImageSet<N>, serial: u64) {
     }
 }
 
-/// Copies the frame's extent of `from` (GENERAL) into the engine's `to` (TRANSFER_DST_OPTIMAL),
-/// converting to its format. The extents match, so no texel is filtered.
-fn blit(
+/// Copies the frame's extent of the packed texels (TRANSFER_SRC_OPTIMAL) into the engine's `to`
+/// (TRANSFER_DST_OPTIMAL). Both formats have 32-bit texels, so the copy moves bits unchanged.
+fn copy_packed(
     device: &ash::Device,
     cmd: vk::CommandBuffer,
-    from: &OwnedImage,
+    packed: &OwnedImage,
     to: &ImportedImage,
     extent: vk::Extent2D,
 ) {
-    let corner = vk::Offset3D {
-        x: extent.width as i32,
-        y: extent.height as i32,
-        z: 1,
-    };
     let layer = vk::ImageSubresourceLayers {
         aspect_mask: vk::ImageAspectFlags::COLOR,
         mip_level: 0,
         base_array_layer: 0,
         layer_count: 1,
     };
-    let region = vk::ImageBlit {
+    let region = vk::ImageCopy {
         src_subresource: layer,
-        src_offsets: [vk::Offset3D::default(), corner],
+        src_offset: vk::Offset3D::default(),
         dst_subresource: layer,
-        dst_offsets: [vk::Offset3D::default(), corner],
+        dst_offset: vk::Offset3D::default(),
+        extent: vk::Extent3D {
+            width: extent.width,
+            height: extent.height,
+            depth: 1,
+        },
     };
-    // SAFETY: cmd is recording; both images are live and in the layouts named.
+    // SAFETY: cmd is recording; both images are live, in the layouts named, of one texel size.
     unsafe {
-        device.cmd_blit_image(
+        device.cmd_copy_image(
             cmd,
-            from.image,
-            vk::ImageLayout::GENERAL,
+            packed.image,
+            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
             to.image,
             vk::ImageLayout::TRANSFER_DST_OPTIMAL,
             &[region],
-            vk::Filter::NEAREST,
         );
     }
 }

@@ -6,6 +6,7 @@ pub mod diagnostics;
 pub mod inpaint;
 pub mod lbp;
 pub mod pack_gbuffer;
+pub mod pack_output;
 pub mod remodulate;
 pub mod segmentation;
 pub mod separate_shadows;
@@ -30,7 +31,7 @@ pub use crate::vk::image::Texture;
 pub const SANITIZE_COUNTER_BYTES: u64 = 4;
 
 /// Every stage a frame can run, with the name reports give it.
-pub const STAGE_NAMES: [(PatchexStage, &str); 12] = [
+pub const STAGE_NAMES: [(PatchexStage, &str); 13] = [
     (PATCHEX_STAGE_DEMODULATE, "demodulate"),
     (PATCHEX_STAGE_PACK_SOURCE_GBUFFER, "pack source"),
     (PATCHEX_STAGE_SHADOW_FLOW, "shadow flow"),
@@ -42,6 +43,7 @@ pub const STAGE_NAMES: [(PatchexStage, &str); 12] = [
     (PATCHEX_STAGE_INFERENCE, "inference"),
     (PATCHEX_STAGE_BLEND, "blend"),
     (PATCHEX_STAGE_REMODULATE, "remodulate"),
+    (PATCHEX_STAGE_PACK_OUTPUT, "pack output"),
     (PATCHEX_STAGE_DIAGNOSTICS, "diagnostics"),
 ];
 
@@ -79,6 +81,7 @@ impl Pipelines {
     pub const SHADOW_FLOW_UPSAMPLE: usize = 18;
     pub const PLAN_PATCHES: usize = 19;
     pub const BLEND_PATCHES: usize = 20;
+    pub const PACK_OUTPUT: usize = 21;
 
     /// How many pipelines a device holds.
     pub const COUNT: usize = Self::SHADERS.len();
@@ -104,7 +107,7 @@ impl Pipelines {
             }
     }
 
-    const SHADERS: [shaders::ShaderInfo; 21] = [
+    const SHADERS: [shaders::ShaderInfo; 22] = [
         shaders::demodulate::SHADER,
         shaders::pack_gbuffer::SHADER,
         shaders::warp_gbuffer::SHADER,
@@ -126,6 +129,7 @@ impl Pipelines {
         shaders::shadow_flow_upsample::SHADER,
         shaders::plan_patches::SHADER,
         shaders::blend_patches::SHADER,
+        shaders::pack_output::SHADER,
     ];
 
     fn new(gpu: &Gpu) -> Result<Self> {

@@ -9,6 +9,7 @@ pub mod lbp;
 pub mod network;
 pub mod optical_flow;
 pub mod pack_gbuffer;
+pub mod pack_output;
 pub mod remodulate;
 pub mod segmentation;
 pub mod separate_shadows;

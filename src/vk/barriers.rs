@@ -25,11 +25,11 @@ fn is_readable_layout(layout: vk::ImageLayout) -> bool {
 struct EngineImageUse {
     image: ImportedImage,
     layout_in_pass: vk::ImageLayout,
-    /// How the plugin accesses it: SHADER_READ, SHADER_WRITE, or TRANSFER_WRITE (a blit).
+    /// How the plugin accesses it: SHADER_READ, SHADER_WRITE, or TRANSFER_WRITE (a copy).
     access: vk::AccessFlags,
 }
 
-/// Every stage the plugin touches an engine image in: its passes and its blits.
+/// Every stage the plugin touches an engine image in: its passes and its copies.
 const PLUGIN_STAGES: vk::PipelineStageFlags = vk::PipelineStageFlags::from_raw(
     vk::PipelineStageFlags::COMPUTE_SHADER.as_raw() | vk::PipelineStageFlags::TRANSFER.as_raw(),
 );
@@ -88,8 +88,8 @@ impl EngineImageAccess {
         Ok(layout_in_pass)
     }
 
-    /// Registers a write: a storage write in GENERAL layout, or for an image written by a blit
-    /// (`ImportedImage::written_by_blit`) a transfer write in TRANSFER_DST_OPTIMAL.
+    /// Registers a write: a storage write in GENERAL layout, or for an image written by a copy
+    /// (`ImportedImage::written_by_copy`) a transfer write in TRANSFER_DST_OPTIMAL.
     pub fn write(&mut self, image: &ImportedImage) -> Result<Texture> {
         if self.uses.iter().any(|u| u.image.image == image.image) {
             bail!(
@@ -97,7 +97,7 @@ impl EngineImageAccess {
                 "an image the plugin writes is also passed as another input or output"
             );
         }
-        let (layout_in_pass, access) = if image.written_by_blit {
+        let (layout_in_pass, access) = if image.written_by_copy {
             (
                 vk::ImageLayout::TRANSFER_DST_OPTIMAL,
                 vk::AccessFlags::TRANSFER_WRITE,
@@ -234,13 +234,12 @@ pub fn compute_to_indirect(device: &ash::Device, cmd: vk::CommandBuffer) {
     };
 }
 
-/// Orders earlier compute reads and writes before transfers of the same call: the fill that
-/// clears counters an earlier extrapolation of this slot may still hold, and the blit of the
-/// output's working image.
+/// Orders earlier compute reads and writes before transfer writes of the same call (the fill
+/// that clears counters an earlier extrapolation of this slot may still hold).
 pub fn compute_to_transfer(device: &ash::Device, cmd: vk::CommandBuffer) {
     let memory = vk::MemoryBarrier::default()
         .src_access_mask(vk::AccessFlags::SHADER_WRITE)
-        .dst_access_mask(vk::AccessFlags::TRANSFER_READ | vk::AccessFlags::TRANSFER_WRITE);
+        .dst_access_mask(vk::AccessFlags::TRANSFER_WRITE);
     // SAFETY: cmd is recording.
     unsafe {
         device.cmd_pipeline_barrier(
@@ -251,6 +250,57 @@ pub fn compute_to_transfer(device: &ash::Device, cmd: vk::CommandBuffer) {
             &[memory],
             &[],
             &[],
+        );
+    }
+}
+
+/// Moves a plugin image a pass just wrote (GENERAL) to TRANSFER_SRC_OPTIMAL for a copy, or
+/// (`back`) returns it to GENERAL once the copy has read it, before a later pass writes it.
+pub fn owned_for_copy(
+    device: &ash::Device,
+    cmd: vk::CommandBuffer,
+    image: &OwnedImage,
+    back: bool,
+) {
+    let (general, source) = (
+        vk::ImageLayout::GENERAL,
+        vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+    );
+    let barrier = vk::ImageMemoryBarrier::default()
+        .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+        .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+        .image(image.image)
+        .subresource_range(ALL_LAYERS);
+    let (barrier, from, to) = if back {
+        (
+            barrier
+                .old_layout(source)
+                .new_layout(general)
+                .dst_access_mask(vk::AccessFlags::SHADER_WRITE),
+            vk::PipelineStageFlags::TRANSFER,
+            vk::PipelineStageFlags::COMPUTE_SHADER,
+        )
+    } else {
+        (
+            barrier
+                .old_layout(general)
+                .new_layout(source)
+                .src_access_mask(vk::AccessFlags::SHADER_WRITE)
+                .dst_access_mask(vk::AccessFlags::TRANSFER_READ),
+            vk::PipelineStageFlags::COMPUTE_SHADER,
+            vk::PipelineStageFlags::TRANSFER,
+        )
+    };
+    // SAFETY: cmd is recording; the image is live.
+    unsafe {
+        device.cmd_pipeline_barrier(
+            cmd,
+            from,
+            to,
+            vk::DependencyFlags::empty(),
+            &[],
+            &[],
+            &[barrier],
         );
     }
 }

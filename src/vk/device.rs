@@ -50,7 +50,7 @@ const REQUIRED_DEVICE_COMMANDS: &[&CStr] = &[
     c"vkCmdResetQueryPool",
     c"vkCmdWriteTimestamp",
     c"vkCmdFillBuffer",
-    c"vkCmdBlitImage",
+    c"vkCmdCopyImage",
 ];
 
 /// The engine's instance, physical device and device, with the facts the plugin checks per call.

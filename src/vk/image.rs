@@ -17,9 +17,10 @@ pub struct ImageRole<'a> {
     pub usage: vk::ImageUsageFlags,
     /// Format feature the device must support for this use.
     pub feature: vk::FormatFeatureFlags,
-    /// Formats the plugin writes by blitting a working image into the engine's (outputs whose
-    /// format a shader cannot store): they need TRANSFER_DST usage and BLIT_DST support instead.
-    pub blit_formats: &'static [vk::Format],
+    /// Formats the plugin fills by copying packed texels from a working image into the
+    /// engine's (outputs whose format a shader cannot store): they need TRANSFER_DST usage
+    /// instead, and no format feature, since the engine could create the image with it.
+    pub copied_formats: &'static [vk::Format],
 }
 
 /// Colour formats readable as `texture_2d<f32>`.
@@ -70,10 +71,9 @@ pub const MASK_FORMATS: &[vk::Format] = &[
     vk::Format::R32G32B32A32_SFLOAT,
     vk::Format::R8G8B8A8_UNORM,
 ];
-/// The output: RGBA16F is written by the last pass itself; the formats engines keep scene
-/// colour or present from are written through a working RGBA16F image and a blit, which
-/// converts as the format stores (UNORM clamps to [0, 1], SRGB encodes, B10G11R11 drops alpha
-/// and negatives).
+/// The output: RGBA16F is written by the last pass itself; the 32-bit formats engines keep scene
+/// colour in or present from are packed by a pass (`passes::pack_output`) and copied in: UNORM
+/// clamps to [0, 1], SRGB encodes, B10G11R11 drops alpha and clamps negatives to 0.
 pub const OUTPUT_FORMATS: &[vk::Format] = &[
     vk::Format::R16G16B16A16_SFLOAT,
     vk::Format::B10G11R11_UFLOAT_PACK32,
@@ -83,8 +83,8 @@ pub const OUTPUT_FORMATS: &[vk::Format] = &[
     vk::Format::B8G8R8A8_UNORM,
     vk::Format::B8G8R8A8_SRGB,
 ];
-/// The output formats written through a blit (every output format but RGBA16F).
-pub const BLIT_OUTPUT_FORMATS: &[vk::Format] = OUTPUT_FORMATS.split_at(1).1;
+/// The output formats packed and copied (every output format but RGBA16F).
+pub const PACKED_OUTPUT_FORMATS: &[vk::Format] = OUTPUT_FORMATS.split_at(1).1;
 /// Diagnostics images, written by their passes directly.
 pub const DIAGNOSTICS_FORMATS: &[vk::Format] = &[vk::Format::R16G16B16A16_SFLOAT];
 
@@ -95,7 +95,7 @@ impl<'a> ImageRole<'a> {
             formats,
             usage: vk::ImageUsageFlags::SAMPLED,
             feature: vk::FormatFeatureFlags::SAMPLED_IMAGE,
-            blit_formats: &[],
+            copied_formats: &[],
         }
     }
 
@@ -106,7 +106,7 @@ impl<'a> ImageRole<'a> {
             formats: OUTPUT_FORMATS,
             usage: vk::ImageUsageFlags::STORAGE,
             feature: vk::FormatFeatureFlags::STORAGE_IMAGE,
-            blit_formats: BLIT_OUTPUT_FORMATS,
+            copied_formats: PACKED_OUTPUT_FORMATS,
         }
     }
 
@@ -114,17 +114,17 @@ impl<'a> ImageRole<'a> {
     pub const fn diagnostics(name: &'a str) -> Self {
         Self {
             formats: DIAGNOSTICS_FORMATS,
-            blit_formats: &[],
+            copied_formats: &[],
             ..Self::output(name)
         }
     }
 
     /// The usage and format feature an image of `format` needs in this role.
     fn needs(&self, format: vk::Format) -> (vk::ImageUsageFlags, vk::FormatFeatureFlags) {
-        if self.blit_formats.contains(&format) {
+        if self.copied_formats.contains(&format) {
             (
                 vk::ImageUsageFlags::TRANSFER_DST,
-                vk::FormatFeatureFlags::BLIT_DST,
+                vk::FormatFeatureFlags::empty(),
             )
         } else {
             (self.usage, self.feature)
@@ -139,8 +139,8 @@ pub struct ImportedImage {
     pub view: vk::ImageView,
     pub format: vk::Format,
     pub layout: vk::ImageLayout,
-    /// An output the plugin fills by a blit from a working image (`ImageRole::blit_formats`).
-    pub written_by_blit: bool,
+    /// An output the plugin fills by a copy from a working image (`ImageRole::copied_formats`).
+    pub written_by_copy: bool,
 }
 
 impl ImportedImage {
@@ -217,7 +217,7 @@ impl ImportedImage {
             view: desc.view,
             format: desc.format,
             layout: desc.layout,
-            written_by_blit: role.blit_formats.contains(&desc.format),
+            written_by_copy: role.copied_formats.contains(&desc.format),
         }))
     }
 
@@ -300,7 +300,7 @@ fn layout_fits_image(
         // The separate layouts name one aspect; the plugin's barrier names every aspect of the
         // image, so they fit only formats that have just that aspect.
         L::DEPTH_ATTACHMENT_OPTIMAL | L::DEPTH_READ_ONLY_OPTIMAL => {
-            if !(depth && !stencil) {
+            if !depth || stencil {
                 return Err(
                     "a depth-only layout needs a depth-only format (D16_UNORM, D32_SFLOAT)",
                 );
@@ -308,7 +308,7 @@ fn layout_fits_image(
             needs(U::DEPTH_STENCIL_ATTACHMENT, DS_ATTACHMENT)
         }
         L::STENCIL_ATTACHMENT_OPTIMAL | L::STENCIL_READ_ONLY_OPTIMAL => {
-            if !(stencil && !depth) {
+            if !stencil || depth {
                 return Err("a stencil-only layout needs a stencil-only format (S8_UINT)");
             }
             needs(U::DEPTH_STENCIL_ATTACHMENT, DS_ATTACHMENT)

@@ -375,13 +375,23 @@ impl GpuFrame {
 
 /// The engine's output image, R16G16B16A16_SFLOAT with storage usage, in OUTPUT_LAYOUT.
 pub fn output_image(engine: &Engine, width: u32, height: u32) -> EngineImage {
-    let output = EngineImage::new(
-        engine,
-        vk::Format::R16G16B16A16_SFLOAT,
-        width,
-        height,
-        vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::SAMPLED,
-    );
+    output_image_as(engine, vk::Format::R16G16B16A16_SFLOAT, width, height)
+}
+
+/// An output image of `format`, in OUTPUT_LAYOUT: storage usage for RGBA16F, which the plugin
+/// writes from a shader; the other formats are blitted (the harness gives every image transfer
+/// usage).
+pub fn output_image_as(
+    engine: &Engine,
+    format: vk::Format,
+    width: u32,
+    height: u32,
+) -> EngineImage {
+    let mut usage = vk::ImageUsageFlags::SAMPLED;
+    if format == vk::Format::R16G16B16A16_SFLOAT {
+        usage |= vk::ImageUsageFlags::STORAGE;
+    }
+    let output = EngineImage::new(engine, format, width, height, usage);
     output.upload(
         engine,
         &vec![0.0; (width * height * 4) as usize],

@@ -130,10 +130,23 @@ pub fn run_plugin_on(
     alpha: f32,
     chained: &Chained,
 ) -> Outcome {
+    let format = vk::Format::R16G16B16A16_SFLOAT;
+    run_plugin_into(rig, gpu_source, gpu_target, alpha, chained, format)
+}
+
+/// As [`run_plugin_on`], into an output image of `output_format`.
+pub fn run_plugin_into(
+    rig: &Rig,
+    gpu_source: &GpuFrame,
+    gpu_target: &GpuFrame,
+    alpha: f32,
+    chained: &Chained,
+    output_format: vk::Format,
+) -> Outcome {
     let (width, height) = (gpu_source.width as usize, gpu_source.height as usize);
     let engine = &rig.engine;
     let family = engine.queue_family_index;
-    let output = output_image(engine, width as u32, height as u32);
+    let output = output_image_as(engine, output_format, width as u32, height as u32);
     let diagnostics_image = output_image(engine, width as u32, height as u32);
 
     // The chain, linked back to front: diagnostics, then whatever settings the test gives.
