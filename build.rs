@@ -320,10 +320,28 @@ fn emit(pass: &CompiledPass) -> String {
     out
 }
 
+/// PATCHEX_ABI_VERSION as src/abi.rs declares it.
+fn abi_version() -> u32 {
+    const DECLARATION: &str = "pub const PATCHEX_ABI_VERSION: u32 = ";
+    println!("cargo:rerun-if-changed=src/abi.rs");
+    let abi = fs::read_to_string("src/abi.rs").expect("src/abi.rs reads");
+    abi.lines()
+        .find_map(|line| {
+            line.strip_prefix(DECLARATION)?
+                .strip_suffix(';')?
+                .parse()
+                .ok()
+        })
+        .expect("src/abi.rs declares PATCHEX_ABI_VERSION")
+}
+
 fn main() {
-    // The shared library names itself, so that what links it records "libpatchex.so" and finds
-    // it wherever it is installed.
-    println!("cargo:rustc-cdylib-link-arg=-Wl,-soname,libpatchex.so");
+    // The shared library names itself by its ABI version, as shared libraries do: what links it
+    // records "libpatchex.so.N" and will not load a library of another ABI.
+    println!(
+        "cargo:rustc-cdylib-link-arg=-Wl,-soname,libpatchex.so.{}",
+        abi_version()
+    );
     println!("cargo:rerun-if-changed={SHADER_DIR}");
     println!("cargo:rerun-if-changed={INCLUDE_DIR}");
     let mut passes: Vec<PathBuf> = fs::read_dir(SHADER_DIR)

@@ -43,6 +43,38 @@
  * serialised. patchex_result_string and patchex_abi_version may be called from any thread;
  * patchex_last_error(NULL) reports the calling thread's last failure that had no context.
  *
+ * VERSIONS. Compare patchex_abi_version() with PATCHEX_ABI_VERSION right after loading the
+ * library, before any other call, and refuse a library whose version differs: it is bumped on
+ * every incompatible change. Every struct starts with struct_type, struct_size and next.
+ * struct_size is sizeof the struct as the caller's header declares it: a smaller one than this
+ * library's is refused (PATCHEX_RESULT_ERROR_STRUCT_VERSION); a larger one, from a newer header
+ * of the same ABI version that appended fields, is accepted and the appended fields are not
+ * read. New features arrive as chained structs, and a chained struct_type this library does not
+ * know is refused (PATCHEX_RESULT_ERROR_INVALID_STRUCT_TYPE), so no request is dropped unread.
+ *
+ * REQUIREMENTS. A Vulkan 1.0 device (or later) and a queue family with VK_QUEUE_COMPUTE_BIT. No
+ * extension and no optional device feature is needed: the shaders are SPIR-V 1.0 and use only
+ * core capabilities. patchex_create checks that the device can sample and store its working
+ * formats (R32G32B32A32_SFLOAT, R16G16B16A16_SFLOAT, R32_SFLOAT, R32_UINT) and returns
+ * PATCHEX_RESULT_ERROR_MISSING_DEVICE_FEATURE otherwise. GPU timings need a queue family with
+ * timestamp bits; without them timings_valid is 0 and everything else works.
+ *
+ * FORMATS, per role (VK_FORMAT_ left out). Inputs need SAMPLED usage and the device's
+ * SAMPLED_IMAGE support; a format outside its role's list is PATCHEX_RESULT_ERROR_UNSUPPORTED_FORMAT.
+ *   colour: R16G16B16A16_SFLOAT R32G32B32A32_SFLOAT B10G11R11_UFLOAT_PACK32 A2B10G10R10_UNORM_PACK32 A2R10G10B10_UNORM_PACK32 R8G8B8A8_UNORM R8G8B8A8_SRGB B8G8R8A8_UNORM B8G8R8A8_SRGB R8G8B8A8_SNORM R16G16B16A16_UNORM R16G16B16A16_SNORM
+ *   depth: R32_SFLOAT R16_SFLOAT D32_SFLOAT D16_UNORM D24_UNORM_S8_UINT D32_SFLOAT_S8_UINT
+ *   stencil: R8_UINT S8_UINT D16_UNORM_S8_UINT D24_UNORM_S8_UINT D32_SFLOAT_S8_UINT
+ *   motion vectors: R16G16_SFLOAT R32G32_SFLOAT R16G16B16A16_SFLOAT R32G32B32A32_SFLOAT
+ *   shadow mask: R8_UNORM R16_UNORM R16_SFLOAT R32_SFLOAT R16G16B16A16_SFLOAT R32G32B32A32_SFLOAT R8G8B8A8_UNORM
+ *   output: R16G16B16A16_SFLOAT B10G11R11_UFLOAT_PACK32 A2B10G10R10_UNORM_PACK32 R8G8B8A8_UNORM R8G8B8A8_SRGB B8G8R8A8_UNORM B8G8R8A8_SRGB
+ *   diagnostics: R16G16B16A16_SFLOAT
+ * "colour" is frame t's color, color_without_dynamic_shadows, both instants' base_color and
+ * material, and normals. An SRGB colour is decoded to linear as it is read, UNORM and SNORM
+ * ones read in [0, 1] and [-1, 1]. The output R16G16B16A16_SFLOAT and the diagnostics images are
+ * written by a shader and need STORAGE usage; every other output format is packed by a pass and
+ * copied in, and needs TRANSFER_DST usage instead: UNORM clamps to [0, 1] (so an LDR output wants
+ * tone-mapped colour in), SRGB encodes, B10G11R11 drops alpha and clamps negatives to 0.
+ *
  * ERRORS. Every function returns a PatchexResult (negative: error); patchex_last_error gives
  * the message, also passed to the log callback. A failed call records nothing and leaves the
  * context as it was before the call, usable; this includes PATCHEX_RESULT_ERROR_OUT_OF_MEMORY
@@ -119,21 +151,31 @@ enum PatchexResult
   : int32_t
 #endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
  {
+  // The call did what it was asked.
   PATCHEX_RESULT_SUCCESS = 0,
   // The GPU has not finished the queried frame yet; ask again after the engine's fence.
   PATCHEX_RESULT_NOT_READY = 1,
   // The extrapolation was recorded, but its target is a camera cut from frame t: render
   // this instant instead of showing it (PATCHEX_RENDER_INSTEAD_CAMERA_CUT).
   PATCHEX_RESULT_RENDER_INSTEAD = 2,
+  // A required pointer, Vulkan handle (command buffer, image view of a given image) or
+  // required image is null.
   PATCHEX_RESULT_ERROR_NULL_POINTER = -1,
   // A struct's `struct_type` is not the one this argument (or chain link) takes.
   PATCHEX_RESULT_ERROR_INVALID_STRUCT_TYPE = -2,
   // A struct's `struct_size` is smaller than any version this library knows.
   PATCHEX_RESULT_ERROR_STRUCT_VERSION = -3,
+  // A value outside its documented range: an enumeration, a PatchexBool, an extent, alpha,
+  // a camera, a setting, a chain that is too long, or an image passed in two roles.
   PATCHEX_RESULT_ERROR_INVALID_ARGUMENT = -4,
+  // An image's format is not in the header's FORMATS table for its role, or the device does
+  // not support the format feature that role needs.
   PATCHEX_RESULT_ERROR_UNSUPPORTED_FORMAT = -5,
   // An engine image lacks a usage flag the plugin needs (SAMPLED for inputs, STORAGE for output).
   PATCHEX_RESULT_ERROR_MISSING_IMAGE_USAGE = -6,
+  // An image's layout is UNDEFINED, PREINITIALIZED or not a core layout, does not fit the
+  // image's aspect and usage (a depth/stencil layout for a colour image, COLOR_ATTACHMENT_OPTIMAL
+  // without COLOR_ATTACHMENT usage), or one image comes in two layouts.
   PATCHEX_RESULT_ERROR_INVALID_LAYOUT = -7,
   // Images of one call, or the target and the submitted frame, differ in size.
   PATCHEX_RESULT_ERROR_MISMATCHED_EXTENT = -8,
@@ -141,13 +183,16 @@ enum PatchexResult
   PATCHEX_RESULT_ERROR_EXTENT_TOO_LARGE = -9,
   // The command buffer's queue family is not the one the context was created for.
   PATCHEX_RESULT_ERROR_WRONG_QUEUE_FAMILY = -10,
-  // A frame index that does not increase without the reset flag.
+  // A frame index that does not exceed the previous submit's, without the reset flag.
   PATCHEX_RESULT_ERROR_OUT_OF_ORDER = -11,
   // `patchex_extrapolate` before any `patchex_submit_gbuffers`.
   PATCHEX_RESULT_ERROR_NO_SOURCE_FRAME = -12,
+  // A fifth `patchex_extrapolate` from one submitted frame (PATCHEX_MAX_EXTRAPOLATIONS_PER_FRAME).
   PATCHEX_RESULT_ERROR_TOO_MANY_EXTRAPOLATIONS = -13,
   // The engine's device lacks a function, queue capability or format feature the plugin needs.
   PATCHEX_RESULT_ERROR_MISSING_DEVICE_FEATURE = -14,
+  // Host or device memory ran out (VK_ERROR_OUT_OF_HOST_MEMORY, VK_ERROR_OUT_OF_DEVICE_MEMORY
+  // or the allocator's own); the context is unchanged and usable.
   PATCHEX_RESULT_ERROR_OUT_OF_MEMORY = -15,
   // A Vulkan call inside the plugin failed for another reason.
   PATCHEX_RESULT_ERROR_VULKAN = -16,
@@ -735,7 +780,9 @@ typedef struct PatchexShadowDiagnostics {
 extern "C" {
 #endif // __cplusplus
 
-// Version of the ABI this library implements (PATCHEX_ABI_VERSION of its header).
+// Version of the ABI this library implements (PATCHEX_ABI_VERSION of its header). Compare it
+// with PATCHEX_ABI_VERSION once, right after loading the library and before any other call;
+// refuse the library when they differ. Any thread, any time.
 uint32_t patchex_abi_version(void);
 
 // A static, human-readable description of `result`. Never null.
@@ -751,6 +798,12 @@ const char *patchex_last_error(const struct PatchexContext *context);
 
 // Creates a context on the engine's device. Records nothing and submits nothing. Creates
 // compute pipelines (tens of milliseconds on a CPU driver), so call it at load time.
+// `*out_context` is written only on success; on failure it keeps what the caller put there,
+// and `patchex_last_error(NULL)` says why.
+//
+// Returns SUCCESS, or ERROR_NULL_POINTER, ERROR_INVALID_STRUCT_TYPE, ERROR_STRUCT_VERSION,
+// ERROR_INVALID_ARGUMENT (preset, extent, frames_in_flight, a chained setting or weights file),
+// ERROR_MISSING_DEVICE_FEATURE, ERROR_OUT_OF_MEMORY, ERROR_VULKAN or ERROR_INTERNAL.
 //
 // # Safety
 // `info` points to a PatchexCreateInfo whose handles are live; `out_context` is writable.
@@ -759,7 +812,7 @@ PatchexResult patchex_create(const struct PatchexCreateInfo *info,
 
 // Destroys a context and every Vulkan object it made. The engine must first make sure the GPU
 // has finished every command buffer into which this context recorded (wait on their fences or
-// the device). NULL is ignored.
+// the device). NULL is ignored. Returns nothing; it cannot fail.
 //
 // # Safety
 // `context` is null or a live context, not used again afterwards.
@@ -768,6 +821,12 @@ void patchex_destroy(struct PatchexContext *context);
 // Records frame t's ingestion into `command_buffer`: demodulation of its colour and packing of
 // its G-buffer into the context's own images. Inputs are read when the command buffer runs and
 // are not needed afterwards. See the header's overview for layouts and state.
+//
+// Returns SUCCESS, or ERROR_NULL_POINTER, ERROR_INVALID_STRUCT_TYPE, ERROR_STRUCT_VERSION,
+// ERROR_INVALID_ARGUMENT, ERROR_UNSUPPORTED_FORMAT, ERROR_MISSING_IMAGE_USAGE,
+// ERROR_INVALID_LAYOUT, ERROR_MISMATCHED_EXTENT, ERROR_EXTENT_TOO_LARGE,
+// ERROR_WRONG_QUEUE_FAMILY, ERROR_OUT_OF_ORDER, ERROR_OUT_OF_MEMORY, ERROR_VULKAN or
+// ERROR_INTERNAL.
 //
 // # Safety
 // `context` is live; `command_buffer` is recording, from a pool of the context's queue family;
@@ -782,6 +841,12 @@ PatchexResult patchex_submit_gbuffers(struct PatchexContext *context,
 // Returns PATCHEX_RESULT_RENDER_INSTEAD (positive: the output is still written) when the
 // target is a camera cut from frame t, which no extrapolation can bridge.
 //
+// Returns SUCCESS, RENDER_INSTEAD, or ERROR_NULL_POINTER, ERROR_INVALID_STRUCT_TYPE,
+// ERROR_STRUCT_VERSION, ERROR_INVALID_ARGUMENT, ERROR_UNSUPPORTED_FORMAT,
+// ERROR_MISSING_IMAGE_USAGE, ERROR_INVALID_LAYOUT, ERROR_MISMATCHED_EXTENT,
+// ERROR_EXTENT_TOO_LARGE, ERROR_WRONG_QUEUE_FAMILY, ERROR_NO_SOURCE_FRAME,
+// ERROR_TOO_MANY_EXTRAPOLATIONS, ERROR_OUT_OF_MEMORY, ERROR_VULKAN or ERROR_INTERNAL.
+//
 // # Safety
 // As for `patchex_submit_gbuffers`; the command buffer must execute after the one holding the
 // submit (same command buffer, or a later submission on the same queue).
@@ -791,8 +856,13 @@ PatchexResult patchex_extrapolate(struct PatchexContext *context,
 
 // Fills `out_stats` (whose header the caller sets) with the GPU times and statistics of
 // `frame_index` and its extrapolations. Call it after the engine's fence for that frame has
-// signalled; returns PATCHEX_NOT_READY if the GPU has not written the frame's timestamps yet,
-// and PATCHEX_ERROR_FRAME_NOT_FOUND once the frame has left the ring of frames in flight.
+// signalled. The newest frames_in_flight submitted frames are held; after a reset that repeated
+// an index, the newest frame of that index answers.
+//
+// Returns SUCCESS; NOT_READY (positive, `*out_stats` filled but its GPU results not final)
+// while the GPU has not finished the frame; or ERROR_FRAME_NOT_FOUND once the frame has left
+// the ring (or was never submitted), ERROR_NULL_POINTER, ERROR_INVALID_STRUCT_TYPE,
+// ERROR_STRUCT_VERSION or ERROR_INTERNAL.
 //
 // # Safety
 // `context` is live; `out_stats` points to a writable PatchexFrameStats.

@@ -7,8 +7,8 @@ get_filename_component(_patchex_prefix "${CMAKE_CURRENT_LIST_DIR}/../../.." ABSO
 if(NOT TARGET patchex::patchex)
   add_library(patchex::patchex SHARED IMPORTED)
   set_target_properties(patchex::patchex PROPERTIES
-    IMPORTED_LOCATION "${_patchex_prefix}/lib/libpatchex.so"
-    IMPORTED_SONAME "libpatchex.so"
+    IMPORTED_LOCATION "${_patchex_prefix}/lib/@SONAME@"
+    IMPORTED_SONAME "@SONAME@"
     INTERFACE_INCLUDE_DIRECTORIES "${_patchex_prefix}/include"
     INTERFACE_LINK_LIBRARIES Vulkan::Vulkan)
 endif()

@@ -1,10 +1,15 @@
 #!/usr/bin/env bash
 # Installs the patchex library for C and C++ engines: the shared library, the header, a
 # pkg-config file and a CMake package config.
-#   scripts/install.sh PREFIX [LIBRARY]
-# LIBRARY defaults to a release build (built here); PREFIX then holds
-#   lib/libpatchex.so  include/patchex.h  lib/pkgconfig/patchex.pc  lib/cmake/patchex/
-# Use it with PKG_CONFIG_PATH=PREFIX/lib/pkgconfig or CMAKE_PREFIX_PATH=PREFIX.
+#   scripts/install.sh PREFIX             builds a release library with cargo, then installs it
+#   scripts/install.sh PREFIX LIBRARY     installs an already built libpatchex.so (no cargo)
+# PREFIX then holds
+#   lib/libpatchex.so.N (N: the ABI version, its SONAME)  lib/libpatchex.so -> libpatchex.so.N
+#   include/patchex.h  lib/pkgconfig/patchex.pc  lib/cmake/patchex/
+# Use it with PKG_CONFIG_PATH=PREFIX/lib/pkgconfig or CMAKE_PREFIX_PATH=PREFIX. A program linked
+# through pkg-config finds the library at run time only where the dynamic loader looks: link
+# with -Wl,-rpath,PREFIX/lib (pkg-config --variable=libdir patchex) or set LD_LIBRARY_PATH.
+# CMake's imported target records the rpath itself.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 prefix="${1:?usage: scripts/install.sh PREFIX [LIBRARY]}"
@@ -13,15 +18,22 @@ if [ -z "$library" ]; then
     (cd "$root" && cargo build --release -p patchex)
     library="$root/target/release/libpatchex.so"
 fi
+soname="$(readelf -d "$library" | sed -n 's/.*(SONAME).*\[\(.*\)\]/\1/p')"
+case "$soname" in
+    libpatchex.so.[0-9]*) ;;
+    *) echo "install.sh: $library has SONAME '$soname', not libpatchex.so.N" >&2; exit 1 ;;
+esac
 mkdir -p "$prefix"
 prefix="$(cd "$prefix" && pwd)"
 version="$(sed -n 's/^version = "\(.*\)"/\1/p' "$root/Cargo.toml" | head -1)"
-install -Dm755 "$library" "$prefix/lib/libpatchex.so"
+install -Dm755 "$library" "$prefix/lib/$soname"
+ln -sfn "$soname" "$prefix/lib/libpatchex.so"
 install -Dm644 "$root/include/patchex.h" "$prefix/include/patchex.h"
 mkdir -p "$prefix/lib/pkgconfig" "$prefix/lib/cmake/patchex"
 sed -e "s|@PREFIX@|$prefix|" -e "s|@VERSION@|$version|" \
     "$root/packaging/patchex.pc.in" > "$prefix/lib/pkgconfig/patchex.pc"
-install -m644 "$root/packaging/patchexConfig.cmake" "$prefix/lib/cmake/patchex/patchexConfig.cmake"
+sed -e "s|@SONAME@|$soname|" \
+    "$root/packaging/patchexConfig.cmake" > "$prefix/lib/cmake/patchex/patchexConfig.cmake"
 cat > "$prefix/lib/cmake/patchex/patchexConfigVersion.cmake" <<VERSION
 set(PACKAGE_VERSION "$version")
 if(PACKAGE_FIND_VERSION VERSION_GREATER PACKAGE_VERSION)
@@ -30,4 +42,4 @@ else()
   set(PACKAGE_VERSION_COMPATIBLE TRUE)
 endif()
 VERSION
-echo "installed patchex $version into $prefix"
+echo "installed patchex $version ($soname) into $prefix"

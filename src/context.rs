@@ -436,6 +436,7 @@ impl Context {
         }
         let gpu = Gpu::load(info)?;
         WorkImages::check_formats(&gpu, &WorkImages::SPECS)?;
+        OutputStaging::check_formats(&gpu, &OutputStaging::SPECS)?;
         ShadowImages::check_formats(&gpu, &ShadowImages::SPECS)?;
         let mut allocator = gpu.allocator()?;
         let pipelines = Pipelines::shared(&gpu)?;

@@ -9,21 +9,31 @@ use ash::vk;
 #[repr(i32)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum PatchexResult {
+    /// The call did what it was asked.
     Success = 0,
     /// The GPU has not finished the queried frame yet; ask again after the engine's fence.
     NotReady = 1,
     /// The extrapolation was recorded, but its target is a camera cut from frame t: render
     /// this instant instead of showing it (PATCHEX_RENDER_INSTEAD_CAMERA_CUT).
     RenderInstead = 2,
+    /// A required pointer, Vulkan handle (command buffer, image view of a given image) or
+    /// required image is null.
     ErrorNullPointer = -1,
     /// A struct's `struct_type` is not the one this argument (or chain link) takes.
     ErrorInvalidStructType = -2,
     /// A struct's `struct_size` is smaller than any version this library knows.
     ErrorStructVersion = -3,
+    /// A value outside its documented range: an enumeration, a PatchexBool, an extent, alpha,
+    /// a camera, a setting, a chain that is too long, or an image passed in two roles.
     ErrorInvalidArgument = -4,
+    /// An image's format is not in the header's FORMATS table for its role, or the device does
+    /// not support the format feature that role needs.
     ErrorUnsupportedFormat = -5,
     /// An engine image lacks a usage flag the plugin needs (SAMPLED for inputs, STORAGE for output).
     ErrorMissingImageUsage = -6,
+    /// An image's layout is UNDEFINED, PREINITIALIZED or not a core layout, does not fit the
+    /// image's aspect and usage (a depth/stencil layout for a colour image, COLOR_ATTACHMENT_OPTIMAL
+    /// without COLOR_ATTACHMENT usage), or one image comes in two layouts.
     ErrorInvalidLayout = -7,
     /// Images of one call, or the target and the submitted frame, differ in size.
     ErrorMismatchedExtent = -8,
@@ -31,13 +41,16 @@ pub enum PatchexResult {
     ErrorExtentTooLarge = -9,
     /// The command buffer's queue family is not the one the context was created for.
     ErrorWrongQueueFamily = -10,
-    /// A frame index that does not increase without the reset flag.
+    /// A frame index that does not exceed the previous submit's, without the reset flag.
     ErrorOutOfOrder = -11,
     /// `patchex_extrapolate` before any `patchex_submit_gbuffers`.
     ErrorNoSourceFrame = -12,
+    /// A fifth `patchex_extrapolate` from one submitted frame (PATCHEX_MAX_EXTRAPOLATIONS_PER_FRAME).
     ErrorTooManyExtrapolations = -13,
     /// The engine's device lacks a function, queue capability or format feature the plugin needs.
     ErrorMissingDeviceFeature = -14,
+    /// Host or device memory ran out (VK_ERROR_OUT_OF_HOST_MEMORY, VK_ERROR_OUT_OF_DEVICE_MEMORY
+    /// or the allocator's own); the context is unchanged and usable.
     ErrorOutOfMemory = -15,
     /// A Vulkan call inside the plugin failed for another reason.
     ErrorVulkan = -16,

@@ -304,7 +304,9 @@ fn record_thread_error(error: Error) -> PatchexResult {
     error.code
 }
 
-/// Version of the ABI this library implements (PATCHEX_ABI_VERSION of its header).
+/// Version of the ABI this library implements (PATCHEX_ABI_VERSION of its header). Compare it
+/// with PATCHEX_ABI_VERSION once, right after loading the library and before any other call;
+/// refuse the library when they differ. Any thread, any time.
 #[no_mangle]
 pub extern "C" fn patchex_abi_version() -> u32 {
     PATCHEX_ABI_VERSION
@@ -337,6 +339,12 @@ pub unsafe extern "C" fn patchex_last_error(context: *const PatchexContext) -> *
 
 /// Creates a context on the engine's device. Records nothing and submits nothing. Creates
 /// compute pipelines (tens of milliseconds on a CPU driver), so call it at load time.
+/// `*out_context` is written only on success; on failure it keeps what the caller put there,
+/// and `patchex_last_error(NULL)` says why.
+///
+/// Returns SUCCESS, or ERROR_NULL_POINTER, ERROR_INVALID_STRUCT_TYPE, ERROR_STRUCT_VERSION,
+/// ERROR_INVALID_ARGUMENT (preset, extent, frames_in_flight, a chained setting or weights file),
+/// ERROR_MISSING_DEVICE_FEATURE, ERROR_OUT_OF_MEMORY, ERROR_VULKAN or ERROR_INTERNAL.
 ///
 /// # Safety
 /// `info` points to a PatchexCreateInfo whose handles are live; `out_context` is writable.
@@ -402,7 +410,7 @@ pub unsafe extern "C" fn patchex_create(
 
 /// Destroys a context and every Vulkan object it made. The engine must first make sure the GPU
 /// has finished every command buffer into which this context recorded (wait on their fences or
-/// the device). NULL is ignored.
+/// the device). NULL is ignored. Returns nothing; it cannot fail.
 ///
 /// # Safety
 /// `context` is null or a live context, not used again afterwards.
@@ -419,6 +427,12 @@ pub unsafe extern "C" fn patchex_destroy(context: *mut PatchexContext) {
 /// Records frame t's ingestion into `command_buffer`: demodulation of its colour and packing of
 /// its G-buffer into the context's own images. Inputs are read when the command buffer runs and
 /// are not needed afterwards. See the header's overview for layouts and state.
+///
+/// Returns SUCCESS, or ERROR_NULL_POINTER, ERROR_INVALID_STRUCT_TYPE, ERROR_STRUCT_VERSION,
+/// ERROR_INVALID_ARGUMENT, ERROR_UNSUPPORTED_FORMAT, ERROR_MISSING_IMAGE_USAGE,
+/// ERROR_INVALID_LAYOUT, ERROR_MISMATCHED_EXTENT, ERROR_EXTENT_TOO_LARGE,
+/// ERROR_WRONG_QUEUE_FAMILY, ERROR_OUT_OF_ORDER, ERROR_OUT_OF_MEMORY, ERROR_VULKAN or
+/// ERROR_INTERNAL.
 ///
 /// # Safety
 /// `context` is live; `command_buffer` is recording, from a pool of the context's queue family;
@@ -452,6 +466,12 @@ pub unsafe extern "C" fn patchex_submit_gbuffers(
 /// PATCHEX_MAX_EXTRAPOLATIONS_PER_FRAME calls per submitted frame (alpha 1/3 then 2/3, say).
 /// Returns PATCHEX_RESULT_RENDER_INSTEAD (positive: the output is still written) when the
 /// target is a camera cut from frame t, which no extrapolation can bridge.
+///
+/// Returns SUCCESS, RENDER_INSTEAD, or ERROR_NULL_POINTER, ERROR_INVALID_STRUCT_TYPE,
+/// ERROR_STRUCT_VERSION, ERROR_INVALID_ARGUMENT, ERROR_UNSUPPORTED_FORMAT,
+/// ERROR_MISSING_IMAGE_USAGE, ERROR_INVALID_LAYOUT, ERROR_MISMATCHED_EXTENT,
+/// ERROR_EXTENT_TOO_LARGE, ERROR_WRONG_QUEUE_FAMILY, ERROR_NO_SOURCE_FRAME,
+/// ERROR_TOO_MANY_EXTRAPOLATIONS, ERROR_OUT_OF_MEMORY, ERROR_VULKAN or ERROR_INTERNAL.
 ///
 /// # Safety
 /// As for `patchex_submit_gbuffers`; the command buffer must execute after the one holding the
@@ -488,8 +508,13 @@ pub unsafe extern "C" fn patchex_extrapolate(
 
 /// Fills `out_stats` (whose header the caller sets) with the GPU times and statistics of
 /// `frame_index` and its extrapolations. Call it after the engine's fence for that frame has
-/// signalled; returns PATCHEX_NOT_READY if the GPU has not written the frame's timestamps yet,
-/// and PATCHEX_ERROR_FRAME_NOT_FOUND once the frame has left the ring of frames in flight.
+/// signalled. The newest frames_in_flight submitted frames are held; after a reset that repeated
+/// an index, the newest frame of that index answers.
+///
+/// Returns SUCCESS; NOT_READY (positive, `*out_stats` filled but its GPU results not final)
+/// while the GPU has not finished the frame; or ERROR_FRAME_NOT_FOUND once the frame has left
+/// the ring (or was never submitted), ERROR_NULL_POINTER, ERROR_INVALID_STRUCT_TYPE,
+/// ERROR_STRUCT_VERSION or ERROR_INTERNAL.
 ///
 /// # Safety
 /// `context` is live; `out_stats` points to a writable PatchexFrameStats.

@@ -5,6 +5,7 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+use patchex::abi::PATCHEX_ABI_VERSION;
 use patchex::loader::PatchexLibrary;
 
 fn run(command: &mut Command, what: &str) -> String {
@@ -73,7 +74,8 @@ fn cpp_engine_renders_and_extrapolates_30_frames_on_its_render_thread() {
     assert!(output.contains("ok (0 validation messages)"));
 }
 
-/// The shared library exports the patchex_* entry points and nothing else of its own.
+/// The shared library exports the patchex_* entry points and nothing else of its own, and is
+/// named libpatchex.so.N by its ABI version.
 #[test]
 fn library_exports_only_the_c_abi() {
     let library = PatchexLibrary::beside_current_exe().expect("the patchex cdylib is built");
@@ -100,6 +102,16 @@ fn library_exports_only_the_c_abi() {
     for name in expected {
         assert!(symbols.iter().any(|s| s == name), "{name} is exported");
     }
+    let dynamic = Command::new("readelf")
+        .arg("-d")
+        .arg(&library)
+        .output()
+        .expect("readelf runs");
+    let soname = format!("Library soname: [libpatchex.so.{PATCHEX_ABI_VERSION}]");
+    assert!(
+        String::from_utf8_lossy(&dynamic.stdout).contains(&soname),
+        "the library's SONAME carries the ABI version: {soname}"
+    );
     let unexpected: Vec<_> = symbols
         .iter()
         .filter(|s| !expected.contains(&s.as_str()))

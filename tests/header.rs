@@ -81,3 +81,29 @@ fn header_declares_every_struct_of_the_abi() {
         "include/patchex.h lacks {missing:?}: add them to cbindgen.toml's [export] include"
     );
 }
+
+/// The header's FORMATS table lists exactly the formats each role accepts.
+#[test]
+fn header_format_table_matches_what_each_role_accepts() {
+    use patchex::vk::image::*;
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let header = std::fs::read_to_string(root.join("include/patchex.h")).expect("header reads");
+    for (role, formats) in [
+        ("colour", FLOAT_COLOR_FORMATS),
+        ("depth", DEPTH_FORMATS),
+        ("stencil", STENCIL_FORMATS),
+        ("motion vectors", MOTION_FORMATS),
+        ("shadow mask", MASK_FORMATS),
+        ("output", OUTPUT_FORMATS),
+        ("diagnostics", DIAGNOSTICS_FORMATS),
+    ] {
+        let prefix = format!(" *   {role}: ");
+        let line = header
+            .lines()
+            .find_map(|line| line.strip_prefix(&prefix))
+            .unwrap_or_else(|| panic!("the header's FORMATS table has a `{role}` line"));
+        let listed: Vec<&str> = line.split_whitespace().collect();
+        let accepted: Vec<String> = formats.iter().map(|f| format!("{f:?}")).collect();
+        assert_eq!(listed, accepted, "the header's `{role}` formats");
+    }
+}
