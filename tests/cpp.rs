@@ -2,33 +2,14 @@
 //! the library installed into a prefix with scripts/install.sh, found by CMake's
 //! find_package (and by pkg-config), then run for 30 frames under the validation layers.
 
-use std::path::{Path, PathBuf};
+mod support;
+
+use std::path::PathBuf;
 use std::process::Command;
 
 use patchex::abi::PATCHEX_ABI_VERSION;
 use patchex::loader::PatchexLibrary;
-
-fn run(command: &mut Command, what: &str) -> String {
-    let output = command.output().unwrap_or_else(|e| panic!("{what}: {e}"));
-    let text = format!(
-        "{}{}",
-        String::from_utf8_lossy(&output.stdout),
-        String::from_utf8_lossy(&output.stderr)
-    );
-    assert!(output.status.success(), "{what} failed:\n{text}");
-    text
-}
-
-/// Installs the library built for these tests into `prefix`.
-fn install(root: &Path, prefix: &Path) {
-    let library = PatchexLibrary::beside_current_exe().expect("the patchex cdylib is built");
-    run(
-        Command::new(root.join("scripts/install.sh"))
-            .arg(prefix)
-            .arg(library),
-        "scripts/install.sh",
-    );
-}
+use support::{install, run};
 
 #[test]
 fn cpp_engine_renders_and_extrapolates_30_frames_on_its_render_thread() {

@@ -178,6 +178,30 @@ impl Drop for Rig {
     }
 }
 
+/// Runs `command`, fails the test with its output unless it succeeds, and returns its output.
+pub fn run(command: &mut std::process::Command, what: &str) -> String {
+    let output = command.output().unwrap_or_else(|e| panic!("{what}: {e}"));
+    let text = format!(
+        "{}{}",
+        String::from_utf8_lossy(&output.stdout),
+        String::from_utf8_lossy(&output.stderr)
+    );
+    assert!(output.status.success(), "{what} failed:\n{text}");
+    text
+}
+
+/// Installs the library built for these tests into `prefix` with scripts/install.sh, as a C or
+/// C++ user installs it.
+pub fn install(root: &std::path::Path, prefix: &std::path::Path) {
+    let library = PatchexLibrary::beside_current_exe().expect("the patchex cdylib is built");
+    run(
+        std::process::Command::new(root.join("scripts/install.sh"))
+            .arg(prefix)
+            .arg(library),
+        "scripts/install.sh",
+    );
+}
+
 /// The patchex shared library built from this tree, loaded as an engine loads it.
 pub fn open_library() -> PatchexLibrary {
     let path = PatchexLibrary::beside_current_exe().expect("the patchex cdylib is built");

@@ -1,0 +1,389 @@
+//! The whole C ABI from plain C11 (tests/c/abi_test.c): compiled against the installed header
+//! with -std=c11 -Wall -Wextra -pedantic -Werror and `near`/`far` defined as empty macros (as
+//! <windows.h> defines them), linked through pkg-config, run on rendered frames under validation
+//! with synchronization validation. It uses every chained struct; its outputs and statistics
+//! must equal, bit for bit, those of the same calls made through the Rust path.
+
+mod support;
+
+use std::ffi::{c_void, CString};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use ash::vk;
+use patchex::abi::*;
+use patchex::error::PatchexResult;
+use patchex::reference::Image;
+use patchex_harness::texel::decode;
+use patchex_harness::EngineImage;
+use support::rendered::render;
+use support::scene::Frame;
+use support::*;
+
+const WIDTH: u32 = 96;
+const HEIGHT: u32 = 54;
+
+fn bytes_of<T: Copy>(value: &T) -> &[u8] {
+    // SAFETY: a plain-old-data value viewed as its bytes.
+    unsafe { std::slice::from_raw_parts((value as *const T).cast(), size_of::<T>()) }
+}
+
+/// One frame as abi_test.c reads it (see its header comment).
+fn write_frame(frame: &Frame, path: &Path) {
+    let mut bytes = bytes_of(&frame.camera).to_vec();
+    let floats = [
+        &frame.color,
+        &frame.base_color,
+        &frame.material,
+        &frame.normal,
+        &frame.color_without_dynamic_shadows,
+        &frame.depth,
+        &frame.shadow_mask,
+        &frame.motion,
+    ];
+    for image in floats {
+        bytes.extend(image.data.iter().flat_map(|v| v.to_ne_bytes()));
+    }
+    bytes.extend(frame.stencil.data.iter().map(|v| *v as u8));
+    std::fs::write(path, bytes).expect("frame file writes");
+}
+
+fn header_of<T>(struct_type: PatchexStructType, next: *const c_void) -> PatchexStructHeader {
+    PatchexStructHeader {
+        next,
+        ..PatchexStructHeader::of::<T>(struct_type)
+    }
+}
+
+fn link<T>(value: &T) -> *const c_void {
+    (value as *const T).cast()
+}
+
+/// The C program's images, as it wrote them.
+fn c_output(dir: &Path, name: &str, format: vk::Format) -> Vec<f32> {
+    let bytes = std::fs::read(dir.join(format!("{name}.bin"))).expect("the C test wrote it");
+    decode(format, &bytes)
+}
+
+fn c_stats(dir: &Path, name: &str) -> PatchexFrameStats {
+    let bytes = std::fs::read(dir.join(format!("{name}.bin"))).expect("the C test wrote it");
+    assert_eq!(bytes.len(), size_of::<PatchexFrameStats>());
+    // SAFETY: the C program wrote a PatchexFrameStats of this very layout.
+    unsafe { std::ptr::read_unaligned(bytes.as_ptr().cast()) }
+}
+
+/// Everything in the stats but the GPU times, which vary from run to run.
+fn assert_same_stats(c: &PatchexFrameStats, rust: &PatchexFrameStats) {
+    let frame = |s: &PatchexFrameStats| {
+        format!(
+            "{} {} {} {} {} {} {} {} {} {}",
+            s.frame_index,
+            s.width,
+            s.height,
+            s.reset_reason,
+            s.source_sanitized_pixels,
+            s.source_invalid_geometry_pixels,
+            s.extrapolation_count,
+            s.device_memory_bytes,
+            s.submit_stages_run,
+            s.shadow_history
+        )
+    };
+    assert_eq!(frame(c), frame(rust), "frame {}", rust.frame_index);
+    for (i, (from_c, from_rust)) in c
+        .extrapolations
+        .iter()
+        .zip(&rust.extrapolations)
+        .enumerate()
+    {
+        let untimed = |s: &PatchexExtrapolationStats| PatchexExtrapolationStats {
+            gpu_ms: [0.0; PATCHEX_STAGE_SLOTS],
+            ..*s
+        };
+        assert_eq!(
+            format!("{:?}", untimed(from_c)),
+            format!("{:?}", untimed(from_rust)),
+            "frame {} extrapolation {i}",
+            rust.frame_index
+        );
+    }
+}
+
+#[test]
+fn c11_engine_reaches_every_feature_and_matches_the_rust_path() {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let scratch = tempfile::tempdir().expect("a scratch directory");
+    let (prefix, data, out) = (
+        scratch.path().join("prefix"),
+        scratch.path().join("data"),
+        scratch.path().join("out"),
+    );
+    std::fs::create_dir_all(&data).unwrap();
+    std::fs::create_dir_all(&out).unwrap();
+    install(&root, &prefix);
+
+    // Built as a C engine builds against the installed library: flags from pkg-config, and an
+    // rpath so that it finds libpatchex.so.N outside the loader's paths.
+    let flags = run(
+        Command::new("pkg-config")
+            .args(["--cflags", "--libs", "patchex"])
+            .env("PKG_CONFIG_PATH", prefix.join("lib/pkgconfig")),
+        "pkg-config",
+    );
+    let program = scratch.path().join("abi_test");
+    run(
+        Command::new("cc")
+            .args(["-std=c11", "-Wall", "-Wextra", "-pedantic", "-Werror"])
+            .args(["-Dnear=", "-Dfar="])
+            .arg(root.join("tests/c/abi_test.c"))
+            .arg("-o")
+            .arg(&program)
+            .args(flags.split_whitespace())
+            .arg(format!("-Wl,-rpath,{}", prefix.join("lib").display())),
+        "cc (strict C11)",
+    );
+
+    // Frames t-1 and t (0 and 2) and the instants halfway to the next frame (1 and 3).
+    let sequence = render("crossing_street.toml", 4, WIDTH, HEIGHT);
+    for (index, frame) in sequence.frames.iter().enumerate() {
+        write_frame(frame, &data.join(format!("frame{index}.bin")));
+    }
+    // The shipped weights, read from their files (PatchexNetworkWeights).
+    let fi = root.join("assets/networks/fi.safetensors");
+    let near_be = root.join("assets/networks/near_be.safetensors");
+    let printed = run(
+        Command::new(&program)
+            .arg(&data)
+            .arg(&out)
+            .arg(WIDTH.to_string())
+            .arg(HEIGHT.to_string())
+            .arg(&fi)
+            .arg(&near_be),
+        "the C11 ABI test",
+    );
+    println!("{printed}");
+    assert!(printed.contains("ok (0 failures, 0 validation messages)"));
+
+    // The same calls through the Rust path.
+    let fi_path = CString::new(fi.to_str().unwrap()).unwrap();
+    let near_be_path = CString::new(near_be.to_str().unwrap()).unwrap();
+    let precision = PatchexNetworkPrecision {
+        header: header_of::<PatchexNetworkPrecision>(
+            PATCHEX_STRUCT_TYPE_NETWORK_PRECISION,
+            std::ptr::null(),
+        ),
+        tensors: PATCHEX_TENSOR_PRECISION_FP32,
+    };
+    let networks = PatchexNetworkSettings {
+        header: header_of::<PatchexNetworkSettings>(
+            PATCHEX_STRUCT_TYPE_NETWORK_SETTINGS,
+            link(&precision),
+        ),
+        run_fi: 1,
+        run_near_be: 1,
+        whole_frame: 0,
+        resolution_divisor: 1,
+    };
+    let weights = PatchexNetworkWeights {
+        header: header_of::<PatchexNetworkWeights>(
+            PATCHEX_STRUCT_TYPE_NETWORK_WEIGHTS,
+            link(&networks),
+        ),
+        fi_path: fi_path.as_ptr(),
+        near_be_path: near_be_path.as_ptr(),
+    };
+    let flow = PatchexShadowFlowSettings {
+        header: header_of::<PatchexShadowFlowSettings>(
+            PATCHEX_STRUCT_TYPE_SHADOW_FLOW_SETTINGS,
+            link(&weights),
+        ),
+        levels: PATCHEX_DEFAULT_FLOW_LEVELS,
+        iterations: PATCHEX_DEFAULT_FLOW_ITERATIONS,
+        window_radius: PATCHEX_DEFAULT_FLOW_WINDOW_RADIUS,
+        poly_radius: PATCHEX_DEFAULT_FLOW_POLY_RADIUS,
+        poly_sigma: PATCHEX_DEFAULT_FLOW_POLY_SIGMA,
+    };
+    let segmentation = PatchexSegmentationSettings {
+        header: header_of::<PatchexSegmentationSettings>(
+            PATCHEX_STRUCT_TYPE_SEGMENTATION_SETTINGS,
+            link(&flow),
+        ),
+        growth_x: 2.5,
+        growth_y: 3.5,
+    };
+    let warp = PatchexWarpSettings {
+        header: header_of::<PatchexWarpSettings>(
+            PATCHEX_STRUCT_TYPE_WARP_SETTINGS,
+            link(&segmentation),
+        ),
+        kind: PATCHEX_WARP_GBUFFER_GUIDED,
+        kernel_radius: PATCHEX_DEFAULT_KERNEL_RADIUS,
+        sigma_spatial: PATCHEX_DEFAULT_SIGMA_SPATIAL,
+        sigma_depth: PATCHEX_DEFAULT_SIGMA_DEPTH,
+        sigma_normal: PATCHEX_DEFAULT_SIGMA_NORMAL,
+        sigma_position: PATCHEX_DEFAULT_SIGMA_POSITION,
+        occlusion_search_radius: PATCHEX_DEFAULT_OCCLUSION_SEARCH_RADIUS,
+    };
+    let rig = Rig::with_create_info(WIDTH, HEIGHT, |info| {
+        info.preset = PATCHEX_PRESET_FULL;
+        info.header.next = link(&warp);
+    });
+    let engine = &rig.engine;
+    let family = engine.queue_family_index;
+    let frames: Vec<GpuFrame> = sequence
+        .frames
+        .iter()
+        .map(|frame| GpuFrame::upload(engine, frame))
+        .collect();
+    let half = vk::Format::R16G16B16A16_SFLOAT;
+    let first = output_image(engine, WIDTH, HEIGHT);
+    let first_diagnostics = output_image(engine, WIDTH, HEIGHT);
+    let output_formats = [half, half, vk::Format::A2B10G10R10_UNORM_PACK32];
+    let outputs = output_formats.map(|format| output_image_as(engine, format, WIDTH, HEIGHT));
+    let diagnostics = output_image(engine, WIDTH, HEIGHT);
+    let shadow_diagnostics = output_image(engine, WIDTH, HEIGHT);
+    let submit = |cmd, frame: &GpuFrame, index, flow: Option<&PatchexShadowFlowSettings>| {
+        let mut shadow = frame.shadow_input();
+        shadow.header.next = flow.map_or(std::ptr::null(), link);
+        let mut desc = frame.frame_desc(index, family);
+        desc.header.next = link(&shadow);
+        assert_eq!(
+            rig.submit(cmd, &desc),
+            PatchexResult::Success,
+            "{}",
+            rig.last_error()
+        );
+    };
+    let extrapolate = |cmd, output: &EngineImage, chain: *const c_void| {
+        let mut desc = frames[3].extrapolate_desc(output, 0.5, family);
+        if std::ptr::eq(output, &first) {
+            desc = frames[1].extrapolate_desc(output, 0.5, family);
+        }
+        desc.header.next = chain;
+        assert_eq!(
+            rig.extrapolate(cmd, &desc),
+            PatchexResult::Success,
+            "{}",
+            rig.last_error()
+        );
+    };
+    let frame_flow = PatchexShadowFlowSettings {
+        header: header_of::<PatchexShadowFlowSettings>(
+            PATCHEX_STRUCT_TYPE_SHADOW_FLOW_SETTINGS,
+            std::ptr::null(),
+        ),
+        iterations: 2,
+        ..flow
+    };
+    engine.run(|cmd| {
+        submit(cmd, &frames[0], 1, Some(&frame_flow));
+        let diag = PatchexDiagnostics {
+            header: header_of::<PatchexDiagnostics>(
+                PATCHEX_STRUCT_TYPE_DIAGNOSTICS,
+                std::ptr::null(),
+            ),
+            image: describe(&first_diagnostics, OUTPUT_LAYOUT),
+        };
+        extrapolate(cmd, &first, link(&diag));
+    });
+    engine.run(|cmd| {
+        submit(cmd, &frames[2], 2, None);
+        let kinds = [
+            PATCHEX_WARP_GBUFFER_GUIDED,
+            PATCHEX_WARP_MOTION_VECTOR,
+            PATCHEX_WARP_OCCLUSION_MOTION_VECTOR,
+        ];
+        for (k, kind) in kinds.into_iter().enumerate() {
+            let run_networks = PatchexNetworkSettings {
+                header: header_of::<PatchexNetworkSettings>(
+                    PATCHEX_STRUCT_TYPE_NETWORK_SETTINGS,
+                    std::ptr::null(),
+                ),
+                run_fi: 1,
+                run_near_be: (k == 0) as u32,
+                whole_frame: (k == 2) as u32,
+                resolution_divisor: if k == 1 { 2 } else { 1 },
+            };
+            let growth = PatchexSegmentationSettings {
+                header: header_of::<PatchexSegmentationSettings>(
+                    PATCHEX_STRUCT_TYPE_SEGMENTATION_SETTINGS,
+                    link(&run_networks),
+                ),
+                growth_x: 3.0,
+                growth_y: 1.5,
+            };
+            let warp_kind = PatchexWarpSettings {
+                header: header_of::<PatchexWarpSettings>(
+                    PATCHEX_STRUCT_TYPE_WARP_SETTINGS,
+                    link(&growth),
+                ),
+                kind,
+                ..warp
+            };
+            let shadow_diag = PatchexShadowDiagnostics {
+                header: header_of::<PatchexShadowDiagnostics>(
+                    PATCHEX_STRUCT_TYPE_SHADOW_DIAGNOSTICS,
+                    link(&warp_kind),
+                ),
+                image: describe(&shadow_diagnostics, OUTPUT_LAYOUT),
+            };
+            let diag = PatchexDiagnostics {
+                header: header_of::<PatchexDiagnostics>(
+                    PATCHEX_STRUCT_TYPE_DIAGNOSTICS,
+                    link(&shadow_diag),
+                ),
+                image: describe(&diagnostics, OUTPUT_LAYOUT),
+            };
+            let chain = if k == 0 {
+                link(&diag)
+            } else {
+                link(&warp_kind)
+            };
+            extrapolate(cmd, &outputs[k], chain);
+        }
+    });
+
+    let compare = |name: &str, image: &EngineImage, format: vk::Format| {
+        let rust = image.read(engine, OUTPUT_LAYOUT);
+        let c = c_output(&out, name, format);
+        assert!(same_bits(&c, &rust), "{name}: the C and Rust paths differ");
+        Image {
+            width: WIDTH as usize,
+            height: HEIGHT as usize,
+            channels: 4,
+            data: rust,
+        }
+    };
+    compare("first", &first, half);
+    compare("first_diagnostics", &first_diagnostics, half);
+    for (name, (image, format)) in ["gbuffer_guided", "motion_vector", "occlusion_motion_vector"]
+        .into_iter()
+        .zip(outputs.iter().zip(output_formats))
+    {
+        compare(name, image, format);
+    }
+    let diagnostics = compare("diagnostics", &diagnostics, half);
+    let shadow_diagnostics = compare("shadow_diagnostics", &shadow_diagnostics, half);
+
+    let (result, second) = rig.stats(2);
+    assert_eq!(result, PatchexResult::Success);
+    assert_same_stats(&c_stats(&out, "stats1"), &rig.stats(1).1);
+    assert_same_stats(&c_stats(&out, "stats2"), &second);
+
+    // The calls did what their structs asked.
+    assert_eq!(second.shadow_history, PATCHEX_SHADOW_HISTORY_TRACKED);
+    let [guided, motion, occlusion, _] = &second.extrapolations;
+    let ran = |s: &PatchexExtrapolationStats, stage: PatchexStage| s.stages_run & 1 << stage != 0;
+    assert!(ran(guided, PATCHEX_STAGE_SHADOW_WARP) && ran(guided, PATCHEX_STAGE_DIAGNOSTICS));
+    assert!(ran(guided, PATCHEX_STAGE_INFERENCE) && guided.repaired_fraction > 0.0);
+    assert!(!ran(motion, PATCHEX_STAGE_DIAGNOSTICS));
+    assert!(ran(occlusion, PATCHEX_STAGE_PACK_OUTPUT) && occlusion.repaired_fraction == 1.0);
+    assert!(
+        diagnostics.data.chunks(4).any(|p| p[1] == 1.0),
+        "the diagnostics show an FI region"
+    );
+    assert!(
+        shadow_diagnostics.data.chunks(4).any(|p| p[2] != 0.0),
+        "the shadow diagnostics show a shadow layer"
+    );
+}
