@@ -1,6 +1,7 @@
 //! The C++ engine in examples/cpp-engine, built the way a C++ user builds against patchex:
 //! the library installed into a prefix with scripts/install.sh, found by CMake's
-//! find_package (and by pkg-config), then run for 30 frames under the validation layers.
+//! find_package (and by pkg-config), then run for 30 frames under the validation layers with
+//! the full preset, the shadow input and a HUD drawn over every generated frame.
 
 mod support;
 
@@ -52,6 +53,8 @@ fn cpp_engine_renders_and_extrapolates_30_frames_on_its_render_thread() {
         2 * 30 + 1,
         "a PSNR per extrapolated frame and the mean"
     );
+    assert!(output.contains("preset FULL with the shadow input"));
+    assert!(output.contains("HUD drawn for its own instant over 60 generated frames"));
     assert!(output.contains("ok (0 validation messages)"));
 }
 

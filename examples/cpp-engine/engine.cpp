@@ -2,19 +2,23 @@
 // <patchex.h> and the installed shared library (found with CMake's find_package), on its own
 // instance, device, queue, images, command buffers and fences.
 //
-// A render thread runs the frame loop with two frames in flight. Each frame it renders frame t
-// of an animated scene (scene.comp: three balls rolling over a checkered floor under a moving
-// camera, casting shadows, with a stencil id per ball), renders the G-buffers of the two
-// in-between instants t + 1/3 and t + 2/3 (colour included, as ground truth), records
-// patchex_submit_gbuffers and two patchex_extrapolate calls into its own command buffer, and
-// copies the results out. When a frame's fence has signalled it reads patchex's statistics and
-// prints the PSNR of each extrapolated frame against the instant rendered in full, next to the
-// PSNR of showing frame t again.
+// patchex runs at full strength: PATCHEX_PRESET_FULL, the warp, the shadow sub-task and the
+// inpainting networks. A render thread runs the frame loop with two frames in flight. Each frame
+// it renders frame t of an animated scene (scene.comp: three balls rolling over a checkered floor
+// under a moving camera, casting shadows, with a stencil id per ball, plus patchex's shadow
+// input), renders the G-buffers of the two in-between instants t + 1/3 and t + 2/3 (colour
+// included, as ground truth), records patchex_submit_gbuffers (with the shadow input chained)
+// and two patchex_extrapolate calls into its own command buffer, then draws its HUD over each
+// generated frame (hud.comp): patchex takes and gives pre-UI HDR colour, and the engine
+// composites the UI of the instant it shows. When a frame's fence has signalled it reads
+// patchex's statistics, prints the PSNR of each extrapolated frame against the instant rendered
+// in full, next to the PSNR of showing frame t again, and checks the HUD of each shown frame.
 //
 //   patchex-cpp-engine [--frames N]      (default 30)
 //
 // Exit status 0 when every call succeeded, the validation layer (with synchronization
-// validation) reported nothing, and extrapolation beat repeating frame t on average.
+// validation) reported nothing, every HUD was drawn for its own instant, and extrapolation beat
+// repeating frame t on average.
 
 #include <patchex.h>
 
@@ -27,6 +31,7 @@
 #include <thread>
 #include <vector>
 
+#include "hud_spirv.h"
 #include "scene_spirv.h"
 
 namespace {
@@ -151,6 +156,12 @@ PatchexCamera camera_at(float t) {
   camera.far_plane = kFar;
   camera.depth_convention = PATCHEX_DEPTH_HARDWARE;
   return camera;
+}
+
+// The HUD bar's length at time t: one sweep of the image width every two seconds.
+uint32_t hud_bar_length(float t) {
+  float loop = t * 0.5f - std::floor(t * 0.5f);
+  return uint32_t(loop * float(kWidth));
 }
 
 // ---- Vulkan objects ----
@@ -313,17 +324,28 @@ void destroy_buffer(const Engine& e, Buffer& b) {
   vkFreeMemory(e.device, b.memory, nullptr);
 }
 
-// The G-buffers of one instant, in the formats scene.comp writes.
+// The G-buffers of one instant and its shadow input, in the formats scene.comp writes.
 struct GBuffer {
-  Image color, base_color, normal, depth, stencil, motion;
+  Image color, base_color, normal, depth, stencil, motion, shadow_mask, color_without_dynamic_shadows;
 
-  std::array<Image*, 6> images() { return {&color, &base_color, &normal, &depth, &stencil, &motion}; }
+  std::array<Image*, 8> images() {
+    return {&color, &base_color, &normal, &depth, &stencil, &motion, &shadow_mask, &color_without_dynamic_shadows};
+  }
 };
 
 GBuffer create_gbuffer(const Engine& e) {
   return GBuffer{create_image(e, VK_FORMAT_R16G16B16A16_SFLOAT), create_image(e, VK_FORMAT_R8G8B8A8_UNORM),
                  create_image(e, VK_FORMAT_R16G16B16A16_SFLOAT), create_image(e, VK_FORMAT_R32_SFLOAT),
-                 create_image(e, VK_FORMAT_R8_UINT),             create_image(e, VK_FORMAT_R32G32_SFLOAT)};
+                 create_image(e, VK_FORMAT_R8_UINT),             create_image(e, VK_FORMAT_R32G32_SFLOAT),
+                 create_image(e, VK_FORMAT_R32_SFLOAT),          create_image(e, VK_FORMAT_R16G16B16A16_SFLOAT)};
+}
+
+PatchexShadowInput shadow_input(const GBuffer& g) {
+  PatchexShadowInput input{};
+  input.header = {PATCHEX_STRUCT_TYPE_SHADOW_INPUT, sizeof(PatchexShadowInput), nullptr};
+  input.mask = g.shadow_mask.describe();
+  input.color_without_dynamic_shadows = g.color_without_dynamic_shadows.describe();
+  return input;
 }
 
 PatchexGeometry geometry(const GBuffer& g, float time) {
@@ -338,23 +360,22 @@ PatchexGeometry geometry(const GBuffer& g, float time) {
   return geometry;
 }
 
-// The renderer: one compute pipeline, one descriptor set per instant it renders.
-struct Renderer {
+// A compute pipeline over `storage_images` storage images (bindings 0, 1, ...), then optionally
+// a uniform buffer, with `push_bytes` of push constants.
+struct ComputePass {
   VkDescriptorSetLayout set_layout = VK_NULL_HANDLE;
   VkPipelineLayout layout = VK_NULL_HANDLE;
   VkPipeline pipeline = VK_NULL_HANDLE;
-  VkDescriptorPool pool = VK_NULL_HANDLE;
 };
 
-constexpr uint32_t kImageBindings = 6;
-constexpr uint32_t kInstantsPerFrame = 1 + kAlphas.size();
-
-Renderer create_renderer(const Engine& e) {
-  Renderer r;
-  std::array<VkDescriptorSetLayoutBinding, kImageBindings + 1> bindings{};
+template <size_t N>
+ComputePass create_pass(const Engine& e, const uint32_t (&spirv)[N], uint32_t storage_images, bool uniform,
+                        uint32_t push_bytes) {
+  ComputePass r;
+  std::vector<VkDescriptorSetLayoutBinding> bindings(storage_images + (uniform ? 1 : 0));
   for (uint32_t i = 0; i < bindings.size(); ++i) {
     bindings[i].binding = i;
-    bindings[i].descriptorType = i < kImageBindings ? VK_DESCRIPTOR_TYPE_STORAGE_IMAGE : VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+    bindings[i].descriptorType = i < storage_images ? VK_DESCRIPTOR_TYPE_STORAGE_IMAGE : VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
     bindings[i].descriptorCount = 1;
     bindings[i].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
   }
@@ -362,13 +383,16 @@ Renderer create_renderer(const Engine& e) {
   set_info.bindingCount = bindings.size();
   set_info.pBindings = bindings.data();
   CHECK(vkCreateDescriptorSetLayout(e.device, &set_info, nullptr, &r.set_layout));
+  VkPushConstantRange push{VK_SHADER_STAGE_COMPUTE_BIT, 0, push_bytes};
   VkPipelineLayoutCreateInfo layout_info{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
   layout_info.setLayoutCount = 1;
   layout_info.pSetLayouts = &r.set_layout;
+  layout_info.pushConstantRangeCount = push_bytes ? 1 : 0;
+  layout_info.pPushConstantRanges = &push;
   CHECK(vkCreatePipelineLayout(e.device, &layout_info, nullptr, &r.layout));
   VkShaderModuleCreateInfo module_info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-  module_info.codeSize = sizeof scene_spirv;
-  module_info.pCode = scene_spirv;
+  module_info.codeSize = sizeof spirv;
+  module_info.pCode = spirv;
   VkShaderModule module;
   CHECK(vkCreateShaderModule(e.device, &module_info, nullptr, &module));
   VkComputePipelineCreateInfo pipeline_info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
@@ -379,64 +403,111 @@ Renderer create_renderer(const Engine& e) {
   pipeline_info.layout = r.layout;
   CHECK(vkCreateComputePipelines(e.device, VK_NULL_HANDLE, 1, &pipeline_info, nullptr, &r.pipeline));
   vkDestroyShaderModule(e.device, module, nullptr);
-  const uint32_t sets = kFramesInFlight * kInstantsPerFrame;
-  VkDescriptorPoolSize sizes[] = {{VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, sets * kImageBindings},
-                                  {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, sets}};
+  return r;
+}
+
+void destroy_pass(const Engine& e, ComputePass& r) {
+  vkDestroyPipeline(e.device, r.pipeline, nullptr);
+  vkDestroyPipelineLayout(e.device, r.layout, nullptr);
+  vkDestroyDescriptorSetLayout(e.device, r.set_layout, nullptr);
+}
+
+constexpr uint32_t kImageBindings = 8;
+constexpr uint32_t kInstantsPerFrame = 1 + kAlphas.size();
+
+// The renderer (scene.comp), one descriptor set per instant it renders, and the UI pass
+// (hud.comp), one set per generated frame.
+struct Passes {
+  ComputePass renderer, hud;
+  VkDescriptorPool pool = VK_NULL_HANDLE;
+};
+
+Passes create_passes(const Engine& e) {
+  Passes r;
+  r.renderer = create_pass(e, scene_spirv, kImageBindings, true, 0);
+  r.hud = create_pass(e, hud_spirv, 2, false, sizeof(uint32_t));
+  const uint32_t scene_sets = kFramesInFlight * kInstantsPerFrame, hud_sets = kFramesInFlight * kAlphas.size();
+  VkDescriptorPoolSize sizes[] = {{VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, scene_sets * kImageBindings + hud_sets * 2},
+                                  {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, scene_sets}};
   VkDescriptorPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-  pool_info.maxSets = sets;
+  pool_info.maxSets = scene_sets + hud_sets;
   pool_info.poolSizeCount = 2;
   pool_info.pPoolSizes = sizes;
   CHECK(vkCreateDescriptorPool(e.device, &pool_info, nullptr, &r.pool));
   return r;
 }
 
-void destroy_renderer(const Engine& e, Renderer& r) {
+void destroy_passes(const Engine& e, Passes& r) {
   vkDestroyDescriptorPool(e.device, r.pool, nullptr);
-  vkDestroyPipeline(e.device, r.pipeline, nullptr);
-  vkDestroyPipelineLayout(e.device, r.layout, nullptr);
-  vkDestroyDescriptorSetLayout(e.device, r.set_layout, nullptr);
+  destroy_pass(e, r.renderer);
+  destroy_pass(e, r.hud);
+}
+
+void write_storage_image(VkDescriptorSet set, uint32_t binding, const VkDescriptorImageInfo* image,
+                         VkWriteDescriptorSet& write) {
+  write = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+  write.dstSet = set;
+  write.dstBinding = binding;
+  write.descriptorCount = 1;
+  write.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
+  write.pImageInfo = image;
 }
 
 // Everything one frame in flight owns. Instant 0 is frame t; instant 1 + k the target alpha k.
 struct Slot {
   std::array<GBuffer, kInstantsPerFrame> gbuffers;
-  std::array<Image, kAlphas.size()> outputs;
+  std::array<Image, kAlphas.size()> outputs;   // patchex's pre-UI frames
+  std::array<Image, kAlphas.size()> displays;  // what the engine shows: tone-mapped, with its HUD
   std::array<VkDescriptorSet, kInstantsPerFrame> sets{};
+  std::array<VkDescriptorSet, kAlphas.size()> hud_sets{};
+  std::array<uint32_t, kAlphas.size()> hud_bars{};
   Buffer uniforms;  // one Instant per instant
-  Buffer readback;  // frame t's colour, then per target its rendered colour and patchex's output
+  // Frame t's colour, then per target its rendered colour and patchex's output, then the
+  // displayed frames.
+  Buffer readback;
   VkCommandBuffer cmd = VK_NULL_HANDLE;
   VkFence fence = VK_NULL_HANDLE;
   uint64_t frame_index = 0;  // 0: nothing recorded yet
 };
 
-constexpr VkDeviceSize kImageBytes = VkDeviceSize(kWidth) * kHeight * 8;  // RGBA16F
+constexpr VkDeviceSize kImageBytes = VkDeviceSize(kWidth) * kHeight * 8;    // RGBA16F
+constexpr VkDeviceSize kDisplayBytes = VkDeviceSize(kWidth) * kHeight * 4;  // RGBA8
 constexpr uint32_t kReadbackImages = 1 + 2 * kAlphas.size();
 
-Slot create_slot(const Engine& e, const Renderer& r, VkCommandPool pool) {
+Slot create_slot(const Engine& e, const Passes& r, VkCommandPool pool) {
   Slot s;
   for (GBuffer& g : s.gbuffers) g = create_gbuffer(e);
   for (Image& output : s.outputs) output = create_image(e, VK_FORMAT_R16G16B16A16_SFLOAT);
+  for (Image& display : s.displays) display = create_image(e, VK_FORMAT_R8G8B8A8_UNORM);
   s.uniforms = create_buffer(e, sizeof(Instant) * kInstantsPerFrame, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
-  s.readback = create_buffer(e, kImageBytes * kReadbackImages, VK_BUFFER_USAGE_TRANSFER_DST_BIT);
+  s.readback = create_buffer(e, kImageBytes * kReadbackImages + kDisplayBytes * kAlphas.size(),
+                             VK_BUFFER_USAGE_TRANSFER_DST_BIT);
   std::array<VkDescriptorSetLayout, kInstantsPerFrame> layouts;
-  layouts.fill(r.set_layout);
+  layouts.fill(r.renderer.set_layout);
   VkDescriptorSetAllocateInfo allocate{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
   allocate.descriptorPool = r.pool;
   allocate.descriptorSetCount = kInstantsPerFrame;
   allocate.pSetLayouts = layouts.data();
   CHECK(vkAllocateDescriptorSets(e.device, &allocate, s.sets.data()));
+  std::array<VkDescriptorSetLayout, kAlphas.size()> hud_layouts;
+  hud_layouts.fill(r.hud.set_layout);
+  allocate.descriptorSetCount = kAlphas.size();
+  allocate.pSetLayouts = hud_layouts.data();
+  CHECK(vkAllocateDescriptorSets(e.device, &allocate, s.hud_sets.data()));
+  for (uint32_t k = 0; k < kAlphas.size(); ++k) {
+    VkDescriptorImageInfo images[2] = {{VK_NULL_HANDLE, s.outputs[k].view, VK_IMAGE_LAYOUT_GENERAL},
+                                       {VK_NULL_HANDLE, s.displays[k].view, VK_IMAGE_LAYOUT_GENERAL}};
+    VkWriteDescriptorSet writes[2];
+    for (uint32_t i = 0; i < 2; ++i) write_storage_image(s.hud_sets[k], i, &images[i], writes[i]);
+    vkUpdateDescriptorSets(e.device, 2, writes, 0, nullptr);
+  }
   for (uint32_t instant = 0; instant < kInstantsPerFrame; ++instant) {
     std::array<VkDescriptorImageInfo, kImageBindings> images;
     std::array<VkWriteDescriptorSet, kImageBindings + 1> writes{};
     auto gbuffer_images = s.gbuffers[instant].images();
     for (uint32_t i = 0; i < kImageBindings; ++i) {
       images[i] = {VK_NULL_HANDLE, gbuffer_images[i]->view, VK_IMAGE_LAYOUT_GENERAL};
-      writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
-      writes[i].dstSet = s.sets[instant];
-      writes[i].dstBinding = i;
-      writes[i].descriptorCount = 1;
-      writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
-      writes[i].pImageInfo = &images[i];
+      write_storage_image(s.sets[instant], i, &images[i], writes[i]);
     }
     VkDescriptorBufferInfo uniform{s.uniforms.buffer, sizeof(Instant) * instant, sizeof(Instant)};
     writes[kImageBindings] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
@@ -462,6 +533,7 @@ void destroy_slot(const Engine& e, Slot& s) {
   for (GBuffer& g : s.gbuffers)
     for (Image* image : g.images()) destroy_image(e, *image);
   for (Image& output : s.outputs) destroy_image(e, output);
+  for (Image& display : s.displays) destroy_image(e, display);
   destroy_buffer(e, s.uniforms);
   destroy_buffer(e, s.readback);
   vkDestroyFence(e.device, s.fence, nullptr);
@@ -491,13 +563,14 @@ void initialize_layouts(VkCommandBuffer cmd, Slot& s) {
   for (GBuffer& g : s.gbuffers)
     for (Image* image : g.images()) add(*image);
   for (Image& output : s.outputs) add(output);
+  for (Image& display : s.displays) add(display);
   vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 0, nullptr, 0,
                        nullptr, barriers.size(), barriers.data());
 }
 
-void copy_to_readback(VkCommandBuffer cmd, const Image& image, const Buffer& readback, uint32_t index) {
+void copy_to_readback(VkCommandBuffer cmd, const Image& image, const Buffer& readback, VkDeviceSize offset) {
   VkBufferImageCopy copy{};
-  copy.bufferOffset = kImageBytes * index;
+  copy.bufferOffset = offset;
   copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
   copy.imageExtent = {kWidth, kHeight, 1};
   vkCmdCopyImageToBuffer(cmd, image.image, VK_IMAGE_LAYOUT_GENERAL, readback.buffer, 1, &copy);
@@ -522,9 +595,23 @@ double psnr(const uint16_t* a, const uint16_t* b) {
   return squared == 0.0 ? 99.0 : 10.0 * std::log10(double(samples) / squared);
 }
 
+// Whether the displayed RGBA8 frame shows exactly the HUD bar of `bar_length` pixels: white
+// inside it, the scene right after it (rows 2 to 5, as hud.comp draws them).
+bool hud_drawn(const uint8_t* display, uint32_t bar_length) {
+  for (uint32_t y = 2; y < 6; ++y)
+    for (uint32_t x = 0; x < kWidth; ++x) {
+      const uint8_t* texel = display + (size_t(y) * kWidth + x) * 4;
+      bool white = texel[0] == 255 && texel[1] == 255 && texel[2] == 255;
+      // The tone-mapped scene never reaches 255 (c / (1 + c) with c under 1).
+      if (white != (x < bar_length)) return false;
+    }
+  return true;
+}
+
 struct Totals {
   int frames = 0;
   int failures = 0;
+  int huds_checked = 0;
   double extrapolated_psnr = 0.0, repeated_psnr = 0.0;
   int measured = 0;
 };
@@ -546,14 +633,23 @@ void report(const Slot& s, PatchexContext* context, Totals& totals) {
     const uint16_t* truth = image(1 + 2 * k);
     double extrapolated = psnr(image(2 + 2 * k), truth), repeated = psnr(image(0), truth);
     const PatchexExtrapolationStats& x = stats.extrapolations[k];
-    std::printf("frame %3llu  t + %.2f: PSNR %6.2f dB (frame t repeated: %6.2f dB)  holes %5.2f%%  patchex %.2f ms%s\n",
-                (unsigned long long)s.frame_index, kAlphas[k], extrapolated, repeated, 100.0 * x.hole_fraction,
-                x.gpu_ms[PATCHEX_STAGE_PACK_TARGET_GBUFFER] + x.gpu_ms[PATCHEX_STAGE_WARP] +
-                    x.gpu_ms[PATCHEX_STAGE_SEGMENT] + x.gpu_ms[PATCHEX_STAGE_LBP] + x.gpu_ms[PATCHEX_STAGE_REMODULATE],
-                x.render_instead_reasons ? "  (render instead)" : "");
+    float gpu_ms = 0.0f;
+    for (float stage_ms : x.gpu_ms) gpu_ms += stage_ms;
+    std::printf(
+        "frame %3llu  t + %.2f: PSNR %6.2f dB (frame t repeated: %6.2f dB)  holes %5.2f%%  repaired %5.2f%%  "
+        "patchex %.2f ms%s\n",
+        (unsigned long long)s.frame_index, kAlphas[k], extrapolated, repeated, 100.0 * x.hole_fraction,
+        100.0 * x.repaired_fraction, gpu_ms, x.render_instead_reasons ? "  (render instead)" : "");
     totals.extrapolated_psnr += extrapolated;
     totals.repeated_psnr += repeated;
     ++totals.measured;
+    if (!hud_drawn(static_cast<const uint8_t*>(s.readback.mapped) + kImageBytes * kReadbackImages + kDisplayBytes * k,
+                   s.hud_bars[k])) {
+      std::fprintf(stderr, "frame %llu t + %.2f: the HUD is not the target instant's\n",
+                   (unsigned long long)s.frame_index, kAlphas[k]);
+      ++totals.failures;
+    }
+    ++totals.huds_checked;
   }
 }
 
@@ -564,9 +660,9 @@ void render_thread(const Engine& e, PatchexContext* context, int frames, Totals&
   pool_info.queueFamilyIndex = e.family;
   VkCommandPool pool;
   CHECK(vkCreateCommandPool(e.device, &pool_info, nullptr, &pool));
-  Renderer renderer = create_renderer(e);
+  Passes passes = create_passes(e);
   std::array<Slot, kFramesInFlight> slots;
-  for (Slot& s : slots) s = create_slot(e, renderer, pool);
+  for (Slot& s : slots) s = create_slot(e, passes, pool);
   bool first_use[kFramesInFlight] = {true, true};
 
   for (uint64_t frame = 1; frame <= uint64_t(frames); ++frame) {
@@ -588,18 +684,19 @@ void render_thread(const Engine& e, PatchexContext* context, int frames, Totals&
     first_use[frame % kFramesInFlight] = false;
     // The copies of the frame that last used this slot were read on the host; now overwrite.
     barrier(s.cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0);
-    vkCmdBindPipeline(s.cmd, VK_PIPELINE_BIND_POINT_COMPUTE, renderer.pipeline);
+    vkCmdBindPipeline(s.cmd, VK_PIPELINE_BIND_POINT_COMPUTE, passes.renderer.pipeline);
     for (uint32_t instant = 0; instant < kInstantsPerFrame; ++instant) {
-      vkCmdBindDescriptorSets(s.cmd, VK_PIPELINE_BIND_POINT_COMPUTE, renderer.layout, 0, 1, &s.sets[instant], 0,
-                              nullptr);
+      vkCmdBindDescriptorSets(s.cmd, VK_PIPELINE_BIND_POINT_COMPUTE, passes.renderer.layout, 0, 1, &s.sets[instant],
+                              0, nullptr);
       vkCmdDispatch(s.cmd, (kWidth + 7) / 8, (kHeight + 7) / 8, 1);
     }
 
     // patchex: frame t, then its two in-between instants. Its barriers order it after the
     // renderer's writes; no barrier of ours is needed around the calls.
     const GBuffer& source = s.gbuffers[0];
+    PatchexShadowInput shadows = shadow_input(source);
     PatchexFrameDesc desc{};
-    desc.header = {PATCHEX_STRUCT_TYPE_FRAME_DESC, sizeof(PatchexFrameDesc), nullptr};
+    desc.header = {PATCHEX_STRUCT_TYPE_FRAME_DESC, sizeof(PatchexFrameDesc), &shadows};
     desc.frame_index = frame;
     desc.queue_family_index = e.family;
     desc.width = kWidth;
@@ -632,13 +729,27 @@ void render_thread(const Engine& e, PatchexContext* context, int frames, Totals&
       }
     }
 
-    // Out to the host: frame t's colour, and per target the rendered colour and the output.
+    // The UI, drawn over each generated frame for its own instant. patchex's barriers made its
+    // output visible to whatever comes next, and the pipeline and descriptor sets it bound are
+    // ours to rebind.
+    vkCmdBindPipeline(s.cmd, VK_PIPELINE_BIND_POINT_COMPUTE, passes.hud.pipeline);
+    for (uint32_t k = 0; k < kAlphas.size(); ++k) {
+      s.hud_bars[k] = hud_bar_length(t + kAlphas[k] * kFrameTime);
+      vkCmdBindDescriptorSets(s.cmd, VK_PIPELINE_BIND_POINT_COMPUTE, passes.hud.layout, 0, 1, &s.hud_sets[k], 0,
+                              nullptr);
+      vkCmdPushConstants(s.cmd, passes.hud.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(uint32_t), &s.hud_bars[k]);
+      vkCmdDispatch(s.cmd, (kWidth + 7) / 8, (kHeight + 7) / 8, 1);
+    }
+
+    // Out to the host: frame t's colour, per target the rendered colour and the output, and
+    // the displayed frames.
     barrier(s.cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
             VK_ACCESS_TRANSFER_READ_BIT);
     copy_to_readback(s.cmd, source.color, s.readback, 0);
     for (uint32_t k = 0; k < kAlphas.size(); ++k) {
-      copy_to_readback(s.cmd, s.gbuffers[1 + k].color, s.readback, 1 + 2 * k);
-      copy_to_readback(s.cmd, s.outputs[k], s.readback, 2 + 2 * k);
+      copy_to_readback(s.cmd, s.gbuffers[1 + k].color, s.readback, kImageBytes * (1 + 2 * k));
+      copy_to_readback(s.cmd, s.outputs[k], s.readback, kImageBytes * (2 + 2 * k));
+      copy_to_readback(s.cmd, s.displays[k], s.readback, kImageBytes * kReadbackImages + kDisplayBytes * k);
     }
     barrier(s.cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
             VK_ACCESS_HOST_READ_BIT);
@@ -658,7 +769,7 @@ void render_thread(const Engine& e, PatchexContext* context, int frames, Totals&
     if (s.frame_index != 0) report(s, context, totals);
   }
   for (Slot& s : slots) destroy_slot(e, s);
-  destroy_renderer(e, renderer);
+  destroy_passes(e, passes);
   vkDestroyCommandPool(e.device, pool, nullptr);
 }
 
@@ -672,7 +783,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "usage: %s [--frames N]   (N >= 1)\n", argv[0]);
     return 2;
   }
-  std::printf("patchex ABI version %u, %dx%d, %d frames, two extrapolations each\n", patchex_abi_version(),
+  std::printf("patchex ABI version %u, preset FULL with the shadow input, %dx%d, %d frames, two extrapolations each\n",
+              patchex_abi_version(),
               kWidth, kHeight, frames);
   Engine e = create_engine();
 
@@ -688,7 +800,7 @@ int main(int argc, char** argv) {
   info.max_width = kWidth;
   info.max_height = kHeight;
   info.frames_in_flight = kFramesInFlight;
-  info.preset = PATCHEX_PRESET_WARP_ONLY;
+  info.preset = PATCHEX_PRESET_FULL;
   PatchexContext* context = nullptr;
   if (patchex_create(&info, &context) != PATCHEX_RESULT_SUCCESS) {
     std::fprintf(stderr, "patchex_create: %s\n", patchex_last_error(nullptr));
@@ -710,8 +822,9 @@ int main(int argc, char** argv) {
   double repeated = totals.repeated_psnr / std::max(totals.measured, 1);
   std::printf("mean PSNR over %d extrapolated frames: %.2f dB (frame t repeated: %.2f dB)\n", totals.measured,
               extrapolated, repeated);
-  bool ok = totals.failures == 0 && totals.measured == 2 * frames && extrapolated > repeated + 3.0 &&
-            g_validation_messages == 0;
+  std::printf("HUD drawn for its own instant over %d generated frames\n", totals.huds_checked);
+  bool ok = totals.failures == 0 && totals.measured == 2 * frames && totals.huds_checked == 2 * frames &&
+            extrapolated > repeated + 3.0 && g_validation_messages == 0;
   std::printf("%s (%d validation messages)\n", ok ? "ok" : "FAILED", g_validation_messages);
   return ok ? 0 : 1;
 }

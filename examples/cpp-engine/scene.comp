@@ -1,7 +1,8 @@
 // The example engine's renderer: ray-casts one instant of its scene (three balls rolling over a
 // checkered floor, lit by a sun, casting shadows) and writes the G-buffers a deferred renderer
 // has: lit colour, base colour, world normal, hardware depth, a stencil id per ball, and
-// backward motion vectors to an earlier instant.
+// backward motion vectors to an earlier instant; and patchex's shadow input: the sun's
+// visibility through the balls (the dynamic casters) and the colour lit as if they cast none.
 #version 450
 
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -12,11 +13,13 @@ layout(set = 0, binding = 2, rgba16f) uniform writeonly image2D normal_out;
 layout(set = 0, binding = 3, r32f) uniform writeonly image2D depth_out;
 layout(set = 0, binding = 4, r8ui) uniform writeonly uimage2D stencil_out;
 layout(set = 0, binding = 5, rg32f) uniform writeonly image2D motion_out;
+layout(set = 0, binding = 6, r32f) uniform writeonly image2D shadow_mask_out;
+layout(set = 0, binding = 7, rgba16f) uniform writeonly image2D color_without_dynamic_shadows_out;
 
 const int BALLS = 3;
 
 // Mirrors `Instant` in engine.cpp (std140).
-layout(set = 0, binding = 6) uniform Instant {
+layout(set = 0, binding = 8) uniform Instant {
   mat4 view_projection;
   // The earlier instant the motion vectors point to.
   mat4 earlier_view_projection;
@@ -102,18 +105,24 @@ void main() {
 
   vec3 base = vec3(0.0);
   vec3 color;
+  vec3 color_without_dynamic_shadows;
+  float visibility = 1.0;
   vec3 normal = -direction;
   float depth = 1.0;
   uint stencil = 0u;
   vec3 earlier_point = point;
   if (hit.ball == -2) {
     color = mix(vec3(0.55, 0.68, 0.85), vec3(0.25, 0.4, 0.7), clamp(direction.y * 2.0, 0.0, 1.0));
+    color_without_dynamic_shadows = color;
   } else {
     base = albedo(hit, point);
     normal = hit.normal;
-    float sun = max(dot(normal, instant.sun.xyz), 0.0) * (in_shadow(point + 1.0e-3 * normal) ? 0.0 : 1.0);
+    // Every caster is a ball, and every ball is dynamic.
+    visibility = in_shadow(point + 1.0e-3 * normal) ? 0.0 : 1.0;
+    float sun = max(dot(normal, instant.sun.xyz), 0.0);
     // patchex's demodulation rule with no material image (metallic 0, specular 0.5).
-    color = (base + 0.04) * (0.25 + 0.75 * sun);
+    color = (base + 0.04) * (0.25 + 0.75 * sun * visibility);
+    color_without_dynamic_shadows = (base + 0.04) * (0.25 + 0.75 * sun);
     vec4 clip = instant.view_projection * vec4(point, 1.0);
     depth = clip.z / clip.w;
     if (hit.ball >= 0) {
@@ -129,4 +138,6 @@ void main() {
   imageStore(depth_out, p, vec4(depth));
   imageStore(stencil_out, p, uvec4(stencil));
   imageStore(motion_out, p, vec4(motion, 0.0, 0.0));
+  imageStore(shadow_mask_out, p, vec4(visibility));
+  imageStore(color_without_dynamic_shadows_out, p, vec4(color_without_dynamic_shadows, 1.0));
 }
