@@ -107,3 +107,66 @@ fn header_format_table_matches_what_each_role_accepts() {
         assert_eq!(listed, accepted, "the header's `{role}` formats");
     }
 }
+
+/// Every result code is documented, and every function that returns one lists the codes it can
+/// return, each of them a code that exists.
+#[test]
+fn header_documents_every_result_code_and_what_each_function_returns() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let header = std::fs::read_to_string(root.join("include/patchex.h")).expect("header reads");
+    let lines: Vec<&str> = header.lines().collect();
+    let codes: Vec<&str> = lines
+        .iter()
+        .filter_map(|line| line.trim().strip_prefix("PATCHEX_RESULT_"))
+        .filter_map(|rest| rest.split(' ').next())
+        .collect();
+    assert!(
+        codes.len() >= 21,
+        "the scan finds the result codes: {codes:?}"
+    );
+    for (i, line) in lines.iter().enumerate() {
+        if line.trim().starts_with("PATCHEX_RESULT_") {
+            assert!(
+                lines[i - 1].trim().starts_with("//"),
+                "{} has no comment",
+                line.trim()
+            );
+        }
+    }
+    for (i, line) in lines.iter().enumerate() {
+        let Some(name) = line.strip_prefix("PatchexResult patchex_") else {
+            continue;
+        };
+        let name = name.split('(').next().unwrap_or(name);
+        let comment: Vec<&str> = lines[..i]
+            .iter()
+            .rev()
+            .take_while(|l| l.starts_with("//"))
+            .copied()
+            .collect();
+        let comment = comment.into_iter().rev().collect::<Vec<_>>().join(" ");
+        // The last "Returns" paragraph is the list.
+        let returns = comment
+            .rsplit("Returns ")
+            .next()
+            .filter(|_| comment.contains("Returns "))
+            .unwrap_or_else(|| panic!("patchex_{name} does not say what it returns"));
+        let named: Vec<&str> = returns
+            .split(|c: char| !(c.is_ascii_uppercase() || c == '_'))
+            .filter(|word| {
+                word.len() > 3 && word.chars().all(|c| c.is_ascii_uppercase() || c == '_')
+            })
+            .map(|word| word.trim_start_matches("PATCHEX_RESULT_"))
+            .collect();
+        assert!(
+            named.len() >= 3,
+            "patchex_{name} names its codes: {named:?}"
+        );
+        for code in named {
+            assert!(
+                codes.contains(&code),
+                "patchex_{name} names {code}, which does not exist"
+            );
+        }
+    }
+}
