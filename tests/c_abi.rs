@@ -124,12 +124,7 @@ fn c11_engine_reaches_every_feature_and_matches_the_rust_path() {
 
     // Built as a C engine builds against the installed library: flags from pkg-config, and an
     // rpath so that it finds libpatchex.so.N outside the loader's paths.
-    let flags = run(
-        Command::new("pkg-config")
-            .args(["--cflags", "--libs", "patchex"])
-            .env("PKG_CONFIG_PATH", prefix.join("lib/pkgconfig")),
-        "pkg-config",
-    );
+    let flags = pkg_config_flags(&prefix);
     let program = scratch.path().join("abi_test");
     run(
         Command::new("cc")

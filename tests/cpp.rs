@@ -10,7 +10,7 @@ use std::process::Command;
 
 use patchex::abi::PATCHEX_ABI_VERSION;
 use patchex::loader::PatchexLibrary;
-use support::{install, run};
+use support::{install, pkg_config_flags, run};
 
 #[test]
 fn cpp_engine_renders_and_extrapolates_30_frames_on_its_render_thread() {
@@ -19,12 +19,7 @@ fn cpp_engine_renders_and_extrapolates_30_frames_on_its_render_thread() {
     let (prefix, build) = (scratch.path().join("prefix"), scratch.path().join("build"));
     install(&root, &prefix);
 
-    let flags = run(
-        Command::new("pkg-config")
-            .args(["--cflags", "--libs", "patchex"])
-            .env("PKG_CONFIG_PATH", prefix.join("lib/pkgconfig")),
-        "pkg-config",
-    );
+    let flags = pkg_config_flags(&prefix);
     assert!(
         flags.contains("-lpatchex") && flags.contains(&format!("{}/include", prefix.display())),
         "pkg-config finds the installed patchex: {flags}"

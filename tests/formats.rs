@@ -10,6 +10,7 @@ use ash::vk;
 use patchex::abi::PATCHEX_STAGE_PACK_OUTPUT;
 use patchex::passes::pack_output;
 use patchex::reference::{self, Image};
+use patchex::vk::image::PACKED_OUTPUT_FORMATS;
 use patchex_harness::texel::{decode, encode, srgb_encode};
 use support::pipeline::{assert_matches_reference, run_plugin_into, run_plugin_on, Chained};
 use support::rendered::render;
@@ -18,15 +19,8 @@ use support::*;
 const WIDTH: u32 = 96;
 const HEIGHT: u32 = 54;
 
-/// The formats besides RGBA16F/RGBA32F that the header's table lists for output and colour.
-const ENGINE_FORMATS: [vk::Format; 6] = [
-    vk::Format::B10G11R11_UFLOAT_PACK32,
-    vk::Format::A2B10G10R10_UNORM_PACK32,
-    vk::Format::R8G8B8A8_UNORM,
-    vk::Format::R8G8B8A8_SRGB,
-    vk::Format::B8G8R8A8_UNORM,
-    vk::Format::B8G8R8A8_SRGB,
-];
+/// The output formats besides RGBA16F, which are also colour formats of frame t.
+const ENGINE_FORMATS: &[vk::Format] = PACKED_OUTPUT_FORMATS;
 
 /// `image` as `format` stores it.
 fn quantised(image: &Image, format: vk::Format) -> Image {
@@ -69,7 +63,7 @@ fn every_output_format_holds_the_extrapolation_within_its_precision() {
         assert_matches_reference(source, target, &outcome, &chained);
         outcome.output
     };
-    for format in ENGINE_FORMATS {
+    for &format in ENGINE_FORMATS {
         let rig = Rig::new(WIDTH, HEIGHT);
         let gpu_source = GpuFrame::upload(&rig.engine, source);
         let gpu_target = GpuFrame::upload(&rig.engine, target);
@@ -118,7 +112,7 @@ fn every_colour_format_of_frame_t_matches_the_reference_on_what_it_stores() {
     let sequence = render("crossing_street.toml", 2, WIDTH, HEIGHT);
     let (source, target) = (&sequence.frames[0], &sequence.frames[1]);
     let chained = Chained::default();
-    for format in ENGINE_FORMATS {
+    for &format in ENGINE_FORMATS {
         let rig = Rig::new(WIDTH, HEIGHT);
         let mut gpu_source = GpuFrame::upload(&rig.engine, source);
         gpu_source.color = upload(&rig.engine, &source.color, format, COLOR_LAYOUT);

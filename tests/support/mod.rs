@@ -202,6 +202,16 @@ pub fn install(root: &std::path::Path, prefix: &std::path::Path) {
     );
 }
 
+/// `pkg-config --cflags --libs patchex` for a library installed into `prefix`.
+pub fn pkg_config_flags(prefix: &std::path::Path) -> String {
+    run(
+        std::process::Command::new("pkg-config")
+            .args(["--cflags", "--libs", "patchex"])
+            .env("PKG_CONFIG_PATH", prefix.join("lib/pkgconfig")),
+        "pkg-config",
+    )
+}
+
 /// The patchex shared library built from this tree, loaded as an engine loads it.
 pub fn open_library() -> PatchexLibrary {
     let path = PatchexLibrary::beside_current_exe().expect("the patchex cdylib is built");

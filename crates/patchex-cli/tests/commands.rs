@@ -47,7 +47,8 @@ fn render_then_sheet_writes_a_dataset_and_a_png() {
         assert!(dataset.join(file).is_file(), "missing {file}");
     }
 
-    let sheet_path = out.path().join("sheet.png");
+    // Missing folders on the way to the output are made.
+    let sheet_path = out.path().join("sheets/new/sheet.png");
     let sheet = patchex(&[
         "sheet",
         dataset.to_str().unwrap(),

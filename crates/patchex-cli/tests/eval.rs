@@ -4,6 +4,8 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+use patchex_scene::dataset::{read_exr, Dataset, FINAL_IMAGE};
+
 fn run(args: &[&str]) -> String {
     let output = Command::new(env!("CARGO_BIN_EXE_patchex"))
         .args(args)
@@ -40,14 +42,41 @@ fn eval_scores_every_method_over_every_region() {
     let out = tempfile::tempdir().unwrap();
     let dataset = render_crossing_street(out.path(), "160x90");
     let report = out.path().join("eval");
-    run(&[
+    let printed = run(&[
         "eval",
         dataset.to_str().unwrap(),
         "--validation",
+        "--write-frames",
         "--out",
         report.to_str().unwrap(),
     ]);
+    // Not on a terminal, a line per scene tells the progress.
+    assert!(
+        printed.contains("evaluating crossing_street: 2 targets"),
+        "{printed}"
+    );
+    assert!(
+        printed.contains("evaluated crossing_street in"),
+        "{printed}"
+    );
     assert!(report.join("strips/crossing_street.png").exists());
+    // Every method's frames, linear as scored: the copy of frame t is frame 0 itself.
+    let frames = report.join("frames/crossing_street");
+    for method in ["copy", "motion-vector", "gbuffer", "interpolation"] {
+        for target in ["0001", "0003"] {
+            let path = frames.join(method).join(format!("{target}.exr"));
+            assert!(path.is_file(), "{} is written", path.display());
+        }
+    }
+    let copy = read_exr(&frames.join("copy/0001.exr")).unwrap();
+    let frame_t = Dataset::open(&dataset).unwrap().read_frame(0).unwrap();
+    assert_eq!(
+        copy.layer(FINAL_IMAGE).data,
+        frame_t.layer(FINAL_IMAGE).data[..]
+            .chunks(frame_t.layer(FINAL_IMAGE).channel_count())
+            .flat_map(|p| p[..3].to_vec())
+            .collect::<Vec<_>>()
+    );
     assert!(std::fs::read_to_string(report.join("eval.md"))
         .unwrap()
         .contains("interpolation (uses frame t+1)"));
@@ -132,7 +161,7 @@ fn eval_scores_the_networks_and_their_ablations() {
 fn calibrate_fits_growth_that_follows_motion() {
     let out = tempfile::tempdir().unwrap();
     let dataset = render_crossing_street(out.path(), "480x270");
-    let report = out.path().join("calibration.json");
+    let report = out.path().join("reports/calibration.json");
     let printed = run(&[
         "calibrate",
         dataset.to_str().unwrap(),

@@ -183,3 +183,33 @@ fn unknown_clip_names_are_reported_with_the_available_ones() {
         "{error}"
     );
 }
+
+/// Files that require KHR_lights_punctual load; their lights are not used (a scene file sets
+/// the sun).
+#[test]
+fn a_file_requiring_punctual_lights_loads() {
+    let gltf = r#"{
+        "asset": {"version": "2.0"},
+        "extensionsUsed": ["KHR_lights_punctual"],
+        "extensionsRequired": ["KHR_lights_punctual"],
+        "extensions": {"KHR_lights_punctual": {"lights": [{"type": "point", "intensity": 10}]}},
+        "scene": 0,
+        "scenes": [{"nodes": [0, 1]}],
+        "nodes": [
+            {"mesh": 0},
+            {"translation": [0, 2, 0], "extensions": {"KHR_lights_punctual": {"light": 0}}}
+        ],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+        "buffers": [{"byteLength": 36,
+            "uri": "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"}],
+        "bufferViews": [{"buffer": 0, "byteLength": 36}],
+        "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+            "min": [0, 0, 0], "max": [1, 1, 0]}]
+    }"#;
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("lit.gltf");
+    std::fs::write(&path, gltf).unwrap();
+    let model = load_model(&path).expect("a file requiring KHR_lights_punctual loads");
+    assert_eq!(model.nodes.len(), 2);
+    assert_eq!(model.meshes.len(), 1);
+}

@@ -122,7 +122,8 @@ pub struct BenchArgs {
     #[arg(
         long,
         value_delimiter = ',',
-        default_value = "scenes/crossing_street.toml,scenes/fast_run.toml"
+        default_values_os_t = ["scenes/crossing_street.toml", "scenes/fast_run.toml"]
+            .map(super::repository_path)
     )]
     scenes: Vec<PathBuf>,
     /// Resolutions, WIDTHxHEIGHT.

@@ -121,7 +121,7 @@ pub fn run(args: CalibrateArgs) -> CommandResult {
                 "extension": s.extension,
             })).collect::<Vec<_>>(),
         });
-        std::fs::write(path, serde_json::to_string_pretty(&report)? + "\n")?;
+        super::write_output(path, serde_json::to_string_pretty(&report)? + "\n")?;
     }
     Ok(())
 }

@@ -11,6 +11,7 @@
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
+use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
@@ -19,14 +20,16 @@ use nv_flip::{magma_lut, FlipImageFloat};
 use patchex::abi::*;
 use patchex::passes::segmentation::{REGION_FI, REGION_NEAR_BE};
 use patchex::passes::STAGE_NAMES;
-use patchex_scene::dataset::{Dataset, FrameRole, FINAL_IMAGE, SHADOW_MASK};
+use patchex_scene::dataset::{
+    write_exr, Dataset, FrameLayers, FrameRole, LayerImage, FINAL_IMAGE, SHADOW_MASK,
+};
 use serde_json::json;
 
 use super::interpolate::interpolate;
 use super::metrics::{error_maps, ErrorMaps, Pooled};
 use super::picture::{to_rgb8, tone_map, write_grid};
 use super::plugin_driver::{NetworkChoice, PluginDriver};
-use super::CommandResult;
+use super::{repository_path, CommandResult};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, ValueEnum)]
 pub enum Method {
@@ -53,6 +56,14 @@ pub enum Method {
 }
 
 impl Method {
+    /// The method's name on the command line, which also names its folder of frames.
+    fn name(self) -> String {
+        self.to_possible_value()
+            .expect("every method has a name")
+            .get_name()
+            .to_string()
+    }
+
     fn label(self) -> &'static str {
         match self {
             Method::Copy => "copy of frame t",
@@ -130,9 +141,15 @@ pub struct EvalArgs {
     /// Run the plugin under the Vulkan validation layer; fail on any message.
     #[arg(long)]
     validation: bool,
-    /// Weights of the ablation without the perceptual term (fi.safetensors, near_be.safetensors).
-    #[arg(long, default_value = "assets/networks/ablations/no_perceptual")]
+    /// Weights of the ablation without the perceptual term (fi.safetensors, near_be.safetensors);
+    /// by default the repository's, wherever the tool runs from.
+    #[arg(long, default_value_os_t = repository_path("assets/networks/ablations/no_perceptual"))]
     no_perceptual_weights: PathBuf,
+    /// Also write every method's output, linear as scored, to
+    /// OUT/frames/SCENE/METHOD/TARGET.exr (one "FinalImage" layer, R G B), so that other tools
+    /// can score them.
+    #[arg(long)]
+    write_frames: bool,
 }
 
 /// A pixel is in a dynamic object's shadow where the mask is below this.
@@ -286,6 +303,12 @@ fn evaluate(
     }
     let strip_frame = args.strip_frame.unwrap_or(targets[targets.len() / 2]);
     let driver = PluginDriver::new(manifest, args.validation)?;
+    let started = std::time::Instant::now();
+    // Without a terminal the bar draws nothing: a line per scene says where the run is.
+    let on_terminal = std::io::stderr().is_terminal();
+    if !on_terminal {
+        eprintln!("evaluating {}: {} targets", manifest.scene, targets.len());
+    }
     let bar = ProgressBar::new(targets.len() as u64);
     bar.set_style(
         ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len}, {elapsed}")?
@@ -364,23 +387,34 @@ fn evaluate(
 
         let mut strip_outputs = Vec::new();
         for &method in methods {
-            let (output, stats) = match method.warp_kind() {
+            // The method's linear RGB(A) output and its channel count.
+            let (linear, channels, stats) = match method.warp_kind() {
                 Some(PATCHEX_WARP_GBUFFER_GUIDED) if method == Method::Gbuffer => {
-                    (tone_map(&reference.color, 4), Some(reference.stats))
+                    (reference.color.clone(), 4, Some(reference.stats))
                 }
                 Some(kind) => {
                     let run =
                         run_plugin(kind, method.networks(args), false, method.with_shadows())?;
-                    (tone_map(&run.color, 4), Some(run.stats))
+                    (run.color, 4, Some(run.stats))
                 }
                 None if method == Method::Copy => {
-                    (tone_map(&previous.layer(FINAL_IMAGE).data, 3), None)
+                    (previous.layer(FINAL_IMAGE).data.clone(), 3, None)
                 }
                 None => match &next {
-                    Some(next) => (tone_map(&interpolate(&previous, &current, next), 3), None),
+                    Some(next) => (interpolate(&previous, &current, next), 3, None),
                     None => continue,
                 },
             };
+            if args.write_frames {
+                let path = args
+                    .out
+                    .join("frames")
+                    .join(&manifest.scene)
+                    .join(method.name())
+                    .join(format!("{target:04}.exr"));
+                write_frame_exr(&path, &linear, channels, width, height)?;
+            }
+            let output = tone_map(&linear, channels);
             let maps = error_maps(&truth, &output, width, height);
             let method_result = result
                 .methods
@@ -425,6 +459,13 @@ fn evaluate(
         bar.inc(1);
     }
     bar.finish();
+    if !on_terminal {
+        eprintln!(
+            "evaluated {} in {:.0} s",
+            manifest.scene,
+            started.elapsed().as_secs_f64()
+        );
+    }
     let messages = driver.validation_messages();
     if args.validation && !messages.is_empty() {
         return Err(format!(
@@ -435,6 +476,37 @@ fn evaluate(
         .into());
     }
     Ok(result)
+}
+
+/// One method's output as an EXR of one "FinalImage" layer (R, G, B), as the datasets hold the
+/// rendered frames.
+fn write_frame_exr(
+    path: &Path,
+    linear: &[f32],
+    channels: usize,
+    width: usize,
+    height: usize,
+) -> CommandResult {
+    let rgb: Vec<f32> = linear
+        .chunks(channels)
+        .flat_map(|pixel| pixel[..3].to_vec())
+        .collect();
+    let frame = FrameLayers {
+        width,
+        height,
+        layers: vec![LayerImage {
+            name: FINAL_IMAGE.to_string(),
+            channels: ["R", "G", "B"].map(String::from).to_vec(),
+            width,
+            height,
+            data: rgb,
+        }],
+    };
+    if let Some(folder) = path.parent() {
+        std::fs::create_dir_all(folder)
+            .map_err(|e| format!("cannot write {}: {e}", folder.display()))?;
+    }
+    Ok(write_exr(path, &frame)?)
 }
 
 /// Pixels of margin around the shadow region in its strip, and the zoom of that strip.

@@ -13,3 +13,30 @@ pub mod sheet;
 
 /// Errors of any subcommand, shown to the user as one line.
 pub type CommandResult = Result<(), Box<dyn std::error::Error>>;
+
+/// A file of this repository (a default scene or weights), whatever the working directory.
+pub fn repository_path(relative: &str) -> std::path::PathBuf {
+    let crate_dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let repository = crate_dir
+        .ancestors()
+        .nth(2)
+        .expect("crates/patchex-cli is two deep");
+    repository.join(relative)
+}
+
+/// Creates the file a command writes, and the folders above it; an error names the path.
+pub fn create_output(path: &std::path::Path) -> Result<std::fs::File, Box<dyn std::error::Error>> {
+    let named = |error: std::io::Error| format!("cannot write {}: {error}", path.display());
+    if let Some(folder) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
+        std::fs::create_dir_all(folder).map_err(named)?;
+    }
+    Ok(std::fs::File::create(path).map_err(named)?)
+}
+
+/// Writes `contents` to `path` as [`create_output`] does.
+pub fn write_output(path: &std::path::Path, contents: impl AsRef<[u8]>) -> CommandResult {
+    use std::io::Write;
+    create_output(path)?
+        .write_all(contents.as_ref())
+        .map_err(|error| format!("cannot write {}: {error}", path.display()).into())
+}

@@ -75,7 +75,7 @@ pub fn write_grid(
             bytes[to..to + width * 3].copy_from_slice(&panel[from..from + width * 3]);
         }
     }
-    let file = std::io::BufWriter::new(std::fs::File::create(path)?);
+    let file = std::io::BufWriter::new(super::create_output(path)?);
     let mut encoder = png::Encoder::new(file, grid_width as u32, (height * rows) as u32);
     encoder.set_color(png::ColorType::Rgb);
     encoder.set_depth(png::BitDepth::Eight);

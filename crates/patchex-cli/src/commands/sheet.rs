@@ -87,7 +87,7 @@ pub fn run(args: SheetArgs) -> CommandResult {
             }
         }
     }
-    let file = std::fs::File::create(&args.out)?;
+    let file = super::create_output(&args.out)?;
     let mut encoder = png::Encoder::new(
         std::io::BufWriter::new(file),
         sheet_width as u32,
