@@ -320,6 +320,7 @@ fn extrapolate_with_invalid_warp_settings() {
         sigma_normal: 0.1,
         sigma_position: 0.02,
         occlusion_search_radius: 8,
+        hole_fill: PATCHEX_HOLE_FILL_BACKGROUND,
     };
     rejected_extrapolate(PatchexResult::ErrorInvalidArgument, |d| {
         d.header.next = &settings as *const PatchexWarpSettings as *const c_void
@@ -341,6 +342,11 @@ fn extrapolate_with_invalid_warp_settings() {
         PatchexWarpSettings {
             kernel_radius: 1,
             occlusion_search_radius: 17,
+            ..settings
+        },
+        PatchexWarpSettings {
+            kernel_radius: 1,
+            hole_fill: 2,
             ..settings
         },
     ] {

@@ -13,6 +13,7 @@ use std::process::Command;
 use ash::vk;
 use patchex::abi::*;
 use patchex::error::PatchexResult;
+use patchex::passes::warp::WarpSettings;
 use patchex::reference::Image;
 use patchex_harness::texel::decode;
 use patchex_harness::EngineImage;
@@ -211,13 +212,7 @@ fn c11_engine_reaches_every_feature_and_matches_the_rust_path() {
             PATCHEX_STRUCT_TYPE_WARP_SETTINGS,
             link(&segmentation),
         ),
-        kind: PATCHEX_WARP_GBUFFER_GUIDED,
-        kernel_radius: PATCHEX_DEFAULT_KERNEL_RADIUS,
-        sigma_spatial: PATCHEX_DEFAULT_SIGMA_SPATIAL,
-        sigma_depth: PATCHEX_DEFAULT_SIGMA_DEPTH,
-        sigma_normal: PATCHEX_DEFAULT_SIGMA_NORMAL,
-        sigma_position: PATCHEX_DEFAULT_SIGMA_POSITION,
-        occlusion_search_radius: PATCHEX_DEFAULT_OCCLUSION_SEARCH_RADIUS,
+        ..WarpSettings::default().to_abi()
     };
     let rig = Rig::with_create_info(WIDTH, HEIGHT, |info| {
         info.preset = PATCHEX_PRESET_FULL;

@@ -105,6 +105,59 @@ fn every_warp_kind_matches_its_reference() {
     );
 }
 
+/// PSNR of the RGB channels over the pixels the diagnostics mark as holes.
+fn hole_psnr(outcome: &support::pipeline::Outcome, truth: &Image) -> f64 {
+    let mut squared = 0.0;
+    let mut count = 0;
+    for ((out, want), diag) in outcome
+        .output
+        .data
+        .chunks(4)
+        .zip(truth.data.chunks(4))
+        .zip(outcome.diagnostics.data.chunks(4))
+    {
+        if diag[0] == 1.0 {
+            for c in 0..3 {
+                squared += ((out[c] - want[c]) as f64).powi(2);
+                count += 1;
+            }
+        }
+    }
+    assert!(count > 0, "the case has holes");
+    10.0 * (count as f64 / squared).log10()
+}
+
+/// Both hole fills match the reference on rendered frames (crossing_street, characters
+/// crossing a textured street); over the holes the characters uncover, filling from the
+/// uncovered side beats the nearest texel, which is mostly the character that hid them.
+#[test]
+fn uncovered_side_fill_beats_the_nearest_texel_over_holes() {
+    let sequence = support::rendered::render("crossing_street.toml", 2, 128, 72);
+    let (source, target) = (&sequence.frames[0], &sequence.frames[1]);
+    let mut hole_psnrs = Vec::new();
+    for hole_fill in [PATCHEX_HOLE_FILL_NEAREST, PATCHEX_HOLE_FILL_BACKGROUND] {
+        let chained = Chained {
+            warp: Some(WarpSettings {
+                hole_fill,
+                ..WarpSettings::default()
+            }),
+            ..Chained::default()
+        };
+        let rig = Rig::new(128, 72);
+        let outcome = run_plugin(&rig, source, target, 0.5, &chained);
+        assert_matches_reference(source, target, &outcome, &chained);
+        hole_psnrs.push(hole_psnr(&outcome, &target.color));
+    }
+    println!(
+        "PSNR over holes: nearest texel {:.2} dB, uncovered side {:.2} dB",
+        hole_psnrs[0], hole_psnrs[1]
+    );
+    assert!(
+        hole_psnrs[1] > hole_psnrs[0],
+        "the uncovered side's fill beats the nearest texel over holes: {hole_psnrs:?}"
+    );
+}
+
 #[test]
 fn zero_motion_gives_back_the_submitted_frame() {
     let mut scene = Scene::new(WIDTH, HEIGHT);

@@ -36,6 +36,7 @@ pub struct WarpSettings {
     pub sigma_depth: f32,
     pub sigma_normal: f32,
     pub sigma_position: f32,
+    pub hole_fill: PatchexHoleFill,
 }
 
 impl Default for WarpSettings {
@@ -49,6 +50,7 @@ impl Default for WarpSettings {
             sigma_depth: PATCHEX_DEFAULT_SIGMA_DEPTH,
             sigma_normal: PATCHEX_DEFAULT_SIGMA_NORMAL,
             sigma_position: PATCHEX_DEFAULT_SIGMA_POSITION,
+            hole_fill: PATCHEX_HOLE_FILL_BACKGROUND,
         }
     }
 }
@@ -67,6 +69,13 @@ impl WarpSettings {
                 ErrorInvalidArgument,
                 "PatchexWarpSettings.occlusion_search_radius {} exceeds {MAX_OCCLUSION_SEARCH_RADIUS}",
                 settings.occlusion_search_radius
+            );
+        }
+        if settings.hole_fill > PATCHEX_HOLE_FILL_NEAREST {
+            bail!(
+                ErrorInvalidArgument,
+                "PatchexWarpSettings.hole_fill {} is not a PATCHEX_HOLE_FILL_* value",
+                settings.hole_fill
             );
         }
         if settings.kernel_radius > MAX_KERNEL_RADIUS {
@@ -97,7 +106,25 @@ impl WarpSettings {
             sigma_depth: settings.sigma_depth,
             sigma_normal: settings.sigma_normal,
             sigma_position: settings.sigma_position,
+            hole_fill: settings.hole_fill,
         })
+    }
+
+    /// These settings as the ABI struct, with an empty chain (for Rust callers: tests, tools).
+    pub fn to_abi(&self) -> PatchexWarpSettings {
+        PatchexWarpSettings {
+            header: PatchexStructHeader::of::<PatchexWarpSettings>(
+                PATCHEX_STRUCT_TYPE_WARP_SETTINGS,
+            ),
+            kind: self.kind,
+            kernel_radius: self.kernel_radius,
+            sigma_spatial: self.sigma_spatial,
+            sigma_depth: self.sigma_depth,
+            sigma_normal: self.sigma_normal,
+            sigma_position: self.sigma_position,
+            occlusion_search_radius: self.occlusion_search_radius,
+            hole_fill: self.hole_fill,
+        }
     }
 
     /// The shaders' parameters for a target seen by `camera`.
@@ -121,6 +148,7 @@ impl WarpSettings {
             in_plane_weight: 1.0,
             camera_position: camera.position().into(),
             pixel_angle: camera.pixel_angle(extent.height),
+            hole_fill: self.hole_fill,
             ..Default::default()
         }
     }

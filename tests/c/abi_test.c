@@ -525,6 +525,7 @@ int main(int argc, char **argv) {
   warp.sigma_normal = PATCHEX_DEFAULT_SIGMA_NORMAL;
   warp.sigma_position = PATCHEX_DEFAULT_SIGMA_POSITION;
   warp.occlusion_search_radius = PATCHEX_DEFAULT_OCCLUSION_SEARCH_RADIUS;
+  warp.hole_fill = PATCHEX_HOLE_FILL_BACKGROUND;
 
   PatchexCreateInfo info;
   memset(&info, 0, sizeof info);

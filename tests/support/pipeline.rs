@@ -77,19 +77,6 @@ pub struct Chained {
     pub networks: Option<NetworkSwitches>,
 }
 
-fn warp_struct(settings: &WarpSettings) -> PatchexWarpSettings {
-    PatchexWarpSettings {
-        header: PatchexStructHeader::of::<PatchexWarpSettings>(PATCHEX_STRUCT_TYPE_WARP_SETTINGS),
-        kind: settings.kind,
-        kernel_radius: settings.kernel_radius,
-        sigma_spatial: settings.sigma_spatial,
-        sigma_depth: settings.sigma_depth,
-        sigma_normal: settings.sigma_normal,
-        sigma_position: settings.sigma_position,
-        occlusion_search_radius: settings.occlusion_search_radius,
-    }
-}
-
 fn segmentation_struct(settings: &SegmentationSettings) -> PatchexSegmentationSettings {
     PatchexSegmentationSettings {
         header: PatchexStructHeader::of::<PatchexSegmentationSettings>(
@@ -151,7 +138,7 @@ pub fn run_plugin_into(
 
     // The chain, linked back to front: diagnostics, then whatever settings the test gives.
     let mut segmentation = chained.segmentation.as_ref().map(segmentation_struct);
-    let mut warp = chained.warp.as_ref().map(warp_struct);
+    let mut warp = chained.warp.as_ref().map(WarpSettings::to_abi);
     let networks = chained.networks.map(|run| PatchexNetworkSettings {
         header: PatchexStructHeader::of::<PatchexNetworkSettings>(
             PATCHEX_STRUCT_TYPE_NETWORK_SETTINGS,
@@ -237,6 +224,7 @@ pub fn assert_matches_reference(
         let i = y * width + x;
         (warped.bilinear_weight[i] - BILINEAR_ACCEPT).abs() < NEAR_THRESHOLD
             || (warped.best_agreement[i] - AGREEMENT_THRESHOLD).abs() < NEAR_THRESHOLD
+            || (warped.fill_agreement[i] - AGREEMENT_THRESHOLD).abs() < NEAR_THRESHOLD
     };
     let mut excused = 0;
     let mut worst = (0.0f32, 0, 0);

@@ -16,6 +16,7 @@ use std::sync::Arc;
 
 use clap::{Args, ValueEnum};
 use patchex::abi::*;
+use patchex::passes::warp::WarpSettings;
 use patchex_scene::dataset::{render_sequence, Dataset, FrameLayers, SequenceOptions, FINAL_IMAGE};
 use patchex_scene::{Gpu, GpuOptions, World};
 use plotters::prelude::*;
@@ -277,7 +278,10 @@ fn measure(
             (source, &manifest.frames[index - 1]),
             (target, &manifest.frames[index]),
             0.5,
-            Some(configuration.warp()),
+            Some(WarpSettings {
+                kind: configuration.warp(),
+                ..WarpSettings::default()
+            }),
             configuration.networks().as_ref(),
             false,
             shadows.then_some(Some((earlier, &manifest.frames[index - 3]))),

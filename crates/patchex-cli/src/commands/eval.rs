@@ -19,6 +19,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use nv_flip::{magma_lut, FlipImageFloat};
 use patchex::abi::*;
 use patchex::passes::segmentation::{REGION_FI, REGION_NEAR_BE};
+use patchex::passes::warp::WarpSettings;
 use patchex::passes::STAGE_NAMES;
 use patchex_scene::dataset::{
     write_exr, Dataset, FrameLayers, FrameRole, LayerImage, FINAL_IMAGE, SHADOW_MASK,
@@ -38,6 +39,9 @@ pub enum Method {
     MotionVector,
     OcclusionMotion,
     Gbuffer,
+    /// The default warp with its holes filled by the nearest source texel (what it did before
+    /// the background fill), for comparison.
+    GbufferNearestFill,
     /// The default warp with the shadow sub-task: shadows of dynamic objects separated, tracked
     /// by optical flow and moved.
     GbufferShadows,
@@ -70,6 +74,7 @@ impl Method {
             Method::MotionVector => "motion-vector warp",
             Method::OcclusionMotion => "occlusion-motion-vector warp",
             Method::Gbuffer => "G-buffer-guided warp (default)",
+            Method::GbufferNearestFill => "G-buffer-guided warp, holes from the nearest texel",
             Method::GbufferShadows => "G-buffer-guided warp + shadow sub-task",
             Method::Patchex => "PatchEX (warp + shadows + networks on patches)",
             Method::PatchexNoShadows => "PatchEX without shadow separation",
@@ -79,18 +84,28 @@ impl Method {
         }
     }
 
-    fn warp_kind(self) -> Option<PatchexWarpKind> {
-        match self {
-            Method::MotionVector => Some(PATCHEX_WARP_MOTION_VECTOR),
-            Method::OcclusionMotion => Some(PATCHEX_WARP_OCCLUSION_MOTION_VECTOR),
+    fn warp(self) -> Option<WarpSettings> {
+        let kind = match self {
+            Method::MotionVector => PATCHEX_WARP_MOTION_VECTOR,
+            Method::OcclusionMotion => PATCHEX_WARP_OCCLUSION_MOTION_VECTOR,
+            Method::GbufferNearestFill => {
+                return Some(WarpSettings {
+                    hole_fill: PATCHEX_HOLE_FILL_NEAREST,
+                    ..WarpSettings::default()
+                })
+            }
             Method::Gbuffer
             | Method::GbufferShadows
             | Method::Patchex
             | Method::PatchexNoShadows
             | Method::PatchexWholeFrame
-            | Method::PatchexNoPerceptual => Some(PATCHEX_WARP_GBUFFER_GUIDED),
-            Method::Copy | Method::Interpolation => None,
-        }
+            | Method::PatchexNoPerceptual => PATCHEX_WARP_GBUFFER_GUIDED,
+            Method::Copy | Method::Interpolation => return None,
+        };
+        Some(WarpSettings {
+            kind,
+            ..WarpSettings::default()
+        })
     }
 
     fn with_shadows(self) -> bool {
@@ -237,11 +252,12 @@ impl MethodResult {
     }
 }
 
-/// The stages an engine runs, in pipeline order: all but the diagnostics copy.
+/// The stages an engine runs, in pipeline order: all but the diagnostics copy, and the output's
+/// packing, which eval's RGBA16F output never needs.
 fn timed_stages() -> impl Iterator<Item = (PatchexStage, &'static str)> {
-    STAGE_NAMES
-        .into_iter()
-        .filter(|(stage, _)| *stage != PATCHEX_STAGE_DIAGNOSTICS)
+    STAGE_NAMES.into_iter().filter(|(stage, _)| {
+        *stage != PATCHEX_STAGE_DIAGNOSTICS && *stage != PATCHEX_STAGE_PACK_OUTPUT
+    })
 }
 
 struct DatasetResult {
@@ -353,7 +369,7 @@ fn evaluate(
             .map(|(before, after)| *before < SHADOWED || *after < SHADOWED)
             .collect();
         let mut run_plugin =
-            |kind, networks: Option<NetworkChoice>, with_diagnostics, with_shadows: bool| {
+            |warp, networks: Option<NetworkChoice>, with_diagnostics, with_shadows: bool| {
                 // Two indices a run: frame t-1 and frame t when shadows are tracked.
                 frame_index += 2;
                 driver.extrapolate(
@@ -361,7 +377,7 @@ fn evaluate(
                     (&previous, &manifest.frames[source]),
                     (&current, &manifest.frames[target]),
                     alpha,
-                    Some(kind),
+                    Some(warp),
                     networks.as_ref(),
                     with_diagnostics,
                     with_shadows.then(|| {
@@ -372,7 +388,7 @@ fn evaluate(
                 )
             };
         // The default warp's diagnostics give every method's regions and holes.
-        let reference = run_plugin(PATCHEX_WARP_GBUFFER_GUIDED, None, true, false)?;
+        let reference = run_plugin(WarpSettings::default(), None, true, false)?;
         let diagnostics = reference.diagnostics.as_ref().expect("asked for");
         let holes: Vec<bool> = diagnostics.chunks(4).map(|d| d[0] > 0.5).collect();
         let regions: Vec<u32> = diagnostics
@@ -388,13 +404,13 @@ fn evaluate(
         let mut strip_outputs = Vec::new();
         for &method in methods {
             // The method's linear RGB(A) output and its channel count.
-            let (linear, channels, stats) = match method.warp_kind() {
-                Some(PATCHEX_WARP_GBUFFER_GUIDED) if method == Method::Gbuffer => {
+            let (linear, channels, stats) = match method.warp() {
+                Some(_) if method == Method::Gbuffer => {
                     (reference.color.clone(), 4, Some(reference.stats))
                 }
-                Some(kind) => {
+                Some(warp) => {
                     let run =
-                        run_plugin(kind, method.networks(args), false, method.with_shadows())?;
+                        run_plugin(warp, method.networks(args), false, method.with_shadows())?;
                     (run.color, 4, Some(run.stats))
                 }
                 None if method == Method::Copy => {

@@ -277,7 +277,7 @@ impl PluginDriver {
         source: (&FrameLayers, &FrameInfo),
         target: (&FrameLayers, &FrameInfo),
         alpha: f32,
-        warp: Option<PatchexWarpKind>,
+        warp: Option<WarpSettings>,
         networks: Option<&NetworkChoice>,
         with_diagnostics: bool,
         shadows: Option<Option<(&FrameLayers, &FrameInfo)>>,
@@ -305,23 +305,10 @@ impl PluginDriver {
         if let Some(settings) = &network_settings {
             next = settings as *const PatchexNetworkSettings as *const c_void;
         }
-        let warp_settings = warp.map(|kind| {
-            let defaults = WarpSettings::default();
-            PatchexWarpSettings {
-                header: PatchexStructHeader {
-                    next,
-                    ..PatchexStructHeader::of::<PatchexWarpSettings>(
-                        PATCHEX_STRUCT_TYPE_WARP_SETTINGS,
-                    )
-                },
-                kind,
-                kernel_radius: defaults.kernel_radius,
-                sigma_spatial: defaults.sigma_spatial,
-                sigma_depth: defaults.sigma_depth,
-                sigma_normal: defaults.sigma_normal,
-                sigma_position: defaults.sigma_position,
-                occlusion_search_radius: defaults.occlusion_search_radius,
-            }
+        let warp_settings = warp.map(|warp| {
+            let mut settings = warp.to_abi();
+            settings.header.next = next;
+            settings
         });
         if let Some(settings) = &warp_settings {
             next = settings as *const PatchexWarpSettings as *const c_void;
