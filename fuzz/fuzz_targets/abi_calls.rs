@@ -204,8 +204,8 @@ impl World {
             view: view.to_cols_array(),
             projection: projection.to_cols_array(),
             jitter: [0.0; 2],
-            near,
-            far,
+            near_plane: near,
+            far_plane: far,
             depth_convention: PATCHEX_DEPTH_HARDWARE,
         };
         let info = PatchexCreateInfo {
