@@ -5,7 +5,7 @@
 // that agreement, so zero motion returns frame t exactly. Where they do not (disocclusions,
 // silhouettes, motion-vector errors), it gathers from a (2r+1)^2 window with a joint bilateral
 // kernel instead. A pixel whose source leaves the screen or finds no agreeing texel is a hole;
-// a hole on screen is filled from the background side of the disocclusion (`fill_hole`).
+// a hole on screen is filled from the side the disocclusion uncovers (`fill_hole`).
 // #import gbuffer
 // #import warp
 
@@ -13,37 +13,36 @@
 const BILINEAR_ACCEPT: f32 = 0.5;
 // Below this total weight the kernel found nothing usable; take the nearest texel instead.
 const MIN_TOTAL_WEIGHT: f32 = 1e-6;
-// The fill's last resort looks this far around the source point, and averages the texels whose
-// depth mismatch is within this much of the best one's.
-const FILL_RADIUS: i32 = 2;
+// The hole fill looks this far around the source point (chosen on the validation scenes), and
+// averages the texels whose depth mismatch is within this much of the best one's.
+const FILL_RADIUS: i32 = 3;
 const DEPTH_BAND: f32 = 0.02;
 const HOLE_FILL_BACKGROUND: u32 = 0u;
 
 // How far texel `s` of frame t is from the target pixel's surface: its relative depth
-// difference, plus 1 for another object id, so that a texel of the right object always wins.
+// difference (at most 1; a non-finite depth counts 1), plus 1 for another object id, so that a
+// texel of the right object always wins.
 fn depth_mismatch(target_geo: vec4f, target_nid: vec4f, s: vec2i) -> f32 {
     let source_w = textureLoad(source_geometry, s, 0).w;
     let id_differs = textureLoad(source_normal_id, s, 0).w != target_nid.w;
     let relative = abs(source_w - target_geo.w) / max(max(source_w, target_geo.w), 1e-30);
-    return relative + select(0.0, 1.0, id_differs);
+    return select(1.0, relative, relative <= 1.0) + select(0.0, 1.0, id_differs);
 }
 
-// A hole's colour from the right side of the disocclusion: where a neighbour's motion vector
-// lands on an agreeing surface (the occluder's motion, at a disocclusion), the shading there;
-// otherwise the mean of the texels around `q` whose depth is nearest the target pixel's own (the
-// background the occluder uncovers, not the occluder, whose depth is the occluder's).
-fn fill_hole(p: vec2u, q: vec2f, target_geo: vec4f, target_nid: vec4f) -> vec3f {
-    let best = best_neighbour_motion(p, target_geo, target_nid);
-    if (best.agreement >= AGREEMENT_THRESHOLD) {
-        return bilinear_shading(best.q);
-    }
+// A hole's colour from the side the disocclusion uncovers: the mean of the texels around `q`
+// whose depth (and object id) is nearest the target pixel's own. The target's G-buffer knows the
+// uncovered surface's depth; the occluder that hid it in frame t is nearer, so it is left out.
+fn fill_hole(q: vec2f, target_geo: vec4f, target_nid: vec4f) -> vec3f {
     let extent = vec2i(params.extent);
     let centre = texel(q);
     var least = 3.0;
     for (var dy = -FILL_RADIUS; dy <= FILL_RADIUS; dy++) {
         for (var dx = -FILL_RADIUS; dx <= FILL_RADIUS; dx++) {
             let s = clamp(centre + vec2i(dx, dy), vec2i(0), extent - 1);
-            least = min(least, depth_mismatch(target_geo, target_nid, s));
+            let mismatch = depth_mismatch(target_geo, target_nid, s);
+            if (mismatch < least) {
+                least = mismatch;
+            }
         }
     }
     var sum = vec3f(0.0);
@@ -110,7 +109,7 @@ fn warp_pixel(p: vec2u) -> WarpedPixel {
     let offscreen = is_offscreen(q);
     let hole = offscreen || best_agreement < AGREEMENT_THRESHOLD;
     if (hole && !offscreen && params.hole_fill == HOLE_FILL_BACKGROUND) {
-        shading = fill_hole(p, q, target_geo, target_nid);
+        shading = fill_hole(q, target_geo, target_nid);
     }
     return WarpedPixel(shading, hole, offscreen);
 }

@@ -13,10 +13,21 @@ fn warp_pixel(p: vec2u) -> WarpedPixel {
     var q = source_point(p, textureLoad(motion, p, 0).xy);
     var best_agreement = select(agreement_at(target_geo, target_nid, texel(q)), 0.0, is_offscreen(q));
     if (best_agreement < AGREEMENT_THRESHOLD) {
-        let best = best_neighbour_motion(p, target_geo, target_nid);
-        if (best.agreement > best_agreement) {
-            best_agreement = best.agreement;
-            q = best.q;
+        let r = params.occlusion_search_radius;
+        let last = vec2i(params.extent) - 1;
+        for (var dy = -r; dy <= r; dy += 2) {
+            for (var dx = -r; dx <= r; dx += 2) {
+                let neighbour = clamp(vec2i(p) + vec2i(dx, dy), vec2i(0), last);
+                let candidate = source_point(p, textureLoad(motion, neighbour, 0).xy);
+                if (is_offscreen(candidate)) {
+                    continue;
+                }
+                let agreement = agreement_at(target_geo, target_nid, texel(candidate));
+                if (agreement > best_agreement) {
+                    best_agreement = agreement;
+                    q = candidate;
+                }
+            }
         }
     }
     let offscreen = is_offscreen(q);

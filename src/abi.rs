@@ -334,8 +334,8 @@ pub struct PatchexWarpSettings {
     /// Tolerance on world-position distance for static geometry, in pixel footprints on the
     /// target's surface (> 0).
     pub sigma_position: f32,
-    /// Occlusion-motion-vector warp, and the G-buffer-guided warp's background fill: radius in
-    /// pixels searched for a better motion vector, 0 to 16 (every second pixel is tried).
+    /// Occlusion-motion-vector warp: radius in pixels searched for a better motion vector,
+    /// 0 to 16 (every second pixel is tried).
     pub occlusion_search_radius: u32,
     /// G-buffer-guided warp: how a hole (a pixel whose own motion finds no agreeing surface in
     /// frame t) is filled. PATCHEX_HOLE_FILL_BACKGROUND, 0, is the default.
@@ -344,11 +344,10 @@ pub struct PatchexWarpSettings {
 
 /// `PatchexWarpSettings.hole_fill`.
 pub type PatchexHoleFill = u32;
-/// From the uncovered side of the disocclusion: the neighbourhood's motion vector that lands on
-/// the best-agreeing surface, as the occlusion-motion-vector warp takes it; where none agrees,
-/// the texels within 2 pixels of the pixel's own source point whose depth (and object id) is
-/// nearest the target pixel's own, so that the occluder that hid the pixel, nearer than the
-/// surface it uncovers, is not smeared into the hole.
+/// From the side the disocclusion uncovers: the mean of the texels within 3 pixels of the
+/// pixel's own source point whose depth (and object id) is nearest the target pixel's own. The
+/// occluder that hid the pixel is nearer than the surface it uncovers, so it is not smeared
+/// into the hole.
 pub const PATCHEX_HOLE_FILL_BACKGROUND: PatchexHoleFill = 0;
 /// The source texel nearest to where the pixel's own motion lands: usually the occluder itself,
 /// which leaves a halo of it around moving silhouettes. For comparison.

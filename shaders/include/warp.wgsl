@@ -27,7 +27,7 @@ struct Params {
     camera_position: vec3f,
     // Radians one pixel spans at the image centre.
     pixel_angle: f32,
-    // G-buffer-guided warp: PATCHEX_HOLE_FILL_* (0 background side, 1 nearest texel).
+    // G-buffer-guided warp: PATCHEX_HOLE_FILL_* (0 uncovered side, 1 nearest texel).
     hole_fill: u32,
 }
 var<immediate> params: Params;
@@ -96,34 +96,6 @@ fn texel(q: vec2f) -> vec2i {
 fn agreement_at(target_geo: vec4f, target_nid: vec4f, s: vec2i) -> f32 {
     return geometry_weight(target_geo, target_nid,
         textureLoad(source_geometry, s, 0), textureLoad(source_normal_id, s, 0));
-}
-
-// Where the neighbourhood's motion vectors land on frame t: the candidate whose texel agrees
-// best with the target pixel, and that agreement (0 when none lands on screen). At a
-// disocclusion the occluder's own motion fetches the background beside it in frame t.
-struct Candidate {
-    q: vec2f,
-    agreement: f32,
-}
-
-fn best_neighbour_motion(p: vec2u, target_geo: vec4f, target_nid: vec4f) -> Candidate {
-    var best = Candidate(vec2f(0.0), 0.0);
-    let r = params.occlusion_search_radius;
-    let last = vec2i(params.extent) - 1;
-    for (var dy = -r; dy <= r; dy += 2) {
-        for (var dx = -r; dx <= r; dx += 2) {
-            let neighbour = clamp(vec2i(p) + vec2i(dx, dy), vec2i(0), last);
-            let candidate = source_point(p, textureLoad(motion, neighbour, 0).xy);
-            if (is_offscreen(candidate)) {
-                continue;
-            }
-            let agreement = agreement_at(target_geo, target_nid, texel(candidate));
-            if (agreement > best.agreement) {
-                best = Candidate(candidate, agreement);
-            }
-        }
-    }
-    return best;
 }
 
 // Frame t's shading at `q`, bilinear over the texels around it.

@@ -11,8 +11,8 @@ pub const AGREEMENT_THRESHOLD: f32 = 0.5;
 const MIN_FACING: f32 = 0.25;
 pub const BILINEAR_ACCEPT: f32 = 0.5;
 const MIN_TOTAL_WEIGHT: f32 = 1e-6;
-/// The hole fill's last resort: its window radius and its band of depth mismatch.
-const FILL_RADIUS: i32 = 2;
+/// The hole fill's window radius and its band of depth mismatch.
+const FILL_RADIUS: i32 = 3;
 const DEPTH_BAND: f32 = 0.02;
 
 pub struct Warped {
@@ -23,9 +23,6 @@ pub struct Warped {
     /// G-buffer-guided warp only: the agreeing share of each pixel's bilinear footprint, how
     /// close it came to switching to the bilateral gather.
     pub bilinear_weight: Vec<f32>,
-    /// G-buffer-guided warp's background fill of a hole: the best agreement a neighbour's
-    /// motion vector found (how close the fill came to its other branch); NaN elsewhere.
-    pub fill_agreement: Vec<f32>,
     pub hole_pixels: u32,
     pub offscreen_pixels: u32,
     /// The largest finite |motion| of a target pixel, in pixels.
@@ -50,7 +47,6 @@ struct WarpedPixel {
     shading: Vec3,
     best_agreement: f32,
     bilinear_weight: f32,
-    fill_agreement: f32,
     offscreen: bool,
 }
 
@@ -129,34 +125,8 @@ impl PixelWarp<'_> {
         )
     }
 
-    /// Mirror of `best_neighbour_motion`: the neighbours' landing point whose texel agrees best,
-    /// and that agreement (0 when none lands on screen).
-    fn best_neighbour_motion(&self) -> (Vec2, f32) {
-        let mut best = (Vec2::ZERO, 0.0);
-        let r = self.params.occlusion_search_radius;
-        for dy in (-r..=r).step_by(2) {
-            for dx in (-r..=r).step_by(2) {
-                let neighbour = (self.p + IVec2::new(dx, dy)).clamp(IVec2::ZERO, self.extent() - 1);
-                let candidate = self.source_point(neighbour);
-                if self.is_offscreen(candidate) {
-                    continue;
-                }
-                let agreement = self.agreement_at(self.texel_of(candidate));
-                if agreement > best.1 {
-                    best = (candidate, agreement);
-                }
-            }
-        }
-        best
-    }
-
-    /// Mirror of `fill_hole` in `warp_gbuffer.wgsl`: the shading, and the best agreement a
-    /// neighbour's motion found.
-    fn fill_hole(&self, q: Vec2) -> (Vec3, f32) {
-        let (best_q, best_agreement) = self.best_neighbour_motion();
-        if best_agreement >= AGREEMENT_THRESHOLD {
-            return (self.bilinear_shading(best_q), best_agreement);
-        }
+    /// Mirror of `fill_hole` in `warp_gbuffer.wgsl`.
+    fn fill_hole(&self, q: Vec2) -> Vec3 {
         let centre = self.texel_of(q);
         let r = FILL_RADIUS;
         let window = || {
@@ -170,22 +140,23 @@ impl PixelWarp<'_> {
         };
         let least = window()
             .map(|s| self.depth_mismatch(s))
-            .fold(3.0f32, f32::min);
+            .fold(3.0f32, |least, m| if m < least { m } else { least });
         let (sum, count) = window()
             .filter(|&s| self.depth_mismatch(s) <= least + DEPTH_BAND)
             .fold((Vec3::ZERO, 0.0f32), |(sum, count), s| {
                 (sum + texel(self.source.shading, s).truncate(), count + 1.0)
             });
-        (sum / count.max(1.0), best_agreement)
+        sum / count.max(1.0)
     }
 
-    /// Mirror of `depth_mismatch`: relative depth difference to the target, plus 1 for another
-    /// object id.
+    /// Mirror of `depth_mismatch`: relative depth difference to the target (at most 1; a
+    /// non-finite depth counts 1), plus 1 for another object id.
     fn depth_mismatch(&self, s: IVec2) -> f32 {
         let source_w = texel(self.source.geometry, s).w;
         let id_differs = texel(self.source.normal_id, s).w != self.target_nid.w;
         let relative =
             (source_w - self.target_geo.w).abs() / source_w.max(self.target_geo.w).max(1e-30);
+        let relative = if relative <= 1.0 { relative } else { 1.0 };
         relative + if id_differs { 1.0 } else { 0.0 }
     }
 
@@ -257,15 +228,13 @@ impl PixelWarp<'_> {
         };
         let offscreen = self.is_offscreen(q);
         let hole = offscreen || best_agreement < AGREEMENT_THRESHOLD;
-        let mut fill_agreement = f32::NAN;
         if hole && !offscreen && self.params.hole_fill == PATCHEX_HOLE_FILL_BACKGROUND {
-            (shading, fill_agreement) = self.fill_hole(q);
+            shading = self.fill_hole(q);
         }
         WarpedPixel {
             shading,
             best_agreement,
             bilinear_weight,
-            fill_agreement,
             offscreen,
         }
     }
@@ -277,7 +246,6 @@ impl PixelWarp<'_> {
             shading: self.bilinear_shading(q),
             best_agreement: self.agreement_at(self.texel_of(q)),
             bilinear_weight: f32::NAN,
-            fill_agreement: f32::NAN,
             offscreen: self.is_offscreen(q),
         }
     }
@@ -291,16 +259,27 @@ impl PixelWarp<'_> {
             self.agreement_at(self.texel_of(q))
         };
         if best_agreement < AGREEMENT_THRESHOLD {
-            let (candidate, agreement) = self.best_neighbour_motion();
-            if agreement > best_agreement {
-                (q, best_agreement) = (candidate, agreement);
+            let r = self.params.occlusion_search_radius;
+            for dy in (-r..=r).step_by(2) {
+                for dx in (-r..=r).step_by(2) {
+                    let neighbour =
+                        (self.p + IVec2::new(dx, dy)).clamp(IVec2::ZERO, self.extent() - 1);
+                    let candidate = self.source_point(neighbour);
+                    if self.is_offscreen(candidate) {
+                        continue;
+                    }
+                    let agreement = self.agreement_at(self.texel_of(candidate));
+                    if agreement > best_agreement {
+                        best_agreement = agreement;
+                        q = candidate;
+                    }
+                }
             }
         }
         WarpedPixel {
             shading: self.bilinear_shading(q),
             best_agreement,
             bilinear_weight: f32::NAN,
-            fill_agreement: f32::NAN,
             offscreen: self.is_offscreen(q),
         }
     }
@@ -316,7 +295,6 @@ pub fn warp(
     let (width, height) = (params.extent[0] as usize, params.extent[1] as usize);
     let mut best_agreement = Vec::with_capacity(width * height);
     let mut bilinear_weight = Vec::with_capacity(width * height);
-    let mut fill_agreement = Vec::with_capacity(width * height);
     let (mut hole_pixels, mut offscreen_pixels) = (0, 0);
     let mut largest_motion = 0.0f32;
     let warped = Image::from_fn(width, height, 4, |x, y| {
@@ -338,7 +316,6 @@ pub fn warp(
         offscreen_pixels += result.offscreen as u32;
         best_agreement.push(result.best_agreement);
         bilinear_weight.push(result.bilinear_weight);
-        fill_agreement.push(result.fill_agreement);
         let motion = Vec2::from_slice(target.motion.at(x, y)) * Vec2::from(params.motion_scale);
         let reach = motion.dot(motion).sqrt();
         if reach <= f32::MAX {
@@ -351,7 +328,6 @@ pub fn warp(
         warped,
         best_agreement,
         bilinear_weight,
-        fill_agreement,
         hole_pixels,
         offscreen_pixels,
         largest_motion,

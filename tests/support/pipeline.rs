@@ -224,7 +224,6 @@ pub fn assert_matches_reference(
         let i = y * width + x;
         (warped.bilinear_weight[i] - BILINEAR_ACCEPT).abs() < NEAR_THRESHOLD
             || (warped.best_agreement[i] - AGREEMENT_THRESHOLD).abs() < NEAR_THRESHOLD
-            || (warped.fill_agreement[i] - AGREEMENT_THRESHOLD).abs() < NEAR_THRESHOLD
     };
     let mut excused = 0;
     let mut worst = (0.0f32, 0, 0);
