@@ -1,8 +1,9 @@
 //! The colour formats engines keep scene colour in or present from, as patchex's output and as
 //! frame t's colour, on rendered frames under validation. An output format is held to the
 //! packing pass's reference applied to the RGBA16F output (itself checked against the
-//! reference here), and to within one step of its own precision of that output; a colour format is held to the reference run on the colour as that format stores
-//! it, at the reference tests' tolerances.
+//! reference here), and to within one step of its own precision of that output. A colour
+//! format is held to the reference run on the colour as that format stores it, at the
+//! reference tests' tolerances.
 
 mod support;
 
@@ -18,9 +19,6 @@ use support::*;
 
 const WIDTH: u32 = 96;
 const HEIGHT: u32 = 54;
-
-/// The output formats besides RGBA16F, which are also colour formats of frame t.
-const ENGINE_FORMATS: &[vk::Format] = PACKED_OUTPUT_FORMATS;
 
 /// `image` as `format` stores it.
 fn quantised(image: &Image, format: vk::Format) -> Image {
@@ -63,7 +61,7 @@ fn every_output_format_holds_the_extrapolation_within_its_precision() {
         assert_matches_reference(source, target, &outcome, &chained);
         outcome.output
     };
-    for &format in ENGINE_FORMATS {
+    for &format in PACKED_OUTPUT_FORMATS {
         let rig = Rig::new(WIDTH, HEIGHT);
         let gpu_source = GpuFrame::upload(&rig.engine, source);
         let gpu_target = GpuFrame::upload(&rig.engine, target);
@@ -112,7 +110,7 @@ fn every_colour_format_of_frame_t_matches_the_reference_on_what_it_stores() {
     let sequence = render("crossing_street.toml", 2, WIDTH, HEIGHT);
     let (source, target) = (&sequence.frames[0], &sequence.frames[1]);
     let chained = Chained::default();
-    for &format in ENGINE_FORMATS {
+    for &format in PACKED_OUTPUT_FORMATS {
         let rig = Rig::new(WIDTH, HEIGHT);
         let mut gpu_source = GpuFrame::upload(&rig.engine, source);
         gpu_source.color = upload(&rig.engine, &source.color, format, COLOR_LAYOUT);
