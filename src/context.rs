@@ -1152,12 +1152,9 @@ impl Context {
                         encoding,
                         frame: &staging[OutputStaging::FRAME],
                         packed: &staging[OutputStaging::PACKED],
+                        output: &inputs.output,
                     },
-                );
-                let packed = &staging[OutputStaging::PACKED];
-                barriers::owned_for_copy(device, cmd, packed, false);
-                copy_packed(device, cmd, packed, &inputs.output, inputs.extent);
-                barriers::owned_for_copy(device, cmd, packed, true);
+                )
             });
         }
         let shadow_diagnostics = shadow_diagnostics_image.zip(shadows);
@@ -1399,45 +1396,6 @@ fn grown<const N: usize>(
 fn retire<const N: usize>(ring: &mut FrameRing, set: ImageSet<N>, serial: u64) {
     for image in set.images {
         ring.retire(serial.saturating_sub(1), image);
-    }
-}
-
-/// Copies the frame's extent of the packed texels (TRANSFER_SRC_OPTIMAL) into the engine's `to`
-/// (TRANSFER_DST_OPTIMAL). Both formats have 32-bit texels, so the copy moves bits unchanged.
-fn copy_packed(
-    device: &ash::Device,
-    cmd: vk::CommandBuffer,
-    packed: &OwnedImage,
-    to: &ImportedImage,
-    extent: vk::Extent2D,
-) {
-    let layer = vk::ImageSubresourceLayers {
-        aspect_mask: vk::ImageAspectFlags::COLOR,
-        mip_level: 0,
-        base_array_layer: 0,
-        layer_count: 1,
-    };
-    let region = vk::ImageCopy {
-        src_subresource: layer,
-        src_offset: vk::Offset3D::default(),
-        dst_subresource: layer,
-        dst_offset: vk::Offset3D::default(),
-        extent: vk::Extent3D {
-            width: extent.width,
-            height: extent.height,
-            depth: 1,
-        },
-    };
-    // SAFETY: cmd is recording; both images are live, in the layouts named, of one texel size.
-    unsafe {
-        device.cmd_copy_image(
-            cmd,
-            packed.image,
-            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-            to.image,
-            vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-            &[region],
-        );
     }
 }
 

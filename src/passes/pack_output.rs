@@ -1,11 +1,11 @@
 //! Packs the extrapolated frame into an output format that a shader cannot store
-//! (`shaders/pack_output.wgsl`); the context then copies the packed texels into the engine's
-//! image.
+//! (`shaders/pack_output.wgsl`) and copies the packed texels into the engine's image.
 
 use ash::vk;
 
 use crate::shaders::pack_output::{binding, Params};
-use crate::vk::image::OwnedImage;
+use crate::vk::barriers;
+use crate::vk::image::{ImportedImage, OwnedImage};
 use crate::vk::pipeline::{ComputePipeline, DescriptorWrites};
 
 /// How one 32-bit output format lays out a texel.
@@ -56,11 +56,13 @@ pub fn encoding(format: vk::Format) -> Option<Encoding> {
     })
 }
 
-/// The frame to pack, the image its texels go to, and how.
+/// The frame to pack, how, the working image its texels go to, and the engine's output they are
+/// copied into (in TRANSFER_DST_OPTIMAL while the call's commands run).
 pub struct Packing<'a> {
     pub encoding: Encoding,
     pub frame: &'a OwnedImage,
     pub packed: &'a OwnedImage,
+    pub output: &'a ImportedImage,
 }
 
 pub fn record(
@@ -75,6 +77,7 @@ pub fn record(
         encoding,
         frame,
         packed,
+        output,
     } = packing;
     let general = vk::ImageLayout::GENERAL;
     DescriptorWrites::new(pipeline)
@@ -89,4 +92,46 @@ pub fn record(
         unsigned_float: encoding.unsigned_float as u32,
     };
     pipeline.dispatch(device, cmd, set, &params, extent);
+    barriers::owned_for_copy(device, cmd, packed, false);
+    copy_packed(device, cmd, packed, output, extent);
+    barriers::owned_for_copy(device, cmd, packed, true);
+}
+
+/// Copies the frame's extent of the packed texels (TRANSFER_SRC_OPTIMAL) into the engine's `to`
+/// (TRANSFER_DST_OPTIMAL). Both formats have 32-bit texels, so the copy moves bits unchanged.
+fn copy_packed(
+    device: &ash::Device,
+    cmd: vk::CommandBuffer,
+    packed: &OwnedImage,
+    to: &ImportedImage,
+    extent: vk::Extent2D,
+) {
+    let layer = vk::ImageSubresourceLayers {
+        aspect_mask: vk::ImageAspectFlags::COLOR,
+        mip_level: 0,
+        base_array_layer: 0,
+        layer_count: 1,
+    };
+    let region = vk::ImageCopy {
+        src_subresource: layer,
+        src_offset: vk::Offset3D::default(),
+        dst_subresource: layer,
+        dst_offset: vk::Offset3D::default(),
+        extent: vk::Extent3D {
+            width: extent.width,
+            height: extent.height,
+            depth: 1,
+        },
+    };
+    // SAFETY: cmd is recording; both images are live, in the layouts named, of one texel size.
+    unsafe {
+        device.cmd_copy_image(
+            cmd,
+            packed.image,
+            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+            to.image,
+            vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+            &[region],
+        );
+    }
 }
