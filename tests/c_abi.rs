@@ -244,11 +244,8 @@ fn c11_engine_reaches_every_feature_and_matches_the_rust_path() {
             rig.last_error()
         );
     };
-    let extrapolate = |cmd, output: &EngineImage, chain: *const c_void| {
-        let mut desc = frames[3].extrapolate_desc(output, 0.5, family);
-        if std::ptr::eq(output, &first) {
-            desc = frames[1].extrapolate_desc(output, 0.5, family);
-        }
+    let extrapolate = |cmd, target: &GpuFrame, output: &EngineImage, chain: *const c_void| {
+        let mut desc = target.extrapolate_desc(output, 0.5, family);
         desc.header.next = chain;
         assert_eq!(
             rig.extrapolate(cmd, &desc),
@@ -274,7 +271,7 @@ fn c11_engine_reaches_every_feature_and_matches_the_rust_path() {
             ),
             image: describe(&first_diagnostics, OUTPUT_LAYOUT),
         };
-        extrapolate(cmd, &first, link(&diag));
+        extrapolate(cmd, &frames[1], &first, link(&diag));
     });
     engine.run(|cmd| {
         submit(cmd, &frames[2], 2, None);
@@ -329,7 +326,7 @@ fn c11_engine_reaches_every_feature_and_matches_the_rust_path() {
             } else {
                 link(&warp_kind)
             };
-            extrapolate(cmd, &outputs[k], chain);
+            extrapolate(cmd, &frames[3], &outputs[k], chain);
         }
     });
 
