@@ -518,10 +518,7 @@ fn write_frame_exr(
             data: rgb,
         }],
     };
-    if let Some(folder) = path.parent() {
-        std::fs::create_dir_all(folder)
-            .map_err(|e| format!("cannot write {}: {e}", folder.display()))?;
-    }
+    super::make_parent_folders(path)?;
     Ok(write_exr(path, &frame)?)
 }
 

@@ -24,13 +24,20 @@ pub fn repository_path(relative: &str) -> std::path::PathBuf {
     repository.join(relative)
 }
 
+/// Makes the folders above a file a command is about to write; an error names the path.
+pub fn make_parent_folders(path: &std::path::Path) -> CommandResult {
+    if let Some(folder) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
+        std::fs::create_dir_all(folder)
+            .map_err(|error| format!("cannot write {}: {error}", path.display()))?;
+    }
+    Ok(())
+}
+
 /// Creates the file a command writes, and the folders above it; an error names the path.
 pub fn create_output(path: &std::path::Path) -> Result<std::fs::File, Box<dyn std::error::Error>> {
-    let named = |error: std::io::Error| format!("cannot write {}: {error}", path.display());
-    if let Some(folder) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
-        std::fs::create_dir_all(folder).map_err(named)?;
-    }
-    Ok(std::fs::File::create(path).map_err(named)?)
+    make_parent_folders(path)?;
+    Ok(std::fs::File::create(path)
+        .map_err(|error| format!("cannot write {}: {error}", path.display()))?)
 }
 
 /// Writes `contents` to `path` as [`create_output`] does.
