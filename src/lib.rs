@@ -8,6 +8,7 @@ pub mod camera;
 pub mod context;
 pub mod error;
 pub mod ffi;
+pub mod frame;
 pub mod inputs;
 pub mod loader;
 pub mod network;

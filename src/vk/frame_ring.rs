@@ -22,7 +22,6 @@ use crate::vk::timestamps::StageTimer;
 /// Region 0 of a slot belongs to `patchex_submit_gbuffers`, region 1 + i to extrapolation i.
 pub const REGIONS_PER_SLOT: usize = 1 + PATCHEX_MAX_EXTRAPOLATIONS_PER_FRAME;
 const QUERIES_PER_REGION: u32 = 2 * PATCHEX_STAGE_SLOTS as u32;
-use crate::context::COUNTER_BYTES;
 
 /// What was recorded into one region, to read its results back later.
 #[derive(Clone, Debug, Default)]
@@ -59,6 +58,8 @@ pub struct FrameRing {
     pub slots: Vec<FrameSlot>,
     pub timer: Option<StageTimer>,
     pub counters: ReadbackBuffer,
+    /// One region's counters.
+    counter_bytes: u64,
     counter_stride: u64,
     /// Images replaced by larger ones, with the frame index after which no GPU work uses them.
     retired: Vec<(u64, OwnedImage)>,
@@ -66,13 +67,14 @@ pub struct FrameRing {
 
 impl FrameRing {
     /// `set_layouts` has one layout per pipeline, `pool_sizes` the descriptors one set of each
-    /// pipeline needs in total.
+    /// pipeline needs in total; each region has `counter_bytes` of counters.
     pub fn new(
         gpu: &Gpu,
         allocator: &mut Allocator,
         frames_in_flight: usize,
         set_layouts: &[vk::DescriptorSetLayout],
         pool_sizes: &[vk::DescriptorPoolSize],
+        counter_bytes: u64,
     ) -> Result<Self> {
         let sets_per_slot = REGIONS_PER_SLOT * set_layouts.len();
         let copies = (frames_in_flight * REGIONS_PER_SLOT) as u32;
@@ -85,7 +87,7 @@ impl FrameRing {
             .collect();
         // Each region's counters start at a storage-buffer offset the device can bind.
         let counter_stride =
-            COUNTER_BYTES.next_multiple_of(gpu.min_storage_buffer_offset_alignment.max(1));
+            counter_bytes.next_multiple_of(gpu.min_storage_buffer_offset_alignment.max(1));
         let counters_size = counter_stride * (frames_in_flight * REGIONS_PER_SLOT) as u64;
         let counters =
             ReadbackBuffer::new(gpu, allocator, "patchex frame counters", counters_size)?;
@@ -95,6 +97,7 @@ impl FrameRing {
             slots: Vec::new(),
             timer: None,
             counters,
+            counter_bytes,
             counter_stride,
             retired: Vec::new(),
         };
@@ -183,7 +186,7 @@ impl FrameRing {
                 cmd,
                 self.counters.buffer,
                 self.counter_offset(slot, region),
-                COUNTER_BYTES,
+                self.counter_bytes,
                 0,
             )
         };

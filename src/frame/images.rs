@@ -1,0 +1,423 @@
+//! The plugin's own images: what each set holds, in which format, and how a set grows with the
+//! frame and retires its old images once no frame in flight can use them.
+
+use ash::vk;
+use gpu_allocator::vulkan::Allocator;
+
+use crate::error::{bail, Result};
+use crate::passes::{shadow_flow, Texture};
+use crate::vk::device::Gpu;
+use crate::vk::frame_ring::FrameRing;
+use crate::vk::image::OwnedImage;
+
+/// One image of an `ImageSet`.
+struct ImageSpec {
+    name: &'static str,
+    format: vk::Format,
+    /// Sized for a pyramid atlas (`shadow_flow::atlas_extent`) rather than the frame.
+    atlas: bool,
+    /// Cleared with vkCmdClearColorImage.
+    cleared: bool,
+    /// Copied into an engine image.
+    copied_out: bool,
+}
+
+const fn frame_image(name: &'static str, format: vk::Format) -> ImageSpec {
+    ImageSpec {
+        name,
+        format,
+        atlas: false,
+        cleared: false,
+        copied_out: false,
+    }
+}
+
+const fn atlas_image(name: &'static str, format: vk::Format) -> ImageSpec {
+    ImageSpec {
+        name,
+        format,
+        atlas: true,
+        cleared: false,
+        copied_out: false,
+    }
+}
+
+/// Images made, grown and freed together, for frames up to `extent`.
+pub struct ImageSet<const N: usize> {
+    pub extent: vk::Extent2D,
+    pub images: [OwnedImage; N],
+}
+
+impl<const N: usize> ImageSet<N> {
+    /// Vulkan requires storage-image support for every format used here, but a device that
+    /// lacks it must be refused at creation rather than fail later.
+    fn check_formats(gpu: &Gpu, specs: &[ImageSpec; N]) -> Result<()> {
+        let needed = vk::FormatFeatureFlags::STORAGE_IMAGE | vk::FormatFeatureFlags::SAMPLED_IMAGE;
+        for spec in specs {
+            let features = gpu.format_features(spec.format);
+            if !features.contains(needed) {
+                bail!(
+                    ErrorMissingDeviceFeature,
+                    "the device lacks {:?} for {:?}, the format of the {} image",
+                    needed & !features,
+                    spec.format,
+                    spec.name
+                );
+            }
+        }
+        Ok(())
+    }
+
+    fn new(
+        gpu: &Gpu,
+        allocator: &mut Allocator,
+        extent: vk::Extent2D,
+        specs: &[ImageSpec; N],
+    ) -> Result<Self> {
+        let mut made: Vec<OwnedImage> = Vec::with_capacity(N);
+        for spec in specs {
+            let mut usage = vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::STORAGE;
+            if spec.cleared {
+                usage |= vk::ImageUsageFlags::TRANSFER_DST;
+            }
+            if spec.copied_out {
+                usage |= vk::ImageUsageFlags::TRANSFER_SRC;
+            }
+            let size = if spec.atlas {
+                shadow_flow::atlas_extent(extent)
+            } else {
+                extent
+            };
+            match OwnedImage::new(gpu, allocator, spec.name, spec.format, size, usage) {
+                Ok(image) => made.push(image),
+                Err(error) => {
+                    for mut image in made {
+                        image.destroy(gpu, allocator);
+                    }
+                    return Err(error);
+                }
+            }
+        }
+        let Ok(images) = made.try_into() else {
+            unreachable!("one image per spec")
+        };
+        Ok(Self { extent, images })
+    }
+
+    fn holds(&self, extent: vk::Extent2D) -> bool {
+        self.extent.width >= extent.width && self.extent.height >= extent.height
+    }
+
+    fn size_bytes(&self) -> u64 {
+        self.images.iter().map(|image| image.size_bytes()).sum()
+    }
+}
+
+impl<const N: usize> std::ops::Index<usize> for ImageSet<N> {
+    type Output = OwnedImage;
+    fn index(&self, index: usize) -> &OwnedImage {
+        &self.images[index]
+    }
+}
+
+/// The plugin's working images, all at one extent (the largest frame seen so far).
+pub type WorkImages = ImageSet<8>;
+
+impl WorkImages {
+    pub const SOURCE_SHADING: usize = 0;
+    pub const SOURCE_GEOMETRY: usize = 1;
+    pub const SOURCE_NORMAL_ID: usize = 2;
+    pub const TARGET_GEOMETRY: usize = 3;
+    pub const TARGET_NORMAL_ID: usize = 4;
+    pub const WARPED: usize = 5;
+    /// Region of each target pixel (segmentation::REGION_*).
+    pub const REGIONS: usize = 6;
+    pub const LBP: usize = 7;
+
+    const SPECS: [ImageSpec; 8] = [
+        frame_image("patchex source shading", vk::Format::R32G32B32A32_SFLOAT),
+        frame_image("patchex source geometry", vk::Format::R32G32B32A32_SFLOAT),
+        frame_image("patchex source normal+id", vk::Format::R16G16B16A16_SFLOAT),
+        frame_image("patchex target geometry", vk::Format::R32G32B32A32_SFLOAT),
+        frame_image("patchex target normal+id", vk::Format::R16G16B16A16_SFLOAT),
+        frame_image("patchex warped shading", vk::Format::R32G32B32A32_SFLOAT),
+        frame_image("patchex regions", vk::Format::R32_UINT),
+        frame_image("patchex lbp", vk::Format::R32_SFLOAT),
+    ];
+}
+
+/// For an output whose format a shader cannot store (`PACKED_OUTPUT_FORMATS`): the extrapolated
+/// frame, and its texels packed in the output's format for the copy. Made at the first such
+/// output.
+pub type OutputStaging = ImageSet<2>;
+
+impl OutputStaging {
+    pub const FRAME: usize = 0;
+    pub const PACKED: usize = 1;
+
+    const SPECS: [ImageSpec; 2] = [
+        frame_image("patchex output frame", vk::Format::R16G16B16A16_SFLOAT),
+        ImageSpec {
+            copied_out: true,
+            ..frame_image("patchex packed output", vk::Format::R32_UINT)
+        },
+    ];
+}
+
+/// The shadow sub-task's images, made at the first frame with a shadow input.
+pub type ShadowImages = ImageSet<15>;
+
+impl ShadowImages {
+    pub const LAYER: usize = 0;
+    /// The layer moved by the flow.
+    pub const WARPED_LAYER: usize = 1;
+    /// The layer carried by the frame's own warp: where that warp puts frame t's shadow.
+    pub const SURFACE_LAYER: usize = 2;
+    pub const MASK: usize = 3;
+    pub const MASK_PYRAMID: usize = 4;
+    /// Frame t's and frame t-1's expansions, alternating (`Context::shadow_current`).
+    pub const POLY: [usize; 2] = [5, 6];
+    pub const POLY_XY: [usize; 2] = [7, 8];
+    pub const EQUATIONS: usize = 9;
+    const EQUATIONS_H2: usize = 10;
+    pub const ROWS: usize = 11;
+    const ROWS_H2: usize = 12;
+    pub const FLOW_PYRAMID: usize = 13;
+    pub const FLOW: usize = 14;
+
+    const SPECS: [ImageSpec; 15] = [
+        frame_image("patchex shadow layer", vk::Format::R32G32B32A32_SFLOAT),
+        frame_image(
+            "patchex moved shadow layer",
+            vk::Format::R32G32B32A32_SFLOAT,
+        ),
+        frame_image(
+            "patchex surface-warped shadow layer",
+            vk::Format::R32G32B32A32_SFLOAT,
+        ),
+        frame_image("patchex shadow mask", vk::Format::R32_SFLOAT),
+        atlas_image("patchex shadow mask pyramid", vk::Format::R32_SFLOAT),
+        atlas_image(
+            "patchex shadow expansion A",
+            vk::Format::R32G32B32A32_SFLOAT,
+        ),
+        atlas_image(
+            "patchex shadow expansion B",
+            vk::Format::R32G32B32A32_SFLOAT,
+        ),
+        atlas_image("patchex shadow expansion xy A", vk::Format::R32_SFLOAT),
+        atlas_image("patchex shadow expansion xy B", vk::Format::R32_SFLOAT),
+        atlas_image("patchex flow equations", vk::Format::R32G32B32A32_SFLOAT),
+        atlas_image("patchex flow equations h2", vk::Format::R32_SFLOAT),
+        atlas_image("patchex flow rows", vk::Format::R32G32B32A32_SFLOAT),
+        atlas_image("patchex flow rows h2", vk::Format::R32_SFLOAT),
+        atlas_image(
+            "patchex shadow flow pyramid",
+            vk::Format::R32G32B32A32_SFLOAT,
+        ),
+        ImageSpec {
+            cleared: true,
+            ..frame_image("patchex shadow flow", vk::Format::R32G32B32A32_SFLOAT)
+        },
+    ];
+
+    pub fn flow_images(&self, current: usize) -> shadow_flow::FlowImages<'_> {
+        shadow_flow::FlowImages {
+            mask: &self[Self::MASK],
+            mask_pyramid: &self[Self::MASK_PYRAMID],
+            poly: Self::POLY.map(|index| &self[index]),
+            poly_xy: Self::POLY_XY.map(|index| &self[index]),
+            current,
+            equations: &self[Self::EQUATIONS],
+            equations_h2: &self[Self::EQUATIONS_H2],
+            rows: &self[Self::ROWS],
+            rows_h2: &self[Self::ROWS_H2],
+            flow_pyramid: &self[Self::FLOW_PYRAMID],
+            flow: &self[Self::FLOW],
+        }
+    }
+}
+
+/// Every image the context owns besides the networks' tensors. Each set is made at the first
+/// frame that needs it and grows with the frame.
+pub struct FrameImages {
+    pub work: Option<WorkImages>,
+    /// Made at the first frame with a shadow input.
+    pub shadows: Option<ShadowImages>,
+    pub output_staging: Option<OutputStaging>,
+    /// 1x1 images bound where an optional input is absent; the shaders never read them.
+    placeholder_float: OwnedImage,
+    placeholder_uint: OwnedImage,
+}
+
+impl FrameImages {
+    /// Refuses a device that cannot store or sample a working format.
+    pub fn check_formats(gpu: &Gpu) -> Result<()> {
+        WorkImages::check_formats(gpu, &WorkImages::SPECS)?;
+        OutputStaging::check_formats(gpu, &OutputStaging::SPECS)?;
+        ShadowImages::check_formats(gpu, &ShadowImages::SPECS)
+    }
+
+    /// The placeholders; every other set waits for its first frame.
+    pub fn new(gpu: &Gpu, allocator: &mut Allocator) -> Result<Self> {
+        let one = vk::Extent2D {
+            width: 1,
+            height: 1,
+        };
+        let sampled = vk::ImageUsageFlags::SAMPLED;
+        let float = OwnedImage::new(
+            gpu,
+            allocator,
+            "patchex placeholder",
+            vk::Format::R16G16B16A16_SFLOAT,
+            one,
+            sampled,
+        )?;
+        let uint = OwnedImage::new(
+            gpu,
+            allocator,
+            "patchex placeholder uint",
+            vk::Format::R8_UINT,
+            one,
+            sampled,
+        );
+        let uint = match uint {
+            Ok(uint) => uint,
+            Err(error) => {
+                let mut float = float;
+                float.destroy(gpu, allocator);
+                return Err(error);
+            }
+        };
+        Ok(Self {
+            work: None,
+            shadows: None,
+            output_staging: None,
+            placeholder_float: float,
+            placeholder_uint: uint,
+        })
+    }
+
+    /// Grows the working images to hold `extent`; the old ones wait out the frames in flight.
+    pub fn ensure_work(
+        &mut self,
+        gpu: &Gpu,
+        allocator: &mut Allocator,
+        ring: &mut FrameRing,
+        extent: vk::Extent2D,
+        serial: u64,
+    ) -> Result<()> {
+        if let Some(work) = grown(gpu, allocator, &self.work, extent, &WorkImages::SPECS)? {
+            if let Some(old) = self.work.replace(work) {
+                retire(ring, old, serial);
+            }
+        }
+        Ok(())
+    }
+
+    /// Makes or grows the shadow images to the working images' extent. Returns whether they
+    /// were (re)made, which loses frame t-1's expansion.
+    pub fn ensure_shadows(
+        &mut self,
+        gpu: &Gpu,
+        allocator: &mut Allocator,
+        ring: &mut FrameRing,
+        serial: u64,
+    ) -> Result<bool> {
+        let extent = self.work.as_ref().expect("made first").extent;
+        let Some(shadows) = grown(gpu, allocator, &self.shadows, extent, &ShadowImages::SPECS)?
+        else {
+            return Ok(false);
+        };
+        if let Some(old) = self.shadows.replace(shadows) {
+            retire(ring, old, serial);
+        }
+        Ok(true)
+    }
+
+    /// Makes or grows the output staging to the working images' extent.
+    pub fn ensure_output_staging(
+        &mut self,
+        gpu: &Gpu,
+        allocator: &mut Allocator,
+        ring: &mut FrameRing,
+        serial: u64,
+    ) -> Result<()> {
+        let extent = self.work.as_ref().expect("made by the submit").extent;
+        let specs = &OutputStaging::SPECS;
+        if let Some(staging) = grown(gpu, allocator, &self.output_staging, extent, specs)? {
+            if let Some(old) = self.output_staging.replace(staging) {
+                retire(ring, old, serial);
+            }
+        }
+        Ok(())
+    }
+
+    /// The placeholders for a float and an unsigned-integer texture.
+    pub fn placeholders(&self) -> (Texture, Texture) {
+        (
+            (&self.placeholder_float).into(),
+            (&self.placeholder_uint).into(),
+        )
+    }
+
+    /// The images a submit uses, for their first layout transition.
+    pub fn submit_images(&mut self) -> impl Iterator<Item = &mut OwnedImage> {
+        let work = self.work.iter_mut().flat_map(|w| w.images.iter_mut());
+        let shadows = self.shadows.iter_mut().flat_map(|s| s.images.iter_mut());
+        work.chain(shadows)
+            .chain([&mut self.placeholder_float, &mut self.placeholder_uint])
+    }
+
+    pub fn size_bytes(&self) -> u64 {
+        self.work.as_ref().map_or(0, |w| w.size_bytes())
+            + self.shadows.as_ref().map_or(0, |s| s.size_bytes())
+            + self.output_staging.as_ref().map_or(0, |s| s.size_bytes())
+            + self.placeholder_float.size_bytes()
+            + self.placeholder_uint.size_bytes()
+    }
+
+    pub fn destroy(&mut self, gpu: &Gpu, allocator: &mut Allocator) {
+        let work = self.work.take().map(|w| w.images);
+        let shadows = self.shadows.take().map(|s| s.images);
+        let staging = self.output_staging.take().map(|s| s.images);
+        for mut image in work
+            .into_iter()
+            .flatten()
+            .chain(shadows.into_iter().flatten())
+            .chain(staging.into_iter().flatten())
+        {
+            image.destroy(gpu, allocator);
+        }
+        self.placeholder_float.destroy(gpu, allocator);
+        self.placeholder_uint.destroy(gpu, allocator);
+    }
+}
+
+/// A set of images holding `extent`, or `None` when `current` already does. A new set is at
+/// least as large as the current one on both sides.
+fn grown<const N: usize>(
+    gpu: &Gpu,
+    allocator: &mut Allocator,
+    current: &Option<ImageSet<N>>,
+    extent: vk::Extent2D,
+    specs: &[ImageSpec; N],
+) -> Result<Option<ImageSet<N>>> {
+    let old = current.as_ref().map(|set| set.extent);
+    if current.as_ref().is_some_and(|set| set.holds(extent)) {
+        return Ok(None);
+    }
+    let size = vk::Extent2D {
+        width: extent.width.max(old.map_or(0, |e| e.width)),
+        height: extent.height.max(old.map_or(0, |e| e.height)),
+    };
+    ImageSet::new(gpu, allocator, size, specs).map(Some)
+}
+
+/// Hands `set`'s images to the ring at submit `serial`: the previous submit is the last whose
+/// commands may use them.
+fn retire<const N: usize>(ring: &mut FrameRing, set: ImageSet<N>, serial: u64) {
+    for image in set.images {
+        ring.retire(serial.saturating_sub(1), image);
+    }
+}

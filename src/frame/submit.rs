@@ -1,0 +1,274 @@
+//! `patchex_submit_gbuffers`: frame t's G-buffer packing, its demodulation (or, with a shadow
+//! input, the shadow layer's separation) and the shadow mask's flow.
+
+use ash::vk;
+
+use crate::abi::*;
+use crate::context::{Context, SourceFrame};
+use crate::error::{bail, Result};
+use crate::frame::counters;
+use crate::frame::images::{ShadowImages, WorkImages};
+use crate::frame::recorder::TimedRegion;
+use crate::frame::settings::{Extensions, NEEDS_SHADOW_PRESET};
+use crate::inputs::{self, GeometryInputs, SourceInputs};
+use crate::passes::{
+    demodulate, pack_gbuffer, separate_shadows, shadow_flow, Pipelines, Texture,
+    SANITIZE_COUNTER_BYTES,
+};
+use crate::vk::barriers::{self, EngineImageAccess};
+use crate::vk::frame_ring::{FrameRecord, RegionRecord};
+use crate::vk::image::OwnedImage;
+
+impl Context {
+    fn reset_reason(&self, inputs: &SourceInputs) -> Result<PatchexResetReason> {
+        let Some(previous) = &self.source else {
+            return Ok(PATCHEX_RESET_FIRST_FRAME);
+        };
+        if inputs.reset {
+            // A reset starts a new history, so the engine may restart its numbering with it.
+            return Ok(PATCHEX_RESET_REQUESTED);
+        }
+        if inputs.frame_index <= previous.frame_index {
+            bail!(
+                ErrorOutOfOrder,
+                "PatchexFrameDesc.frame_index {} does not increase (previous {}); set reset to \
+                 start a new numbering",
+                inputs.frame_index,
+                previous.frame_index
+            );
+        }
+        Ok(if inputs.frame_index != previous.frame_index + 1 {
+            PATCHEX_RESET_FRAME_GAP
+        } else {
+            PATCHEX_RESET_NONE
+        })
+    }
+
+    /// Records frame t's demodulation (or shadow separation), G-buffer packing and, with a
+    /// shadow input, the shadow mask's flow into `cmd`.
+    pub fn submit(
+        &mut self,
+        cmd: vk::CommandBuffer,
+        desc: &PatchexFrameDesc,
+        extensions: Extensions,
+    ) -> Result<()> {
+        self.check_queue_family(desc.queue_family_index, "PatchexFrameDesc")?;
+        if !self.preset.shadows && (extensions.shadow.is_some() || extensions.flow.is_some()) {
+            bail!(
+                ErrorInvalidArgument,
+                "PatchexShadowInput and PatchexShadowFlowSettings {NEEDS_SHADOW_PRESET}"
+            );
+        }
+        let inputs = inputs::source(&self.gpu, desc, self.max_extent)?;
+        let shadow_inputs = extensions
+            .shadow
+            .map(|input| inputs::shadow(&self.gpu, &input, inputs.extent))
+            .transpose()?;
+        let flow_settings = extensions.flow.unwrap_or(self.defaults.flow);
+        let reset_reason = self.reset_reason(&inputs)?;
+        let (placeholder, placeholder_uint) = self.images.placeholders();
+        let mut access = EngineImageAccess::default();
+        let color = access.read(&inputs.color)?;
+        let base_color = access.read(&inputs.base_color)?;
+        let material = access.read_optional(inputs.material.as_ref())?;
+        let separation_inputs = match &shadow_inputs {
+            Some(shadow) => Some(separate_shadows::SeparationInputs {
+                color,
+                color_without_dynamic_shadows: access
+                    .read(&shadow.color_without_dynamic_shadows)?,
+                mask: access.read(&shadow.mask)?,
+                base_color,
+                material,
+                placeholder,
+            }),
+            None => None,
+        };
+        let pack_inputs =
+            pack_inputs(&mut access, &inputs.geometry, placeholder, placeholder_uint)?;
+
+        let serial = self.source.as_ref().map_or(1, |s| s.serial + 1);
+        self.ring.collect(&self.gpu, &mut self.allocator, serial);
+        self.images.ensure_work(
+            &self.gpu,
+            &mut self.allocator,
+            &mut self.ring,
+            inputs.extent,
+            serial,
+        )?;
+        // Frame t-1's expansion is usable when it was made, unbroken, on the same images.
+        let mut track = reset_reason == PATCHEX_RESET_NONE
+            && self
+                .source
+                .as_ref()
+                .is_some_and(|s| s.has_shadows && s.extent == inputs.extent);
+        if shadow_inputs.is_some() {
+            track &= !self.images.ensure_shadows(
+                &self.gpu,
+                &mut self.allocator,
+                &mut self.ring,
+                serial,
+            )?;
+            self.shadow_current = 1 - self.shadow_current;
+        }
+
+        // Everything is validated and allocated: from here on the call cannot fail.
+        let slot = self.ring.slot_of(serial);
+        let device = &self.gpu.device;
+        let mut owned: Vec<&mut OwnedImage> = self.images.submit_images().collect();
+        if let Some(inpainting) = self.inpainting.as_mut() {
+            owned.extend(inpainting.images());
+        }
+        barriers::initialize_owned(device, cmd, &mut owned);
+        let work = self.images.work.as_ref().expect("allocated above");
+        access.acquire(device, cmd);
+        self.ring.clear_counters(device, cmd, slot, 0);
+        barriers::compute_to_compute(device, cmd, true);
+
+        let sanitize_counters =
+            self.ring
+                .counter_range(slot, 0, counters::SANITIZE, SANITIZE_COUNTER_BYTES);
+        let mut timed = TimedRegion::begin(&self.ring, device, cmd, slot, 0);
+        timed.stage(PATCHEX_STAGE_PACK_SOURCE_GBUFFER, || {
+            pack_gbuffer::record(
+                self.pipelines.get(Pipelines::PACK_GBUFFER),
+                device,
+                cmd,
+                self.ring.descriptor_set(slot, 0, Pipelines::PACK_GBUFFER),
+                inputs.extent,
+                &inputs.geometry.camera,
+                &pack_inputs,
+                &pack_gbuffer::PackOutputs {
+                    geometry: &work[WorkImages::SOURCE_GEOMETRY],
+                    normal_id: &work[WorkImages::SOURCE_NORMAL_ID],
+                    counters: self.ring.counter_range(
+                        slot,
+                        0,
+                        counters::GEOMETRY,
+                        pack_gbuffer::COUNTER_BYTES,
+                    ),
+                },
+            )
+        });
+        if separation_inputs.is_some() {
+            // Separation reads the packed object ids.
+            barriers::compute_to_compute(device, cmd, false);
+        }
+        timed.stage(PATCHEX_STAGE_DEMODULATE, || {
+            match (&separation_inputs, &self.images.shadows) {
+                (Some(separation), Some(shadows)) => separate_shadows::record(
+                    self.pipelines.get(Pipelines::SEPARATE_SHADOWS),
+                    device,
+                    cmd,
+                    self.ring
+                        .descriptor_set(slot, 0, Pipelines::SEPARATE_SHADOWS),
+                    inputs.extent,
+                    separation,
+                    &separate_shadows::SeparationOutputs {
+                        source_normal_id: &work[WorkImages::SOURCE_NORMAL_ID],
+                        shading: &work[WorkImages::SOURCE_SHADING],
+                        shadow_layer: &shadows[ShadowImages::LAYER],
+                        flow_mask: &shadows[ShadowImages::MASK],
+                    },
+                    &sanitize_counters,
+                ),
+                _ => demodulate::record(
+                    self.pipelines.get(Pipelines::DEMODULATE),
+                    device,
+                    cmd,
+                    self.ring.descriptor_set(slot, 0, Pipelines::DEMODULATE),
+                    inputs.extent,
+                    &demodulate::DemodulateInputs {
+                        color,
+                        base_color,
+                        material,
+                        placeholder,
+                    },
+                    &work[WorkImages::SOURCE_SHADING],
+                    &sanitize_counters,
+                ),
+            }
+        });
+        if let (Some(_), Some(shadows)) = (&separation_inputs, &self.images.shadows) {
+            barriers::compute_to_compute(device, cmd, false);
+            let p = Pipelines::get;
+            let pipelines = &self.pipelines;
+            timed.stage(PATCHEX_STAGE_SHADOW_FLOW, || {
+                shadow_flow::record(
+                    &shadow_flow::FlowPipelines {
+                        pyramid: p(pipelines, Pipelines::SHADOW_PYRAMID),
+                        poly: p(pipelines, Pipelines::SHADOW_POLY),
+                        matrices: p(pipelines, Pipelines::SHADOW_FLOW_MATRICES),
+                        rows: p(pipelines, Pipelines::SHADOW_FLOW_ROWS),
+                        solve: p(pipelines, Pipelines::SHADOW_FLOW_SOLVE),
+                        upsample: p(pipelines, Pipelines::SHADOW_FLOW_UPSAMPLE),
+                    },
+                    [
+                        Pipelines::SHADOW_PYRAMID,
+                        Pipelines::SHADOW_POLY,
+                        Pipelines::SHADOW_FLOW_MATRICES,
+                        Pipelines::SHADOW_FLOW_ROWS,
+                        Pipelines::SHADOW_FLOW_SOLVE,
+                        Pipelines::SHADOW_FLOW_UPSAMPLE,
+                    ]
+                    .map(|index| self.ring.descriptor_set(slot, 0, index)),
+                    device,
+                    cmd,
+                    inputs.extent,
+                    &flow_settings,
+                    &shadows.flow_images(self.shadow_current),
+                    track,
+                )
+            });
+        }
+        let stages = timed.stages;
+        barriers::compute_to_host(device, cmd);
+        access.release(device, cmd);
+
+        let shadow_history = match (&separation_inputs, track) {
+            (None, _) => PATCHEX_SHADOW_HISTORY_NONE,
+            (Some(_), false) => PATCHEX_SHADOW_HISTORY_STARTED,
+            (Some(_), true) => PATCHEX_SHADOW_HISTORY_TRACKED,
+        };
+        self.ring.slots[slot].record = Some(FrameRecord {
+            frame_index: inputs.frame_index,
+            serial,
+            extent: inputs.extent,
+            reset_reason,
+            shadow_history,
+            submit: RegionRecord {
+                stages,
+                alpha: 0.0,
+                camera_cut: false,
+                whole_frame: false,
+            },
+            extrapolations: Vec::new(),
+        });
+        self.source = Some(SourceFrame {
+            frame_index: inputs.frame_index,
+            serial,
+            extent: inputs.extent,
+            camera: inputs.geometry.camera,
+            has_shadows: shadow_inputs.is_some(),
+        });
+        Ok(())
+    }
+}
+
+/// Registers the reads of one instant's geometry and returns them as the pack pass's inputs
+/// (the target's add its motion vectors).
+pub(crate) fn pack_inputs(
+    access: &mut EngineImageAccess,
+    geometry: &GeometryInputs,
+    placeholder: Texture,
+    placeholder_uint: Texture,
+) -> Result<pack_gbuffer::PackInputs> {
+    Ok(pack_gbuffer::PackInputs {
+        depth: access.read(&geometry.depth)?,
+        normal: access.read(&geometry.normal)?,
+        normal_encoding: geometry.normal_encoding,
+        stencil: access.read_optional(geometry.stencil.as_ref())?,
+        motion: None,
+        placeholder,
+        placeholder_uint,
+    })
+}
