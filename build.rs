@@ -106,8 +106,17 @@ struct CompiledPass {
     name: String,
     words: Vec<u32>,
     workgroup_size: [u32; 3],
-    bindings: Vec<(u32, &'static str, String)>,
+    bindings: Vec<BindingInfo>,
     push_constants: Option<String>,
+}
+
+/// One descriptor binding as the shader declares it.
+struct BindingInfo {
+    binding: u32,
+    kind: &'static str,
+    /// The shader may store through it (a storage image or buffer without `read` access).
+    writes: bool,
+    name: String,
 }
 
 fn compile(pass_path: &Path) -> Result<CompiledPass, String> {
@@ -157,23 +166,30 @@ fn compile(pass_path: &Path) -> Result<CompiledPass, String> {
                 "every binding lives in @group(0)",
             ));
         }
-        let kind = match (&global.space, &module.types[global.ty].inner) {
-            (naga::AddressSpace::Uniform, _) => "UniformBuffer",
-            (naga::AddressSpace::Storage { .. }, _) => "StorageBuffer",
+        // What the host orders passes by: whether the shader may store through the binding.
+        let stores = |access: naga::StorageAccess| access.contains(naga::StorageAccess::STORE);
+        let (kind, writes) = match (&global.space, &module.types[global.ty].inner) {
+            (naga::AddressSpace::Uniform, _) => ("UniformBuffer", false),
+            (naga::AddressSpace::Storage { access }, _) => ("StorageBuffer", stores(*access)),
             (
                 _,
                 naga::TypeInner::Image {
-                    class: naga::ImageClass::Storage { .. },
+                    class: naga::ImageClass::Storage { access, .. },
                     ..
                 },
-            ) => "StorageImage",
-            (_, naga::TypeInner::Image { .. }) => "SampledImage",
-            (_, naga::TypeInner::Sampler { .. }) => "Sampler",
+            ) => ("StorageImage", stores(*access)),
+            (_, naga::TypeInner::Image { .. }) => ("SampledImage", false),
+            (_, naga::TypeInner::Sampler { .. }) => ("Sampler", false),
             (_, other) => return Err(format!("{name}: unsupported binding type {other:?}")),
         };
-        bindings.push((binding.binding, kind, name));
+        bindings.push(BindingInfo {
+            binding: binding.binding,
+            kind,
+            writes,
+            name,
+        });
     }
-    bindings.sort_by_key(|(binding, _, _)| *binding);
+    bindings.sort_by_key(|b| b.binding);
 
     Ok(CompiledPass {
         name: pass_path
@@ -278,16 +294,23 @@ fn emit(pass: &CompiledPass) -> String {
     )
     .unwrap();
     writeln!(out, "    pub const BINDINGS: &[Binding] = &[").unwrap();
-    for (binding, kind, name) in &pass.bindings {
+    for BindingInfo {
+        binding,
+        kind,
+        writes,
+        name,
+    } in &pass.bindings
+    {
         writeln!(
             out,
-            "        Binding {{ binding: {binding}, kind: DescriptorKind::{kind}, name: {name:?} }},"
+            "        Binding {{ binding: {binding}, kind: DescriptorKind::{kind}, writes: {writes}, \
+             name: {name:?} }},"
         )
         .unwrap();
     }
     writeln!(out, "    ];").unwrap();
     writeln!(out, "    pub mod binding {{").unwrap();
-    for (binding, _, name) in &pass.bindings {
+    for BindingInfo { binding, name, .. } in &pass.bindings {
         writeln!(
             out,
             "        pub const {}: u32 = {binding};",

@@ -15,6 +15,8 @@ pub enum DescriptorKind {
 pub struct Binding {
     pub binding: u32,
     pub kind: DescriptorKind,
+    /// The shader may write through it: passes after this one that use the resource wait.
+    pub writes: bool,
     pub name: &'static str,
 }
 

@@ -10,9 +10,9 @@ use patchex::passes::inpaint::{self, patch_bytes, NetworkPipelines, NetworkTenso
 use patchex::passes::Texture;
 use patchex::reference::network::{forward, Planes};
 use patchex::reference::{round_to_f16, Image};
-use patchex::vk::barriers;
 use patchex::vk::buffer::ReadbackBuffer;
 use patchex::vk::device::Gpu;
+use patchex::vk::recorder::Recorder;
 use patchex_harness::{Engine, EngineImage, EngineOptions, ImageRef};
 use safetensors::SafeTensors;
 use support::Rig;
@@ -153,6 +153,7 @@ fn run_on_gpu(
     let material = image(&frame.material, vk::Format::R32G32B32A32_SFLOAT);
     let lbp = image(&frame.lbp, vk::Format::R32_SFLOAT);
     let texture = |image: &EngineImage| Texture {
+        image: image.image,
         view: image.view,
         layout: general,
     };
@@ -171,10 +172,10 @@ fn run_on_gpu(
         let mut images: Vec<&mut _> = std::iter::once(&mut tensors.input)
             .chain(tensors.layers.iter_mut())
             .collect();
-        barriers::initialize_owned(&gpu.device, cmd, &mut images);
+        let mut rec = Recorder::new(&gpu.device, cmd);
+        rec.initialize(&mut images);
         inpaint::record(
-            &gpu,
-            cmd,
+            &mut rec,
             &inpaint::FrameInputs {
                 warped: texture(&warped),
                 material: Some(texture(&material)),

@@ -9,18 +9,18 @@ use crate::context::Context;
 use crate::error::{bail, PatchexResult, Result};
 use crate::frame::counters;
 use crate::frame::images::{OutputStaging, ShadowImages, WorkImages};
-use crate::frame::recorder::TimedRegion;
 use crate::frame::settings::Extensions;
 use crate::frame::submit::pack_inputs;
 use crate::inputs::{self, TargetInputs};
 use crate::passes::inpaint;
 use crate::passes::{
-    diagnostics, lbp, pack_gbuffer, pack_output, remodulate, segmentation, warp, Pipelines,
-    Texture, SANITIZE_COUNTER_BYTES,
+    diagnostics, lbp, pack_gbuffer, pack_output, remodulate, segmentation, warp, PipelineId,
+    Pipelines, RegionPasses, Texture, SANITIZE_COUNTER_BYTES,
 };
-use crate::vk::barriers::{self, EngineImageAccess};
+use crate::vk::barriers::EngineImageAccess;
 use crate::vk::frame_ring::RegionRecord;
 use crate::vk::image::{ImageRole, ImportedImage, OwnedImage};
+use crate::vk::recorder::Recorder;
 
 impl Context {
     /// Records one extrapolation from the last submitted frame into `cmd`; `RenderInstead` when
@@ -121,67 +121,58 @@ impl Context {
 
         // Everything is validated and allocated: from here on the call cannot fail.
         let region = 1 + done;
-        let device = &self.gpu.device;
+        let mut rec = Recorder::new(&self.gpu.device, cmd);
+        let staging = match self.images.output_staging.as_mut() {
+            Some(staging) if inputs.output.written_by_copy => {
+                let [frame, packed] = &mut staging.images;
+                rec.initialize(&mut [frame, packed]);
+                Some(&*staging)
+            }
+            _ => None,
+        };
+        rec.acquire(&access);
+        rec.fill_zero(&self.ring.region_counters(slot, region));
+        let mut rec = rec.timed(&self.ring, slot, region);
+        let passes = RegionPasses {
+            pipelines: &self.pipelines,
+            ring: &self.ring,
+            slot,
+            region,
+        };
+        let counters = |offset, bytes| self.ring.counter_range(slot, region, offset, bytes);
+        let object_table = counters(counters::OBJECT_TABLE, segmentation::TABLE_BYTES);
         let work = self
             .images
             .work
             .as_ref()
             .expect("a submitted frame allocated the work images");
-        let object_table = self.ring.counter_range(
-            slot,
-            region,
-            counters::OBJECT_TABLE,
-            segmentation::TABLE_BYTES,
-        );
-        let staging = match self.images.output_staging.as_mut() {
-            Some(staging) if inputs.output.written_by_copy => {
-                let [frame, packed] = &mut staging.images;
-                barriers::initialize_owned(device, cmd, &mut [frame, packed]);
-                Some(&*staging)
-            }
-            _ => None,
-        };
-        access.acquire(device, cmd);
-        self.ring.clear_counters(device, cmd, slot, region);
-        let mut timed = TimedRegion::begin(&self.ring, device, cmd, slot, region);
-        barriers::compute_to_compute(device, cmd, true);
+        let shadows = self.images.shadows.as_ref().filter(|_| source.has_shadows);
 
-        timed.stage(PATCHEX_STAGE_PACK_TARGET_GBUFFER, || {
+        rec.stage(PATCHEX_STAGE_PACK_TARGET_GBUFFER, |rec| {
             pack_gbuffer::record(
-                self.pipelines.get(Pipelines::PACK_GBUFFER),
-                device,
-                cmd,
-                self.ring
-                    .descriptor_set(slot, region, Pipelines::PACK_GBUFFER),
+                rec,
+                passes.get(PipelineId::PackGbuffer),
                 inputs.extent,
                 &inputs.geometry.camera,
                 &pack_inputs,
                 &pack_gbuffer::PackOutputs {
                     geometry: &work[WorkImages::TARGET_GEOMETRY],
                     normal_id: &work[WorkImages::TARGET_NORMAL_ID],
-                    counters: self.ring.counter_range(
-                        slot,
-                        region,
-                        counters::GEOMETRY,
-                        pack_gbuffer::COUNTER_BYTES,
-                    ),
+                    counters: counters(counters::GEOMETRY, pack_gbuffer::COUNTER_BYTES),
                 },
             )
         });
-        barriers::compute_to_compute(device, cmd, false);
         // Every warp of this extrapolation reads the geometry of both instants.
-        let record_warp = |pipeline: usize,
-                           set: usize,
+        let record_warp = |rec: &mut Recorder,
+                           pass,
                            params: &warp::Params,
                            source_shading: &OwnedImage,
                            motion: Texture,
                            output: &OwnedImage,
                            counters_offset: u64| {
             warp::record(
-                self.pipelines.get(pipeline),
-                device,
-                cmd,
-                self.ring.descriptor_set(slot, region, set),
+                rec,
+                pass,
                 params,
                 &warp::WarpInputs {
                     source_shading,
@@ -192,16 +183,14 @@ impl Context {
                     motion,
                 },
                 output,
-                &self
-                    .ring
-                    .counter_range(slot, region, counters_offset, warp::COUNTER_BYTES),
+                &counters(counters_offset, warp::COUNTER_BYTES),
             )
         };
-        let warp_index = Pipelines::warp(warp_settings.kind);
-        timed.stage(PATCHEX_STAGE_WARP, || {
+        let warp_pipeline = Pipelines::warp(warp_settings.kind);
+        rec.stage(PATCHEX_STAGE_WARP, |rec| {
             record_warp(
-                warp_index,
-                warp_index,
+                rec,
+                passes.get(warp_pipeline),
                 &warp_params,
                 &work[WorkImages::SOURCE_SHADING],
                 motion,
@@ -209,26 +198,26 @@ impl Context {
                 counters::WARP,
             )
         });
-        let shadows = self.images.shadows.as_ref().filter(|_| source.has_shadows);
         if let Some(shadows) = shadows {
             // The shadow layer through the frame's own warp (where that warp put frame t's
             // shadow), and moved by the mask's flow scaled to the target instant.
             let params =
                 warp_settings.shadow_params(inputs.extent, &inputs.geometry.camera, inputs.alpha);
             let layer = &shadows[ShadowImages::LAYER];
-            timed.stage(PATCHEX_STAGE_SHADOW_WARP, || {
+            rec.stage(PATCHEX_STAGE_SHADOW_WARP, |rec| {
                 record_warp(
-                    warp_index,
-                    Pipelines::surface_layer_set(warp_index),
+                    rec,
+                    passes.nth(warp_pipeline, 1),
                     &warp_params,
                     layer,
                     motion,
                     &shadows[ShadowImages::SURFACE_LAYER],
                     counters::SURFACE_LAYER,
                 );
+                let flow_warp = PipelineId::WarpOcclusionMotion;
                 record_warp(
-                    Pipelines::WARP_OCCLUSION_MOTION,
-                    Pipelines::SHADOW_WARP_SET,
+                    rec,
+                    passes.nth(flow_warp, if warp_pipeline == flow_warp { 2 } else { 0 }),
                     &params,
                     layer,
                     (&shadows[ShadowImages::FLOW]).into(),
@@ -237,21 +226,14 @@ impl Context {
                 );
             });
         }
-        timed.stage(PATCHEX_STAGE_SEGMENT, || {
+        rec.stage(PATCHEX_STAGE_SEGMENT, |rec| {
             segmentation::record(
-                &segmentation::SegmentationPipelines {
-                    object_bounds: self.pipelines.get(Pipelines::OBJECT_BOUNDS),
-                    grow_regions: self.pipelines.get(Pipelines::GROW_REGIONS),
-                    region_masks: self.pipelines.get(Pipelines::REGION_MASKS),
+                rec,
+                &segmentation::SegmentationPasses {
+                    object_bounds: passes.get(PipelineId::ObjectBounds),
+                    grow_regions: passes.get(PipelineId::GrowRegions),
+                    region_masks: passes.get(PipelineId::RegionMasks),
                 },
-                [
-                    Pipelines::OBJECT_BOUNDS,
-                    Pipelines::GROW_REGIONS,
-                    Pipelines::REGION_MASKS,
-                ]
-                .map(|index| self.ring.descriptor_set(slot, region, index)),
-                device,
-                cmd,
                 inputs.extent,
                 &segmentation_settings,
                 &segmentation::SegmentationInputs {
@@ -263,40 +245,30 @@ impl Context {
                 &work[WorkImages::REGIONS],
             )
         });
-        timed.stage(PATCHEX_STAGE_LBP, || {
+        rec.stage(PATCHEX_STAGE_LBP, |rec| {
             lbp::record(
-                self.pipelines.get(Pipelines::LBP),
-                device,
-                cmd,
-                self.ring.descriptor_set(slot, region, Pipelines::LBP),
+                rec,
+                passes.get(PipelineId::Lbp),
                 inputs.extent,
                 &work[WorkImages::WARPED],
                 &work[WorkImages::LBP],
             )
         });
-        barriers::compute_to_compute(device, cmd, false);
         if let Some(inpainting) = &self.inpainting {
-            let patches = self.ring.counter_range(
-                slot,
-                region,
-                counters::PATCHES,
-                inpaint::PATCH_SLOTS_BYTES,
-            );
-            timed.stage(PATCHEX_STAGE_INFERENCE, || {
+            let patches = counters(counters::PATCHES, inpaint::PATCH_SLOTS_BYTES);
+            rec.stage(PATCHEX_STAGE_INFERENCE, |rec| {
                 inpaint::record_plan(
-                    self.pipelines.get(Pipelines::PLAN_PATCHES),
-                    device,
-                    cmd,
-                    self.ring
-                        .descriptor_set(slot, region, Pipelines::PLAN_PATCHES),
+                    rec,
+                    passes.get(PipelineId::PlanPatches),
                     inputs.extent,
-                    inpainting.levels(run_networks.running()),
-                    run_networks.whole_frame,
-                    run_networks.divisor,
+                    &inpaint::PatchPlan {
+                        levels: inpainting.levels(run_networks.running()),
+                        whole_frame: run_networks.whole_frame,
+                        divisor: run_networks.divisor,
+                    },
                     &object_table,
                     &patches,
                 );
-                barriers::compute_to_indirect(device, cmd);
                 let instance = slot * PATCHEX_MAX_EXTRAPOLATIONS_PER_FRAME + done;
                 let runs = [inpaint::PATCH_SLOT_FI, inpaint::PATCH_SLOT_NEAR_BE]
                     .into_iter()
@@ -309,8 +281,7 @@ impl Context {
                     })
                     .collect::<Vec<_>>();
                 inpaint::record(
-                    &self.gpu,
-                    cmd,
+                    rec,
                     &inpaint::FrameInputs {
                         warped: (&work[WorkImages::WARPED]).into(),
                         material,
@@ -321,14 +292,10 @@ impl Context {
                     &runs,
                 );
             });
-            barriers::compute_to_compute(device, cmd, false);
-            timed.stage(PATCHEX_STAGE_BLEND, || {
+            rec.stage(PATCHEX_STAGE_BLEND, |rec| {
                 inpaint::record_blend(
-                    self.pipelines.get(Pipelines::BLEND_PATCHES),
-                    device,
-                    cmd,
-                    self.ring
-                        .descriptor_set(slot, region, Pipelines::BLEND_PATCHES),
+                    rec,
+                    passes.get(PipelineId::BlendPatches),
                     &inpaint::BlendInputs {
                         regions: &work[WorkImages::REGIONS],
                         networks: inpainting.tensors(),
@@ -338,15 +305,11 @@ impl Context {
                     &work[WorkImages::WARPED],
                 )
             });
-            barriers::compute_to_compute(device, cmd, false);
         }
-        timed.stage(PATCHEX_STAGE_REMODULATE, || {
+        rec.stage(PATCHEX_STAGE_REMODULATE, |rec| {
             remodulate::record(
-                self.pipelines.get(Pipelines::REMODULATE),
-                device,
-                cmd,
-                self.ring
-                    .descriptor_set(slot, region, Pipelines::REMODULATE),
+                rec,
+                passes.get(PipelineId::Remodulate),
                 inputs.extent,
                 &remodulate::RemodulateInputs {
                     shading: (&work[WorkImages::WARPED]).into(),
@@ -360,22 +323,16 @@ impl Context {
                     placeholder,
                 },
                 staging.map_or(output, |s| (&s[OutputStaging::FRAME]).into()),
-                &self
-                    .ring
-                    .counter_range(slot, region, counters::SANITIZE, SANITIZE_COUNTER_BYTES),
+                &counters(counters::SANITIZE, SANITIZE_COUNTER_BYTES),
             )
         });
         if let Some(staging) = staging {
             let encoding = pack_output::encoding(inputs.output.format)
                 .expect("every copied output format has an encoding");
-            barriers::compute_to_compute(device, cmd, false);
-            timed.stage(PATCHEX_STAGE_PACK_OUTPUT, || {
+            rec.stage(PATCHEX_STAGE_PACK_OUTPUT, |rec| {
                 pack_output::record(
-                    self.pipelines.get(Pipelines::PACK_OUTPUT),
-                    device,
-                    cmd,
-                    self.ring
-                        .descriptor_set(slot, region, Pipelines::PACK_OUTPUT),
+                    rec,
+                    passes.get(PipelineId::PackOutput),
                     inputs.extent,
                     &pack_output::Packing {
                         encoding,
@@ -388,44 +345,28 @@ impl Context {
         }
         let shadow_diagnostics = shadow_diagnostics_image.zip(shadows);
         if diagnostics_image.is_some() || shadow_diagnostics.is_some() {
-            timed.stage(PATCHEX_STAGE_DIAGNOSTICS, || {
+            rec.stage(PATCHEX_STAGE_DIAGNOSTICS, |rec| {
                 if let Some(image) = diagnostics_image {
-                    diagnostics::record(
-                        self.pipelines.get(Pipelines::WRITE_DIAGNOSTICS),
-                        device,
-                        cmd,
-                        self.ring
-                            .descriptor_set(slot, region, Pipelines::WRITE_DIAGNOSTICS),
-                        inputs.extent,
-                        &diagnostics::DiagnosticsInputs {
-                            warped: &work[WorkImages::WARPED],
-                            regions: &work[WorkImages::REGIONS],
-                            lbp: &work[WorkImages::LBP],
-                        },
-                        image,
+                    let sources = diagnostics::frame_sources(
+                        &work[WorkImages::WARPED],
+                        &work[WorkImages::REGIONS],
+                        &work[WorkImages::LBP],
                     );
+                    let pass = passes.get(PipelineId::WriteDiagnostics);
+                    diagnostics::record(rec, pass, inputs.extent, sources, image);
                 }
                 if let Some((image, shadows)) = shadow_diagnostics {
-                    diagnostics::record_shadows(
-                        self.pipelines.get(Pipelines::WRITE_SHADOW_DIAGNOSTICS),
-                        device,
-                        cmd,
-                        self.ring
-                            .descriptor_set(slot, region, Pipelines::WRITE_SHADOW_DIAGNOSTICS),
-                        inputs.extent,
-                        &diagnostics::ShadowDiagnosticsInputs {
-                            flow: &shadows[ShadowImages::FLOW],
-                            shadow_layer: &shadows[ShadowImages::LAYER],
-                            warped_layer: &shadows[ShadowImages::WARPED_LAYER],
-                        },
-                        image,
+                    let sources = diagnostics::shadow_sources(
+                        &shadows[ShadowImages::FLOW],
+                        &shadows[ShadowImages::LAYER],
+                        &shadows[ShadowImages::WARPED_LAYER],
                     );
+                    let pass = passes.get(PipelineId::WriteShadowDiagnostics);
+                    diagnostics::record(rec, pass, inputs.extent, sources, image);
                 }
             });
         }
-        let stages = timed.stages;
-        barriers::compute_to_host(device, cmd);
-        access.release(device, cmd);
+        let stages = rec.finish(&access);
 
         let record = self.ring.slots[slot]
             .record

@@ -1,11 +1,10 @@
 //! What each call records, read top to bottom: `submit` (frame t), `extrapolate` (one target
 //! instant) and `stats` (what they measured). The images, counters and settings they share sit
-//! beside them, and `recorder` puts their passes into the engine's command buffer.
+//! beside them.
 
 pub mod counters;
 pub mod extrapolate;
 pub mod images;
-pub mod recorder;
 pub mod settings;
 pub mod stats;
 pub mod submit;

@@ -8,16 +8,16 @@ use crate::context::{Context, SourceFrame};
 use crate::error::{bail, Result};
 use crate::frame::counters;
 use crate::frame::images::{ShadowImages, WorkImages};
-use crate::frame::recorder::TimedRegion;
 use crate::frame::settings::{Extensions, NEEDS_SHADOW_PRESET};
 use crate::inputs::{self, GeometryInputs, SourceInputs};
 use crate::passes::{
-    demodulate, pack_gbuffer, separate_shadows, shadow_flow, Pipelines, Texture,
+    demodulate, pack_gbuffer, separate_shadows, shadow_flow, PipelineId, RegionPasses, Texture,
     SANITIZE_COUNTER_BYTES,
 };
-use crate::vk::barriers::{self, EngineImageAccess};
+use crate::vk::barriers::EngineImageAccess;
 use crate::vk::frame_ring::{FrameRecord, RegionRecord};
 use crate::vk::image::OwnedImage;
+use crate::vk::recorder::Recorder;
 
 impl Context {
     fn reset_reason(&self, inputs: &SourceInputs) -> Result<PatchexResetReason> {
@@ -113,54 +113,49 @@ impl Context {
 
         // Everything is validated and allocated: from here on the call cannot fail.
         let slot = self.ring.slot_of(serial);
-        let device = &self.gpu.device;
         let mut owned: Vec<&mut OwnedImage> = self.images.submit_images().collect();
         if let Some(inpainting) = self.inpainting.as_mut() {
             owned.extend(inpainting.images());
         }
-        barriers::initialize_owned(device, cmd, &mut owned);
+        let mut rec = Recorder::new(&self.gpu.device, cmd);
+        rec.initialize(&mut owned);
+        rec.acquire(&access);
+        rec.fill_zero(&self.ring.region_counters(slot, 0));
+        let mut rec = rec.timed(&self.ring, slot, 0);
+        let passes = RegionPasses {
+            pipelines: &self.pipelines,
+            ring: &self.ring,
+            slot,
+            region: 0,
+        };
+        let counters = |offset, bytes| self.ring.counter_range(slot, 0, offset, bytes);
+        let sanitize_counters = counters(counters::SANITIZE, SANITIZE_COUNTER_BYTES);
         let work = self.images.work.as_ref().expect("allocated above");
-        access.acquire(device, cmd);
-        self.ring.clear_counters(device, cmd, slot, 0);
-        barriers::compute_to_compute(device, cmd, true);
+        let shadows = self
+            .images
+            .shadows
+            .as_ref()
+            .filter(|_| separation_inputs.is_some());
 
-        let sanitize_counters =
-            self.ring
-                .counter_range(slot, 0, counters::SANITIZE, SANITIZE_COUNTER_BYTES);
-        let mut timed = TimedRegion::begin(&self.ring, device, cmd, slot, 0);
-        timed.stage(PATCHEX_STAGE_PACK_SOURCE_GBUFFER, || {
+        rec.stage(PATCHEX_STAGE_PACK_SOURCE_GBUFFER, |rec| {
             pack_gbuffer::record(
-                self.pipelines.get(Pipelines::PACK_GBUFFER),
-                device,
-                cmd,
-                self.ring.descriptor_set(slot, 0, Pipelines::PACK_GBUFFER),
+                rec,
+                passes.get(PipelineId::PackGbuffer),
                 inputs.extent,
                 &inputs.geometry.camera,
                 &pack_inputs,
                 &pack_gbuffer::PackOutputs {
                     geometry: &work[WorkImages::SOURCE_GEOMETRY],
                     normal_id: &work[WorkImages::SOURCE_NORMAL_ID],
-                    counters: self.ring.counter_range(
-                        slot,
-                        0,
-                        counters::GEOMETRY,
-                        pack_gbuffer::COUNTER_BYTES,
-                    ),
+                    counters: counters(counters::GEOMETRY, pack_gbuffer::COUNTER_BYTES),
                 },
             )
         });
-        if separation_inputs.is_some() {
-            // Separation reads the packed object ids.
-            barriers::compute_to_compute(device, cmd, false);
-        }
-        timed.stage(PATCHEX_STAGE_DEMODULATE, || {
-            match (&separation_inputs, &self.images.shadows) {
+        rec.stage(PATCHEX_STAGE_DEMODULATE, |rec| {
+            match (&separation_inputs, shadows) {
                 (Some(separation), Some(shadows)) => separate_shadows::record(
-                    self.pipelines.get(Pipelines::SEPARATE_SHADOWS),
-                    device,
-                    cmd,
-                    self.ring
-                        .descriptor_set(slot, 0, Pipelines::SEPARATE_SHADOWS),
+                    rec,
+                    passes.get(PipelineId::SeparateShadows),
                     inputs.extent,
                     separation,
                     &separate_shadows::SeparationOutputs {
@@ -172,10 +167,8 @@ impl Context {
                     &sanitize_counters,
                 ),
                 _ => demodulate::record(
-                    self.pipelines.get(Pipelines::DEMODULATE),
-                    device,
-                    cmd,
-                    self.ring.descriptor_set(slot, 0, Pipelines::DEMODULATE),
+                    rec,
+                    passes.get(PipelineId::Demodulate),
                     inputs.extent,
                     &demodulate::DemodulateInputs {
                         color,
@@ -188,31 +181,18 @@ impl Context {
                 ),
             }
         });
-        if let (Some(_), Some(shadows)) = (&separation_inputs, &self.images.shadows) {
-            barriers::compute_to_compute(device, cmd, false);
-            let p = Pipelines::get;
-            let pipelines = &self.pipelines;
-            timed.stage(PATCHEX_STAGE_SHADOW_FLOW, || {
+        if let Some(shadows) = shadows {
+            rec.stage(PATCHEX_STAGE_SHADOW_FLOW, |rec| {
                 shadow_flow::record(
-                    &shadow_flow::FlowPipelines {
-                        pyramid: p(pipelines, Pipelines::SHADOW_PYRAMID),
-                        poly: p(pipelines, Pipelines::SHADOW_POLY),
-                        matrices: p(pipelines, Pipelines::SHADOW_FLOW_MATRICES),
-                        rows: p(pipelines, Pipelines::SHADOW_FLOW_ROWS),
-                        solve: p(pipelines, Pipelines::SHADOW_FLOW_SOLVE),
-                        upsample: p(pipelines, Pipelines::SHADOW_FLOW_UPSAMPLE),
+                    rec,
+                    &shadow_flow::FlowPasses {
+                        pyramid: passes.get(PipelineId::ShadowPyramid),
+                        poly: passes.get(PipelineId::ShadowPoly),
+                        matrices: passes.get(PipelineId::ShadowFlowMatrices),
+                        rows: passes.get(PipelineId::ShadowFlowRows),
+                        solve: passes.get(PipelineId::ShadowFlowSolve),
+                        upsample: passes.get(PipelineId::ShadowFlowUpsample),
                     },
-                    [
-                        Pipelines::SHADOW_PYRAMID,
-                        Pipelines::SHADOW_POLY,
-                        Pipelines::SHADOW_FLOW_MATRICES,
-                        Pipelines::SHADOW_FLOW_ROWS,
-                        Pipelines::SHADOW_FLOW_SOLVE,
-                        Pipelines::SHADOW_FLOW_UPSAMPLE,
-                    ]
-                    .map(|index| self.ring.descriptor_set(slot, 0, index)),
-                    device,
-                    cmd,
                     inputs.extent,
                     &flow_settings,
                     &shadows.flow_images(self.shadow_current),
@@ -220,9 +200,7 @@ impl Context {
                 )
             });
         }
-        let stages = timed.stages;
-        barriers::compute_to_host(device, cmd);
-        access.release(device, cmd);
+        let stages = rec.finish(&access);
 
         let shadow_history = match (&separation_inputs, track) {
             (None, _) => PATCHEX_SHADOW_HISTORY_NONE,

@@ -25,26 +25,31 @@ pub const BINDINGS: [Binding; 5] = [
     Binding {
         binding: 0,
         kind: DescriptorKind::SampledImage,
+        writes: false,
         name: "main_input",
     },
     Binding {
         binding: 1,
         kind: DescriptorKind::SampledImage,
+        writes: false,
         name: "skip_input",
     },
     Binding {
         binding: 2,
         kind: DescriptorKind::SampledImage,
+        writes: false,
         name: "network_input",
     },
     Binding {
         binding: 3,
         kind: DescriptorKind::StorageImage,
+        writes: true,
         name: "layer_output",
     },
     Binding {
         binding: 4,
         kind: DescriptorKind::StorageBuffer,
+        writes: false,
         name: "network_patch",
     },
 ];

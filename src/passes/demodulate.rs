@@ -6,7 +6,7 @@ use ash::vk;
 use crate::passes::{CounterRange, Texture};
 use crate::shaders::demodulate::{binding, Params};
 use crate::vk::image::OwnedImage;
-use crate::vk::pipeline::{ComputePipeline, DescriptorWrites};
+use crate::vk::recorder::{Pass, Recorder};
 
 pub struct DemodulateInputs {
     pub color: Texture,
@@ -16,38 +16,27 @@ pub struct DemodulateInputs {
     pub placeholder: Texture,
 }
 
-#[allow(clippy::too_many_arguments)]
 pub fn record(
-    pipeline: &ComputePipeline,
-    device: &ash::Device,
-    cmd: vk::CommandBuffer,
-    set: vk::DescriptorSet,
+    rec: &mut Recorder,
+    pass: Pass,
     extent: vk::Extent2D,
     inputs: &DemodulateInputs,
     shading: &OwnedImage,
     counters: &CounterRange,
 ) {
     let material = inputs.material.unwrap_or(inputs.placeholder);
-    DescriptorWrites::new(pipeline)
-        .image(binding::COLOR, inputs.color.view, inputs.color.layout)
-        .image(
-            binding::BASE_COLOR,
-            inputs.base_color.view,
-            inputs.base_color.layout,
-        )
-        .image(binding::MATERIAL, material.view, material.layout)
-        .image(binding::DEMODULATED, shading.view, vk::ImageLayout::GENERAL)
-        .buffer(
-            binding::COUNTERS,
-            counters.buffer,
-            counters.offset,
-            counters.range,
-        )
-        .update(device, set);
+    let bound = rec.bind(pass, |writes| {
+        writes
+            .image(binding::COLOR, inputs.color)
+            .image(binding::BASE_COLOR, inputs.base_color)
+            .image(binding::MATERIAL, material)
+            .image(binding::DEMODULATED, shading)
+            .buffer(binding::COUNTERS, counters)
+    });
     let params = Params {
         extent: [extent.width, extent.height],
         has_material: inputs.material.is_some() as u32,
         ..Default::default()
     };
-    pipeline.dispatch(device, cmd, set, &params, extent);
+    rec.dispatch(&bound, &params, extent);
 }

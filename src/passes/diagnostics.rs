@@ -1,69 +1,64 @@
-//! Copies holes, regions and the LBP map into the engine's diagnostics image
-//! (`shaders/write_diagnostics.wgsl`; channel meanings in `PatchexDiagnostics`), and the shadow
-//! sub-task's flow and layers into the shadow diagnostics image
-//! (`shaders/write_shadow_diagnostics.wgsl`, `PatchexShadowDiagnostics`).
+//! Writes the engine's diagnostics images from three of the plugin's images:
+//! - `shaders/write_diagnostics.wgsl` (`PatchexDiagnostics`): holes, regions and the LBP map;
+//! - `shaders/write_shadow_diagnostics.wgsl` (`PatchexShadowDiagnostics`): the shadow
+//!   sub-task's flow and layers.
+//!
+//! Both shaders bind their three sources at 0 to 2 and the diagnostics image at 3.
 
 use ash::vk;
 
 use crate::passes::Texture;
 use crate::shaders::{write_diagnostics, write_shadow_diagnostics};
 use crate::vk::image::OwnedImage;
-use crate::vk::pipeline::{ComputePipeline, DescriptorWrites};
+use crate::vk::recorder::{Pass, Recorder};
 
-pub struct DiagnosticsInputs<'a> {
-    pub warped: &'a OwnedImage,
-    pub regions: &'a OwnedImage,
-    pub lbp: &'a OwnedImage,
+/// What `write_diagnostics` reads: the warped shading, the region mask and the LBP map.
+pub fn frame_sources<'a>(
+    warped: &'a OwnedImage,
+    regions: &'a OwnedImage,
+    lbp: &'a OwnedImage,
+) -> [&'a OwnedImage; 3] {
+    use write_diagnostics::binding;
+    debug_assert_eq!([binding::WARPED, binding::REGIONS, binding::LBP], [0, 1, 2]);
+    [warped, regions, lbp]
 }
 
+/// What `write_shadow_diagnostics` reads: the flow, the shadow layer and the moved layer.
+pub fn shadow_sources<'a>(
+    flow: &'a OwnedImage,
+    shadow_layer: &'a OwnedImage,
+    warped_layer: &'a OwnedImage,
+) -> [&'a OwnedImage; 3] {
+    use write_shadow_diagnostics::binding;
+    debug_assert_eq!(
+        [binding::FLOW, binding::SHADOW_LAYER, binding::WARPED_LAYER],
+        [0, 1, 2]
+    );
+    [flow, shadow_layer, warped_layer]
+}
+
+/// Records either pass (`pass`) over `extent`.
 pub fn record(
-    pipeline: &ComputePipeline,
-    device: &ash::Device,
-    cmd: vk::CommandBuffer,
-    set: vk::DescriptorSet,
+    rec: &mut Recorder,
+    pass: Pass,
     extent: vk::Extent2D,
-    inputs: &DiagnosticsInputs,
+    sources: [&OwnedImage; 3],
     diagnostics: Texture,
 ) {
     use write_diagnostics::{binding, Params};
-    let general = vk::ImageLayout::GENERAL;
-    DescriptorWrites::new(pipeline)
-        .image(binding::WARPED, inputs.warped.view, general)
-        .image(binding::REGIONS, inputs.regions.view, general)
-        .image(binding::LBP, inputs.lbp.view, general)
-        .image(binding::DIAGNOSTICS, diagnostics.view, diagnostics.layout)
-        .update(device, set);
+    debug_assert_eq!(
+        binding::DIAGNOSTICS,
+        write_shadow_diagnostics::binding::DIAGNOSTICS
+    );
+    let bound = rec.bind(pass, |writes| {
+        writes
+            .image(0, sources[0])
+            .image(1, sources[1])
+            .image(2, sources[2])
+            .image(binding::DIAGNOSTICS, diagnostics)
+    });
     let params = Params {
         extent: [extent.width, extent.height],
     };
-    pipeline.dispatch(device, cmd, set, &params, extent);
-}
-
-pub struct ShadowDiagnosticsInputs<'a> {
-    pub flow: &'a OwnedImage,
-    pub shadow_layer: &'a OwnedImage,
-    pub warped_layer: &'a OwnedImage,
-}
-
-pub fn record_shadows(
-    pipeline: &ComputePipeline,
-    device: &ash::Device,
-    cmd: vk::CommandBuffer,
-    set: vk::DescriptorSet,
-    extent: vk::Extent2D,
-    inputs: &ShadowDiagnosticsInputs,
-    diagnostics: Texture,
-) {
-    use write_shadow_diagnostics::{binding, Params};
-    let general = vk::ImageLayout::GENERAL;
-    DescriptorWrites::new(pipeline)
-        .image(binding::FLOW, inputs.flow.view, general)
-        .image(binding::SHADOW_LAYER, inputs.shadow_layer.view, general)
-        .image(binding::WARPED_LAYER, inputs.warped_layer.view, general)
-        .image(binding::DIAGNOSTICS, diagnostics.view, diagnostics.layout)
-        .update(device, set);
-    let params = Params {
-        extent: [extent.width, extent.height],
-    };
-    pipeline.dispatch(device, cmd, set, &params, extent);
+    rec.dispatch(&bound, &params, extent);
 }

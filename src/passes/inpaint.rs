@@ -12,10 +12,10 @@ use crate::network::weights::MAX_LEVELS;
 use crate::network::{Network, Tensor, TensorPrecision, INPUT_CHANNELS};
 use crate::passes::{CounterRange, Texture};
 use crate::shaders::network_inputs::{binding, Params, SHADER};
-use crate::vk::barriers;
 use crate::vk::device::Gpu;
 use crate::vk::image::OwnedImage;
-use crate::vk::pipeline::{pool_sizes, ComputePipeline, DescriptorWrites};
+use crate::vk::pipeline::{pool_sizes, ComputePipeline};
+use crate::vk::recorder::{Pass, Recorder};
 
 /// Texels of context around a region's rectangle in its patch: past the network's receptive
 /// field, a pixel at the edge of a region sees its surroundings as in training.
@@ -237,37 +237,27 @@ impl NetworkRun<'_> {
 
 /// Records the gather and every layer of each network in `runs`, level by level across the
 /// networks: one barrier orders a step of all of them, so no network waits for another's work.
-/// Each patch record must be written and visible to compute shaders and indirect reads.
-pub fn record(gpu: &Gpu, cmd: vk::CommandBuffer, inputs: &FrameInputs, runs: &[NetworkRun]) {
-    let device = &gpu.device;
-    let general = vk::ImageLayout::GENERAL;
+pub fn record(rec: &mut Recorder, inputs: &FrameInputs, runs: &[NetworkRun]) {
     let material = inputs.material.unwrap_or(inputs.placeholder);
     for run in runs {
-        let set = run.sets()[0];
-        DescriptorWrites::new(&run.pipelines.gather)
-            .image(binding::WARPED, inputs.warped.view, inputs.warped.layout)
-            .image(binding::MATERIAL, material.view, material.layout)
-            .image(binding::LBP, inputs.lbp.view, inputs.lbp.layout)
-            .image(binding::NETWORK_INPUT, run.tensors.input.view, general)
-            .buffer(
-                binding::NETWORK_PATCH,
-                run.patch.buffer,
-                run.patch.offset,
-                PATCH_BYTES,
-            )
-            .update(device, set);
-        run.pipelines.gather.dispatch_indirect(
-            device,
-            cmd,
-            set,
-            &Params {
-                frame_extent: [inputs.frame_extent.width, inputs.frame_extent.height],
-                has_material: inputs.material.is_some() as u32,
-                _pad_end: [0; 4],
-            },
-            run.patch.buffer,
-            dispatch_offset(run.patch, 0),
-        );
+        let gather = Pass {
+            pipeline: &run.pipelines.gather,
+            set: run.sets()[0],
+        };
+        let gather = rec.bind(gather, |writes| {
+            writes
+                .image(binding::WARPED, inputs.warped)
+                .image(binding::MATERIAL, material)
+                .image(binding::LBP, inputs.lbp)
+                .image(binding::NETWORK_INPUT, &run.tensors.input)
+                .buffer(binding::NETWORK_PATCH, &run.patch.range())
+        });
+        let params = Params {
+            frame_extent: [inputs.frame_extent.width, inputs.frame_extent.height],
+            has_material: inputs.material.is_some() as u32,
+            _pad_end: [0; 4],
+        };
+        rec.dispatch_indirect(&gather, &params, &run.patch.dispatch(0));
     }
     let steps = runs
         .iter()
@@ -275,37 +265,49 @@ pub fn record(gpu: &Gpu, cmd: vk::CommandBuffer, inputs: &FrameInputs, runs: &[N
         .max()
         .unwrap_or(0);
     for n in 0..steps {
-        barriers::compute_to_compute(device, cmd, false);
         for run in runs.iter().filter(|run| n < run.pipelines.layers.len()) {
-            let (layer, pipeline) = (&run.pipelines.network.layers[n], &run.pipelines.layers[n]);
+            let layer = &run.pipelines.network.layers[n];
             let tensors = run.tensors;
-            let view = |tensor: Tensor| match tensor {
-                Tensor::Input => tensors.input.view,
-                Tensor::Layer(n) => tensors.layers[n].view,
+            let tensor = |tensor: Tensor| match tensor {
+                Tensor::Input => &tensors.input,
+                Tensor::Layer(n) => &tensors.layers[n],
             };
-            let set = run.sets()[1 + n];
-            let main = view(layer.main);
-            DescriptorWrites::new(pipeline)
-                .image(0, main, general)
-                .image(1, layer.skip.map_or(main, view), general)
-                .image(2, tensors.input.view, general)
-                .image(3, tensors.layers[n].view, general)
-                .buffer(4, run.patch.buffer, run.patch.offset, PATCH_BYTES)
-                .update(device, set);
-            pipeline.dispatch_indirect(
-                device,
-                cmd,
-                set,
-                &(),
-                run.patch.buffer,
-                dispatch_offset(run.patch, layer.level),
-            );
+            let pass = Pass {
+                pipeline: &run.pipelines.layers[n],
+                set: run.sets()[1 + n],
+            };
+            let main = tensor(layer.main);
+            let bound = rec.bind(pass, |writes| {
+                writes
+                    .image(0, main)
+                    .image(1, layer.skip.map_or(main, tensor))
+                    .image(2, &tensors.input)
+                    .image(3, &tensors.layers[n])
+                    .buffer(4, &run.patch.range())
+            });
+            rec.dispatch_indirect(&bound, &(), &run.patch.dispatch(layer.level));
         }
     }
 }
 
-fn dispatch_offset(patch: PatchRecord, level: u32) -> u64 {
-    patch.offset + PATCH_DISPATCH_OFFSET + 16 * level as u64
+impl PatchRecord {
+    /// The whole record, as the shaders bind it.
+    fn range(&self) -> CounterRange {
+        CounterRange {
+            buffer: self.buffer,
+            offset: self.offset,
+            range: PATCH_BYTES,
+        }
+    }
+
+    /// The indirect dispatch of network level `level`.
+    fn dispatch(&self, level: u32) -> CounterRange {
+        CounterRange {
+            buffer: self.buffer,
+            offset: self.offset + PATCH_DISPATCH_OFFSET + 16 * level as u64,
+            range: 12,
+        }
+    }
 }
 
 /// The three patch records of an extrapolation (`PatchSlot` in shaders/include/patch.wgsl),
@@ -324,50 +326,44 @@ pub fn patch_record(patches: &CounterRange, slot: u64) -> PatchRecord {
     }
 }
 
-/// Records `plan_patches`: the FI, near-BE and blend patches from the object table, for networks
-/// of `levels` levels (0 for one that does not run) at resolution `divisor`; with
-/// `whole_frame`, FI's is the frame.
-#[allow(clippy::too_many_arguments)]
+/// What the networks run on this extrapolation.
+pub struct PatchPlan {
+    /// Of the FI and near-BE networks; 0 for one that does not run.
+    pub levels: [u32; 2],
+    /// FI's patch is the whole frame.
+    pub whole_frame: bool,
+    /// Frame pixels per network texel on each axis.
+    pub divisor: u32,
+}
+
+/// Records `plan_patches`: the FI, near-BE and blend patches from the object table.
 pub fn record_plan(
-    pipeline: &ComputePipeline,
-    device: &ash::Device,
-    cmd: vk::CommandBuffer,
-    set: vk::DescriptorSet,
+    rec: &mut Recorder,
+    pass: Pass,
     extent: vk::Extent2D,
-    levels: [u32; 2],
-    whole_frame: bool,
-    divisor: u32,
+    plan: &PatchPlan,
     table: &CounterRange,
     patches: &CounterRange,
 ) {
-    use crate::shaders::plan_patches as plan;
-    DescriptorWrites::new(pipeline)
-        .buffer(
-            plan::binding::SEGMENTATION,
-            table.buffer,
-            table.offset,
-            table.range,
-        )
-        .buffer(
-            plan::binding::PATCHES,
-            patches.buffer,
-            patches.offset,
-            patches.range,
-        )
-        .update(device, set);
-    let params = plan::Params {
+    use crate::shaders::plan_patches::{binding, Params};
+    let bound = rec.bind(pass, |writes| {
+        writes
+            .buffer(binding::SEGMENTATION, table)
+            .buffer(binding::PATCHES, patches)
+    });
+    let params = Params {
         extent: [extent.width, extent.height],
         margin: PATCH_MARGIN,
         group_edge: GROUP_EDGE,
-        levels,
-        whole_frame: whole_frame as u32,
-        divisor,
+        levels: plan.levels,
+        whole_frame: plan.whole_frame as u32,
+        divisor: plan.divisor,
     };
     let one = vk::Extent2D {
         width: 1,
         height: 1,
     };
-    pipeline.dispatch(device, cmd, set, &params, one);
+    rec.dispatch(&bound, &params, one);
 }
 
 /// What `blend_patches` reads: the region mask and the FI and near-BE networks' tensors (a
@@ -382,41 +378,31 @@ pub struct BlendInputs<'a> {
 /// Records `blend_patches`: the networks' results scattered into `warped` under the region
 /// masks, over the blend patch.
 pub fn record_blend(
-    pipeline: &ComputePipeline,
-    device: &ash::Device,
-    cmd: vk::CommandBuffer,
-    set: vk::DescriptorSet,
+    rec: &mut Recorder,
+    pass: Pass,
     inputs: &BlendInputs,
     patches: &CounterRange,
     warped: &OwnedImage,
 ) {
     use crate::shaders::blend_patches::binding as blend;
-    let general = vk::ImageLayout::GENERAL;
-    let views = inputs.networks.map(|t| (t.input.view, t.output().view));
-    DescriptorWrites::new(pipeline)
-        .image(blend::REGIONS, inputs.regions.view, general)
-        .image(blend::FI_INPUT, views[0].0, general)
-        .image(blend::FI_OUTPUT, views[0].1, general)
-        .image(blend::NEAR_BE_INPUT, views[1].0, general)
-        .image(blend::NEAR_BE_OUTPUT, views[1].1, general)
-        .buffer(
-            blend::PATCHES,
-            patches.buffer,
-            patches.offset,
-            patches.range,
-        )
-        .image(blend::WARPED, warped.view, general)
-        .update(device, set);
-    let blend_patch = patch_record(patches, PATCH_SLOT_BLEND);
-    pipeline.dispatch_indirect(
-        device,
-        cmd,
-        set,
-        &crate::shaders::blend_patches::Params {
-            whole_frame: inputs.whole_frame as u32,
-        },
-        blend_patch.buffer,
-        dispatch_offset(blend_patch, 0),
+    let [fi, near_be] = inputs.networks;
+    let bound = rec.bind(pass, |writes| {
+        writes
+            .image(blend::REGIONS, inputs.regions)
+            .image(blend::FI_INPUT, &fi.input)
+            .image(blend::FI_OUTPUT, fi.output())
+            .image(blend::NEAR_BE_INPUT, &near_be.input)
+            .image(blend::NEAR_BE_OUTPUT, near_be.output())
+            .buffer(blend::PATCHES, patches)
+            .image(blend::WARPED, warped)
+    });
+    let params = crate::shaders::blend_patches::Params {
+        whole_frame: inputs.whole_frame as u32,
+    };
+    rec.dispatch_indirect(
+        &bound,
+        &params,
+        &patch_record(patches, PATCH_SLOT_BLEND).dispatch(0),
     );
 }
 

@@ -4,24 +4,22 @@ use ash::vk;
 
 use crate::shaders::lbp::{binding, Params};
 use crate::vk::image::OwnedImage;
-use crate::vk::pipeline::{ComputePipeline, DescriptorWrites};
+use crate::vk::recorder::{Pass, Recorder};
 
 pub fn record(
-    pipeline: &ComputePipeline,
-    device: &ash::Device,
-    cmd: vk::CommandBuffer,
-    set: vk::DescriptorSet,
+    rec: &mut Recorder,
+    pass: Pass,
     extent: vk::Extent2D,
     warped: &OwnedImage,
     lbp: &OwnedImage,
 ) {
-    let general = vk::ImageLayout::GENERAL;
-    DescriptorWrites::new(pipeline)
-        .image(binding::WARPED, warped.view, general)
-        .image(binding::LBP, lbp.view, general)
-        .update(device, set);
+    let bound = rec.bind(pass, |writes| {
+        writes
+            .image(binding::WARPED, warped)
+            .image(binding::LBP, lbp)
+    });
     let params = Params {
         extent: [extent.width, extent.height],
     };
-    pipeline.dispatch(device, cmd, set, &params, extent);
+    rec.dispatch(&bound, &params, extent);
 }

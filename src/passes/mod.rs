@@ -1,5 +1,7 @@
-//! The compute passes. Each file names what its pass reads and writes and records one dispatch;
-//! the math lives in `shaders/` and, as the tests' oracle, in `crate::reference`.
+//! The compute passes. Each file binds its pass's resources and records its dispatches through
+//! `vk::recorder`, which orders them by what the shader declares it reads and writes; the math
+//! lives in `shaders/` and, as the tests' oracle, in `crate::reference`. `pipeline_table!` below
+//! lists every pipeline.
 
 pub mod demodulate;
 pub mod diagnostics;
@@ -22,7 +24,9 @@ use crate::abi::*;
 use crate::error::Result;
 use crate::shaders;
 use crate::vk::device::Gpu;
+use crate::vk::frame_ring::FrameRing;
 use crate::vk::pipeline::ComputePipeline;
+use crate::vk::recorder::Pass;
 
 pub use crate::vk::buffer::CounterRange;
 pub use crate::vk::image::Texture;
@@ -47,8 +51,50 @@ pub const STAGE_NAMES: [(PatchexStage, &str); 13] = [
     (PATCHEX_STAGE_DIAGNOSTICS, "diagnostics"),
 ];
 
-/// Every pass's pipeline, at the index of its constant, which is also its place in the
-/// per-frame descriptor sets. Destroyed when dropped.
+/// Every pipeline the passes record with, each on one line: its shader, and how many
+/// descriptor sets one region (a submit or an extrapolation) can use it with. A pipeline
+/// dispatched more than once in a region with other resources needs a set for each.
+macro_rules! pipeline_table {
+    ($($(#[$doc:meta])* $id:ident: $shader:ident, $sets:literal;)*) => {
+        /// A pipeline of `Pipelines`.
+        #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+        pub enum PipelineId {
+            $($(#[$doc])* $id,)*
+        }
+
+        const TABLE: &[(shaders::ShaderInfo, usize)] = &[$((shaders::$shader::SHADER, $sets),)*];
+    };
+}
+
+pipeline_table! {
+    Demodulate: demodulate, 1;
+    /// Frame t's G-buffer in the submit, the target's in an extrapolation.
+    PackGbuffer: pack_gbuffer, 1;
+    SeparateShadows: separate_shadows, 1;
+    ShadowPyramid: shadow_pyramid, 1;
+    ShadowPoly: shadow_poly, 1;
+    ShadowFlowMatrices: shadow_flow_matrices, 1;
+    ShadowFlowRows: shadow_flow_rows, 1;
+    ShadowFlowSolve: shadow_flow_solve, 1;
+    ShadowFlowUpsample: shadow_flow_upsample, 1;
+    /// The frame's warp (when chosen), and the shadow layer through it.
+    WarpGbuffer: warp_gbuffer, 2;
+    WarpMotionVector: warp_motion_vector, 2;
+    /// The same two, and always the shadow layer moved by its flow.
+    WarpOcclusionMotion: warp_occlusion_motion, 3;
+    ObjectBounds: object_bounds, 1;
+    GrowRegions: grow_regions, 1;
+    RegionMasks: region_masks, 1;
+    Lbp: lbp, 1;
+    PlanPatches: plan_patches, 1;
+    BlendPatches: blend_patches, 1;
+    Remodulate: remodulate, 1;
+    PackOutput: pack_output, 1;
+    WriteDiagnostics: write_diagnostics, 1;
+    WriteShadowDiagnostics: write_shadow_diagnostics, 1;
+}
+
+/// Every pipeline of `PipelineId`, compiled. Destroyed when dropped.
 pub struct Pipelines {
     built: Vec<ComputePipeline>,
     device: ash::Device,
@@ -60,85 +106,16 @@ pub struct Pipelines {
 static SHARED: Mutex<Vec<(u64, Weak<Pipelines>)>> = Mutex::new(Vec::new());
 
 impl Pipelines {
-    pub const DEMODULATE: usize = 0;
-    pub const PACK_GBUFFER: usize = 1;
-    pub const WARP_GBUFFER: usize = 2;
-    pub const WARP_MOTION_VECTOR: usize = 3;
-    pub const WARP_OCCLUSION_MOTION: usize = 4;
-    pub const OBJECT_BOUNDS: usize = 5;
-    pub const GROW_REGIONS: usize = 6;
-    pub const REGION_MASKS: usize = 7;
-    pub const LBP: usize = 8;
-    pub const REMODULATE: usize = 9;
-    pub const WRITE_DIAGNOSTICS: usize = 10;
-    pub const SEPARATE_SHADOWS: usize = 11;
-    pub const SHADOW_PYRAMID: usize = 12;
-    pub const SHADOW_POLY: usize = 13;
-    pub const SHADOW_FLOW_MATRICES: usize = 14;
-    pub const SHADOW_FLOW_ROWS: usize = 15;
-    pub const SHADOW_FLOW_SOLVE: usize = 16;
-    pub const WRITE_SHADOW_DIAGNOSTICS: usize = 17;
-    pub const SHADOW_FLOW_UPSAMPLE: usize = 18;
-    pub const PLAN_PATCHES: usize = 19;
-    pub const BLEND_PATCHES: usize = 20;
-    pub const PACK_OUTPUT: usize = 21;
-
     /// How many pipelines a device holds.
-    pub const COUNT: usize = Self::SHADERS.len();
-
-    /// Descriptor sets are indexed by pipeline, then come the sets of the warps' second
-    /// dispatches in one extrapolation, on the shadow layer: the occlusion-motion-vector warp
-    /// driven by the shadow's flow, and the frame's own warp (`surface_layer_set`).
-    pub const SHADOW_WARP_SET: usize = Self::COUNT;
-    const EXTRA_SETS: [usize; 4] = [
-        Self::WARP_OCCLUSION_MOTION,
-        Self::WARP_GBUFFER,
-        Self::WARP_MOTION_VECTOR,
-        Self::WARP_OCCLUSION_MOTION,
-    ];
-
-    /// The set for running the warp pipeline `warp_index` on the shadow layer.
-    pub fn surface_layer_set(warp_index: usize) -> usize {
-        Self::COUNT
-            + match warp_index {
-                Self::WARP_GBUFFER => 1,
-                Self::WARP_MOTION_VECTOR => 2,
-                _ => 3,
-            }
-    }
-
-    const SHADERS: [shaders::ShaderInfo; 22] = [
-        shaders::demodulate::SHADER,
-        shaders::pack_gbuffer::SHADER,
-        shaders::warp_gbuffer::SHADER,
-        shaders::warp_motion_vector::SHADER,
-        shaders::warp_occlusion_motion::SHADER,
-        shaders::object_bounds::SHADER,
-        shaders::grow_regions::SHADER,
-        shaders::region_masks::SHADER,
-        shaders::lbp::SHADER,
-        shaders::remodulate::SHADER,
-        shaders::write_diagnostics::SHADER,
-        shaders::separate_shadows::SHADER,
-        shaders::shadow_pyramid::SHADER,
-        shaders::shadow_poly::SHADER,
-        shaders::shadow_flow_matrices::SHADER,
-        shaders::shadow_flow_rows::SHADER,
-        shaders::shadow_flow_solve::SHADER,
-        shaders::write_shadow_diagnostics::SHADER,
-        shaders::shadow_flow_upsample::SHADER,
-        shaders::plan_patches::SHADER,
-        shaders::blend_patches::SHADER,
-        shaders::pack_output::SHADER,
-    ];
+    pub const COUNT: usize = TABLE.len();
 
     fn new(gpu: &Gpu) -> Result<Self> {
         let mut pipelines = Self {
             built: Vec::new(),
             device: gpu.device.clone(),
         };
-        for shader in Self::SHADERS {
-            pipelines.built.push(ComputePipeline::new(gpu, shader)?);
+        for (shader, _) in TABLE {
+            pipelines.built.push(ComputePipeline::new(gpu, *shader)?);
         }
         Ok(pipelines)
     }
@@ -163,29 +140,45 @@ impl Pipelines {
         Ok(pipelines)
     }
 
-    pub fn get(&self, index: usize) -> &ComputePipeline {
-        &self.built[index]
+    pub fn get(&self, id: PipelineId) -> &ComputePipeline {
+        &self.built[id as usize]
     }
 
-    /// In the order of the index constants.
+    /// In `PipelineId` order.
     pub fn all(&self) -> &[ComputePipeline] {
         &self.built
     }
 
-    /// The index of a (validated) warp kind's pipeline.
-    pub fn warp(kind: PatchexWarpKind) -> usize {
+    /// The pipeline of a (validated) warp kind.
+    pub fn warp(kind: PatchexWarpKind) -> PipelineId {
         match kind {
-            PATCHEX_WARP_MOTION_VECTOR => Self::WARP_MOTION_VECTOR,
-            PATCHEX_WARP_OCCLUSION_MOTION_VECTOR => Self::WARP_OCCLUSION_MOTION,
-            _ => Self::WARP_GBUFFER,
+            PATCHEX_WARP_MOTION_VECTOR => PipelineId::WarpMotionVector,
+            PATCHEX_WARP_OCCLUSION_MOTION_VECTOR => PipelineId::WarpOcclusionMotion,
+            _ => PipelineId::WarpGbuffer,
         }
+    }
+
+    /// Where the `n`th set of `id` sits among one region's sets.
+    fn set_index(id: PipelineId, n: usize) -> usize {
+        let (_, sets) = TABLE[id as usize];
+        assert!(
+            n < sets,
+            "{id:?} has {sets} descriptor sets a region, not {}",
+            n + 1
+        );
+        TABLE[..id as usize]
+            .iter()
+            .map(|(_, sets)| sets)
+            .sum::<usize>()
+            + n
     }
 
     /// The pipeline of each descriptor set a region uses, in set order.
     fn set_owners(&self) -> impl Iterator<Item = &ComputePipeline> {
         self.built
             .iter()
-            .chain(Self::EXTRA_SETS.iter().map(|&index| &self.built[index]))
+            .zip(TABLE)
+            .flat_map(|(pipeline, (_, sets))| std::iter::repeat_n(pipeline, *sets))
     }
 
     /// The layout of each descriptor set a region uses, in set order.
@@ -203,6 +196,32 @@ impl Drop for Pipelines {
     fn drop(&mut self) {
         for pipeline in &mut self.built {
             pipeline.destroy(&self.device);
+        }
+    }
+}
+
+/// The pipelines with one region's descriptor sets in the frame ring: what a call's passes
+/// record with.
+pub struct RegionPasses<'a> {
+    pub pipelines: &'a Pipelines,
+    pub ring: &'a FrameRing,
+    pub slot: usize,
+    pub region: usize,
+}
+
+impl<'a> RegionPasses<'a> {
+    /// `id` with its first set.
+    pub fn get(&self, id: PipelineId) -> Pass<'a> {
+        self.nth(id, 0)
+    }
+
+    /// `id` with its `n`th set, for its `n`th dispatch with other resources in the region.
+    pub fn nth(&self, id: PipelineId, n: usize) -> Pass<'a> {
+        Pass {
+            pipeline: self.pipelines.get(id),
+            set: self
+                .ring
+                .descriptor_set(self.slot, self.region, Pipelines::set_index(id, n)),
         }
     }
 }

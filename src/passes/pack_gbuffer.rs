@@ -11,7 +11,7 @@ use crate::passes::Texture;
 use crate::shaders::pack_gbuffer::{binding, Params};
 use crate::vk::buffer::CounterRange;
 use crate::vk::image::OwnedImage;
-use crate::vk::pipeline::{ComputePipeline, DescriptorWrites};
+use crate::vk::recorder::{Pass, Recorder};
 
 pub struct PackInputs {
     pub depth: Texture,
@@ -55,12 +55,9 @@ pub fn params(
     }
 }
 
-#[allow(clippy::too_many_arguments)]
 pub fn record(
-    pipeline: &ComputePipeline,
-    device: &ash::Device,
-    cmd: vk::CommandBuffer,
-    set: vk::DescriptorSet,
+    rec: &mut Recorder,
+    pass: Pass,
     extent: vk::Extent2D,
     camera: &Camera,
     inputs: &PackInputs,
@@ -68,28 +65,16 @@ pub fn record(
 ) {
     let stencil = inputs.stencil.unwrap_or(inputs.placeholder_uint);
     let motion = inputs.motion.unwrap_or(inputs.placeholder);
-    DescriptorWrites::new(pipeline)
-        .image(binding::DEPTH, inputs.depth.view, inputs.depth.layout)
-        .image(binding::NORMAL, inputs.normal.view, inputs.normal.layout)
-        .image(binding::STENCIL, stencil.view, stencil.layout)
-        .image(
-            binding::GEOMETRY,
-            outputs.geometry.view,
-            vk::ImageLayout::GENERAL,
-        )
-        .image(
-            binding::NORMAL_ID,
-            outputs.normal_id.view,
-            vk::ImageLayout::GENERAL,
-        )
-        .image(binding::MOTION, motion.view, motion.layout)
-        .buffer(
-            binding::COUNTERS,
-            outputs.counters.buffer,
-            outputs.counters.offset,
-            outputs.counters.range,
-        )
-        .update(device, set);
+    let bound = rec.bind(pass, |writes| {
+        writes
+            .image(binding::DEPTH, inputs.depth)
+            .image(binding::NORMAL, inputs.normal)
+            .image(binding::STENCIL, stencil)
+            .image(binding::GEOMETRY, outputs.geometry)
+            .image(binding::NORMAL_ID, outputs.normal_id)
+            .image(binding::MOTION, motion)
+            .buffer(binding::COUNTERS, &outputs.counters)
+    });
     let params = params(
         camera,
         extent,
@@ -97,5 +82,5 @@ pub fn record(
         inputs.stencil.is_some(),
         inputs.motion.is_some(),
     );
-    pipeline.dispatch(device, cmd, set, &params, extent);
+    rec.dispatch(&bound, &params, extent);
 }

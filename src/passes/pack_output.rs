@@ -4,9 +4,8 @@
 use ash::vk;
 
 use crate::shaders::pack_output::{binding, Params};
-use crate::vk::barriers;
 use crate::vk::image::{ImportedImage, OwnedImage};
-use crate::vk::pipeline::{ComputePipeline, DescriptorWrites};
+use crate::vk::recorder::{Pass, Recorder};
 
 /// How one 32-bit output format lays out a texel.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -65,25 +64,18 @@ pub struct Packing<'a> {
     pub output: &'a ImportedImage,
 }
 
-pub fn record(
-    pipeline: &ComputePipeline,
-    device: &ash::Device,
-    cmd: vk::CommandBuffer,
-    set: vk::DescriptorSet,
-    extent: vk::Extent2D,
-    packing: &Packing,
-) {
+pub fn record(rec: &mut Recorder, pass: Pass, extent: vk::Extent2D, packing: &Packing) {
     let Packing {
         encoding,
         frame,
         packed,
         output,
     } = packing;
-    let general = vk::ImageLayout::GENERAL;
-    DescriptorWrites::new(pipeline)
-        .image(binding::FRAME, frame.view, general)
-        .image(binding::PACKED, packed.view, general)
-        .update(device, set);
+    let bound = rec.bind(pass, |writes| {
+        writes
+            .image(binding::FRAME, *frame)
+            .image(binding::PACKED, *packed)
+    });
     let params = Params {
         bits: encoding.bits,
         shifts: encoding.shifts,
@@ -91,47 +83,6 @@ pub fn record(
         srgb: encoding.srgb as u32,
         unsigned_float: encoding.unsigned_float as u32,
     };
-    pipeline.dispatch(device, cmd, set, &params, extent);
-    barriers::owned_for_copy(device, cmd, packed, false);
-    copy_packed(device, cmd, packed, output, extent);
-    barriers::owned_for_copy(device, cmd, packed, true);
-}
-
-/// Copies the frame's extent of the packed texels (TRANSFER_SRC_OPTIMAL) into the engine's `to`
-/// (TRANSFER_DST_OPTIMAL). Both formats have 32-bit texels, so the copy moves bits unchanged.
-fn copy_packed(
-    device: &ash::Device,
-    cmd: vk::CommandBuffer,
-    packed: &OwnedImage,
-    to: &ImportedImage,
-    extent: vk::Extent2D,
-) {
-    let layer = vk::ImageSubresourceLayers {
-        aspect_mask: vk::ImageAspectFlags::COLOR,
-        mip_level: 0,
-        base_array_layer: 0,
-        layer_count: 1,
-    };
-    let region = vk::ImageCopy {
-        src_subresource: layer,
-        src_offset: vk::Offset3D::default(),
-        dst_subresource: layer,
-        dst_offset: vk::Offset3D::default(),
-        extent: vk::Extent3D {
-            width: extent.width,
-            height: extent.height,
-            depth: 1,
-        },
-    };
-    // SAFETY: cmd is recording; both images are live, in the layouts named, of one texel size.
-    unsafe {
-        device.cmd_copy_image(
-            cmd,
-            packed.image,
-            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-            to.image,
-            vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-            &[region],
-        );
-    }
+    rec.dispatch(&bound, &params, extent);
+    rec.copy(packed, output, extent);
 }

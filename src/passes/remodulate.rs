@@ -7,7 +7,7 @@ use ash::vk;
 
 use crate::passes::{CounterRange, Texture};
 use crate::shaders::remodulate::{binding, Params};
-use crate::vk::pipeline::{ComputePipeline, DescriptorWrites};
+use crate::vk::recorder::{Pass, Recorder};
 
 pub struct RemodulateInputs {
     pub shading: Texture,
@@ -21,12 +21,9 @@ pub struct RemodulateInputs {
     pub placeholder: Texture,
 }
 
-#[allow(clippy::too_many_arguments)]
 pub fn record(
-    pipeline: &ComputePipeline,
-    device: &ash::Device,
-    cmd: vk::CommandBuffer,
-    set: vk::DescriptorSet,
+    rec: &mut Recorder,
+    pass: Pass,
     extent: vk::Extent2D,
     inputs: &RemodulateInputs,
     output: Texture,
@@ -34,37 +31,21 @@ pub fn record(
 ) {
     let material = inputs.material.unwrap_or(inputs.placeholder);
     let [moved_layer, surface_layer] = inputs.shadow_layers.unwrap_or([inputs.placeholder; 2]);
-    DescriptorWrites::new(pipeline)
-        .image(binding::SHADING, inputs.shading.view, inputs.shading.layout)
-        .image(
-            binding::BASE_COLOR,
-            inputs.base_color.view,
-            inputs.base_color.layout,
-        )
-        .image(binding::MATERIAL, material.view, material.layout)
-        .image(binding::MOVED_LAYER, moved_layer.view, moved_layer.layout)
-        .image(
-            binding::SURFACE_LAYER,
-            surface_layer.view,
-            surface_layer.layout,
-        )
-        .image(
-            binding::TARGET_NORMAL_ID,
-            inputs.target_normal_id.view,
-            inputs.target_normal_id.layout,
-        )
-        .image(binding::OUTPUT, output.view, output.layout)
-        .buffer(
-            binding::COUNTERS,
-            counters.buffer,
-            counters.offset,
-            counters.range,
-        )
-        .update(device, set);
+    let bound = rec.bind(pass, |writes| {
+        writes
+            .image(binding::SHADING, inputs.shading)
+            .image(binding::BASE_COLOR, inputs.base_color)
+            .image(binding::MATERIAL, material)
+            .image(binding::MOVED_LAYER, moved_layer)
+            .image(binding::SURFACE_LAYER, surface_layer)
+            .image(binding::TARGET_NORMAL_ID, inputs.target_normal_id)
+            .image(binding::OUTPUT, output)
+            .buffer(binding::COUNTERS, counters)
+    });
     let params = Params {
         extent: [extent.width, extent.height],
         has_material: inputs.material.is_some() as u32,
         has_shadow_layers: inputs.shadow_layers.is_some() as u32,
     };
-    pipeline.dispatch(device, cmd, set, &params, extent);
+    rec.dispatch(&bound, &params, extent);
 }

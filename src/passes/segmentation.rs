@@ -9,10 +9,9 @@ use crate::abi::*;
 use crate::error::{bail, Result};
 use crate::passes::{CounterRange, Texture};
 use crate::shaders;
-use crate::vk::barriers;
 use crate::vk::buffer::ReadbackBuffer;
 use crate::vk::image::OwnedImage;
-use crate::vk::pipeline::{ComputePipeline, DescriptorWrites};
+use crate::vk::recorder::{Pass, Recorder};
 
 /// Largest growth factor accepted; beyond it every rectangle is the whole screen anyway.
 pub const MAX_GROWTH: f32 = 64.0;
@@ -72,65 +71,41 @@ pub struct SegmentationInputs<'a> {
     pub motion_scale: [f32; 2],
 }
 
-pub struct SegmentationPipelines<'a> {
-    pub object_bounds: &'a ComputePipeline,
-    pub grow_regions: &'a ComputePipeline,
-    pub region_masks: &'a ComputePipeline,
+pub struct SegmentationPasses<'a> {
+    pub object_bounds: Pass<'a>,
+    pub grow_regions: Pass<'a>,
+    pub region_masks: Pass<'a>,
 }
 
-/// Records the three dispatches. The table must be zero-filled and visible to compute.
-#[allow(clippy::too_many_arguments)]
+/// Records the three dispatches. The table must be zero-filled.
 pub fn record(
-    pipelines: &SegmentationPipelines,
-    sets: [vk::DescriptorSet; 3],
-    device: &ash::Device,
-    cmd: vk::CommandBuffer,
+    rec: &mut Recorder,
+    passes: &SegmentationPasses,
     extent: vk::Extent2D,
     settings: &SegmentationSettings,
     inputs: &SegmentationInputs,
     table: &CounterRange,
     regions: &OwnedImage,
 ) {
-    let general = vk::ImageLayout::GENERAL;
     let extent_params = [extent.width, extent.height];
 
     use shaders::object_bounds as bounds;
-    DescriptorWrites::new(pipelines.object_bounds)
-        .image(
-            bounds::binding::TARGET_NORMAL_ID,
-            inputs.target_normal_id.view,
-            general,
-        )
-        .image(
-            bounds::binding::MOTION,
-            inputs.motion.view,
-            inputs.motion.layout,
-        )
-        .buffer(
-            bounds::binding::SEGMENTATION,
-            table.buffer,
-            table.offset,
-            table.range,
-        )
-        .update(device, sets[0]);
+    let object_bounds = rec.bind(passes.object_bounds, |writes| {
+        writes
+            .image(bounds::binding::TARGET_NORMAL_ID, inputs.target_normal_id)
+            .image(bounds::binding::MOTION, inputs.motion)
+            .buffer(bounds::binding::SEGMENTATION, table)
+    });
     let params = bounds::Params {
         extent: extent_params,
         motion_scale: inputs.motion_scale,
     };
-    pipelines
-        .object_bounds
-        .dispatch(device, cmd, sets[0], &params, extent);
-    barriers::compute_to_compute(device, cmd, false);
+    rec.dispatch(&object_bounds, &params, extent);
 
     use shaders::grow_regions as grow;
-    DescriptorWrites::new(pipelines.grow_regions)
-        .buffer(
-            grow::binding::SEGMENTATION,
-            table.buffer,
-            table.offset,
-            table.range,
-        )
-        .update(device, sets[1]);
+    let grow_regions = rec.bind(passes.grow_regions, |writes| {
+        writes.buffer(grow::binding::SEGMENTATION, table)
+    });
     let params = grow::Params {
         extent: extent_params,
         growth: settings.growth,
@@ -139,32 +114,19 @@ pub fn record(
         width: MAX_OBJECTS as u32,
         height: 1,
     };
-    pipelines
-        .grow_regions
-        .dispatch(device, cmd, sets[1], &params, one_per_object);
-    barriers::compute_to_compute(device, cmd, false);
+    rec.dispatch(&grow_regions, &params, one_per_object);
 
     use shaders::region_masks as masks;
-    DescriptorWrites::new(pipelines.region_masks)
-        .image(
-            masks::binding::TARGET_NORMAL_ID,
-            inputs.target_normal_id.view,
-            general,
-        )
-        .buffer(
-            masks::binding::SEGMENTATION,
-            table.buffer,
-            table.offset,
-            table.range,
-        )
-        .image(masks::binding::REGIONS, regions.view, general)
-        .update(device, sets[2]);
+    let region_masks = rec.bind(passes.region_masks, |writes| {
+        writes
+            .image(masks::binding::TARGET_NORMAL_ID, inputs.target_normal_id)
+            .buffer(masks::binding::SEGMENTATION, table)
+            .image(masks::binding::REGIONS, regions)
+    });
     let params = masks::Params {
         extent: extent_params,
     };
-    pipelines
-        .region_masks
-        .dispatch(device, cmd, sets[2], &params, extent);
+    rec.dispatch(&region_masks, &params, extent);
 }
 
 /// What the host reads back from a finished object table.

@@ -8,7 +8,7 @@ use ash::vk;
 use crate::passes::{CounterRange, Texture};
 use crate::shaders::separate_shadows::{binding, Params};
 use crate::vk::image::OwnedImage;
-use crate::vk::pipeline::{ComputePipeline, DescriptorWrites};
+use crate::vk::recorder::{Pass, Recorder};
 
 pub struct SeparationInputs {
     pub color: Texture,
@@ -28,53 +28,33 @@ pub struct SeparationOutputs<'a> {
     pub flow_mask: &'a OwnedImage,
 }
 
-#[allow(clippy::too_many_arguments)]
 pub fn record(
-    pipeline: &ComputePipeline,
-    device: &ash::Device,
-    cmd: vk::CommandBuffer,
-    set: vk::DescriptorSet,
+    rec: &mut Recorder,
+    pass: Pass,
     extent: vk::Extent2D,
     inputs: &SeparationInputs,
     outputs: &SeparationOutputs,
     counters: &CounterRange,
 ) {
-    let general = vk::ImageLayout::GENERAL;
     let material = inputs.material.unwrap_or(inputs.placeholder);
     let unshadowed = inputs.color_without_dynamic_shadows;
-    DescriptorWrites::new(pipeline)
-        .image(binding::COLOR, inputs.color.view, inputs.color.layout)
-        .image(
-            binding::COLOR_WITHOUT_DYNAMIC_SHADOWS,
-            unshadowed.view,
-            unshadowed.layout,
-        )
-        .image(binding::SHADOW_MASK, inputs.mask.view, inputs.mask.layout)
-        .image(
-            binding::BASE_COLOR,
-            inputs.base_color.view,
-            inputs.base_color.layout,
-        )
-        .image(binding::MATERIAL, material.view, material.layout)
-        .image(binding::SHADING, outputs.shading.view, general)
-        .image(binding::SHADOW_LAYER, outputs.shadow_layer.view, general)
-        .image(binding::FLOW_MASK, outputs.flow_mask.view, general)
-        .image(
-            binding::SOURCE_NORMAL_ID,
-            outputs.source_normal_id.view,
-            general,
-        )
-        .buffer(
-            binding::COUNTERS,
-            counters.buffer,
-            counters.offset,
-            counters.range,
-        )
-        .update(device, set);
+    let bound = rec.bind(pass, |writes| {
+        writes
+            .image(binding::COLOR, inputs.color)
+            .image(binding::COLOR_WITHOUT_DYNAMIC_SHADOWS, unshadowed)
+            .image(binding::SHADOW_MASK, inputs.mask)
+            .image(binding::BASE_COLOR, inputs.base_color)
+            .image(binding::MATERIAL, material)
+            .image(binding::SHADING, outputs.shading)
+            .image(binding::SHADOW_LAYER, outputs.shadow_layer)
+            .image(binding::FLOW_MASK, outputs.flow_mask)
+            .image(binding::SOURCE_NORMAL_ID, outputs.source_normal_id)
+            .buffer(binding::COUNTERS, counters)
+    });
     let params = Params {
         extent: [extent.width, extent.height],
         has_material: inputs.material.is_some() as u32,
         ..Default::default()
     };
-    pipeline.dispatch(device, cmd, set, &params, extent);
+    rec.dispatch(&bound, &params, extent);
 }

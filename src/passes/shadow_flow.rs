@@ -18,9 +18,8 @@ use ash::vk;
 use crate::abi::*;
 use crate::error::{bail, Result};
 use crate::shaders;
-use crate::vk::barriers;
 use crate::vk::image::OwnedImage;
-use crate::vk::pipeline::{ComputePipeline, DescriptorWrites};
+use crate::vk::recorder::{Pass, Recorder};
 
 pub const MAX_LEVELS: u32 = 6;
 pub const MAX_ITERATIONS: u32 = 10;
@@ -194,17 +193,14 @@ pub struct FlowImages<'a> {
     pub flow: &'a OwnedImage,
 }
 
-pub struct FlowPipelines<'a> {
-    pub pyramid: &'a ComputePipeline,
-    pub poly: &'a ComputePipeline,
-    pub matrices: &'a ComputePipeline,
-    pub rows: &'a ComputePipeline,
-    pub solve: &'a ComputePipeline,
-    pub upsample: &'a ComputePipeline,
+pub struct FlowPasses<'a> {
+    pub pyramid: Pass<'a>,
+    pub poly: Pass<'a>,
+    pub matrices: Pass<'a>,
+    pub rows: Pass<'a>,
+    pub solve: Pass<'a>,
+    pub upsample: Pass<'a>,
 }
-
-/// The descriptor sets of the six pipelines, in `FlowPipelines` order.
-pub type FlowSets = [vk::DescriptorSet; 6];
 
 fn extent_of(level: &Level) -> vk::Extent2D {
     vk::Extent2D {
@@ -214,13 +210,10 @@ fn extent_of(level: &Level) -> vk::Extent2D {
 }
 
 /// Records the mask pyramid and frame t's expansion; then, when `track` (frame t-1's expansion
-/// is there), the flow, or else a zero flow. Frame t's mask must be written and visible.
-#[allow(clippy::too_many_arguments)]
+/// is there), the flow, or else a zero flow.
 pub fn record(
-    pipelines: &FlowPipelines,
-    sets: FlowSets,
-    device: &ash::Device,
-    cmd: vk::CommandBuffer,
+    rec: &mut Recorder,
+    passes: &FlowPasses,
     extent: vk::Extent2D,
     settings: &FlowSettings,
     images: &FlowImages,
@@ -228,54 +221,47 @@ pub fn record(
 ) {
     use shaders::{shadow_flow_matrices as m, shadow_flow_rows as r, shadow_flow_solve as s};
     use shaders::{shadow_flow_upsample as u, shadow_poly as p, shadow_pyramid as y};
-    let general = vk::ImageLayout::GENERAL;
     let (current, previous) = (images.current, 1 - images.current);
-    DescriptorWrites::new(pipelines.pyramid)
-        .image(y::binding::MASK, images.mask.view, general)
-        .image(y::binding::FINER, images.mask_pyramid.view, general)
-        .image(y::binding::LEVEL, images.mask_pyramid.view, general)
-        .update(device, sets[0]);
-    DescriptorWrites::new(pipelines.poly)
-        .image(p::binding::MASK_PYRAMID, images.mask_pyramid.view, general)
-        .image(p::binding::POLY, images.poly[current].view, general)
-        .image(p::binding::POLY_XY, images.poly_xy[current].view, general)
-        .update(device, sets[1]);
-    DescriptorWrites::new(pipelines.matrices)
-        .image(m::binding::POLY_CURRENT, images.poly[current].view, general)
-        .image(
-            m::binding::POLY_XY_CURRENT,
-            images.poly_xy[current].view,
-            general,
-        )
-        .image(
-            m::binding::POLY_PREVIOUS,
-            images.poly[previous].view,
-            general,
-        )
-        .image(
-            m::binding::POLY_XY_PREVIOUS,
-            images.poly_xy[previous].view,
-            general,
-        )
-        .image(m::binding::FLOW, images.flow_pyramid.view, general)
-        .image(m::binding::EQUATIONS, images.equations.view, general)
-        .image(m::binding::EQUATIONS_H2, images.equations_h2.view, general)
-        .update(device, sets[2]);
-    DescriptorWrites::new(pipelines.rows)
-        .image(r::binding::EQUATIONS, images.equations.view, general)
-        .image(r::binding::EQUATIONS_H2, images.equations_h2.view, general)
-        .image(r::binding::ROWS, images.rows.view, general)
-        .image(r::binding::ROWS_H2, images.rows_h2.view, general)
-        .update(device, sets[3]);
-    DescriptorWrites::new(pipelines.solve)
-        .image(s::binding::ROWS, images.rows.view, general)
-        .image(s::binding::ROWS_H2, images.rows_h2.view, general)
-        .image(s::binding::FLOW, images.flow_pyramid.view, general)
-        .update(device, sets[4]);
-    DescriptorWrites::new(pipelines.upsample)
-        .image(u::binding::FLOW_PYRAMID, images.flow_pyramid.view, general)
-        .image(u::binding::FLOW, images.flow.view, general)
-        .update(device, sets[5]);
+    let mask_pyramid = rec.bind(passes.pyramid, |writes| {
+        writes
+            .image(y::binding::MASK, images.mask)
+            .image(y::binding::FINER, images.mask_pyramid)
+            .image(y::binding::LEVEL, images.mask_pyramid)
+    });
+    let poly = rec.bind(passes.poly, |writes| {
+        writes
+            .image(p::binding::MASK_PYRAMID, images.mask_pyramid)
+            .image(p::binding::POLY, images.poly[current])
+            .image(p::binding::POLY_XY, images.poly_xy[current])
+    });
+    let matrices = rec.bind(passes.matrices, |writes| {
+        writes
+            .image(m::binding::POLY_CURRENT, images.poly[current])
+            .image(m::binding::POLY_XY_CURRENT, images.poly_xy[current])
+            .image(m::binding::POLY_PREVIOUS, images.poly[previous])
+            .image(m::binding::POLY_XY_PREVIOUS, images.poly_xy[previous])
+            .image(m::binding::FLOW, images.flow_pyramid)
+            .image(m::binding::EQUATIONS, images.equations)
+            .image(m::binding::EQUATIONS_H2, images.equations_h2)
+    });
+    let rows = rec.bind(passes.rows, |writes| {
+        writes
+            .image(r::binding::EQUATIONS, images.equations)
+            .image(r::binding::EQUATIONS_H2, images.equations_h2)
+            .image(r::binding::ROWS, images.rows)
+            .image(r::binding::ROWS_H2, images.rows_h2)
+    });
+    let solve = rec.bind(passes.solve, |writes| {
+        writes
+            .image(s::binding::ROWS, images.rows)
+            .image(s::binding::ROWS_H2, images.rows_h2)
+            .image(s::binding::FLOW, images.flow_pyramid)
+    });
+    let upsample = rec.bind(passes.upsample, |writes| {
+        writes
+            .image(u::binding::FLOW_PYRAMID, images.flow_pyramid)
+            .image(u::binding::FLOW, images.flow)
+    });
 
     let levels = pyramid(flow_extent(extent), settings.levels);
     let frame = Level {
@@ -293,35 +279,18 @@ pub fn record(
             from_mask: finer.is_none() as u32,
             ..Default::default()
         };
-        pipelines
-            .pyramid
-            .dispatch(device, cmd, sets[0], &params, extent_of(level));
-        barriers::compute_to_compute(device, cmd, false);
+        rec.dispatch(&mask_pyramid, &params, extent_of(level));
     }
-    for level in &levels {
-        let params = settings.poly_params(level);
-        pipelines
-            .poly
-            .dispatch(device, cmd, sets[1], &params, extent_of(level));
-    }
+    // Each level's expansion is its own part of the atlas.
+    let expansions = levels
+        .iter()
+        .map(|level| (settings.poly_params(level), extent_of(level)));
+    rec.dispatch_each(&poly, expansions);
     if !track {
         // No frame t-1 to track from: the shadow stays where it is.
-        barriers::compute_to_transfer(device, cmd);
-        let zero = vk::ClearColorValue { float32: [0.0; 4] };
-        // SAFETY: cmd is recording; the flow image is in GENERAL and has TRANSFER_DST usage.
-        unsafe {
-            device.cmd_clear_color_image(
-                cmd,
-                images.flow.image,
-                general,
-                &zero,
-                &[crate::vk::image::COLOR_SUBRESOURCE],
-            );
-        }
-        barriers::compute_to_compute(device, cmd, true);
+        rec.clear(images.flow);
         return;
     }
-    barriers::compute_to_compute(device, cmd, false);
     let radius = settings.window_radius as i32;
     for (index, level) in levels.iter().enumerate().rev() {
         for iteration in 0..settings.iterations {
@@ -339,30 +308,21 @@ pub fn record(
                 has_prior: prior.is_some() as u32,
                 regularization: REGULARIZATION,
             };
-            pipelines
-                .matrices
-                .dispatch(device, cmd, sets[2], &params, extent_of(level));
-            barriers::compute_to_compute(device, cmd, false);
+            rec.dispatch(&matrices, &params, extent_of(level));
             let params = r::Params {
                 level_offset: level.offset,
                 level_size: level.size,
                 radius,
                 ..Default::default()
             };
-            pipelines
-                .rows
-                .dispatch(device, cmd, sets[3], &params, extent_of(level));
-            barriers::compute_to_compute(device, cmd, false);
+            rec.dispatch(&rows, &params, extent_of(level));
             let params = s::Params {
                 level_offset: level.offset,
                 level_size: level.size,
                 radius,
                 ..Default::default()
             };
-            pipelines
-                .solve
-                .dispatch(device, cmd, sets[4], &params, extent_of(level));
-            barriers::compute_to_compute(device, cmd, false);
+            rec.dispatch(&solve, &params, extent_of(level));
         }
     }
     let params = u::Params {
@@ -370,7 +330,5 @@ pub fn record(
         level_offset: levels[0].offset,
         level_size: levels[0].size,
     };
-    pipelines
-        .upsample
-        .dispatch(device, cmd, sets[5], &params, extent);
+    rec.dispatch(&upsample, &params, extent);
 }

@@ -14,7 +14,7 @@ use crate::shaders::warp_gbuffer::binding;
 /// The three warps' shared parameter block.
 pub use crate::shaders::warp_gbuffer::Params;
 use crate::vk::image::OwnedImage;
-use crate::vk::pipeline::{ComputePipeline, DescriptorWrites};
+use crate::vk::recorder::{Pass, Recorder};
 
 pub const MAX_KERNEL_RADIUS: u32 = 3;
 pub const MAX_OCCLUSION_SEARCH_RADIUS: u32 = 16;
@@ -185,52 +185,28 @@ pub const OFFSCREEN_PIXELS_OFFSET: u64 = 4;
 pub const LARGEST_MOTION_OFFSET: u64 = 8;
 pub const COUNTER_BYTES: u64 = 12;
 
-#[allow(clippy::too_many_arguments)]
 pub fn record(
-    pipeline: &ComputePipeline,
-    device: &ash::Device,
-    cmd: vk::CommandBuffer,
-    set: vk::DescriptorSet,
+    rec: &mut Recorder,
+    pass: Pass,
     params: &Params,
     inputs: &WarpInputs,
     warped: &OwnedImage,
     counters: &CounterRange,
 ) {
-    let general = vk::ImageLayout::GENERAL;
-    DescriptorWrites::new(pipeline)
-        .image(binding::SOURCE_SHADING, inputs.source_shading.view, general)
-        .image(
-            binding::SOURCE_GEOMETRY,
-            inputs.source_geometry.view,
-            general,
-        )
-        .image(
-            binding::SOURCE_NORMAL_ID,
-            inputs.source_normal_id.view,
-            general,
-        )
-        .image(
-            binding::TARGET_GEOMETRY,
-            inputs.target_geometry.view,
-            general,
-        )
-        .image(
-            binding::TARGET_NORMAL_ID,
-            inputs.target_normal_id.view,
-            general,
-        )
-        .image(binding::MOTION, inputs.motion.view, inputs.motion.layout)
-        .image(binding::WARPED, warped.view, general)
-        .buffer(
-            binding::COUNTERS,
-            counters.buffer,
-            counters.offset,
-            counters.range,
-        )
-        .update(device, set);
+    let bound = rec.bind(pass, |writes| {
+        writes
+            .image(binding::SOURCE_SHADING, inputs.source_shading)
+            .image(binding::SOURCE_GEOMETRY, inputs.source_geometry)
+            .image(binding::SOURCE_NORMAL_ID, inputs.source_normal_id)
+            .image(binding::TARGET_GEOMETRY, inputs.target_geometry)
+            .image(binding::TARGET_NORMAL_ID, inputs.target_normal_id)
+            .image(binding::MOTION, inputs.motion)
+            .image(binding::WARPED, warped)
+            .buffer(binding::COUNTERS, counters)
+    });
     let extent = vk::Extent2D {
         width: params.extent[0],
         height: params.extent[1],
     };
-    pipeline.dispatch(device, cmd, set, params, extent);
+    rec.dispatch(&bound, params, extent);
 }

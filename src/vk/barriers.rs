@@ -45,6 +45,7 @@ impl EngineImageAccess {
     pub fn read(&mut self, image: &ImportedImage) -> Result<Texture> {
         let layout = self.read_layout(image)?;
         Ok(Texture {
+            image: image.image,
             view: image.view,
             layout,
         })
@@ -111,6 +112,7 @@ impl EngineImageAccess {
             access,
         });
         Ok(Texture {
+            image: image.image,
             view: image.view,
             layout: layout_in_pass,
         })
@@ -183,69 +185,30 @@ fn barrier(image: &ImportedImage) -> vk::ImageMemoryBarrier<'static> {
         })
 }
 
-/// Orders the plugin's own reads and writes: everything a compute pass (of this call or an
-/// earlier one) wrote is visible to the next pass, and nothing is overwritten while an earlier
-/// pass still reads it. `from_transfer` also covers vkCmdFillBuffer/vkCmdResetQueryPool.
-pub fn compute_to_compute(device: &ash::Device, cmd: vk::CommandBuffer, from_transfer: bool) {
-    let mut src_stages = vk::PipelineStageFlags::COMPUTE_SHADER;
-    let mut src_access = vk::AccessFlags::SHADER_WRITE;
-    if from_transfer {
-        src_stages |= vk::PipelineStageFlags::TRANSFER;
-        src_access |= vk::AccessFlags::TRANSFER_WRITE;
-    }
+/// Makes what commands in `src_stages` wrote (`written`) visible to commands in `dst_stages`,
+/// and orders their reads before later writes. The recorder places it (`vk::recorder`).
+pub fn memory(
+    device: &ash::Device,
+    cmd: vk::CommandBuffer,
+    src_stages: vk::PipelineStageFlags,
+    written: vk::AccessFlags,
+    dst_stages: vk::PipelineStageFlags,
+) {
     let memory = vk::MemoryBarrier::default()
-        .src_access_mask(src_access)
-        .dst_access_mask(vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE);
-    // SAFETY: cmd is recording.
-    unsafe {
-        device.cmd_pipeline_barrier(
-            cmd,
-            src_stages,
-            vk::PipelineStageFlags::COMPUTE_SHADER,
-            vk::DependencyFlags::empty(),
-            &[memory],
-            &[],
-            &[],
-        );
-    }
-}
-
-/// As `compute_to_compute`, when the next passes also read what was written as indirect
-/// dispatch arguments (the networks' patch records).
-pub fn compute_to_indirect(device: &ash::Device, cmd: vk::CommandBuffer) {
-    let memory = vk::MemoryBarrier::default()
-        .src_access_mask(vk::AccessFlags::SHADER_WRITE)
+        .src_access_mask(written)
         .dst_access_mask(
             vk::AccessFlags::SHADER_READ
                 | vk::AccessFlags::SHADER_WRITE
+                | vk::AccessFlags::TRANSFER_READ
+                | vk::AccessFlags::TRANSFER_WRITE
                 | vk::AccessFlags::INDIRECT_COMMAND_READ,
         );
     // SAFETY: cmd is recording.
     unsafe {
         device.cmd_pipeline_barrier(
             cmd,
-            vk::PipelineStageFlags::COMPUTE_SHADER,
-            vk::PipelineStageFlags::COMPUTE_SHADER | vk::PipelineStageFlags::DRAW_INDIRECT,
-            vk::DependencyFlags::empty(),
-            &[memory],
-            &[],
-            &[],
-        )
-    };
-}
-
-/// Orders earlier compute reads and writes before transfer writes of the same call (the fill
-/// that clears counters an earlier extrapolation of this slot may still hold).
-pub fn compute_to_transfer(device: &ash::Device, cmd: vk::CommandBuffer) {
-    let memory = vk::MemoryBarrier::default()
-        .src_access_mask(vk::AccessFlags::SHADER_WRITE)
-        .dst_access_mask(vk::AccessFlags::TRANSFER_WRITE);
-    // SAFETY: cmd is recording.
-    unsafe {
-        device.cmd_pipeline_barrier(
-            cmd,
-            vk::PipelineStageFlags::COMPUTE_SHADER,
-            vk::PipelineStageFlags::TRANSFER,
+            src_stages,
+            dst_stages,
             vk::DependencyFlags::empty(),
             &[memory],
             &[],

@@ -13,7 +13,6 @@ use crate::abi::{
     PATCHEX_STAGE_SLOTS,
 };
 use crate::error::Result;
-use crate::vk::barriers;
 use crate::vk::buffer::{CounterRange, ReadbackBuffer};
 use crate::vk::device::Gpu;
 use crate::vk::image::OwnedImage;
@@ -47,14 +46,14 @@ pub struct FrameRecord {
 }
 
 pub struct FrameSlot {
-    /// One set per (region, pipeline).
+    /// Each region's sets in turn (`Pipelines::set_layouts`).
     sets: Vec<vk::DescriptorSet>,
     pub record: Option<FrameRecord>,
 }
 
 pub struct FrameRing {
     descriptor_pool: vk::DescriptorPool,
-    pipelines_per_region: usize,
+    sets_per_region: usize,
     pub slots: Vec<FrameSlot>,
     pub timer: Option<StageTimer>,
     pub counters: ReadbackBuffer,
@@ -66,8 +65,8 @@ pub struct FrameRing {
 }
 
 impl FrameRing {
-    /// `set_layouts` has one layout per pipeline, `pool_sizes` the descriptors one set of each
-    /// pipeline needs in total; each region has `counter_bytes` of counters.
+    /// Each region has a set of each of `set_layouts` (`pool_sizes` counts their descriptors
+    /// together) and `counter_bytes` of counters.
     pub fn new(
         gpu: &Gpu,
         allocator: &mut Allocator,
@@ -93,7 +92,7 @@ impl FrameRing {
             ReadbackBuffer::new(gpu, allocator, "patchex frame counters", counters_size)?;
         let mut ring = Self {
             descriptor_pool: vk::DescriptorPool::null(),
-            pipelines_per_region: set_layouts.len(),
+            sets_per_region: set_layouts.len(),
             slots: Vec::new(),
             timer: None,
             counters,
@@ -142,8 +141,9 @@ impl FrameRing {
         (serial % self.slots.len() as u64) as usize
     }
 
-    pub fn descriptor_set(&self, slot: usize, region: usize, pipeline: usize) -> vk::DescriptorSet {
-        self.slots[slot].sets[region * self.pipelines_per_region + pipeline]
+    /// Set `set` (`Pipelines::set_index`) of `region` in `slot`.
+    pub fn descriptor_set(&self, slot: usize, region: usize, set: usize) -> vk::DescriptorSet {
+        self.slots[slot].sets[region * self.sets_per_region + set]
     }
 
     /// First query of `stage` in `region` of `slot`.
@@ -170,26 +170,13 @@ impl FrameRing {
         }
     }
 
-    /// Records the zeroing of `region`'s counters in `slot`, after earlier compute work on them.
-    /// The caller orders the fill before the passes that count (`compute_to_compute(.., true)`).
-    pub fn clear_counters(
-        &self,
-        device: &ash::Device,
-        cmd: vk::CommandBuffer,
-        slot: usize,
-        region: usize,
-    ) {
-        barriers::compute_to_transfer(device, cmd);
-        // SAFETY: cmd is recording; the range lies inside the counters buffer.
-        unsafe {
-            device.cmd_fill_buffer(
-                cmd,
-                self.counters.buffer,
-                self.counter_offset(slot, region),
-                self.counter_bytes,
-                0,
-            )
-        };
+    /// All counters of `region` in `slot`, zeroed at the start of its call.
+    pub fn region_counters(&self, slot: usize, region: usize) -> CounterRange {
+        CounterRange {
+            buffer: self.counters.buffer,
+            offset: self.counter_offset(slot, region),
+            range: self.counter_bytes,
+        }
     }
 
     /// Byte offset of the counters of `region` in `slot`.

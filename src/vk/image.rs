@@ -516,6 +516,8 @@ impl OwnedImage {
 /// An image a pass samples: its view and the layout it is in while the pass runs.
 #[derive(Clone, Copy, Debug)]
 pub struct Texture {
+    /// The image, by which passes are ordered.
+    pub image: vk::Image,
     pub view: vk::ImageView,
     pub layout: vk::ImageLayout,
 }
@@ -523,6 +525,7 @@ pub struct Texture {
 impl From<&OwnedImage> for Texture {
     fn from(image: &OwnedImage) -> Self {
         Self {
+            image: image.image,
             view: image.view,
             layout: vk::ImageLayout::GENERAL,
         }

@@ -7,4 +7,5 @@ pub mod device;
 pub mod frame_ring;
 pub mod image;
 pub mod pipeline;
+pub mod recorder;
 pub mod timestamps;

@@ -4,8 +4,11 @@
 use ash::vk;
 
 use crate::error::Result;
-use crate::shaders::{DescriptorKind, PushConstants, ShaderInfo};
+use crate::shaders::{Binding, DescriptorKind, PushConstants, ShaderInfo};
+use crate::vk::buffer::CounterRange;
 use crate::vk::device::Gpu;
+use crate::vk::image::Texture;
+use crate::vk::recorder::{Access, Resource};
 
 pub fn descriptor_type(kind: DescriptorKind) -> vk::DescriptorType {
     match kind {
@@ -125,8 +128,8 @@ impl ComputePipeline {
     }
 
     /// Binds the pipeline, its descriptor set and push constants, and covers `extent` with
-    /// workgroups.
-    pub fn dispatch<P: PushConstants>(
+    /// workgroups. Only `vk::recorder` dispatches, so that every dispatch is ordered.
+    pub(crate) fn dispatch<P: PushConstants>(
         &self,
         device: &ash::Device,
         cmd: vk::CommandBuffer,
@@ -149,7 +152,7 @@ impl ComputePipeline {
 
     /// As `dispatch` (`&()` for a pipeline without push constants), with the workgroup counts
     /// the GPU wrote at `offset` in `args`.
-    pub fn dispatch_indirect<P: PushConstants>(
+    pub(crate) fn dispatch_indirect<P: PushConstants>(
         &self,
         device: &ash::Device,
         cmd: vk::CommandBuffer,
@@ -160,7 +163,7 @@ impl ComputePipeline {
     ) {
         self.bind(device, cmd, set, params);
         // SAFETY: cmd is recording, with this pipeline bound; args holds a
-        // VkDispatchIndirectCommand at offset, made visible by the caller's barrier.
+        // VkDispatchIndirectCommand at offset, made visible by the recorder's barrier.
         unsafe { device.cmd_dispatch_indirect(cmd, args, offset) };
     }
 
@@ -211,7 +214,7 @@ impl ComputePipeline {
     }
 }
 
-enum Resource {
+enum Descriptor {
     Image(vk::DescriptorImageInfo),
     Buffer(vk::DescriptorBufferInfo),
 }
@@ -219,7 +222,7 @@ enum Resource {
 /// The resources of one dispatch, keyed by the binding numbers the shader declares.
 pub struct DescriptorWrites<'a> {
     shader: &'a ShaderInfo,
-    resources: Vec<(u32, Resource)>,
+    resources: Vec<(u32, Descriptor, Resource)>,
 }
 
 impl<'a> DescriptorWrites<'a> {
@@ -230,26 +233,51 @@ impl<'a> DescriptorWrites<'a> {
         }
     }
 
-    pub fn image(mut self, binding: u32, view: vk::ImageView, layout: vk::ImageLayout) -> Self {
+    /// An image, the plugin's (in GENERAL) or the engine's (in its pass layout).
+    pub fn image(mut self, binding: u32, image: impl Into<Texture>) -> Self {
+        let texture = image.into();
         let info = vk::DescriptorImageInfo {
             sampler: vk::Sampler::null(),
-            image_view: view,
-            image_layout: layout,
+            image_view: texture.view,
+            image_layout: texture.layout,
         };
-        self.resources.push((binding, Resource::Image(info)));
+        self.resources.push((
+            binding,
+            Descriptor::Image(info),
+            Resource::Image(texture.image),
+        ));
         self
     }
 
-    pub fn buffer(mut self, binding: u32, buffer: vk::Buffer, offset: u64, range: u64) -> Self {
-        self.resources.push((
-            binding,
-            Resource::Buffer(vk::DescriptorBufferInfo {
-                buffer,
-                offset,
-                range,
-            }),
-        ));
+    pub fn buffer(mut self, binding: u32, range: &CounterRange) -> Self {
+        let info = vk::DescriptorBufferInfo {
+            buffer: range.buffer,
+            offset: range.offset,
+            range: range.range,
+        };
+        self.resources
+            .push((binding, Descriptor::Buffer(info), Resource::range(range)));
         self
+    }
+
+    /// What a dispatch with these descriptors reads and writes, as the shader declares it.
+    pub fn accesses(&self) -> Vec<Access> {
+        self.resources
+            .iter()
+            .map(|(binding, _, resource)| Access {
+                resource: *resource,
+                write: self.declared(*binding).writes,
+                stage: vk::PipelineStageFlags::COMPUTE_SHADER,
+            })
+            .collect()
+    }
+
+    fn declared(&self, binding: u32) -> &Binding {
+        self.shader
+            .bindings
+            .iter()
+            .find(|b| b.binding == binding)
+            .unwrap_or_else(|| panic!("pass {} has no binding {binding}", self.shader.name))
     }
 
     /// Writes every binding of `set`. Panics (a plugin bug, caught at the ABI) if a binding the
@@ -264,22 +292,14 @@ impl<'a> DescriptorWrites<'a> {
         let writes: Vec<_> = self
             .resources
             .iter()
-            .map(|(binding, resource)| {
-                let declared = self
-                    .shader
-                    .bindings
-                    .iter()
-                    .find(|b| b.binding == *binding)
-                    .unwrap_or_else(|| {
-                        panic!("pass {} has no binding {binding}", self.shader.name)
-                    });
+            .map(|(binding, descriptor, _)| {
                 let write = vk::WriteDescriptorSet::default()
                     .dst_set(set)
                     .dst_binding(*binding)
-                    .descriptor_type(descriptor_type(declared.kind));
-                match resource {
-                    Resource::Image(info) => write.image_info(std::slice::from_ref(info)),
-                    Resource::Buffer(info) => write.buffer_info(std::slice::from_ref(info)),
+                    .descriptor_type(descriptor_type(self.declared(*binding).kind));
+                match descriptor {
+                    Descriptor::Image(info) => write.image_info(std::slice::from_ref(info)),
+                    Descriptor::Buffer(info) => write.buffer_info(std::slice::from_ref(info)),
                 }
             })
             .collect();

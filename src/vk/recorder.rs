@@ -1,0 +1,327 @@
+//! Records passes into the engine's command buffer and places every barrier between them.
+//!
+//! A pass does not order itself. What it reads and writes comes from its descriptor writes and
+//! the shader's reflection (a binding the shader may store through is a write; see build.rs).
+//! Before each command the recorder compares what it touches with what the commands since the
+//! last barrier touched, and places one barrier where they conflict: a read or write after a
+//! write, or a write after a read. Commands that do not conflict run side by side, as the
+//! method's sub-tasks do.
+
+use ash::vk;
+
+use crate::abi::PatchexStage;
+use crate::shaders::PushConstants;
+use crate::vk::barriers::{self, EngineImageAccess};
+use crate::vk::buffer::CounterRange;
+use crate::vk::frame_ring::FrameRing;
+use crate::vk::image::{ImportedImage, OwnedImage, COLOR_SUBRESOURCE};
+use crate::vk::pipeline::{ComputePipeline, DescriptorWrites};
+
+/// What a command touches, for ordering.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Resource {
+    /// A whole image (every layer), the plugin's or the engine's.
+    Image(vk::Image),
+    /// Bytes `start..end` of a buffer.
+    Buffer {
+        buffer: vk::Buffer,
+        start: u64,
+        end: u64,
+    },
+    /// Whatever earlier calls, or the engine, did before this call: conflicts with everything.
+    Earlier,
+}
+
+impl Resource {
+    pub fn range(range: &CounterRange) -> Self {
+        Self::Buffer {
+            buffer: range.buffer,
+            start: range.offset,
+            end: range.offset + range.range,
+        }
+    }
+
+    fn overlaps(self, other: Self) -> bool {
+        match (self, other) {
+            (Self::Earlier, _) | (_, Self::Earlier) => true,
+            (Self::Image(a), Self::Image(b)) => a == b,
+            (
+                Self::Buffer { buffer, start, end },
+                Self::Buffer {
+                    buffer: other,
+                    start: other_start,
+                    end: other_end,
+                },
+            ) => buffer == other && start < other_end && other_start < end,
+            _ => false,
+        }
+    }
+}
+
+/// One resource a command reads or writes, in a pipeline stage.
+#[derive(Clone, Copy, Debug)]
+pub struct Access {
+    pub resource: Resource,
+    pub write: bool,
+    pub stage: vk::PipelineStageFlags,
+}
+
+/// A pass's pipeline and the descriptor set it uses in this region.
+#[derive(Clone, Copy)]
+pub struct Pass<'a> {
+    pub pipeline: &'a ComputePipeline,
+    pub set: vk::DescriptorSet,
+}
+
+/// A pass with its descriptor set written: what it reads and writes is known.
+pub struct Bound<'a> {
+    pass: Pass<'a>,
+    accesses: Vec<Access>,
+}
+
+/// Every stage the barriers make earlier work visible to: the passes, the transfers (clears,
+/// fills, copies) and the indirect dispatches' arguments.
+const LATER_STAGES: vk::PipelineStageFlags = vk::PipelineStageFlags::from_raw(
+    vk::PipelineStageFlags::COMPUTE_SHADER.as_raw()
+        | vk::PipelineStageFlags::TRANSFER.as_raw()
+        | vk::PipelineStageFlags::DRAW_INDIRECT.as_raw(),
+);
+
+/// Timestamps around each stage of one region of the frame ring.
+struct StageTimes<'a> {
+    ring: &'a FrameRing,
+    slot: usize,
+    region: usize,
+}
+
+/// The commands of one call (a submit or an extrapolation) in the engine's command buffer.
+pub struct Recorder<'a> {
+    device: &'a ash::Device,
+    cmd: vk::CommandBuffer,
+    /// Accesses since the last barrier.
+    pending: Vec<Access>,
+    times: Option<StageTimes<'a>>,
+    stages: Vec<PatchexStage>,
+}
+
+impl<'a> Recorder<'a> {
+    /// Starts recording into `cmd`, after whatever was recorded there before: the first command
+    /// that touches anything waits for it.
+    pub fn new(device: &'a ash::Device, cmd: vk::CommandBuffer) -> Self {
+        Self {
+            device,
+            cmd,
+            pending: vec![Access {
+                resource: Resource::Earlier,
+                write: true,
+                stage: vk::PipelineStageFlags::COMPUTE_SHADER | vk::PipelineStageFlags::TRANSFER,
+            }],
+            times: None,
+            stages: Vec::new(),
+        }
+    }
+
+    /// Times each `stage` into `region` of `slot` in the ring's queries (when the device has
+    /// timestamps), resetting them first.
+    pub fn timed(mut self, ring: &'a FrameRing, slot: usize, region: usize) -> Self {
+        if let Some(timer) = &ring.timer {
+            let (first, count) = ring.region_queries(slot, region);
+            timer.reset(self.device, self.cmd, first, count);
+        }
+        self.times = Some(StageTimes { ring, slot, region });
+        self
+    }
+
+    /// Moves plugin images no command buffer has used yet to GENERAL.
+    pub fn initialize(&mut self, images: &mut [&mut OwnedImage]) {
+        barriers::initialize_owned(self.device, self.cmd, images);
+    }
+
+    /// Waits for the engine's work on its images and moves them to their pass layouts.
+    pub fn acquire(&mut self, engine: &EngineImageAccess) {
+        engine.acquire(self.device, self.cmd);
+    }
+
+    /// Records the commands of `stage`, with a timestamp before and after.
+    pub fn stage(&mut self, stage: PatchexStage, record: impl FnOnce(&mut Self)) {
+        let query = self.times.as_ref().and_then(|t| {
+            Some((
+                t.ring.timer.as_ref()?,
+                t.ring.query(t.slot, t.region, stage),
+            ))
+        });
+        if let Some((timer, query)) = query {
+            timer.write(self.device, self.cmd, query, false);
+        }
+        record(self);
+        if let Some((timer, query)) = query {
+            timer.write(self.device, self.cmd, query, true);
+        }
+        self.stages.push(stage);
+    }
+
+    /// Writes `pass`'s descriptor set with what `writes` binds; the pass's accesses are the
+    /// bindings' resources.
+    pub fn bind<'p>(
+        &mut self,
+        pass: Pass<'p>,
+        writes: impl FnOnce(DescriptorWrites<'p>) -> DescriptorWrites<'p>,
+    ) -> Bound<'p> {
+        let writes = writes(DescriptorWrites::new(pass.pipeline));
+        let accesses = writes.accesses();
+        writes.update(self.device, pass.set);
+        Bound { pass, accesses }
+    }
+
+    /// One dispatch of `bound` covering `extent`.
+    pub fn dispatch<P: PushConstants>(&mut self, bound: &Bound, params: &P, extent: vk::Extent2D) {
+        self.dispatch_each(bound, [(*params, extent)]);
+    }
+
+    /// Dispatches of `bound` that do not depend on one another (each writes its own part of the
+    /// images), recorded without a barrier between them.
+    pub fn dispatch_each<P: PushConstants>(
+        &mut self,
+        bound: &Bound,
+        dispatches: impl IntoIterator<Item = (P, vk::Extent2D)>,
+    ) {
+        self.order(&bound.accesses);
+        let Pass { pipeline, set } = bound.pass;
+        for (params, extent) in dispatches {
+            pipeline.dispatch(self.device, self.cmd, set, &params, extent);
+        }
+    }
+
+    /// A dispatch of `bound` with the workgroup counts the GPU wrote into `args` (a
+    /// VkDispatchIndirectCommand).
+    pub fn dispatch_indirect<P: PushConstants>(
+        &mut self,
+        bound: &Bound,
+        params: &P,
+        args: &CounterRange,
+    ) {
+        let mut accesses = bound.accesses.clone();
+        accesses.push(Access {
+            resource: Resource::range(args),
+            write: false,
+            stage: vk::PipelineStageFlags::DRAW_INDIRECT,
+        });
+        self.order(&accesses);
+        let Pass { pipeline, set } = bound.pass;
+        pipeline.dispatch_indirect(self.device, self.cmd, set, params, args.buffer, args.offset);
+    }
+
+    /// Zeroes `range` (counters before the passes that count into them).
+    pub fn fill_zero(&mut self, range: &CounterRange) {
+        self.order(&[transfer_write(Resource::range(range))]);
+        // SAFETY: cmd is recording; the range lies inside the buffer, which has TRANSFER_DST.
+        unsafe {
+            self.device
+                .cmd_fill_buffer(self.cmd, range.buffer, range.offset, range.range, 0)
+        };
+    }
+
+    /// Clears a plugin image (in GENERAL, with TRANSFER_DST usage) to zero.
+    pub fn clear(&mut self, image: &OwnedImage) {
+        self.order(&[transfer_write(Resource::Image(image.image))]);
+        let zero = vk::ClearColorValue { float32: [0.0; 4] };
+        // SAFETY: cmd is recording; the image is in GENERAL and has TRANSFER_DST usage.
+        unsafe {
+            self.device.cmd_clear_color_image(
+                self.cmd,
+                image.image,
+                vk::ImageLayout::GENERAL,
+                &zero,
+                &[COLOR_SUBRESOURCE],
+            );
+        }
+    }
+
+    /// Copies `extent` of a plugin image a pass wrote into an engine image of the same texel
+    /// size, acquired for a transfer write; the plugin image returns to GENERAL after.
+    pub fn copy(&mut self, from: &OwnedImage, to: &ImportedImage, extent: vk::Extent2D) {
+        // The layout change waits for the pass that wrote `from` by itself.
+        self.order(&[transfer_write(Resource::Image(to.image))]);
+        barriers::owned_for_copy(self.device, self.cmd, from, false);
+        let layer = vk::ImageSubresourceLayers {
+            aspect_mask: vk::ImageAspectFlags::COLOR,
+            mip_level: 0,
+            base_array_layer: 0,
+            layer_count: 1,
+        };
+        let region = vk::ImageCopy {
+            src_subresource: layer,
+            src_offset: vk::Offset3D::default(),
+            dst_subresource: layer,
+            dst_offset: vk::Offset3D::default(),
+            extent: vk::Extent3D {
+                width: extent.width,
+                height: extent.height,
+                depth: 1,
+            },
+        };
+        // SAFETY: cmd is recording; both images are live, in the layouts named, of one texel
+        // size, so the copy moves bits unchanged.
+        unsafe {
+            self.device.cmd_copy_image(
+                self.cmd,
+                from.image,
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                to.image,
+                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                &[region],
+            );
+        }
+        barriers::owned_for_copy(self.device, self.cmd, from, true);
+    }
+
+    /// Ends the call: the counters become readable by the host after the engine's fence, and
+    /// the engine's images return to their layouts. Returns the stages recorded.
+    pub fn finish(self, engine: &EngineImageAccess) -> Vec<PatchexStage> {
+        barriers::compute_to_host(self.device, self.cmd);
+        engine.release(self.device, self.cmd);
+        self.stages
+    }
+
+    /// Places a barrier before a command with `accesses` when it conflicts with a command
+    /// since the last one.
+    fn order(&mut self, accesses: &[Access]) {
+        let conflicts = accesses.iter().any(|next| {
+            self.pending.iter().any(|earlier| {
+                (earlier.write || next.write) && earlier.resource.overlaps(next.resource)
+            })
+        });
+        if conflicts {
+            let mut stages = vk::PipelineStageFlags::empty();
+            let mut written = vk::AccessFlags::empty();
+            for earlier in self.pending.drain(..) {
+                stages |= earlier.stage;
+                if earlier.write {
+                    written |= write_access(earlier.stage);
+                }
+            }
+            barriers::memory(self.device, self.cmd, stages, written, LATER_STAGES);
+        }
+        self.pending.extend_from_slice(accesses);
+    }
+}
+
+fn transfer_write(resource: Resource) -> Access {
+    Access {
+        resource,
+        write: true,
+        stage: vk::PipelineStageFlags::TRANSFER,
+    }
+}
+
+/// The write access of commands in `stages`.
+fn write_access(stages: vk::PipelineStageFlags) -> vk::AccessFlags {
+    let mut access = vk::AccessFlags::empty();
+    if stages.contains(vk::PipelineStageFlags::COMPUTE_SHADER) {
+        access |= vk::AccessFlags::SHADER_WRITE;
+    }
+    if stages.contains(vk::PipelineStageFlags::TRANSFER) {
+        access |= vk::AccessFlags::TRANSFER_WRITE;
+    }
+    access
+}
