@@ -1,6 +1,7 @@
 //! Vulkan on the engine's terms: its device through its own function pointers, its images
 //! borrowed per call, and the plugin's own resources.
 
+pub mod access;
 pub mod barriers;
 pub mod buffer;
 pub mod device;

@@ -5,10 +5,10 @@ use ash::vk;
 
 use crate::error::Result;
 use crate::shaders::{Binding, DescriptorKind, PushConstants, ShaderInfo};
+use crate::vk::access::{Access, Resource};
 use crate::vk::buffer::CounterRange;
 use crate::vk::device::Gpu;
 use crate::vk::image::Texture;
-use crate::vk::recorder::{Access, Resource};
 
 pub fn descriptor_type(kind: DescriptorKind) -> vk::DescriptorType {
     match kind {
