@@ -2,6 +2,7 @@
 // textures and so warps and inpaints well: F' = F / (albedo + 0.08 * specular * (1 - metallic)).
 // Unusable inputs are sanitised first and counted (gbuffer.wgsl).
 // #import gbuffer
+// #import tallies
 
 struct Params {
     extent: vec2u,
@@ -15,25 +16,19 @@ var<immediate> params: Params;
 @group(0) @binding(3) var demodulated: texture_storage_2d<rgba32float, write>;
 @group(0) @binding(4) var<storage, read_write> counters: SanitizeCounters;
 
-var<workgroup> group_sanitized: atomic<u32>;
-
 @compute @workgroup_size(8, 8, 1)
 fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_index) lane: u32) {
-    if (lane == 0u) {
-        atomicStore(&group_sanitized, 0u);
-    }
-    workgroupBarrier();
+    open_tallies(lane);
     let p = id.xy;
     if (all(p < params.extent)) {
         let m = pixel_modulation(base_color, material, p, params.has_material);
         let color = sanitize_color(textureLoad(color, p, 0).rgb);
         textureStore(demodulated, p, vec4f(color.value / m.factor, 1.0));
         if (m.changed || color.changed) {
-            atomicAdd(&group_sanitized, 1u);
+            atomicAdd(&group_tallies[0u], 1u);
         }
     }
-    workgroupBarrier();
-    if (lane == 0u) {
-        atomicAdd(&counters.sanitized_pixels, atomicLoad(&group_sanitized));
+    if (close_tallies(lane)) {
+        atomicAdd(&counters.sanitized_pixels, atomicLoad(&group_tallies[0u]));
     }
 }

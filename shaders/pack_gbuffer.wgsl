@@ -4,6 +4,7 @@
 // Pixels with a NaN or infinite depth, normal or (for the target) motion vector are counted:
 // later passes treat them as holes or static background, and the statistics say how many.
 // #import gbuffer
+// #import tallies
 
 const DEPTH_LINEAR_VIEW_Z: u32 = 0u;
 const DEPTH_HARDWARE: u32 = 1u;
@@ -35,7 +36,6 @@ struct GeometryCounters {
     invalid_pixels: atomic<u32>,
 }
 
-var<workgroup> group_invalid: atomic<u32>;
 
 fn unproject(ndc: vec2f, device_depth: f32) -> vec4f {
     return params.inv_view_proj * vec4f(ndc, device_depth, 1.0);
@@ -91,16 +91,12 @@ fn pack_pixel(p: vec2u) -> bool {
 
 @compute @workgroup_size(8, 8, 1)
 fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_index) lane: u32) {
-    if (lane == 0u) {
-        atomicStore(&group_invalid, 0u);
-    }
-    workgroupBarrier();
+    open_tallies(lane);
     let p = id.xy;
     if (all(p < params.extent) && pack_pixel(p)) {
-        atomicAdd(&group_invalid, 1u);
+        atomicAdd(&group_tallies[0u], 1u);
     }
-    workgroupBarrier();
-    if (lane == 0u) {
-        atomicAdd(&counters.invalid_pixels, atomicLoad(&group_invalid));
+    if (close_tallies(lane)) {
+        atomicAdd(&counters.invalid_pixels, atomicLoad(&group_tallies[0u]));
     }
 }

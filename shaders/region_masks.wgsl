@@ -2,6 +2,7 @@
 // near-BE where it lies inside a grown rectangle but shows the background, far-BE elsewhere.
 // Counts the FI and near-BE pixels.
 // #import segmentation
+// #import tallies
 
 struct Params {
     extent: vec2u,
@@ -12,8 +13,9 @@ var<immediate> params: Params;
 @group(0) @binding(1) var<storage, read_write> segmentation: Segmentation;
 @group(0) @binding(2) var regions: texture_storage_2d<r32uint, write>;
 
-var<workgroup> group_fi: atomic<u32>;
-var<workgroup> group_near_be: atomic<u32>;
+// The workgroup's tallies (tallies.wgsl).
+const TALLY_FI: u32 = 0u;
+const TALLY_NEAR_BE: u32 = 1u;
 
 fn region_of(p: vec2u) -> u32 {
     if (textureLoad(target_normal_id, p, 0).w != 0.0) {
@@ -31,24 +33,19 @@ fn region_of(p: vec2u) -> u32 {
 
 @compute @workgroup_size(8, 8, 1)
 fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_index) lane: u32) {
-    if (lane == 0u) {
-        atomicStore(&group_fi, 0u);
-        atomicStore(&group_near_be, 0u);
-    }
-    workgroupBarrier();
+    open_tallies(lane);
     let p = id.xy;
     if (all(p < params.extent)) {
         let region = region_of(p);
         textureStore(regions, p, vec4u(region, 0u, 0u, 0u));
         if (region == REGION_FI) {
-            atomicAdd(&group_fi, 1u);
+            atomicAdd(&group_tallies[TALLY_FI], 1u);
         } else if (region == REGION_NEAR_BE) {
-            atomicAdd(&group_near_be, 1u);
+            atomicAdd(&group_tallies[TALLY_NEAR_BE], 1u);
         }
     }
-    workgroupBarrier();
-    if (lane == 0u) {
-        atomicAdd(&segmentation.fi_pixels, atomicLoad(&group_fi));
-        atomicAdd(&segmentation.near_be_pixels, atomicLoad(&group_near_be));
+    if (close_tallies(lane)) {
+        atomicAdd(&segmentation.fi_pixels, atomicLoad(&group_tallies[TALLY_FI]));
+        atomicAdd(&segmentation.near_be_pixels, atomicLoad(&group_tallies[TALLY_NEAR_BE]));
     }
 }

@@ -2,6 +2,7 @@
 // engine's output image: texture detail comes from the target's G-buffer, not from the warp.
 // With a shadow input, the warped shadow layer is added back to the shading first.
 // #import gbuffer
+// #import tallies
 
 struct Params {
     extent: vec2u,
@@ -21,14 +22,9 @@ var<immediate> params: Params;
 // The target's packed normal and object id: shadows are moved on static surfaces only.
 @group(0) @binding(7) var target_normal_id: texture_2d<f32>;
 
-var<workgroup> group_sanitized: atomic<u32>;
-
 @compute @workgroup_size(8, 8, 1)
 fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_index) lane: u32) {
-    if (lane == 0u) {
-        atomicStore(&group_sanitized, 0u);
-    }
-    workgroupBarrier();
+    open_tallies(lane);
     let p = id.xy;
     if (all(p < params.extent)) {
         let m = pixel_modulation(base_color, material, p, params.has_material);
@@ -48,11 +44,10 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
         let color = sanitize_color(shading_rgb * m.factor);
         textureStore(output, p, vec4f(color.value, 1.0));
         if (m.changed || color.changed) {
-            atomicAdd(&group_sanitized, 1u);
+            atomicAdd(&group_tallies[0u], 1u);
         }
     }
-    workgroupBarrier();
-    if (lane == 0u) {
-        atomicAdd(&counters.sanitized_pixels, atomicLoad(&group_sanitized));
+    if (close_tallies(lane)) {
+        atomicAdd(&counters.sanitized_pixels, atomicLoad(&group_tallies[0u]));
     }
 }

@@ -10,6 +10,7 @@
 // from. Each pixel with any input sanitised is counted once. Runs after the G-buffer packing,
 // whose object ids it reads.
 // #import gbuffer
+// #import tallies
 
 struct Params {
     extent: vec2u,
@@ -28,14 +29,9 @@ var<immediate> params: Params;
 @group(0) @binding(8) var<storage, read_write> counters: SanitizeCounters;
 @group(0) @binding(9) var source_normal_id: texture_2d<f32>;
 
-var<workgroup> group_sanitized: atomic<u32>;
-
 @compute @workgroup_size(8, 8, 1)
 fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_index) lane: u32) {
-    if (lane == 0u) {
-        atomicStore(&group_sanitized, 0u);
-    }
-    workgroupBarrier();
+    open_tallies(lane);
     let p = id.xy;
     if (all(p < params.extent)) {
         let m = pixel_modulation(base_color, material, p, params.has_material);
@@ -51,11 +47,10 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
             textureStore(flow_mask, p, vec4f(visibility.value.x, 0.0, 0.0, 0.0));
         }
         if (m.changed || lit.changed || unshadowed.changed || visibility.changed) {
-            atomicAdd(&group_sanitized, 1u);
+            atomicAdd(&group_tallies[0u], 1u);
         }
     }
-    workgroupBarrier();
-    if (lane == 0u) {
-        atomicAdd(&counters.sanitized_pixels, atomicLoad(&group_sanitized));
+    if (close_tallies(lane)) {
+        atomicAdd(&counters.sanitized_pixels, atomicLoad(&group_tallies[0u]));
     }
 }

@@ -8,6 +8,7 @@
 // a hole on screen is filled from the side the disocclusion uncovers (`fill_hole`).
 // #import gbuffer
 // #import warp
+// #import tallies
 
 // The bilinear blend is kept when agreeing texels carry at least this share of its weight.
 const BILINEAR_ACCEPT: f32 = 0.5;

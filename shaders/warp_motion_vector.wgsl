@@ -4,6 +4,7 @@
 // those whose source leaves the screen, are counted as holes.
 // #import gbuffer
 // #import warp
+// #import tallies
 
 fn warp_pixel(p: vec2u) -> WarpedPixel {
     let q = source_point(p, textureLoad(motion, p, 0).xy);

@@ -6,6 +6,7 @@
 // which fetches the background beside the occluder in frame t instead of the occluder.
 // #import gbuffer
 // #import warp
+// #import tallies
 
 fn warp_pixel(p: vec2u) -> WarpedPixel {
     let target_geo = textureLoad(target_geometry, p, 0);

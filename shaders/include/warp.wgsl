@@ -49,9 +49,10 @@ struct WarpCounters {
 @group(0) @binding(6) var warped: texture_storage_2d<rgba32float, write>;
 @group(0) @binding(7) var<storage, read_write> counters: WarpCounters;
 
-var<workgroup> group_holes: atomic<u32>;
-var<workgroup> group_offscreen: atomic<u32>;
-var<workgroup> group_largest_motion: atomic<u32>;
+// The workgroup's tallies (tallies.wgsl).
+const TALLY_HOLES: u32 = 0u;
+const TALLY_OFFSCREEN: u32 = 1u;
+const TALLY_LARGEST_MOTION: u32 = 2u;
 
 fn geometry_weight(target_geo: vec4f, target_nid: vec4f, source_geo: vec4f, source_nid: vec4f) -> f32 {
     if (target_nid.w != source_nid.w) {
@@ -118,36 +119,30 @@ struct WarpedPixel {
 
 @compute @workgroup_size(8, 8, 1)
 fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_index) lane: u32) {
-    if (lane == 0u) {
-        atomicStore(&group_holes, 0u);
-        atomicStore(&group_offscreen, 0u);
-        atomicStore(&group_largest_motion, 0u);
-    }
-    workgroupBarrier();
+    open_tallies(lane);
 
     let p = id.xy;
     if (all(p < params.extent)) {
         let result = warp_pixel(p);
         textureStore(warped, p, vec4f(result.shading, select(1.0, 0.0, result.hole)));
         if (result.hole) {
-            atomicAdd(&group_holes, 1u);
+            atomicAdd(&group_tallies[TALLY_HOLES], 1u);
         }
         if (result.offscreen) {
-            atomicAdd(&group_offscreen, 1u);
+            atomicAdd(&group_tallies[TALLY_OFFSCREEN], 1u);
         }
         // NaN and infinite vectors fail the comparison and are left out; the length is spelled
         // out so that vectors whose square overflows are left out on every driver alike.
         let scaled = textureLoad(motion, p, 0).xy * params.motion_scale;
         let reach = sqrt(dot(scaled, scaled));
         if (reach <= MAX_FINITE) {
-            atomicMax(&group_largest_motion, bitcast<u32>(reach));
+            atomicMax(&group_tallies[TALLY_LARGEST_MOTION], bitcast<u32>(reach));
         }
     }
 
-    workgroupBarrier();
-    if (lane == 0u) {
-        atomicAdd(&counters.hole_pixels, atomicLoad(&group_holes));
-        atomicAdd(&counters.offscreen_pixels, atomicLoad(&group_offscreen));
-        atomicMax(&counters.largest_motion_bits, atomicLoad(&group_largest_motion));
+    if (close_tallies(lane)) {
+        atomicAdd(&counters.hole_pixels, atomicLoad(&group_tallies[TALLY_HOLES]));
+        atomicAdd(&counters.offscreen_pixels, atomicLoad(&group_tallies[TALLY_OFFSCREEN]));
+        atomicMax(&counters.largest_motion_bits, atomicLoad(&group_tallies[TALLY_LARGEST_MOTION]));
     }
 }

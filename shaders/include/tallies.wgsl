@@ -1,0 +1,23 @@
+// Counting in two steps: each invocation adds to its workgroup's tallies, then one lane adds each
+// tally to the frame's counter, so that a frame costs one global atomic per workgroup and
+// counter rather than one per pixel. A pass calls `open_tallies(lane)` before its pixel work and
+// hands the tallies on where `close_tallies(lane)` is true after it. Both hold barriers, so both
+// are called in uniform control flow. Tallies are indexed by constants: naga has no bounds check
+// for a computed index into atomics.
+
+var<workgroup> group_tallies: array<atomic<u32>, 3>;
+
+fn open_tallies(lane: u32) {
+    if (lane == 0u) {
+        atomicStore(&group_tallies[0], 0u);
+        atomicStore(&group_tallies[1], 0u);
+        atomicStore(&group_tallies[2], 0u);
+    }
+    workgroupBarrier();
+}
+
+// True in the one lane that hands the tallies on, once every invocation has counted.
+fn close_tallies(lane: u32) -> bool {
+    workgroupBarrier();
+    return lane == 0u;
+}
