@@ -632,7 +632,7 @@ fn rejected_create(want: PatchexResult, break_it: impl FnOnce(&mut PatchexCreate
     let library =
         unsafe { PatchexLibrary::open(&PatchexLibrary::beside_current_exe().unwrap()) }.unwrap();
     let mut log: Vec<(PatchexLogLevel, String)> = Vec::new();
-    let mut info = Rig::create_info(&engine, WIDTH, HEIGHT);
+    let mut info = engine.create_info(WIDTH, HEIGHT);
     info.log_callback = Some(collect_log);
     info.log_user_data = &mut log as *mut _ as *mut c_void;
     break_it(&mut info);
@@ -656,7 +656,7 @@ fn rejected_create(want: PatchexResult, break_it: impl FnOnce(&mut PatchexCreate
     }
     println!("{want:?}: {message}");
     // A good create on the same engine works afterwards.
-    let good = Rig::create_info(&engine, WIDTH, HEIGHT);
+    let good = engine.create_info(WIDTH, HEIGHT);
     // SAFETY: valid create info.
     unsafe {
         assert_eq!(
@@ -703,7 +703,7 @@ fn create_with_null_pointers() {
             PatchexResult::ErrorNullPointer
         );
         let engine = Engine::new(&EngineOptions::default()).unwrap();
-        let info = Rig::create_info(&engine, WIDTH, HEIGHT);
+        let info = engine.create_info(WIDTH, HEIGHT);
         assert_eq!(
             (library.create)(&info, ptr::null_mut()),
             PatchexResult::ErrorNullPointer

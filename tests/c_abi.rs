@@ -269,7 +269,7 @@ fn c11_engine_reaches_every_feature_and_matches_the_rust_path() {
                 PATCHEX_STRUCT_TYPE_DIAGNOSTICS,
                 std::ptr::null(),
             ),
-            image: describe(&first_diagnostics, OUTPUT_LAYOUT),
+            image: first_diagnostics.describe(OUTPUT_LAYOUT),
         };
         extrapolate(cmd, &frames[1], &first, link(&diag));
     });
@@ -312,14 +312,14 @@ fn c11_engine_reaches_every_feature_and_matches_the_rust_path() {
                     PATCHEX_STRUCT_TYPE_SHADOW_DIAGNOSTICS,
                     link(&warp_kind),
                 ),
-                image: describe(&shadow_diagnostics, OUTPUT_LAYOUT),
+                image: shadow_diagnostics.describe(OUTPUT_LAYOUT),
             };
             let diag = PatchexDiagnostics {
                 header: header_of::<PatchexDiagnostics>(
                     PATCHEX_STRUCT_TYPE_DIAGNOSTICS,
                     link(&shadow_diag),
                 ),
-                image: describe(&diagnostics, OUTPUT_LAYOUT),
+                image: diagnostics.describe(OUTPUT_LAYOUT),
             };
             let chain = if k == 0 {
                 link(&diag)

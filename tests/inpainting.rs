@@ -388,7 +388,7 @@ fn weight_files_and_network_settings_are_checked_at_create() {
         near_be_path: std::ptr::null(),
     };
     let create_with = |preset, chain: *const c_void| {
-        let mut info = Rig::create_info(&engine, 64, 32);
+        let mut info = engine.create_info(64, 32);
         info.preset = preset;
         info.header.next = chain;
         create(&library, &info)

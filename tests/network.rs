@@ -15,7 +15,6 @@ use patchex::vk::device::Gpu;
 use patchex::vk::recorder::Recorder;
 use patchex_harness::{Engine, EngineImage, EngineOptions, ImageRef};
 use safetensors::SafeTensors;
-use support::Rig;
 
 const TINY: &[u8] = include_bytes!("fixtures/network/tiny.safetensors");
 const TINY_GOLDEN: &[u8] = include_bytes!("fixtures/network/tiny_golden.safetensors");
@@ -140,7 +139,7 @@ fn run_on_gpu(
     let engine = Engine::new(&EngineOptions::default()).expect("engine");
     let (width, height) = (frame.warped.width as u32, frame.warped.height as u32);
     // SAFETY: the engine's live handles, as the API requires.
-    let gpu = unsafe { Gpu::load(&Rig::create_info(&engine, width, height)) }.expect("gpu");
+    let gpu = unsafe { Gpu::load(&engine.create_info(width, height)) }.expect("gpu");
     let mut allocator = gpu.allocator().expect("allocator");
     let sampled = vk::ImageUsageFlags::SAMPLED;
     let general = vk::ImageLayout::GENERAL;

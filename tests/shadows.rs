@@ -62,7 +62,7 @@ fn run_with_shadows(
         header: PatchexStructHeader::of::<PatchexShadowDiagnostics>(
             PATCHEX_STRUCT_TYPE_SHADOW_DIAGNOSTICS,
         ),
-        image: describe(&diagnostics_image, OUTPUT_LAYOUT),
+        image: diagnostics_image.describe(OUTPUT_LAYOUT),
     };
     let shadow_inputs = frames.each_ref().map(|frame| frame.shadow_input());
     for (index, frame) in frames.iter().enumerate() {

@@ -210,7 +210,7 @@ impl World {
         };
         let info = PatchexCreateInfo {
             frames_in_flight: FRAMES_IN_FLIGHT,
-            ..create_info(engine)
+            ..engine.create_info(MAX_WIDTH, MAX_HEIGHT)
         };
         let mut context = ptr::null_mut();
         // SAFETY: valid create info and out pointer.
@@ -235,29 +235,8 @@ impl World {
 
     /// The pool image `index` as the engine truthfully describes it.
     fn describe(&self, index: usize) -> PatchexImage {
-        let image = &self.pool[index];
-        PatchexImage {
-            image: image.image,
-            view: image.view,
-            format: image.format,
-            width: image.width,
-            height: image.height,
-            layout: POOL[index].2,
-            usage: image.usage,
-        }
+        self.pool[index].describe(POOL[index].2)
     }
-}
-
-fn create_info(engine: &Engine) -> PatchexCreateInfo {
-    PatchexCreateInfo::new(
-        engine.instance.handle(),
-        engine.physical_device,
-        engine.device.handle(),
-        engine.get_instance_proc_addr(),
-        engine.queue_family_index,
-        MAX_WIDTH,
-        MAX_HEIGHT,
-    )
 }
 
 fn last_error(context: *const PatchexContext) -> String {
@@ -464,7 +443,7 @@ fn chain(u: &mut Unstructured, world: &World) -> Result<(Vec<Link>, *const c_voi
 }
 
 fn fuzz_create(u: &mut Unstructured, world: &World) -> Result<()> {
-    let mut info = create_info(&world.engine);
+    let mut info = world.engine.create_info(MAX_WIDTH, MAX_HEIGHT);
     info.header = header(
         u,
         PATCHEX_STRUCT_TYPE_CREATE_INFO,

@@ -29,26 +29,14 @@ pub struct Rig {
 }
 
 impl Rig {
-    pub fn create_info(engine: &Engine, max_width: u32, max_height: u32) -> PatchexCreateInfo {
-        PatchexCreateInfo::new(
-            engine.instance.handle(),
-            engine.physical_device,
-            engine.device.handle(),
-            engine.get_instance_proc_addr(),
-            engine.queue_family_index,
-            max_width,
-            max_height,
-        )
-    }
-
-    /// As [`Rig::create_info`], with the plugin loading Vulkan through `intercept`.
+    /// As [`Engine::create_info`], with the plugin loading Vulkan through `intercept`.
     pub fn create_info_through(
         engine: &Engine,
         intercept: &Intercept,
         max_width: u32,
         max_height: u32,
     ) -> PatchexCreateInfo {
-        let mut info = Self::create_info(engine, max_width, max_height);
+        let mut info = engine.create_info(max_width, max_height);
         info.get_instance_proc_addr = Some(intercept.get_instance_proc_addr());
         info.get_device_proc_addr = Some(intercept.get_device_proc_addr());
         info
@@ -118,7 +106,7 @@ impl Rig {
         let library = open_library();
         let mut info = match &intercept {
             Some(intercept) => Self::create_info_through(&engine, intercept, max_width, max_height),
-            None => Self::create_info(&engine, max_width, max_height),
+            None => engine.create_info(max_width, max_height),
         };
         edit(&mut info);
         let context = create(&library, &info).unwrap_or_else(|(_, message)| panic!("{message}"));
@@ -273,19 +261,6 @@ pub fn upload(
     gpu
 }
 
-/// Describes `image` as being in `layout` when the plugin's commands run.
-pub fn describe(image: &EngineImage, layout: vk::ImageLayout) -> PatchexImage {
-    PatchexImage {
-        image: image.image,
-        view: image.view,
-        format: image.format,
-        width: image.width,
-        height: image.height,
-        layout,
-        usage: image.usage,
-    }
-}
-
 /// One instant's G-buffers as engine images, each with the layout the engine keeps it in.
 pub struct GpuFrame {
     pub color: EngineImage,
@@ -348,11 +323,11 @@ impl GpuFrame {
 
     pub fn geometry(&self) -> PatchexGeometry {
         PatchexGeometry {
-            depth: describe(&self.depth, DEPTH_LAYOUT),
-            normal: describe(&self.normal, GBUFFER_LAYOUT),
+            depth: self.depth.describe(DEPTH_LAYOUT),
+            normal: self.normal.describe(GBUFFER_LAYOUT),
             normal_encoding: PATCHEX_NORMAL_SIGNED,
-            stencil: describe(&self.stencil, GBUFFER_LAYOUT),
-            motion_vectors: describe(&self.motion, MOTION_LAYOUT),
+            stencil: self.stencil.describe(GBUFFER_LAYOUT),
+            motion_vectors: self.motion.describe(MOTION_LAYOUT),
             motion_vector_scale: [1.0, 1.0],
             camera: self.camera,
         }
@@ -366,9 +341,9 @@ impl GpuFrame {
             queue_family_index,
             width: self.width,
             height: self.height,
-            color: describe(&self.color, COLOR_LAYOUT),
-            base_color: describe(&self.base_color, GBUFFER_LAYOUT),
-            material: describe(&self.material, GBUFFER_LAYOUT),
+            color: self.color.describe(COLOR_LAYOUT),
+            base_color: self.base_color.describe(GBUFFER_LAYOUT),
+            material: self.material.describe(GBUFFER_LAYOUT),
             geometry: self.geometry(),
         }
     }
@@ -377,11 +352,10 @@ impl GpuFrame {
     pub fn shadow_input(&self) -> PatchexShadowInput {
         PatchexShadowInput {
             header: PatchexStructHeader::of::<PatchexShadowInput>(PATCHEX_STRUCT_TYPE_SHADOW_INPUT),
-            mask: describe(&self.shadow_mask, GBUFFER_LAYOUT),
-            color_without_dynamic_shadows: describe(
-                &self.color_without_dynamic_shadows,
-                GBUFFER_LAYOUT,
-            ),
+            mask: self.shadow_mask.describe(GBUFFER_LAYOUT),
+            color_without_dynamic_shadows: self
+                .color_without_dynamic_shadows
+                .describe(GBUFFER_LAYOUT),
         }
     }
 
@@ -399,10 +373,10 @@ impl GpuFrame {
             alpha,
             width: self.width,
             height: self.height,
-            base_color: describe(&self.base_color, GBUFFER_LAYOUT),
-            material: describe(&self.material, GBUFFER_LAYOUT),
+            base_color: self.base_color.describe(GBUFFER_LAYOUT),
+            material: self.material.describe(GBUFFER_LAYOUT),
             geometry: self.geometry(),
-            output: describe(output, OUTPUT_LAYOUT),
+            output: output.describe(OUTPUT_LAYOUT),
         }
     }
 }

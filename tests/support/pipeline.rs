@@ -162,7 +162,7 @@ pub fn run_plugin_into(
     }
     let mut diagnostics = PatchexDiagnostics {
         header: PatchexStructHeader::of::<PatchexDiagnostics>(PATCHEX_STRUCT_TYPE_DIAGNOSTICS),
-        image: describe(&diagnostics_image, OUTPUT_LAYOUT),
+        image: diagnostics_image.describe(OUTPUT_LAYOUT),
     };
     diagnostics.header.next = next;
 

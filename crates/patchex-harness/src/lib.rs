@@ -7,6 +7,7 @@
 mod engine;
 mod image;
 pub mod intercept;
+mod plugin;
 pub mod texel;
 
 pub use engine::{Engine, EngineOptions, FrameLoop, ThreadPool};

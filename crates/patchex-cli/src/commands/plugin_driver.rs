@@ -74,18 +74,6 @@ pub struct PluginDriver {
     far: f32,
 }
 
-fn describe(image: &EngineImage) -> PatchexImage {
-    PatchexImage {
-        image: image.image,
-        view: image.view,
-        format: image.format,
-        width: image.width,
-        height: image.height,
-        layout: LAYOUT,
-        usage: image.usage,
-    }
-}
-
 /// Interleaves single-channel layers into one RGBA image's values.
 fn interleave(width: usize, height: usize, planes: &[Vec<f32>]) -> Vec<f32> {
     let mut values = vec![0.0; width * height * 4];
@@ -221,11 +209,11 @@ impl PluginDriver {
 
     fn geometry(&self, frame: &UploadedFrame) -> PatchexGeometry {
         PatchexGeometry {
-            depth: describe(&frame.depth),
-            normal: describe(&frame.normal),
+            depth: frame.depth.describe(LAYOUT),
+            normal: frame.normal.describe(LAYOUT),
             normal_encoding: PATCHEX_NORMAL_SIGNED,
-            stencil: describe(&frame.stencil),
-            motion_vectors: describe(&frame.motion),
+            stencil: frame.stencil.describe(LAYOUT),
+            motion_vectors: frame.motion.describe(LAYOUT),
             motion_vector_scale: [1.0, 1.0],
             camera: frame.camera,
         }
@@ -257,9 +245,13 @@ impl PluginDriver {
             queue_family_index: self.engine.queue_family_index,
             width: self.width,
             height: self.height,
-            color: describe(frame.color.as_ref().expect("uploaded with colour")),
-            base_color: describe(&frame.base_color),
-            material: describe(&frame.material),
+            color: frame
+                .color
+                .as_ref()
+                .expect("uploaded with colour")
+                .describe(LAYOUT),
+            base_color: frame.base_color.describe(LAYOUT),
+            material: frame.material.describe(LAYOUT),
             geometry: self.geometry(frame),
         }
     }
@@ -318,7 +310,7 @@ impl PluginDriver {
                 next,
                 ..PatchexStructHeader::of::<PatchexDiagnostics>(PATCHEX_STRUCT_TYPE_DIAGNOSTICS)
             },
-            image: describe(image),
+            image: image.describe(LAYOUT),
         });
         if let Some(diagnostics) = &diagnostics {
             next = diagnostics as *const PatchexDiagnostics as *const c_void;
@@ -331,8 +323,8 @@ impl PluginDriver {
                     header: PatchexStructHeader::of::<PatchexShadowInput>(
                         PATCHEX_STRUCT_TYPE_SHADOW_INPUT,
                     ),
-                    mask: describe(mask),
-                    color_without_dynamic_shadows: describe(color),
+                    mask: mask.describe(LAYOUT),
+                    color_without_dynamic_shadows: color.describe(LAYOUT),
                 })
         };
         let with_shadow_input = |mut desc: PatchexFrameDesc, input: &Option<PatchexShadowInput>| {
@@ -355,10 +347,10 @@ impl PluginDriver {
             alpha,
             width: self.width,
             height: self.height,
-            base_color: describe(&target.base_color),
-            material: describe(&target.material),
+            base_color: target.base_color.describe(LAYOUT),
+            material: target.material.describe(LAYOUT),
             geometry: self.geometry(&target),
-            output: describe(&output),
+            output: output.describe(LAYOUT),
         };
         extrapolate.header.next = next;
         let mut results = [PatchexResult::Success; 3];
@@ -422,15 +414,7 @@ fn create(
     height: u32,
     networks: Option<&NetworkChoice>,
 ) -> Result<*mut PatchexContext, String> {
-    let mut info = PatchexCreateInfo::new(
-        engine.instance.handle(),
-        engine.physical_device,
-        engine.device.handle(),
-        engine.get_instance_proc_addr(),
-        engine.queue_family_index,
-        width,
-        height,
-    );
+    let mut info = engine.create_info(width, height);
     let path = |name: &str, folder: &Path| {
         CString::new(folder.join(name).to_string_lossy().as_bytes())
             .map_err(|_| format!("{}: a path with a NUL byte", folder.display()))
