@@ -93,28 +93,57 @@ impl Context {
         FrameImages::check_formats(&gpu)?;
         let mut allocator = gpu.allocator()?;
         let pipelines = Pipelines::shared(&gpu)?;
-        let mut ring = FrameRing::new(
+        // The networks' descriptor sets are the ring's, so the networks come first.
+        let mut inpainting = match networks {
+            Some(networks) => Some(Inpainting::new(
+                &gpu,
+                &mut allocator,
+                networks,
+                defaults.network_precision.unwrap_or_default(),
+                vk::Extent2D {
+                    width: info.max_width,
+                    height: info.max_height,
+                },
+            )?),
+            None => None,
+        };
+        let mut set_layouts = pipelines.set_layouts();
+        let mut pool_sizes = pipelines.pool_sizes();
+        if let Some(inpainting) = &inpainting {
+            set_layouts.extend(inpainting.set_layouts());
+            pool_sizes.extend(inpainting.pool_sizes());
+        }
+        let ring = FrameRing::new(
             &gpu,
             &mut allocator,
             info.frames_in_flight as usize,
-            &pipelines.set_layouts(),
-            &pipelines.pool_sizes(),
+            &set_layouts,
+            &pool_sizes,
             counters::REGION_BYTES,
-        )?;
-        let images = match FrameImages::new(&gpu, &mut allocator) {
-            Ok(images) => images,
+        )
+        .and_then(|mut ring| match FrameImages::new(&gpu, &mut allocator) {
+            Ok(images) => Ok((ring, images)),
             Err(error) => {
                 ring.destroy(&gpu, &mut allocator);
+                Err(error)
+            }
+        });
+        let (ring, images) = match ring {
+            Ok(made) => made,
+            Err(error) => {
+                if let Some(inpainting) = &mut inpainting {
+                    inpainting.destroy(&gpu, &mut allocator);
+                }
                 return Err(error);
             }
         };
-        let mut context = Self {
+        Ok(Self {
             gpu,
             allocator: ManuallyDrop::new(allocator),
             pipelines,
             ring,
             images,
-            inpainting: None,
+            inpainting,
             shadow_current: 0,
             max_extent: vk::Extent2D {
                 width: info.max_width,
@@ -123,19 +152,7 @@ impl Context {
             preset,
             defaults: Defaults::new(&defaults),
             source: None,
-        };
-        if let Some(networks) = networks {
-            let instances = info.frames_in_flight as usize * PATCHEX_MAX_EXTRAPOLATIONS_PER_FRAME;
-            context.inpainting = Some(Inpainting::new(
-                &context.gpu,
-                &mut context.allocator,
-                networks,
-                defaults.network_precision.unwrap_or_default(),
-                instances,
-                context.max_extent,
-            )?);
-        }
-        Ok(context)
+        })
     }
 
     /// Refuses a call recorded for another queue family than the context's.

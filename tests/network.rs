@@ -12,6 +12,7 @@ use patchex::reference::network::{forward, Planes};
 use patchex::reference::{round_to_f16, Image};
 use patchex::vk::buffer::ReadbackBuffer;
 use patchex::vk::device::Gpu;
+use patchex::vk::pipeline::DescriptorPool;
 use patchex::vk::recorder::Recorder;
 use patchex_harness::{Engine, EngineImage, EngineOptions, ImageRef};
 use safetensors::SafeTensors;
@@ -157,8 +158,9 @@ fn run_on_gpu(
         layout: general,
     };
 
-    let mut pipelines =
-        NetworkPipelines::new(&gpu, network.clone(), precision, 1).expect("pipelines");
+    let mut pipelines = NetworkPipelines::new(&gpu, network.clone(), precision).expect("pipelines");
+    let mut sets = DescriptorPool::new(&gpu, &pipelines.set_layouts(), &pipelines.pool_sizes(), 1)
+        .expect("descriptor sets");
     let extent = vk::Extent2D {
         width: size[0],
         height: size[1],
@@ -184,7 +186,7 @@ fn run_on_gpu(
             },
             &[inpaint::NetworkRun {
                 pipelines: &pipelines,
-                instance: 0,
+                sets: sets.sets.clone(),
                 tensors: &tensors,
                 patch: PatchRecord {
                     buffer: patch.buffer,
@@ -210,6 +212,7 @@ fn run_on_gpu(
     }
     patch.destroy(&gpu, &mut allocator);
     tensors.destroy(&gpu, &mut allocator);
+    sets.destroy(&gpu.device);
     pipelines.destroy(&gpu.device);
     drop(allocator);
     output

@@ -269,17 +269,8 @@ impl Context {
                     &object_table,
                     &patches,
                 );
-                let instance = slot * PATCHEX_MAX_EXTRAPOLATIONS_PER_FRAME + done;
-                let runs = [inpaint::PATCH_SLOT_FI, inpaint::PATCH_SLOT_NEAR_BE]
-                    .into_iter()
-                    .zip(&inpainting.networks)
-                    .map(|(patch_slot, (pipelines, tensors))| inpaint::NetworkRun {
-                        pipelines,
-                        instance,
-                        tensors,
-                        patch: inpaint::patch_record(&patches, patch_slot),
-                    })
-                    .collect::<Vec<_>>();
+                let sets = passes.network_sets(inpainting.set_layouts().len());
+                let runs = inpainting.runs(&sets, &patches);
                 inpaint::record(
                     rec,
                     &inpaint::FrameInputs {

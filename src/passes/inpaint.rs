@@ -21,83 +21,58 @@ use crate::vk::recorder::{Pass, Recorder};
 /// field, a pixel at the edge of a region sees its surroundings as in training.
 pub const PATCH_MARGIN: u32 = 8;
 
-/// A network's compiled layers, its gather pass and `instances` descriptor sets for each
-/// (one per extrapolation that may be recorded before an earlier one completes).
+/// A network's compiled layers and its gather pass. Their descriptor sets are the frame ring's,
+/// after the fixed pipelines' (`Inpainting::set_layouts`).
 pub struct NetworkPipelines {
     pub network: Network,
     /// The format every layer writes its output in.
     pub precision: TensorPrecision,
     gather: ComputePipeline,
     layers: Vec<ComputePipeline>,
-    pool: vk::DescriptorPool,
-    /// `[instance][0 = gather, 1 + layer]`.
-    sets: Vec<vk::DescriptorSet>,
 }
 
 impl NetworkPipelines {
-    pub fn new(
-        gpu: &Gpu,
-        network: Network,
-        precision: TensorPrecision,
-        instances: usize,
-    ) -> Result<Self> {
+    pub fn new(gpu: &Gpu, network: Network, precision: TensorPrecision) -> Result<Self> {
         let mut built = Self {
             network,
             precision,
             gather: ComputePipeline::new(gpu, SHADER)?,
             layers: Vec::new(),
-            pool: vk::DescriptorPool::null(),
-            sets: Vec::new(),
         };
-        let result = built.build(gpu, instances);
-        match result {
-            Ok(()) => Ok(built),
-            Err(error) => {
-                built.destroy(&gpu.device);
-                Err(error)
+        for layer in &built.network.layers {
+            let what = format!("network layer {}", layer.name);
+            let compiled = codegen::compile(&codegen::wgsl(layer, built.precision), &what)
+                .and_then(|spirv| {
+                    ComputePipeline::from_spirv(gpu, codegen::shader_info(layer), &spirv)
+                        .map_err(|e| e.during(&what))
+                });
+            match compiled {
+                Ok(pipeline) => built.layers.push(pipeline),
+                Err(error) => {
+                    built.destroy(&gpu.device);
+                    return Err(error);
+                }
             }
         }
+        Ok(built)
     }
 
-    fn build(&mut self, gpu: &Gpu, instances: usize) -> Result<()> {
-        for layer in &self.network.layers {
-            let what = format!("network layer {}", layer.name);
-            let spirv = codegen::compile(&codegen::wgsl(layer, self.precision), &what)?;
-            self.layers.push(
-                ComputePipeline::from_spirv(gpu, codegen::shader_info(layer), &spirv)
-                    .map_err(|e| e.during(&what))?,
-            );
-        }
-        let per_instance: Vec<&ComputePipeline> =
-            std::iter::once(&self.gather).chain(&self.layers).collect();
-        let mut sizes = pool_sizes(per_instance.iter().copied());
-        for size in &mut sizes {
-            size.descriptor_count *= instances as u32;
-        }
-        let layouts: Vec<_> = (0..instances)
-            .flat_map(|_| per_instance.iter().map(|p| p.set_layout))
-            .collect();
-        // SAFETY: valid device; the pool is destroyed with the pipelines.
-        unsafe {
-            self.pool = gpu.device.create_descriptor_pool(
-                &vk::DescriptorPoolCreateInfo::default()
-                    .max_sets(layouts.len() as u32)
-                    .pool_sizes(&sizes),
-                None,
-            )?;
-            self.sets = gpu.device.allocate_descriptor_sets(
-                &vk::DescriptorSetAllocateInfo::default()
-                    .descriptor_pool(self.pool)
-                    .set_layouts(&layouts),
-            )?;
-        }
-        Ok(())
+    /// The gather's, then each layer's, in the order a run's sets take.
+    fn pipelines(&self) -> impl Iterator<Item = &ComputePipeline> {
+        std::iter::once(&self.gather).chain(&self.layers)
+    }
+
+    /// The layouts of one run's descriptor sets: the gather's, then one per layer.
+    pub fn set_layouts(&self) -> Vec<vk::DescriptorSetLayout> {
+        self.pipelines().map(|p| p.set_layout).collect()
+    }
+
+    /// Descriptor counts of one run's sets together.
+    pub fn pool_sizes(&self) -> Vec<vk::DescriptorPoolSize> {
+        pool_sizes(self.pipelines())
     }
 
     pub fn destroy(&mut self, device: &ash::Device) {
-        // SAFETY: no pending work uses them (destroy contract); null handles are no-ops.
-        unsafe { device.destroy_descriptor_pool(self.pool, None) };
-        self.pool = vk::DescriptorPool::null();
         self.gather.destroy(device);
         for layer in &mut self.layers {
             layer.destroy(device);
@@ -221,18 +196,10 @@ pub fn patch_bytes(network: &Network, origin: [u32; 2], extent: [u32; 2]) -> Vec
 /// One network's run in an extrapolation.
 pub struct NetworkRun<'a> {
     pub pipelines: &'a NetworkPipelines,
-    /// Which of the pipelines' descriptor-set instances this extrapolation uses.
-    pub instance: usize,
+    /// Of the layouts `NetworkPipelines::set_layouts`, in this extrapolation's region.
+    pub sets: Vec<vk::DescriptorSet>,
     pub tensors: &'a NetworkTensors,
     pub patch: PatchRecord,
-}
-
-impl NetworkRun<'_> {
-    /// This run's descriptor sets: the gather's, then one per layer.
-    fn sets(&self) -> &[vk::DescriptorSet] {
-        let per_instance = 1 + self.pipelines.layers.len();
-        &self.pipelines.sets[self.instance * per_instance..][..per_instance]
-    }
 }
 
 /// Records the gather and every layer of each network in `runs`, level by level across the
@@ -242,7 +209,7 @@ pub fn record(rec: &mut Recorder, inputs: &FrameInputs, runs: &[NetworkRun]) {
     for run in runs {
         let gather = Pass {
             pipeline: &run.pipelines.gather,
-            set: run.sets()[0],
+            set: run.sets[0],
         };
         let gather = rec.bind(gather, |writes| {
             writes
@@ -274,7 +241,7 @@ pub fn record(rec: &mut Recorder, inputs: &FrameInputs, runs: &[NetworkRun]) {
             };
             let pass = Pass {
                 pipeline: &run.pipelines.layers[n],
-                set: run.sets()[1 + n],
+                set: run.sets[1 + n],
             };
             let main = tensor(layer.main);
             let bound = rec.bind(pass, |writes| {
@@ -413,14 +380,13 @@ pub struct Inpainting {
 }
 
 impl Inpainting {
-    /// Compiles `networks` (FI, near-BE) with `instances` descriptor sets each, and makes their
-    /// tensors for patches as large as `max_extent`.
+    /// Compiles `networks` (FI, near-BE) and makes their tensors for patches as large as
+    /// `max_extent`.
     pub fn new(
         gpu: &Gpu,
         allocator: &mut Allocator,
         networks: [Network; 2],
         precision: TensorPrecision,
-        instances: usize,
         max_extent: vk::Extent2D,
     ) -> Result<Self> {
         let mut built: Vec<(NetworkPipelines, NetworkTensors)> = Vec::new();
@@ -430,15 +396,15 @@ impl Inpainting {
                 width: max_extent.width.next_multiple_of(multiple),
                 height: max_extent.height.next_multiple_of(multiple),
             };
-            let made = NetworkPipelines::new(gpu, network, precision, instances).and_then(
-                |mut pipelines| match NetworkTensors::new(gpu, allocator, &pipelines, extent) {
+            let made = NetworkPipelines::new(gpu, network, precision).and_then(|mut pipelines| {
+                match NetworkTensors::new(gpu, allocator, &pipelines, extent) {
                     Ok(tensors) => Ok((pipelines, tensors)),
                     Err(error) => {
                         pipelines.destroy(&gpu.device);
                         Err(error)
                     }
-                },
-            );
+                }
+            });
             match made {
                 Ok(pair) => built.push(pair),
                 Err(error) => {
@@ -463,6 +429,36 @@ impl Inpainting {
                 0
             }
         })
+    }
+
+    /// The layouts of the two networks' descriptor sets, FI's then near-BE's, which every
+    /// region of the frame ring holds.
+    pub fn set_layouts(&self) -> Vec<vk::DescriptorSetLayout> {
+        self.networks
+            .iter()
+            .flat_map(|(pipelines, _)| pipelines.set_layouts())
+            .collect()
+    }
+
+    /// Descriptor counts of the sets of `set_layouts` together.
+    pub fn pool_sizes(&self) -> Vec<vk::DescriptorPoolSize> {
+        pool_sizes(self.networks.iter().flat_map(|(p, _)| p.pipelines()))
+    }
+
+    /// The two networks' runs in a region whose sets for them start at `sets`, on the patches
+    /// of the region's counters `patches`.
+    pub fn runs(&self, sets: &[vk::DescriptorSet], patches: &CounterRange) -> Vec<NetworkRun<'_>> {
+        let mut sets = sets.iter().copied();
+        [PATCH_SLOT_FI, PATCH_SLOT_NEAR_BE]
+            .into_iter()
+            .zip(&self.networks)
+            .map(|(patch_slot, (pipelines, tensors))| NetworkRun {
+                pipelines,
+                sets: sets.by_ref().take(1 + pipelines.layers.len()).collect(),
+                tensors,
+                patch: patch_record(patches, patch_slot),
+            })
+            .collect()
     }
 
     pub fn tensors(&self) -> [&NetworkTensors; 2] {

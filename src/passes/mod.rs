@@ -173,6 +173,11 @@ impl Pipelines {
             + n
     }
 
+    /// How many descriptor sets a region holds for the pipelines; the networks' follow.
+    pub fn set_count() -> usize {
+        TABLE.iter().map(|(_, sets)| sets).sum()
+    }
+
     /// The pipeline of each descriptor set a region uses, in set order.
     fn set_owners(&self) -> impl Iterator<Item = &ComputePipeline> {
         self.built
@@ -213,6 +218,13 @@ impl<'a> RegionPasses<'a> {
     /// `id` with its first set.
     pub fn get(&self, id: PipelineId) -> Pass<'a> {
         self.nth(id, 0)
+    }
+
+    /// The region's sets after the pipelines': the networks' (`Inpainting::set_layouts`).
+    pub fn network_sets(&self, count: usize) -> Vec<vk::DescriptorSet> {
+        (Pipelines::set_count()..Pipelines::set_count() + count)
+            .map(|set| self.ring.descriptor_set(self.slot, self.region, set))
+            .collect()
     }
 
     /// `id` with its `n`th set, for its `n`th dispatch with other resources in the region.

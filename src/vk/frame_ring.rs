@@ -16,6 +16,7 @@ use crate::error::Result;
 use crate::vk::buffer::{CounterRange, ReadbackBuffer};
 use crate::vk::device::Gpu;
 use crate::vk::image::OwnedImage;
+use crate::vk::pipeline::DescriptorPool;
 use crate::vk::timestamps::StageTimer;
 
 /// Region 0 of a slot belongs to `patchex_submit_gbuffers`, region 1 + i to extrapolation i.
@@ -46,13 +47,12 @@ pub struct FrameRecord {
 }
 
 pub struct FrameSlot {
-    /// Each region's sets in turn (`Pipelines::set_layouts`).
-    sets: Vec<vk::DescriptorSet>,
     pub record: Option<FrameRecord>,
 }
 
 pub struct FrameRing {
-    descriptor_pool: vk::DescriptorPool,
+    /// Each region's sets in turn, slot by slot (`Pipelines::set_layouts`).
+    descriptors: Option<DescriptorPool>,
     sets_per_region: usize,
     pub slots: Vec<FrameSlot>,
     pub timer: Option<StageTimer>,
@@ -75,15 +75,6 @@ impl FrameRing {
         pool_sizes: &[vk::DescriptorPoolSize],
         counter_bytes: u64,
     ) -> Result<Self> {
-        let sets_per_slot = REGIONS_PER_SLOT * set_layouts.len();
-        let copies = (frames_in_flight * REGIONS_PER_SLOT) as u32;
-        let sizes: Vec<_> = pool_sizes
-            .iter()
-            .map(|s| vk::DescriptorPoolSize {
-                ty: s.ty,
-                descriptor_count: s.descriptor_count * copies,
-            })
-            .collect();
         // Each region's counters start at a storage-buffer offset the device can bind.
         let counter_stride =
             counter_bytes.next_multiple_of(gpu.min_storage_buffer_offset_alignment.max(1));
@@ -91,7 +82,7 @@ impl FrameRing {
         let counters =
             ReadbackBuffer::new(gpu, allocator, "patchex frame counters", counters_size)?;
         let mut ring = Self {
-            descriptor_pool: vk::DescriptorPool::null(),
+            descriptors: None,
             sets_per_region: set_layouts.len(),
             slots: Vec::new(),
             timer: None,
@@ -100,33 +91,16 @@ impl FrameRing {
             counter_stride,
             retired: Vec::new(),
         };
-        // SAFETY: valid device; on failure everything made so far is destroyed.
-        let built = unsafe {
-            (|| -> Result<()> {
-                ring.descriptor_pool = gpu.device.create_descriptor_pool(
-                    &vk::DescriptorPoolCreateInfo::default()
-                        .max_sets((frames_in_flight * sets_per_slot) as u32)
-                        .pool_sizes(&sizes),
-                    None,
-                )?;
-                let layouts: Vec<_> = (0..REGIONS_PER_SLOT)
-                    .flat_map(|_| set_layouts.iter().copied())
-                    .collect();
-                for _ in 0..frames_in_flight {
-                    let sets = gpu.device.allocate_descriptor_sets(
-                        &vk::DescriptorSetAllocateInfo::default()
-                            .descriptor_pool(ring.descriptor_pool)
-                            .set_layouts(&layouts),
-                    )?;
-                    ring.slots.push(FrameSlot { sets, record: None });
-                }
-                ring.timer = StageTimer::new(
-                    gpu,
-                    QUERIES_PER_REGION * (frames_in_flight * REGIONS_PER_SLOT) as u32,
-                )?;
-                Ok(())
-            })()
-        };
+        // On failure everything made so far is destroyed.
+        let built = (|| -> Result<()> {
+            let regions = frames_in_flight * REGIONS_PER_SLOT;
+            ring.descriptors = Some(DescriptorPool::new(gpu, set_layouts, pool_sizes, regions)?);
+            ring.slots = (0..frames_in_flight)
+                .map(|_| FrameSlot { record: None })
+                .collect();
+            ring.timer = StageTimer::new(gpu, QUERIES_PER_REGION * regions as u32)?;
+            Ok(())
+        })();
         match built {
             Ok(()) => Ok(ring),
             Err(error) => {
@@ -143,7 +117,8 @@ impl FrameRing {
 
     /// Set `set` (`Pipelines::set_index`) of `region` in `slot`.
     pub fn descriptor_set(&self, slot: usize, region: usize, set: usize) -> vk::DescriptorSet {
-        self.slots[slot].sets[region * self.sets_per_region + set]
+        let descriptors = self.descriptors.as_ref().expect("made with the ring");
+        descriptors.sets[(slot * REGIONS_PER_SLOT + region) * self.sets_per_region + set]
     }
 
     /// First query of `stage` in `region` of `slot`.
@@ -217,11 +192,8 @@ impl FrameRing {
             timer.destroy(&gpu.device);
         }
         self.counters.destroy(gpu, allocator);
-        // SAFETY: destroy contract: no pending work uses the pool's sets.
-        unsafe {
-            gpu.device
-                .destroy_descriptor_pool(self.descriptor_pool, None)
-        };
-        self.descriptor_pool = vk::DescriptorPool::null();
+        if let Some(mut descriptors) = self.descriptors.take() {
+            descriptors.destroy(&gpu.device);
+        }
     }
 }

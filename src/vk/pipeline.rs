@@ -307,3 +307,67 @@ impl<'a> DescriptorWrites<'a> {
         unsafe { device.update_descriptor_sets(&writes, &[]) };
     }
 }
+
+/// A pool holding `copies` sets of each of a list of layouts, allocated once and never freed
+/// one by one: the frame ring's per-region sets, or a test's.
+pub struct DescriptorPool {
+    pool: vk::DescriptorPool,
+    /// `copies` runs of the layouts, in order.
+    pub sets: Vec<vk::DescriptorSet>,
+}
+
+impl DescriptorPool {
+    /// `pool_sizes` counts the descriptors of one set of each layout together.
+    pub fn new(
+        gpu: &Gpu,
+        layouts: &[vk::DescriptorSetLayout],
+        pool_sizes: &[vk::DescriptorPoolSize],
+        copies: usize,
+    ) -> Result<Self> {
+        let sizes: Vec<_> = pool_sizes
+            .iter()
+            .map(|s| vk::DescriptorPoolSize {
+                ty: s.ty,
+                descriptor_count: s.descriptor_count * copies as u32,
+            })
+            .collect();
+        let all: Vec<_> = (0..copies).flat_map(|_| layouts.iter().copied()).collect();
+        let mut made = Self {
+            pool: vk::DescriptorPool::null(),
+            sets: Vec::new(),
+        };
+        // SAFETY: valid device; on failure the pool is destroyed (a null pool is a no-op).
+        let built = unsafe {
+            (|| -> Result<()> {
+                made.pool = gpu.device.create_descriptor_pool(
+                    &vk::DescriptorPoolCreateInfo::default()
+                        .max_sets(all.len() as u32)
+                        .pool_sizes(&sizes),
+                    None,
+                )?;
+                if !all.is_empty() {
+                    made.sets = gpu.device.allocate_descriptor_sets(
+                        &vk::DescriptorSetAllocateInfo::default()
+                            .descriptor_pool(made.pool)
+                            .set_layouts(&all),
+                    )?;
+                }
+                Ok(())
+            })()
+        };
+        match built {
+            Ok(()) => Ok(made),
+            Err(error) => {
+                made.destroy(&gpu.device);
+                Err(error)
+            }
+        }
+    }
+
+    pub fn destroy(&mut self, device: &ash::Device) {
+        // SAFETY: no pending work uses the pool's sets (destroy contract).
+        unsafe { device.destroy_descriptor_pool(self.pool, None) };
+        self.pool = vk::DescriptorPool::null();
+        self.sets.clear();
+    }
+}
