@@ -4,8 +4,9 @@
 //! these from the generated module, so a binding number or a workgroup size is written once, in
 //! the shader.
 //!
-//! A pass may pull shared helpers from `shaders/include/NAME.wgsl` with a line `// #import NAME`.
-//! Errors are reported against the file and line they came from, not the assembled source.
+//! A pass may pull shared helpers from `shaders/include/NAME.wgsl` with a line `// #import NAME`
+//! (`build_support/wgsl.rs`). Errors are reported against the file and line they came from, not
+//! the assembled source.
 
 use std::fmt::Write as _;
 use std::fs;
@@ -15,93 +16,15 @@ use naga::back::spv;
 
 #[path = "src/spirv_options.rs"]
 mod spirv_options;
+#[path = "build_support/wgsl.rs"]
+mod wgsl;
+
+use wgsl::{assemble, located_error};
 
 const SHADER_DIR: &str = "shaders";
 const INCLUDE_DIR: &str = "shaders/include";
-const IMPORT_DIRECTIVE: &str = "// #import ";
-
-/// One file's lines inside an assembled shader source.
-struct Segment {
-    path: PathBuf,
-    first_line: usize,
-    line_count: usize,
-}
-
-struct AssembledSource {
-    text: String,
-    segments: Vec<Segment>,
-}
-
-impl AssembledSource {
-    /// Maps a 1-based line of the assembled text back to (file, 1-based line).
-    fn locate(&self, line: usize) -> (PathBuf, usize) {
-        for segment in &self.segments {
-            if line >= segment.first_line && line < segment.first_line + segment.line_count {
-                return (segment.path.clone(), line - segment.first_line + 1);
-            }
-        }
-        let last = self
-            .segments
-            .last()
-            .expect("a pass has at least its own segment");
-        (last.path.clone(), line.saturating_sub(last.first_line) + 1)
-    }
-}
-
-fn assemble(pass_path: &Path) -> Result<AssembledSource, String> {
-    let pass_text =
-        fs::read_to_string(pass_path).map_err(|e| format!("{}: {e}", pass_path.display()))?;
-    let mut text = String::new();
-    let mut segments = Vec::new();
-    let mut next_line = 1;
-    for (index, line) in pass_text.lines().enumerate() {
-        let Some(name) = line.trim().strip_prefix(IMPORT_DIRECTIVE) else {
-            continue;
-        };
-        let include_path = Path::new(INCLUDE_DIR).join(format!("{}.wgsl", name.trim()));
-        let include = fs::read_to_string(&include_path).map_err(|e| {
-            format!(
-                "{}:{}: cannot import {}: {e}",
-                pass_path.display(),
-                index + 1,
-                include_path.display()
-            )
-        })?;
-        println!("cargo:rerun-if-changed={}", include_path.display());
-        let line_count = include.lines().count();
-        segments.push(Segment {
-            path: include_path,
-            first_line: next_line,
-            line_count,
-        });
-        next_line += line_count;
-        for include_line in include.lines() {
-            text.push_str(include_line);
-            text.push('\n');
-        }
-    }
-    segments.push(Segment {
-        path: pass_path.to_path_buf(),
-        first_line: next_line,
-        line_count: pass_text.lines().count(),
-    });
-    text.push_str(&pass_text);
-    Ok(AssembledSource { text, segments })
-}
-
-fn located_error(source: &AssembledSource, line: Option<u32>, message: &str) -> String {
-    match line {
-        Some(line) => {
-            let (path, line) = source.locate(line as usize);
-            format!("{}:{line}: {message}", path.display())
-        }
-        None => format!(
-            "{}: {message}",
-            source.segments.last().unwrap().path.display()
-        ),
-    }
-}
-
+/// What every pass's push constants derive.
+const PARAMS_DERIVES: &str = "Clone, Copy, Debug, Default, PartialEq";
 struct CompiledPass {
     name: String,
     words: Vec<u32>,
@@ -120,7 +43,7 @@ struct BindingInfo {
 }
 
 fn compile(pass_path: &Path) -> Result<CompiledPass, String> {
-    let source = assemble(pass_path)?;
+    let source = assemble(pass_path, Path::new(INCLUDE_DIR))?;
     let module = naga::front::wgsl::parse_str(&source.text).map_err(|e| {
         let line = e.location(&source.text).map(|l| l.line_number);
         located_error(&source, line, &e.emit_to_string(&source.text))
@@ -153,7 +76,11 @@ fn compile(pass_path: &Path) -> Result<CompiledPass, String> {
     for (_, global) in module.global_variables.iter() {
         let name = global.name.clone().unwrap_or_default();
         if global.space == naga::AddressSpace::Immediate {
-            push_constants = Some(push_constant_struct(&module, global.ty)?);
+            let params = wgsl::mirror_struct(&module, global.ty, "Params", PARAMS_DERIVES)?;
+            push_constants = Some(format!(
+                "    /// Push constants, laid out exactly as the shader declares them.\n{params}    \
+                 impl super::PushConstants for Params {{}}\n"
+            ));
             continue;
         }
         let Some(binding) = &global.binding else {
@@ -202,80 +129,6 @@ fn compile(pass_path: &Path) -> Result<CompiledPass, String> {
         bindings,
         push_constants,
     })
-}
-
-/// Rust type of a push-constant member, with its size in bytes.
-fn rust_type(module: &naga::Module, ty: naga::Handle<naga::Type>) -> Result<String, String> {
-    use naga::{ScalarKind, TypeInner};
-    let scalar = |s: naga::Scalar| match (s.kind, s.width) {
-        (ScalarKind::Float, 4) => Ok("f32"),
-        (ScalarKind::Uint, 4) => Ok("u32"),
-        (ScalarKind::Sint, 4) => Ok("i32"),
-        _ => Err(format!(
-            "push constants support 32-bit scalars only, not {s:?}"
-        )),
-    };
-    match &module.types[ty].inner {
-        TypeInner::Scalar(s) => Ok(scalar(*s)?.to_string()),
-        TypeInner::Vector { size, scalar: s } => Ok(format!("[{}; {}]", scalar(*s)?, *size as u8)),
-        TypeInner::Matrix {
-            columns,
-            rows,
-            scalar: s,
-        } => Ok(format!(
-            "[[{}; {}]; {}]",
-            scalar(*s)?,
-            *rows as u8,
-            *columns as u8
-        )),
-        other => Err(format!("unsupported push-constant member type {other:?}")),
-    }
-}
-
-fn push_constant_struct(
-    module: &naga::Module,
-    ty: naga::Handle<naga::Type>,
-) -> Result<String, String> {
-    let naga::TypeInner::Struct { members, span } = &module.types[ty].inner else {
-        return Err("the immediate (push constant) variable must be a struct".into());
-    };
-    let mut layouter = naga::proc::Layouter::default();
-    layouter
-        .update(module.to_ctx())
-        .map_err(|e| e.to_string())?;
-    let mut fields = String::new();
-    let mut cursor = 0;
-    for (index, member) in members.iter().enumerate() {
-        if member.offset > cursor {
-            writeln!(
-                fields,
-                "        pub _pad{index}: [u8; {}],",
-                member.offset - cursor
-            )
-            .unwrap();
-        }
-        let name = member
-            .name
-            .clone()
-            .unwrap_or_else(|| format!("field{index}"));
-        writeln!(
-            fields,
-            "        pub {name}: {},",
-            rust_type(module, member.ty)?
-        )
-        .unwrap();
-        cursor = member.offset + layouter[member.ty].size;
-    }
-    if *span > cursor {
-        writeln!(fields, "        pub _pad_end: [u8; {}],", span - cursor).unwrap();
-    }
-    Ok(format!(
-        "    /// Push constants, laid out exactly as the shader declares them.\n    \
-         #[repr(C)]\n    #[derive(Clone, Copy, Debug, Default, PartialEq)]\n    \
-         pub struct Params {{\n{fields}    }}\n    \
-         const _: () = assert!(std::mem::size_of::<Params>() == {span});\n    \
-         impl super::PushConstants for Params {{}}\n"
-    ))
 }
 
 fn emit(pass: &CompiledPass) -> String {

@@ -5,23 +5,7 @@
 // Shading is split the way Unreal does it: DiffuseColor = BaseColor * (1 - Metallic),
 // SpecularColor = lerp(0.08 * Specular, BaseColor, Metallic); emissive is added unlit.
 
-// Same layout in gbuffer.wgsl, resolve.wgsl and FrameUniforms (src/render/uniforms.rs).
-struct Frame {
-    view_proj: mat4x4<f32>,
-    prev_view_proj: mat4x4<f32>,
-    view: mat4x4<f32>,
-    inv_view_proj: mat4x4<f32>,
-    light_view_proj: mat4x4<f32>,
-    camera_position: vec4<f32>,
-    sun_direction: vec4<f32>,
-    sun_radiance: vec4<f32>,
-    sky_zenith: vec4<f32>,
-    sky_horizon: vec4<f32>,
-    ground_ambient: vec4<f32>,
-    viewport: vec4<f32>,
-    // x: depth bias (light clip units), y: normal offset (metres), zw: padding
-    shadow_params: vec4<f32>,
-}
+// #import frame
 
 struct Options {
     // 1 = light the frame, 0 = G-buffer only (the lit layers are left as zeros)

@@ -5,24 +5,11 @@ use crate::scene::{CameraState, SunDescription, SunLight};
 use bytemuck::{Pod, Zeroable};
 use glam::Mat4;
 
-/// `Frame` in the shaders (uniform buffer, 448 bytes).
-#[repr(C)]
-#[derive(Clone, Copy, Pod, Zeroable)]
-pub(crate) struct FrameUniforms {
-    pub view_proj: [f32; 16],
-    pub prev_view_proj: [f32; 16],
-    pub view: [f32; 16],
-    pub inv_view_proj: [f32; 16],
-    pub light_view_proj: [f32; 16],
-    pub camera_position: [f32; 4],
-    pub sun_direction: [f32; 4],
-    pub sun_radiance: [f32; 4],
-    pub sky_zenith: [f32; 4],
-    pub sky_horizon: [f32; 4],
-    pub ground_ambient: [f32; 4],
-    pub viewport: [f32; 4],
-    pub shadow_params: [f32; 4],
+/// `Frame` in shaders/include/frame.wgsl (the uniform buffer), mirrored by build.rs.
+mod generated {
+    include!(concat!(env!("OUT_DIR"), "/frame.rs"));
 }
+pub(crate) use generated::Frame as FrameUniforms;
 
 impl FrameUniforms {
     pub fn new(
@@ -36,11 +23,11 @@ impl FrameUniforms {
         let view_proj = camera.view_proj();
         let extend = |rgb: [f32; 3]| [rgb[0], rgb[1], rgb[2], 0.0];
         Self {
-            view_proj: view_proj.to_cols_array(),
-            prev_view_proj: previous.view_proj().to_cols_array(),
-            view: camera.view.to_cols_array(),
-            inv_view_proj: view_proj.inverse().to_cols_array(),
-            light_view_proj: sun.light_view_proj.to_cols_array(),
+            view_proj: view_proj.to_cols_array_2d(),
+            prev_view_proj: previous.view_proj().to_cols_array_2d(),
+            view: camera.view.to_cols_array_2d(),
+            inv_view_proj: view_proj.inverse().to_cols_array_2d(),
+            light_view_proj: sun.light_view_proj.to_cols_array_2d(),
             camera_position: camera.position.extend(camera.far).to_array(),
             sun_direction: sun.direction.extend(0.0).to_array(),
             sun_radiance: sun.radiance.extend(0.0).to_array(),
