@@ -307,11 +307,15 @@ impl FrameImages {
         extent: vk::Extent2D,
         serial: u64,
     ) -> Result<()> {
-        if let Some(work) = grown(gpu, allocator, &self.work, extent, &WorkImages::SPECS)? {
-            if let Some(old) = self.work.replace(work) {
-                retire(ring, old, serial);
-            }
-        }
+        grow(
+            gpu,
+            allocator,
+            ring,
+            &mut self.work,
+            extent,
+            &WorkImages::SPECS,
+            serial,
+        )?;
         Ok(())
     }
 
@@ -325,14 +329,16 @@ impl FrameImages {
         serial: u64,
     ) -> Result<bool> {
         let extent = self.work.as_ref().expect("made first").extent;
-        let Some(shadows) = grown(gpu, allocator, &self.shadows, extent, &ShadowImages::SPECS)?
-        else {
-            return Ok(false);
-        };
-        if let Some(old) = self.shadows.replace(shadows) {
-            retire(ring, old, serial);
-        }
-        Ok(true)
+        let specs = &ShadowImages::SPECS;
+        grow(
+            gpu,
+            allocator,
+            ring,
+            &mut self.shadows,
+            extent,
+            specs,
+            serial,
+        )
     }
 
     /// Makes or grows the output staging to the working images' extent.
@@ -345,11 +351,15 @@ impl FrameImages {
     ) -> Result<()> {
         let extent = self.work.as_ref().expect("made by the submit").extent;
         let specs = &OutputStaging::SPECS;
-        if let Some(staging) = grown(gpu, allocator, &self.output_staging, extent, specs)? {
-            if let Some(old) = self.output_staging.replace(staging) {
-                retire(ring, old, serial);
-            }
-        }
+        grow(
+            gpu,
+            allocator,
+            ring,
+            &mut self.output_staging,
+            extent,
+            specs,
+            serial,
+        )?;
         Ok(())
     }
 
@@ -394,30 +404,29 @@ impl FrameImages {
     }
 }
 
-/// A set of images holding `extent`, or `None` when `current` already does. A new set is at
-/// least as large as the current one on both sides.
-fn grown<const N: usize>(
+/// Makes `set` hold `extent`, at least as large as before on both sides, and hands the images it
+/// replaces to the ring at submit `serial` (the previous submit is the last whose commands may
+/// use them). Returns whether the set was (re)made.
+fn grow<const N: usize>(
     gpu: &Gpu,
     allocator: &mut Allocator,
-    current: &Option<ImageSet<N>>,
+    ring: &mut FrameRing,
+    set: &mut Option<ImageSet<N>>,
     extent: vk::Extent2D,
     specs: &[ImageSpec; N],
-) -> Result<Option<ImageSet<N>>> {
-    let old = current.as_ref().map(|set| set.extent);
-    if current.as_ref().is_some_and(|set| set.holds(extent)) {
-        return Ok(None);
+    serial: u64,
+) -> Result<bool> {
+    let old = set.as_ref().map(|set| set.extent);
+    if set.as_ref().is_some_and(|set| set.holds(extent)) {
+        return Ok(false);
     }
     let size = vk::Extent2D {
         width: extent.width.max(old.map_or(0, |e| e.width)),
         height: extent.height.max(old.map_or(0, |e| e.height)),
     };
-    ImageSet::new(gpu, allocator, size, specs).map(Some)
-}
-
-/// Hands `set`'s images to the ring at submit `serial`: the previous submit is the last whose
-/// commands may use them.
-fn retire<const N: usize>(ring: &mut FrameRing, set: ImageSet<N>, serial: u64) {
-    for image in set.images {
+    let grown = ImageSet::new(gpu, allocator, size, specs)?;
+    for image in set.replace(grown).into_iter().flat_map(|old| old.images) {
         ring.retire(serial.saturating_sub(1), image);
     }
+    Ok(true)
 }
