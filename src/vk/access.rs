@@ -53,3 +53,79 @@ pub struct Access {
     pub write: bool,
     pub stage: vk::PipelineStageFlags,
 }
+
+/// Whether `next` must wait for `earlier`: one of them writes a resource the other touches.
+pub fn conflict(earlier: &[Access], next: &[Access]) -> bool {
+    next.iter().any(|n| {
+        earlier
+            .iter()
+            .any(|e| (e.write || n.write) && e.resource.overlaps(n.resource))
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use ash::vk::Handle;
+
+    fn image(handle: u64, write: bool) -> Access {
+        Access {
+            resource: Resource::Image(vk::Image::from_raw(handle)),
+            write,
+            stage: vk::PipelineStageFlags::COMPUTE_SHADER,
+        }
+    }
+
+    fn bytes(start: u64, end: u64, write: bool) -> Access {
+        Access {
+            resource: Resource::Buffer {
+                buffer: vk::Buffer::from_raw(7),
+                start,
+                end,
+            },
+            write,
+            stage: vk::PipelineStageFlags::COMPUTE_SHADER,
+        }
+    }
+
+    #[test]
+    fn reads_share_and_writes_wait() {
+        // Two passes reading one image, each writing its own, run side by side.
+        let warp = [image(1, false), image(2, true)];
+        let shadow_warp = [image(1, false), image(3, true)];
+        assert!(!conflict(&warp, &shadow_warp));
+        // Reading what was written, writing what was read or written: a barrier.
+        assert!(conflict(&warp, &[image(2, false)]));
+        assert!(conflict(&warp, &[image(1, true)]));
+        assert!(conflict(&warp, &[image(2, true)]));
+    }
+
+    #[test]
+    fn counters_conflict_only_where_their_bytes_overlap() {
+        let warp_counters = [bytes(0, 12, true)];
+        assert!(!conflict(&warp_counters, &[bytes(12, 24, true)]));
+        assert!(conflict(&warp_counters, &[bytes(8, 16, false)]));
+        assert!(!conflict(&[bytes(0, 256, false)], &[bytes(0, 256, false)]));
+        // Another buffer's bytes are other bytes.
+        let other = Access {
+            resource: Resource::Buffer {
+                buffer: vk::Buffer::from_raw(8),
+                start: 0,
+                end: 12,
+            },
+            ..warp_counters[0]
+        };
+        assert!(!conflict(&warp_counters, &[other]));
+    }
+
+    #[test]
+    fn earlier_work_conflicts_with_everything() {
+        let earlier = [Access {
+            resource: Resource::Earlier,
+            write: true,
+            stage: vk::PipelineStageFlags::COMPUTE_SHADER,
+        }];
+        assert!(conflict(&earlier, &[image(1, false)]));
+        assert!(conflict(&earlier, &[bytes(0, 4, false)]));
+    }
+}

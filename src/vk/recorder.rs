@@ -11,7 +11,7 @@ use ash::vk;
 
 use crate::abi::PatchexStage;
 use crate::shaders::PushConstants;
-use crate::vk::access::{Access, Resource};
+use crate::vk::access::{self, Access, Resource};
 use crate::vk::barriers::{self, EngineImageAccess};
 use crate::vk::buffer::CounterRange;
 use crate::vk::frame_ring::FrameRing;
@@ -238,12 +238,7 @@ impl<'a> Recorder<'a> {
     /// Places a barrier before a command with `accesses` when it conflicts with a command
     /// since the last one.
     fn order(&mut self, accesses: &[Access]) {
-        let conflicts = accesses.iter().any(|next| {
-            self.pending.iter().any(|earlier| {
-                (earlier.write || next.write) && earlier.resource.overlaps(next.resource)
-            })
-        });
-        if conflicts {
+        if access::conflict(&self.pending, accesses) {
             let mut stages = vk::PipelineStageFlags::empty();
             let mut written = vk::AccessFlags::empty();
             for earlier in self.pending.drain(..) {
