@@ -20,30 +20,6 @@ use crate::vk::image::OwnedImage;
 use crate::vk::recorder::Recorder;
 
 impl Context {
-    fn reset_reason(&self, inputs: &SourceInputs) -> Result<PatchexResetReason> {
-        let Some(previous) = &self.source else {
-            return Ok(PATCHEX_RESET_FIRST_FRAME);
-        };
-        if inputs.reset {
-            // A reset starts a new history, so the engine may restart its numbering with it.
-            return Ok(PATCHEX_RESET_REQUESTED);
-        }
-        if inputs.frame_index <= previous.frame_index {
-            bail!(
-                ErrorOutOfOrder,
-                "PatchexFrameDesc.frame_index {} does not increase (previous {}); set reset to \
-                 start a new numbering",
-                inputs.frame_index,
-                previous.frame_index
-            );
-        }
-        Ok(if inputs.frame_index != previous.frame_index + 1 {
-            PATCHEX_RESET_FRAME_GAP
-        } else {
-            PATCHEX_RESET_NONE
-        })
-    }
-
     /// Records frame t's demodulation (or shadow separation), G-buffer packing and, with a
     /// shadow input, the shadow mask's flow into `cmd`.
     pub fn submit(
@@ -229,6 +205,31 @@ impl Context {
             has_shadows: shadow_inputs.is_some(),
         });
         Ok(())
+    }
+
+    /// Why frame t starts a new history, if it does; refuses an index that does not increase.
+    fn reset_reason(&self, inputs: &SourceInputs) -> Result<PatchexResetReason> {
+        let Some(previous) = &self.source else {
+            return Ok(PATCHEX_RESET_FIRST_FRAME);
+        };
+        if inputs.reset {
+            // A reset starts a new history, so the engine may restart its numbering with it.
+            return Ok(PATCHEX_RESET_REQUESTED);
+        }
+        if inputs.frame_index <= previous.frame_index {
+            bail!(
+                ErrorOutOfOrder,
+                "PatchexFrameDesc.frame_index {} does not increase (previous {}); set reset to \
+                 start a new numbering",
+                inputs.frame_index,
+                previous.frame_index
+            );
+        }
+        Ok(if inputs.frame_index != previous.frame_index + 1 {
+            PATCHEX_RESET_FRAME_GAP
+        } else {
+            PATCHEX_RESET_NONE
+        })
     }
 }
 
