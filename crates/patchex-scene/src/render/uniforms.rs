@@ -1,15 +1,16 @@
-//! Host-side mirrors of the shader structs; field order and padding follow the WGSL layouts.
+//! What the host writes into the shaders' structs. Their layouts are the shaders' own: build.rs
+//! mirrors them from the WGSL, so a field added there is one that this file must fill in.
 
 use crate::asset::{AlphaMode, Material};
 use crate::scene::{CameraState, SunDescription, SunLight};
-use bytemuck::{Pod, Zeroable};
 use glam::Mat4;
 
-/// `Frame` in shaders/include/frame.wgsl (the uniform buffer), mirrored by build.rs.
+/// Mirrored by build.rs: `Frame` in shaders/include/frame.wgsl (the uniform buffer) and
+/// `Material` in gbuffer.wgsl (push constants).
 mod generated {
-    include!(concat!(env!("OUT_DIR"), "/frame.rs"));
+    include!(concat!(env!("OUT_DIR"), "/structs.rs"));
 }
-pub(crate) use generated::Frame as FrameUniforms;
+pub(crate) use generated::{Frame as FrameUniforms, Material as MaterialConstants};
 
 impl FrameUniforms {
     pub fn new(
@@ -40,21 +41,6 @@ impl FrameUniforms {
     }
 }
 
-/// `Material` in gbuffer.wgsl (push constants; the WGSL struct is padded to 64 bytes).
-#[repr(C)]
-#[derive(Clone, Copy, Pod, Zeroable)]
-pub(crate) struct MaterialConstants {
-    pub base_color: [f32; 4],
-    pub emissive: [f32; 4],
-    pub metallic: f32,
-    pub roughness: f32,
-    pub normal_scale: f32,
-    pub alpha_cutoff: f32,
-    pub specular: f32,
-    pub stencil: f32,
-    pub padding: [f32; 2],
-}
-
 impl MaterialConstants {
     pub fn new(material: &Material, stencil: u32) -> Self {
         Self {
@@ -69,7 +55,7 @@ impl MaterialConstants {
             },
             specular: material.specular,
             stencil: stencil as f32,
-            padding: [0.0; 2],
+            _pad_end: [0; 8],
         }
     }
 }
