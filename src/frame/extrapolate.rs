@@ -269,8 +269,7 @@ impl Context {
                     &object_table,
                     &patches,
                 );
-                let sets = passes.network_sets(inpainting.set_layouts().len());
-                let runs = inpainting.runs(&sets, &patches);
+                let runs = inpainting.runs(&passes, &patches);
                 inpaint::record(
                     rec,
                     &inpaint::FrameInputs {

@@ -10,7 +10,7 @@ use crate::error::Result;
 use crate::network::codegen::{self, GROUP_EDGE, PATCH_BYTES, PATCH_DISPATCH_OFFSET};
 use crate::network::weights::MAX_LEVELS;
 use crate::network::{Network, Tensor, TensorPrecision, INPUT_CHANNELS};
-use crate::passes::{CounterRange, Texture};
+use crate::passes::{CounterRange, RegionPasses, Texture};
 use crate::shaders::network_inputs::{binding, Params, SHADER};
 use crate::vk::device::Gpu;
 use crate::vk::image::OwnedImage;
@@ -445,10 +445,10 @@ impl Inpainting {
         pool_sizes(self.networks.iter().flat_map(|(p, _)| p.pipelines()))
     }
 
-    /// The two networks' runs in a region whose sets for them start at `sets`, on the patches
-    /// of the region's counters `patches`.
-    pub fn runs(&self, sets: &[vk::DescriptorSet], patches: &CounterRange) -> Vec<NetworkRun<'_>> {
-        let mut sets = sets.iter().copied();
+    /// The two networks' runs with the sets of `passes`' region, on the patches of the region's
+    /// counters `patches`.
+    pub fn runs(&self, passes: &RegionPasses, patches: &CounterRange) -> Vec<NetworkRun<'_>> {
+        let mut sets = (0..).map(|n| passes.network_set(n));
         [PATCH_SLOT_FI, PATCH_SLOT_NEAR_BE]
             .into_iter()
             .zip(&self.networks)

@@ -144,11 +144,6 @@ impl Pipelines {
         &self.built[id as usize]
     }
 
-    /// In `PipelineId` order.
-    pub fn all(&self) -> &[ComputePipeline] {
-        &self.built
-    }
-
     /// The pipeline of a (validated) warp kind.
     pub fn warp(kind: PatchexWarpKind) -> PipelineId {
         match kind {
@@ -220,11 +215,10 @@ impl<'a> RegionPasses<'a> {
         self.nth(id, 0)
     }
 
-    /// The region's sets after the pipelines': the networks' (`Inpainting::set_layouts`).
-    pub fn network_sets(&self, count: usize) -> Vec<vk::DescriptorSet> {
-        (Pipelines::set_count()..Pipelines::set_count() + count)
-            .map(|set| self.ring.descriptor_set(self.slot, self.region, set))
-            .collect()
+    /// The region's `n`th set after the pipelines': the networks' (`Inpainting::set_layouts`).
+    pub fn network_set(&self, n: usize) -> vk::DescriptorSet {
+        let set = Pipelines::set_count() + n;
+        self.ring.descriptor_set(self.slot, self.region, set)
     }
 
     /// `id` with its `n`th set, for its `n`th dispatch with other resources in the region.
