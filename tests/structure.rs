@@ -15,8 +15,9 @@ fn rust_files(dir: &Path, found: &mut Vec<PathBuf>) {
     }
 }
 
-/// The files under src/ whose code (comments aside) contains `needle`, as paths from the crate.
-fn files_with(needle: &str) -> Vec<String> {
+/// The files under src/ with a line of code (comments aside) that `holds`, as paths from the
+/// crate.
+fn files_where(holds: impl Fn(&str) -> bool) -> Vec<String> {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let mut files = Vec::new();
     rust_files(&root.join("src"), &mut files);
@@ -26,7 +27,7 @@ fn files_with(needle: &str) -> Vec<String> {
             fs::read_to_string(path)
                 .expect("a source file reads")
                 .lines()
-                .any(|line| !line.trim_start().starts_with("//") && line.contains(needle))
+                .any(|line| !line.trim_start().starts_with("//") && holds(line))
         })
         .map(|path| {
             path.strip_prefix(root)
@@ -39,6 +40,10 @@ fn files_with(needle: &str) -> Vec<String> {
     holding
 }
 
+fn files_with(needle: &str) -> Vec<String> {
+    files_where(|line| line.contains(needle))
+}
+
 #[test]
 fn barriers_are_recorded_in_one_module() {
     assert_eq!(files_with("cmd_pipeline_barrier"), ["src/vk/barriers.rs"]);
@@ -47,16 +52,8 @@ fn barriers_are_recorded_in_one_module() {
 #[test]
 fn only_the_recorder_places_barriers() {
     // `barriers::` also names the engine-image type the calls hand to the recorder.
-    let callers: Vec<String> = files_with("barriers::")
-        .into_iter()
-        .filter(|file| {
-            let text = fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join(file))
-                .expect("a source file reads");
-            text.lines()
-                .filter(|line| !line.trim_start().starts_with("//"))
-                .any(|line| line.contains("barriers::") && !line.contains("EngineImageAccess"))
-        })
-        .collect();
+    let callers =
+        files_where(|line| line.contains("barriers::") && !line.contains("EngineImageAccess"));
     assert_eq!(callers, ["src/vk/recorder.rs"]);
 }
 
