@@ -31,6 +31,7 @@ struct CompiledPass {
     workgroup_size: [u32; 3],
     bindings: Vec<BindingInfo>,
     push_constants: Option<String>,
+    arithmetic: u64,
 }
 
 /// One descriptor binding as the shader declares it.
@@ -39,6 +40,8 @@ struct BindingInfo {
     kind: &'static str,
     /// The shader may store through it (a storage image or buffer without `read` access).
     writes: bool,
+    /// The shader may load through it (everything but a write-only storage image).
+    reads: bool,
     name: String,
 }
 
@@ -95,24 +98,28 @@ fn compile(pass_path: &Path) -> Result<CompiledPass, String> {
         }
         // What the host orders passes by: whether the shader may store through the binding.
         let stores = |access: naga::StorageAccess| access.contains(naga::StorageAccess::STORE);
-        let (kind, writes) = match (&global.space, &module.types[global.ty].inner) {
-            (naga::AddressSpace::Uniform, _) => ("UniformBuffer", false),
-            (naga::AddressSpace::Storage { access }, _) => ("StorageBuffer", stores(*access)),
+        let loads = |access: naga::StorageAccess| access.contains(naga::StorageAccess::LOAD);
+        let (kind, writes, reads) = match (&global.space, &module.types[global.ty].inner) {
+            (naga::AddressSpace::Uniform, _) => ("UniformBuffer", false, true),
+            (naga::AddressSpace::Storage { access }, _) => {
+                ("StorageBuffer", stores(*access), loads(*access))
+            }
             (
                 _,
                 naga::TypeInner::Image {
                     class: naga::ImageClass::Storage { access, .. },
                     ..
                 },
-            ) => ("StorageImage", stores(*access)),
-            (_, naga::TypeInner::Image { .. }) => ("SampledImage", false),
-            (_, naga::TypeInner::Sampler { .. }) => ("Sampler", false),
+            ) => ("StorageImage", stores(*access), loads(*access)),
+            (_, naga::TypeInner::Image { .. }) => ("SampledImage", false, true),
+            (_, naga::TypeInner::Sampler { .. }) => ("Sampler", false, false),
             (_, other) => return Err(format!("{name}: unsupported binding type {other:?}")),
         };
         bindings.push(BindingInfo {
             binding: binding.binding,
             kind,
             writes,
+            reads,
             name,
         });
     }
@@ -128,7 +135,37 @@ fn compile(pass_path: &Path) -> Result<CompiledPass, String> {
         workgroup_size: entry.workgroup_size,
         bindings,
         push_constants,
+        arithmetic: arithmetic(&module, &info, &entry.function, info.get_entry_point(0)),
     })
+}
+
+/// Arithmetic operations one invocation of `function` performs as written: each arithmetic
+/// expression once per vector lane, a called function's once per call. Every branch and loop
+/// body counts once, so this is a static count, not a measurement: the roofline's compute side
+/// (`patchex bench`).
+fn arithmetic(
+    module: &naga::Module,
+    info: &naga::valid::ModuleInfo,
+    function: &naga::Function,
+    function_info: &naga::valid::FunctionInfo,
+) -> u64 {
+    use naga::Expression as E;
+    let mut operations = 0;
+    for (handle, expression) in function.expressions.iter() {
+        let lanes = match function_info[handle].ty.inner_with(&module.types) {
+            naga::TypeInner::Vector { size, .. } => *size as u64,
+            _ => 1,
+        };
+        operations += match expression {
+            E::Binary { .. } | E::Unary { .. } | E::Math { .. } | E::Select { .. } => lanes,
+            E::Relational { .. } | E::As { .. } => lanes,
+            E::CallResult(callee) => {
+                arithmetic(module, info, &module.functions[*callee], &info[*callee])
+            }
+            _ => 0,
+        };
+    }
+    operations
 }
 
 fn emit(pass: &CompiledPass) -> String {
@@ -151,13 +188,14 @@ fn emit(pass: &CompiledPass) -> String {
         binding,
         kind,
         writes,
+        reads,
         name,
     } in &pass.bindings
     {
         writeln!(
             out,
             "        Binding {{ binding: {binding}, kind: DescriptorKind::{kind}, writes: {writes}, \
-             name: {name:?} }},"
+             reads: {reads}, name: {name:?} }},"
         )
         .unwrap();
     }
@@ -182,7 +220,9 @@ fn emit(pass: &CompiledPass) -> String {
     writeln!(
         out,
         "    pub const SHADER: super::ShaderInfo = super::ShaderInfo {{ name: NAME, spirv: SPIRV, \
-         workgroup_size: WORKGROUP_SIZE, bindings: BINDINGS, push_constant_size: {push_constant_size} }};"
+         workgroup_size: WORKGROUP_SIZE, bindings: BINDINGS, push_constant_size: {push_constant_size}, \
+         arithmetic: {} }};",
+        pass.arithmetic
     )
     .unwrap();
     write!(out, "    pub const SPIRV: &[u32] = &[").unwrap();

@@ -92,7 +92,7 @@
 #include <vulkan/vulkan.h>
 
 // Version of this ABI, returned by `patchex_abi_version`; bumped on any incompatible change.
-#define PATCHEX_ABI_VERSION 7
+#define PATCHEX_ABI_VERSION 8
 
 // The warp settings a context uses unless told otherwise: a 3x3 gather; a texel keeps most of
 // its weight within ~5% relative depth, ~0.1 of (1 - cos) of normal angle (about 25 degrees),
@@ -446,6 +446,21 @@ typedef struct PatchexExtrapolationStats {
 // `PatchexFrameStats.shadow_history`.
 typedef uint32_t PatchexShadowHistory;
 
+// What one call's stages move and compute (index PATCHEX_STAGE_*), as their passes declare it:
+// every image and buffer range a dispatch binds counts once, whole (an image at its extent; the
+// networks' tensors at the size the context holds), read where the shader may load through the
+// binding and written where it may store. A hardware-independent measure of a stage's memory
+// traffic: a cache may save some of it, a gather that reads a texel twice costs more. Known
+// when the call is recorded, so filled even while the GPU has not finished the frame.
+typedef struct PatchexStageTraffic {
+  uint64_t bytes_read[PATCHEX_STAGE_SLOTS];
+  uint64_t bytes_written[PATCHEX_STAGE_SLOTS];
+  // Arithmetic operations: each shader's static count per invocation (every expression once,
+  // per vector lane; every loop body and branch once) times the invocations dispatched. The
+  // networks' layers, dispatched by the GPU itself, count 0.
+  uint64_t arithmetic_operations[PATCHEX_STAGE_SLOTS];
+} PatchexStageTraffic;
+
 // Filled by `patchex_get_frame_stats`; the caller sets the header.
 typedef struct PatchexFrameStats {
   // PATCHEX_STRUCT_TYPE_FRAME_STATS, sizeof(PatchexFrameStats), chain (none defined yet).
@@ -474,6 +489,10 @@ typedef struct PatchexFrameStats {
   uint32_t submit_stages_run;
   // What the shadow sub-task had to work with for this frame (PATCHEX_SHADOW_HISTORY_*).
   PatchexShadowHistory shadow_history;
+  // What the submit's stages move and compute.
+  struct PatchexStageTraffic submit_traffic;
+  // The same for each extrapolation, in the order of `extrapolations`.
+  struct PatchexStageTraffic extrapolation_traffic[PATCHEX_MAX_EXTRAPOLATIONS_PER_FRAME];
 } PatchexFrameStats;
 
 // Which backward warp carries frame t to the target instant.

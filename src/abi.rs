@@ -26,7 +26,7 @@ pub type PFN_vkGetInstanceProcAddr = Option<vk::PFN_vkGetInstanceProcAddr>;
 pub type PFN_vkGetDeviceProcAddr = Option<vk::PFN_vkGetDeviceProcAddr>;
 
 /// Version of this ABI, returned by `patchex_abi_version`; bumped on any incompatible change.
-pub const PATCHEX_ABI_VERSION: u32 = 7;
+pub const PATCHEX_ABI_VERSION: u32 = 8;
 
 /// 0 or 1; any other value is rejected as an invalid argument.
 pub type PatchexBool = u32;
@@ -658,6 +658,27 @@ pub struct PatchexFrameStats {
     pub submit_stages_run: u32,
     /// What the shadow sub-task had to work with for this frame (PATCHEX_SHADOW_HISTORY_*).
     pub shadow_history: PatchexShadowHistory,
+    /// What the submit's stages move and compute.
+    pub submit_traffic: PatchexStageTraffic,
+    /// The same for each extrapolation, in the order of `extrapolations`.
+    pub extrapolation_traffic: [PatchexStageTraffic; PATCHEX_MAX_EXTRAPOLATIONS_PER_FRAME],
+}
+
+/// What one call's stages move and compute (index PATCHEX_STAGE_*), as their passes declare it:
+/// every image and buffer range a dispatch binds counts once, whole (an image at its extent; the
+/// networks' tensors at the size the context holds), read where the shader may load through the
+/// binding and written where it may store. A hardware-independent measure of a stage's memory
+/// traffic: a cache may save some of it, a gather that reads a texel twice costs more. Known
+/// when the call is recorded, so filled even while the GPU has not finished the frame.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default)]
+pub struct PatchexStageTraffic {
+    pub bytes_read: [u64; PATCHEX_STAGE_SLOTS],
+    pub bytes_written: [u64; PATCHEX_STAGE_SLOTS],
+    /// Arithmetic operations: each shader's static count per invocation (every expression once,
+    /// per vector lane; every loop body and branch once) times the invocations dispatched. The
+    /// networks' layers, dispatched by the GPU itself, count 0.
+    pub arithmetic_operations: [u64; PATCHEX_STAGE_SLOTS],
 }
 
 /// `PatchexFrameStats.shadow_history`.

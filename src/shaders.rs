@@ -17,6 +17,8 @@ pub struct Binding {
     pub kind: DescriptorKind,
     /// The shader may write through it: passes after this one that use the resource wait.
     pub writes: bool,
+    /// The shader may read through it (all but write-only storage images).
+    pub reads: bool,
     pub name: &'static str,
 }
 
@@ -28,6 +30,9 @@ pub struct ShaderInfo {
     pub workgroup_size: [u32; 3],
     pub bindings: &'static [Binding],
     pub push_constant_size: u32,
+    /// Arithmetic operations per invocation, counted statically from the shader (build.rs
+    /// `arithmetic`); 0 where unknown (the networks' generated layers).
+    pub arithmetic: u64,
 }
 
 /// Plain-old-data push constants, viewable as bytes for vkCmdPushConstants.

@@ -77,7 +77,7 @@ fn c_stats(dir: &Path, name: &str) -> PatchexFrameStats {
 fn assert_same_stats(c: &PatchexFrameStats, rust: &PatchexFrameStats) {
     let frame = |s: &PatchexFrameStats| {
         format!(
-            "{} {} {} {} {} {} {} {} {} {}",
+            "{} {} {} {} {} {} {} {} {} {} {:?} {:?}",
             s.frame_index,
             s.width,
             s.height,
@@ -87,7 +87,9 @@ fn assert_same_stats(c: &PatchexFrameStats, rust: &PatchexFrameStats) {
             s.extrapolation_count,
             s.device_memory_bytes,
             s.submit_stages_run,
-            s.shadow_history
+            s.shadow_history,
+            s.submit_traffic,
+            s.extrapolation_traffic
         )
     };
     assert_eq!(frame(c), frame(rust), "frame {}", rust.frame_index);

@@ -459,3 +459,51 @@ fn a_camera_cut_asks_the_engine_to_render_instead() {
         0
     );
 }
+
+/// The stats report what each stage's passes move, derived from what they bind: nothing for a
+/// stage that did not run, and for the G-buffer packing exactly the engine's geometry images
+/// (plus its counter) as read.
+#[test]
+fn stats_report_each_stages_declared_traffic() {
+    use ash::vk;
+    use patchex::vk::image::texel_bytes;
+    let scene = Scene::new(WIDTH, HEIGHT);
+    let (source, target) = two_frame_case(&scene);
+    let rig = Rig::new(WIDTH as u32, HEIGHT as u32);
+    let outcome = run_plugin(&rig, &source, &target, 0.5, &Chained::default());
+    let stats = &outcome.stats;
+    let regions = [
+        (stats.submit_stages_run, &stats.submit_traffic),
+        (
+            stats.extrapolations[0].stages_run,
+            &stats.extrapolation_traffic[0],
+        ),
+    ];
+    for (stages_run, traffic) in regions {
+        for stage in 0..PATCHEX_STAGE_SLOTS {
+            let moved = traffic.bytes_read[stage] + traffic.bytes_written[stage];
+            if stages_run & (1 << stage) != 0 {
+                assert!(moved > 0, "stage {stage} ran and moved nothing");
+            } else if stage != PATCHEX_STAGE_INFERENCE as usize
+                && stage != PATCHEX_STAGE_BLEND as usize
+            {
+                // (The networks' stages are recorded even when the GPU finds no patch.)
+                assert_eq!(moved, 0, "stage {stage} did not run");
+            }
+        }
+    }
+    let pixels = (WIDTH * HEIGHT) as u64;
+    let frame = GpuFrame::upload(&rig.engine, &source);
+    let depth = vk::ImageAspectFlags::DEPTH;
+    let engine_geometry = pixels
+        * (texel_bytes(frame.depth.format, depth)
+            + texel_bytes(frame.normal.format, vk::ImageAspectFlags::COLOR)
+            + texel_bytes(frame.stencil.format, vk::ImageAspectFlags::STENCIL));
+    let counter = 4;
+    let pack = PATCHEX_STAGE_PACK_SOURCE_GBUFFER as usize;
+    assert_eq!(
+        stats.submit_traffic.bytes_read[pack],
+        engine_geometry + counter
+    );
+    assert!(stats.submit_traffic.arithmetic_operations[pack] >= pixels);
+}

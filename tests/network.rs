@@ -156,6 +156,7 @@ fn run_on_gpu(
         image: image.image,
         view: image.view,
         layout: general,
+        bytes: 0,
     };
 
     let mut pipelines = NetworkPipelines::new(&gpu, network.clone(), precision).expect("pipelines");

@@ -365,9 +365,14 @@ impl FrameImages {
 
     /// The placeholders for a float and an unsigned-integer texture.
     pub fn placeholders(&self) -> (Texture, Texture) {
+        // Never read, so they move no bytes.
+        let unread = |image: &OwnedImage| Texture {
+            bytes: 0,
+            ..image.into()
+        };
         (
-            (&self.placeholder_float).into(),
-            (&self.placeholder_uint).into(),
+            unread(&self.placeholder_float),
+            unread(&self.placeholder_uint),
         )
     }
 
@@ -429,4 +434,25 @@ fn grow<const N: usize>(
         ring.retire(serial.saturating_sub(1), image);
     }
     Ok(true)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::vk::image::texel_bytes;
+
+    #[test]
+    fn every_working_format_has_a_texel_size() {
+        let specs = WorkImages::SPECS
+            .iter()
+            .chain(&OutputStaging::SPECS)
+            .chain(&ShadowImages::SPECS);
+        for spec in specs {
+            assert!(
+                texel_bytes(spec.format, vk::ImageAspectFlags::COLOR) > 0,
+                "{}",
+                spec.name
+            );
+        }
+    }
 }

@@ -6,6 +6,7 @@ use crate::context::Context;
 use crate::error::{bail, PatchexResult, Result};
 use crate::frame::counters;
 use crate::passes::{inpaint, segmentation, warp};
+use crate::vk::access::StageRecord;
 
 impl Context {
     /// Fills `out` for `frame_index`; `NotReady` while the GPU has not finished it.
@@ -32,13 +33,13 @@ impl Context {
         };
         let mut ready = true;
         let mut read_times = |region: usize,
-                              stages: &[u32],
+                              stages: &[StageRecord],
                               gpu_ms: &mut [f32; PATCHEX_STAGE_SLOTS]|
          -> Result<()> {
             let Some(timer) = &self.ring.timer else {
                 return Ok(());
             };
-            for &stage in stages {
+            for &StageRecord { stage, .. } in stages {
                 match timer.read_ms(&self.gpu.device, self.ring.query(slot, region, stage))? {
                     Some(ms) => gpu_ms[stage as usize] = ms,
                     None => ready = false,
@@ -50,6 +51,12 @@ impl Context {
         read_times(0, &record.submit.stages, &mut submit_gpu_ms)?;
         let mut extrapolations =
             [PatchexExtrapolationStats::default(); PATCHEX_MAX_EXTRAPOLATIONS_PER_FRAME];
+        let mut extrapolation_traffic =
+            [PatchexStageTraffic::default(); PATCHEX_MAX_EXTRAPOLATIONS_PER_FRAME];
+        for (region_record, traffic) in record.extrapolations.iter().zip(&mut extrapolation_traffic)
+        {
+            *traffic = stage_traffic(&region_record.stages);
+        }
         let pixels = (record.extent.width * record.extent.height) as f32;
         for (index, (region_record, stats)) in record
             .extrapolations
@@ -138,6 +145,8 @@ impl Context {
             device_memory_bytes: self.device_memory_bytes(),
             submit_stages_run: stage_bits(&record.submit.stages),
             shadow_history: record.shadow_history,
+            submit_traffic: stage_traffic(&record.submit.stages),
+            extrapolation_traffic,
         };
         Ok(if ready {
             PatchexResult::Success
@@ -155,6 +164,19 @@ impl Context {
 }
 
 /// The stages that ran, as bits 1 << PATCHEX_STAGE_*.
-fn stage_bits(stages: &[PatchexStage]) -> u32 {
-    stages.iter().fold(0, |bits, stage| bits | 1 << stage)
+fn stage_bits(stages: &[StageRecord]) -> u32 {
+    stages
+        .iter()
+        .fold(0, |bits, record| bits | 1 << record.stage)
+}
+
+fn stage_traffic(stages: &[StageRecord]) -> PatchexStageTraffic {
+    let mut out = PatchexStageTraffic::default();
+    for &StageRecord { stage, traffic } in stages {
+        let stage = stage as usize;
+        out.bytes_read[stage] += traffic.bytes_read;
+        out.bytes_written[stage] += traffic.bytes_written;
+        out.arithmetic_operations[stage] += traffic.operations;
+    }
+    out
 }

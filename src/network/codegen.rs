@@ -26,30 +26,35 @@ pub const BINDINGS: [Binding; 5] = [
         binding: 0,
         kind: DescriptorKind::SampledImage,
         writes: false,
+        reads: true,
         name: "main_input",
     },
     Binding {
         binding: 1,
         kind: DescriptorKind::SampledImage,
         writes: false,
+        reads: true,
         name: "skip_input",
     },
     Binding {
         binding: 2,
         kind: DescriptorKind::SampledImage,
         writes: false,
+        reads: true,
         name: "network_input",
     },
     Binding {
         binding: 3,
         kind: DescriptorKind::StorageImage,
         writes: true,
+        reads: false,
         name: "layer_output",
     },
     Binding {
         binding: 4,
         kind: DescriptorKind::StorageBuffer,
         writes: false,
+        reads: true,
         name: "network_patch",
     },
 ];
@@ -72,6 +77,7 @@ pub fn shader_info(layer: &Layer) -> ShaderInfo {
         workgroup_size: [GROUP_EDGE, GROUP_EDGE, 1],
         bindings: &BINDINGS,
         push_constant_size: 0,
+        arithmetic: 0,
     }
 }
 

@@ -3,6 +3,8 @@
 
 use ash::vk;
 
+use crate::abi::PatchexStage;
+
 use crate::vk::buffer::CounterRange;
 
 /// What a command touches, for ordering.
@@ -52,6 +54,34 @@ pub struct Access {
     pub resource: Resource,
     pub write: bool,
     pub stage: vk::PipelineStageFlags,
+}
+
+/// What commands move and compute, as their shaders and bindings declare it: each binding's
+/// resource counts once per command, whole (an image at its extent, a buffer range at its
+/// size), read if the shader may load through it, written if it may store through it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Traffic {
+    pub bytes_read: u64,
+    pub bytes_written: u64,
+    /// Arithmetic operations, from the shaders' static counts (`ShaderInfo::arithmetic`) times
+    /// the invocations dispatched; indirect dispatches count none.
+    pub operations: u64,
+}
+
+impl std::ops::AddAssign for Traffic {
+    fn add_assign(&mut self, other: Self) {
+        self.bytes_read += other.bytes_read;
+        self.bytes_written += other.bytes_written;
+        self.operations += other.operations;
+    }
+}
+
+/// A stage a recorder recorded, and what its commands move (commands outside stages, such as
+/// zeroing the counters, are not counted).
+#[derive(Clone, Copy, Debug)]
+pub struct StageRecord {
+    pub stage: PatchexStage,
+    pub traffic: Traffic,
 }
 
 /// Whether `next` must wait for `earlier`: one of them writes a resource the other touches.

@@ -48,6 +48,7 @@ impl EngineImageAccess {
             image: image.image,
             view: image.view,
             layout,
+            bytes: image.bytes,
         })
     }
 
@@ -115,6 +116,7 @@ impl EngineImageAccess {
             image: image.image,
             view: image.view,
             layout: layout_in_pass,
+            bytes: image.bytes,
         })
     }
 

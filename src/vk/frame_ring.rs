@@ -13,6 +13,7 @@ use crate::abi::{
     PATCHEX_STAGE_SLOTS,
 };
 use crate::error::Result;
+use crate::vk::access::StageRecord;
 use crate::vk::buffer::{CounterRange, ReadbackBuffer};
 use crate::vk::device::Gpu;
 use crate::vk::image::OwnedImage;
@@ -26,7 +27,7 @@ const QUERIES_PER_REGION: u32 = 2 * PATCHEX_STAGE_SLOTS as u32;
 /// What was recorded into one region, to read its results back later.
 #[derive(Clone, Debug, Default)]
 pub struct RegionRecord {
-    pub stages: Vec<u32>,
+    pub stages: Vec<StageRecord>,
     pub alpha: f32,
     /// The target was a camera cut from frame t.
     pub camera_cut: bool,

@@ -141,6 +141,8 @@ pub struct ImportedImage {
     pub layout: vk::ImageLayout,
     /// An output the plugin fills by a copy from a working image (`ImageRole::copied_formats`).
     pub written_by_copy: bool,
+    /// What the passes read or write of it: the frame's extent, in the aspect its view shows.
+    pub bytes: u64,
 }
 
 impl ImportedImage {
@@ -212,12 +214,19 @@ impl ImportedImage {
                 extent.height
             );
         }
+        // A depth-stencil image is viewed through one aspect: the stencil's for the stencil role.
+        let aspect = if role.formats == STENCIL_FORMATS {
+            vk::ImageAspectFlags::STENCIL
+        } else {
+            vk::ImageAspectFlags::COLOR | vk::ImageAspectFlags::DEPTH
+        };
         Ok(Some(Self {
             image: desc.image,
             view: desc.view,
             format: desc.format,
             layout: desc.layout,
             written_by_copy: role.copied_formats.contains(&desc.format),
+            bytes: texel_bytes(desc.format, aspect) * pixels(extent),
         }))
     }
 
@@ -368,6 +377,7 @@ pub struct OwnedImage {
     pub view: vk::ImageView,
     pub format: vk::Format,
     pub extent: vk::Extent2D,
+    pub layers: u32,
     allocation: Option<Allocation>,
     /// Whether a command buffer has already moved it out of UNDEFINED.
     pub initialized: bool,
@@ -452,6 +462,7 @@ impl OwnedImage {
                 view: vk::ImageView::null(),
                 format,
                 extent,
+                layers: array_layers.unwrap_or(1),
                 allocation: Some(allocation),
                 initialized: false,
             };
@@ -491,6 +502,7 @@ impl OwnedImage {
             view: vk::ImageView::null(),
             format: vk::Format::UNDEFINED,
             extent: vk::Extent2D::default(),
+            layers: 0,
             allocation: None,
             initialized: true,
         }
@@ -498,6 +510,13 @@ impl OwnedImage {
 
     pub fn size_bytes(&self) -> u64 {
         self.allocation.as_ref().map_or(0, |a| a.size())
+    }
+
+    /// The bytes of its texels, every layer: what a pass that reads or writes it all moves.
+    pub fn texel_bytes(&self) -> u64 {
+        texel_bytes(self.format, vk::ImageAspectFlags::COLOR)
+            * pixels(self.extent)
+            * self.layers as u64
     }
 
     pub fn destroy(&mut self, gpu: &Gpu, allocator: &mut Allocator) {
@@ -520,6 +539,9 @@ pub struct Texture {
     pub image: vk::Image,
     pub view: vk::ImageView,
     pub layout: vk::ImageLayout,
+    /// What a pass that reads or writes all of it moves (`OwnedImage::texel_bytes`,
+    /// `ImportedImage::bytes`).
+    pub bytes: u64,
 }
 
 impl From<&OwnedImage> for Texture {
@@ -528,7 +550,46 @@ impl From<&OwnedImage> for Texture {
             image: image.image,
             view: image.view,
             layout: vk::ImageLayout::GENERAL,
+            bytes: image.texel_bytes(),
         }
+    }
+}
+
+fn pixels(extent: vk::Extent2D) -> u64 {
+    extent.width as u64 * extent.height as u64
+}
+
+/// Bytes of one texel of `format` as a view of `aspect` shows it (a depth-stencil format's
+/// depth or stencil; depth stored in 24 bits takes 4). 0 for a format no list here names, which
+/// a test rules out.
+pub fn texel_bytes(format: vk::Format, aspect: vk::ImageAspectFlags) -> u64 {
+    use vk::Format as F;
+    let stencil = aspect == vk::ImageAspectFlags::STENCIL;
+    match format {
+        F::D16_UNORM_S8_UINT | F::D24_UNORM_S8_UINT | F::D32_SFLOAT_S8_UINT if stencil => 1,
+        F::R8_UINT | F::S8_UINT | F::R8_UNORM => 1,
+        F::R16_SFLOAT | F::R16_UNORM | F::R16_UINT | F::D16_UNORM | F::D16_UNORM_S8_UINT => 2,
+        F::R32_SFLOAT
+        | F::R32_UINT
+        | F::D32_SFLOAT
+        | F::D24_UNORM_S8_UINT
+        | F::D32_SFLOAT_S8_UINT
+        | F::R16G16_SFLOAT
+        | F::B10G11R11_UFLOAT_PACK32
+        | F::A2B10G10R10_UNORM_PACK32
+        | F::A2R10G10B10_UNORM_PACK32
+        | F::R8G8B8A8_UNORM
+        | F::R8G8B8A8_SRGB
+        | F::B8G8R8A8_UNORM
+        | F::B8G8R8A8_SRGB
+        | F::R8G8B8A8_SNORM => 4,
+        F::R16G16B16A16_SFLOAT
+        | F::R16G16B16A16_UNORM
+        | F::R16G16B16A16_SNORM
+        | F::R32G32_SFLOAT
+        | F::R32G32_UINT => 8,
+        F::R32G32B32A32_SFLOAT => 16,
+        _ => 0,
     }
 }
 
@@ -545,3 +606,34 @@ pub const COLOR_SUBRESOURCE: vk::ImageSubresourceRange = vk::ImageSubresourceRan
     base_array_layer: 0,
     layer_count: 1,
 };
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_accepted_format_has_a_texel_size() {
+        let lists = [
+            FLOAT_COLOR_FORMATS,
+            MOTION_FORMATS,
+            DEPTH_FORMATS,
+            STENCIL_FORMATS,
+            MASK_FORMATS,
+            OUTPUT_FORMATS,
+            DIAGNOSTICS_FORMATS,
+        ];
+        for format in lists.into_iter().flatten() {
+            assert!(
+                texel_bytes(*format, vk::ImageAspectFlags::COLOR) > 0,
+                "{format:?}"
+            );
+        }
+        for format in STENCIL_FORMATS {
+            assert_eq!(texel_bytes(*format, vk::ImageAspectFlags::STENCIL), 1);
+        }
+        assert_eq!(
+            texel_bytes(vk::Format::D32_SFLOAT_S8_UINT, vk::ImageAspectFlags::DEPTH),
+            4
+        );
+    }
+}

@@ -5,7 +5,7 @@ use ash::vk;
 
 use crate::error::Result;
 use crate::shaders::{Binding, DescriptorKind, PushConstants, ShaderInfo};
-use crate::vk::access::{Access, Resource};
+use crate::vk::access::{Access, Resource, Traffic};
 use crate::vk::buffer::CounterRange;
 use crate::vk::device::Gpu;
 use crate::vk::image::Texture;
@@ -222,7 +222,8 @@ enum Descriptor {
 /// The resources of one dispatch, keyed by the binding numbers the shader declares.
 pub struct DescriptorWrites<'a> {
     shader: &'a ShaderInfo,
-    resources: Vec<(u32, Descriptor, Resource)>,
+    /// Binding, descriptor, what it names, and that resource's bytes.
+    resources: Vec<(u32, Descriptor, Resource, u64)>,
 }
 
 impl<'a> DescriptorWrites<'a> {
@@ -245,6 +246,7 @@ impl<'a> DescriptorWrites<'a> {
             binding,
             Descriptor::Image(info),
             Resource::Image(texture.image),
+            texture.bytes,
         ));
         self
     }
@@ -255,8 +257,12 @@ impl<'a> DescriptorWrites<'a> {
             offset: range.offset,
             range: range.range,
         };
-        self.resources
-            .push((binding, Descriptor::Buffer(info), Resource::range(range)));
+        self.resources.push((
+            binding,
+            Descriptor::Buffer(info),
+            Resource::range(range),
+            range.range,
+        ));
         self
     }
 
@@ -264,12 +270,27 @@ impl<'a> DescriptorWrites<'a> {
     pub fn accesses(&self) -> Vec<Access> {
         self.resources
             .iter()
-            .map(|(binding, _, resource)| Access {
+            .map(|(binding, _, resource, _)| Access {
                 resource: *resource,
                 write: self.declared(*binding).writes,
                 stage: vk::PipelineStageFlags::COMPUTE_SHADER,
             })
             .collect()
+    }
+
+    /// The bytes one dispatch with these descriptors moves (`Traffic`), before its arithmetic.
+    pub fn traffic(&self) -> Traffic {
+        let mut traffic = Traffic::default();
+        for (binding, _, _, bytes) in &self.resources {
+            let declared = self.declared(*binding);
+            if declared.reads {
+                traffic.bytes_read += bytes;
+            }
+            if declared.writes {
+                traffic.bytes_written += bytes;
+            }
+        }
+        traffic
     }
 
     fn declared(&self, binding: u32) -> &Binding {
@@ -292,7 +313,7 @@ impl<'a> DescriptorWrites<'a> {
         let writes: Vec<_> = self
             .resources
             .iter()
-            .map(|(binding, descriptor, _)| {
+            .map(|(binding, descriptor, _, _)| {
                 let write = vk::WriteDescriptorSet::default()
                     .dst_set(set)
                     .dst_binding(*binding)

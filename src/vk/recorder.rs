@@ -11,7 +11,7 @@ use ash::vk;
 
 use crate::abi::PatchexStage;
 use crate::shaders::PushConstants;
-use crate::vk::access::{self, Access, Resource};
+use crate::vk::access::{self, Access, Resource, StageRecord, Traffic};
 use crate::vk::barriers::{self, EngineImageAccess};
 use crate::vk::buffer::CounterRange;
 use crate::vk::frame_ring::FrameRing;
@@ -29,6 +29,8 @@ pub struct Pass<'a> {
 pub struct Bound<'a> {
     pass: Pass<'a>,
     accesses: Vec<Access>,
+    /// The bytes one dispatch moves.
+    traffic: Traffic,
 }
 
 /// Every stage the barriers make earlier work visible to: the passes, the transfers (clears,
@@ -53,7 +55,9 @@ pub struct Recorder<'a> {
     /// Accesses since the last barrier.
     pending: Vec<Access>,
     times: Option<StageTimes<'a>>,
-    stages: Vec<PatchexStage>,
+    stages: Vec<StageRecord>,
+    /// What the stage being recorded has moved so far.
+    traffic: Traffic,
 }
 
 impl<'a> Recorder<'a> {
@@ -70,6 +74,7 @@ impl<'a> Recorder<'a> {
             }],
             times: None,
             stages: Vec::new(),
+            traffic: Traffic::default(),
         }
     }
 
@@ -109,7 +114,8 @@ impl<'a> Recorder<'a> {
         if let Some((timer, query)) = query {
             timer.write(self.device, self.cmd, query, true);
         }
-        self.stages.push(stage);
+        let traffic = std::mem::take(&mut self.traffic);
+        self.stages.push(StageRecord { stage, traffic });
     }
 
     /// Writes `pass`'s descriptor set with what `writes` binds; the pass's accesses are the
@@ -121,8 +127,13 @@ impl<'a> Recorder<'a> {
     ) -> Bound<'p> {
         let writes = writes(DescriptorWrites::new(pass.pipeline));
         let accesses = writes.accesses();
+        let traffic = writes.traffic();
         writes.update(self.device, pass.set);
-        Bound { pass, accesses }
+        Bound {
+            pass,
+            accesses,
+            traffic,
+        }
     }
 
     /// One dispatch of `bound` covering `extent`.
@@ -138,8 +149,14 @@ impl<'a> Recorder<'a> {
         dispatches: impl IntoIterator<Item = (P, vk::Extent2D)>,
     ) {
         self.order(&bound.accesses);
+        // The dispatches share their images, each writing its own part: the bytes count once.
+        self.traffic += bound.traffic;
         let Pass { pipeline, set } = bound.pass;
+        let [group_x, group_y, _] = pipeline.shader.workgroup_size;
         for (params, extent) in dispatches {
+            let invocations = extent.width.next_multiple_of(group_x) as u64
+                * extent.height.next_multiple_of(group_y) as u64;
+            self.traffic.operations += invocations * pipeline.shader.arithmetic;
             pipeline.dispatch(self.device, self.cmd, set, &params, extent);
         }
     }
@@ -159,6 +176,8 @@ impl<'a> Recorder<'a> {
             stage: vk::PipelineStageFlags::DRAW_INDIRECT,
         });
         self.order(&accesses);
+        self.traffic += bound.traffic;
+        self.traffic.bytes_read += args.range;
         let Pass { pipeline, set } = bound.pass;
         pipeline.dispatch_indirect(self.device, self.cmd, set, params, args.buffer, args.offset);
     }
@@ -166,6 +185,7 @@ impl<'a> Recorder<'a> {
     /// Zeroes `range` (counters before the passes that count into them).
     pub fn fill_zero(&mut self, range: &CounterRange) {
         self.order(&[transfer_write(Resource::range(range))]);
+        self.traffic.bytes_written += range.range;
         // SAFETY: cmd is recording; the range lies inside the buffer, which has TRANSFER_DST.
         unsafe {
             self.device
@@ -176,6 +196,7 @@ impl<'a> Recorder<'a> {
     /// Clears a plugin image (in GENERAL, with TRANSFER_DST usage) to zero.
     pub fn clear(&mut self, image: &OwnedImage) {
         self.order(&[transfer_write(Resource::Image(image.image))]);
+        self.traffic.bytes_written += image.texel_bytes();
         let zero = vk::ClearColorValue { float32: [0.0; 4] };
         // SAFETY: cmd is recording; the image is in GENERAL and has TRANSFER_DST usage.
         unsafe {
@@ -194,6 +215,8 @@ impl<'a> Recorder<'a> {
     pub fn copy(&mut self, from: &OwnedImage, to: &ImportedImage, extent: vk::Extent2D) {
         // The layout change waits for the pass that wrote `from` by itself.
         self.order(&[transfer_write(Resource::Image(to.image))]);
+        self.traffic.bytes_read += from.texel_bytes();
+        self.traffic.bytes_written += to.bytes;
         barriers::owned_for_copy(self.device, self.cmd, from, false);
         let layer = vk::ImageSubresourceLayers {
             aspect_mask: vk::ImageAspectFlags::COLOR,
@@ -229,7 +252,7 @@ impl<'a> Recorder<'a> {
 
     /// Ends the call: the counters become readable by the host after the engine's fence, and
     /// the engine's images return to their layouts. Returns the stages recorded.
-    pub fn finish(self, engine: &EngineImageAccess) -> Vec<PatchexStage> {
+    pub fn finish(self, engine: &EngineImageAccess) -> Vec<StageRecord> {
         barriers::compute_to_host(self.device, self.cmd);
         engine.release(self.device, self.cmd);
         self.stages

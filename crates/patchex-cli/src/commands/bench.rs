@@ -4,7 +4,9 @@
 //! - bench.md and bench.json: quality (PSNR, SSIM, FLIP against the rendered target) beside GPU
 //!   time per stage, grouped as the PatchEX paper's runtime table does (G-buffer, warping,
 //!   preprocessing, inference, blending), and how the time grows with resolution;
-//! - trade.png: quality against GPU time, one line per configuration through the resolutions.
+//! - trade.png: quality against GPU time, one line per configuration through the resolutions;
+//! - the costs of each stage: device memory per configuration, bytes read and written and
+//!   arithmetic per pixel, and a roofline lower bound on a named GPU (`costs`).
 //!
 //! GPU times come from the plugin's timestamp queries. Each configuration runs once on every
 //! size before it is measured, so no measurement pays for the driver's lazy compilation. Times
@@ -22,6 +24,7 @@ use patchex_scene::{Gpu, GpuOptions, World};
 use plotters::prelude::*;
 use serde_json::json;
 
+use super::costs::{self, Costs};
 use super::metrics::{error_maps, Pooled};
 use super::picture::tone_map;
 use super::plugin_driver::{NetworkChoice, PluginDriver};
@@ -184,16 +187,19 @@ const STAGE_GROUPS: [(&str, &[PatchexStage]); 5] = [
 #[derive(Clone, Default)]
 struct Measured {
     quality: Pooled,
-    /// Summed GPU ms per stage group, and the number of targets summed.
-    group_ms: [f64; STAGE_GROUPS.len()],
-    targets: usize,
+    /// GPU time, traffic and memory per stage.
+    costs: Costs,
     /// Fraction of target pixels in FI and near-BE, summed over targets.
     dynamic_fraction: f64,
 }
 
 impl Measured {
     fn mean_group_ms(&self, group: usize) -> f64 {
-        self.group_ms[group] / self.targets.max(1) as f64
+        STAGE_GROUPS[group]
+            .1
+            .iter()
+            .map(|&stage| self.costs.mean(stage).gpu_ms)
+            .sum()
     }
 
     fn mean_total_ms(&self) -> f64 {
@@ -302,19 +308,10 @@ fn measure(
             for pixel in 0..width * height {
                 measured.quality.add(&maps, pixel);
             }
-            let stats = &result.stats;
-            let extrapolation = &stats.extrapolations[0];
-            for (group, (_, stages)) in STAGE_GROUPS.iter().enumerate() {
-                measured.group_ms[group] += stages
-                    .iter()
-                    .map(|&s| {
-                        (stats.submit_gpu_ms[s as usize] + extrapolation.gpu_ms[s as usize]) as f64
-                    })
-                    .sum::<f64>();
-            }
+            measured.costs.add(&result.stats);
+            let extrapolation = &result.stats.extrapolations[0];
             measured.dynamic_fraction +=
                 (extrapolation.fi_fraction + extrapolation.near_be_fraction) as f64;
-            measured.targets += 1;
         }
     }
     Ok(())
@@ -405,7 +402,7 @@ fn report(args: &BenchArgs, configurations: &[Configuration], results: &[Vec<Mea
     }
     let dynamic = results[0]
         .first()
-        .map_or(0.0, |m| m.dynamic_fraction / m.targets.max(1) as f64);
+        .map_or(0.0, |m| m.dynamic_fraction / m.costs.targets.max(1) as f64);
     writeln!(
         out,
         "\nDynamic content (FI plus near-BE) covers {:.1}% of the target pixels on average. \
@@ -415,6 +412,12 @@ fn report(args: &BenchArgs, configurations: &[Configuration], results: &[Vec<Mea
     )
     .unwrap();
     patch_ratio_table(&mut out, args, configurations, results);
+    let labels: Vec<&str> = configurations.iter().map(|c| c.label()).collect();
+    let costs: Vec<Vec<Costs>> = results
+        .iter()
+        .map(|row| row.iter().map(|m| m.costs.clone()).collect())
+        .collect();
+    costs::report(&mut out, &args.sizes, &labels, &costs, args.sizes.len() - 1);
     out
 }
 
@@ -479,13 +482,14 @@ fn report_json(
                     "psnr": scores.map(|s| s.psnr),
                     "ssim": scores.map(|s| s.ssim),
                     "flip": scores.map(|s| s.flip),
-                    "targets": measured.targets,
+                    "targets": measured.costs.targets,
                     "gpu_ms": STAGE_GROUPS
                         .iter()
                         .enumerate()
                         .map(|(g, (name, _))| (name.to_string(), json!(measured.mean_group_ms(g))))
                         .collect::<serde_json::Map<_, _>>(),
                     "total_gpu_ms": measured.mean_total_ms(),
+                    "costs": costs::json(&measured.costs, (size.0 * size.1) as f64),
                 })
             })
         })

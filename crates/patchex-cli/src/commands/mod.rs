@@ -1,5 +1,6 @@
 pub mod bench;
 pub mod calibrate;
+pub mod costs;
 pub mod demo;
 pub mod eval;
 pub mod inspect;

@@ -1,9 +1,8 @@
 //! Plays the engine for the plugin on dataset frames: uploads a frame's layers into engine-owned
 //! images, calls `patchex_submit_gbuffers` and `patchex_extrapolate` through the C ABI of the
-//! loaded shared library, and reads the output back. Calls without networks go to a context made
-//! with PATCHEX_PRESET_WARP_AND_SHADOWS; calls with networks to one made with PATCHEX_PRESET_FULL
-//! per weights folder, made on first use. Both presets run the shadow sub-task only on frames
-//! that come with a shadow input, so one context serves calls with and without it.
+//! loaded shared library, and reads the output back. Each call goes to a context made with the
+//! cheapest preset that runs it (and per weights folder and precision for the networks), made on
+//! first use, so that what a context holds is what its configuration needs.
 
 use std::cell::RefCell;
 use std::ffi::{c_void, CString};
@@ -51,21 +50,12 @@ impl Default for NetworkChoice {
     }
 }
 
-/// What a networks context is made with: weights folder, FP32 tensors.
-type ContextKey = (Option<PathBuf>, bool);
-
-impl NetworkChoice {
-    /// `whole_frame` is chosen per call, the rest when the context is made.
-    fn context_key(&self) -> ContextKey {
-        (self.weights.clone(), self.fp32_tensors)
-    }
-}
+/// What a context is made with: its preset, and for the networks the weights folder and FP32
+/// tensors (`whole_frame` and the divisor are chosen per call).
+type ContextKey = (PatchexPreset, Option<PathBuf>, bool);
 
 pub struct PluginDriver {
-    /// PATCHEX_PRESET_WARP_AND_SHADOWS.
-    context: *mut PatchexContext,
-    /// PATCHEX_PRESET_FULL, one per weights folder and precision.
-    network_contexts: RefCell<Vec<(ContextKey, *mut PatchexContext)>>,
+    contexts: RefCell<Vec<(ContextKey, *mut PatchexContext)>>,
     library: PatchexLibrary,
     pub engine: Engine,
     width: u32,
@@ -118,10 +108,8 @@ impl PluginDriver {
         // SAFETY: the library is built from this workspace.
         let library = unsafe { PatchexLibrary::open(&path)? };
         let (width, height) = (manifest.width as u32, manifest.height as u32);
-        let context = create(&library, &engine, width, height, None)?;
         Ok(Self {
-            context,
-            network_contexts: RefCell::new(Vec::new()),
+            contexts: RefCell::new(Vec::new()),
             library,
             engine,
             width,
@@ -131,13 +119,24 @@ impl PluginDriver {
         })
     }
 
-    /// The context that runs `networks`, made on first use.
-    fn context_for(&self, networks: Option<&NetworkChoice>) -> Result<*mut PatchexContext, String> {
-        let Some(networks) = networks else {
-            return Ok(self.context);
+    /// The context that runs `networks` with or without `shadows`, made on first use.
+    fn context_for(
+        &self,
+        networks: Option<&NetworkChoice>,
+        shadows: bool,
+    ) -> Result<*mut PatchexContext, String> {
+        let preset = match (networks.is_some(), shadows) {
+            (false, false) => PATCHEX_PRESET_WARP_ONLY,
+            (false, true) => PATCHEX_PRESET_WARP_AND_SHADOWS,
+            (true, false) => PATCHEX_PRESET_NETWORKS,
+            (true, true) => PATCHEX_PRESET_FULL,
         };
-        let mut contexts = self.network_contexts.borrow_mut();
-        let key = networks.context_key();
+        let key = (
+            preset,
+            networks.and_then(|n| n.weights.clone()),
+            networks.is_some_and(|n| n.fp32_tensors),
+        );
+        let mut contexts = self.contexts.borrow_mut();
         if let Some((_, context)) = contexts.iter().find(|(k, _)| *k == key) {
             return Ok(*context);
         }
@@ -146,7 +145,8 @@ impl PluginDriver {
             &self.engine,
             self.width,
             self.height,
-            Some(networks),
+            preset,
+            networks,
         )?;
         contexts.push((key, context));
         Ok(context)
@@ -274,8 +274,8 @@ impl PluginDriver {
         with_diagnostics: bool,
         shadows: Option<Option<(&FrameLayers, &FrameInfo)>>,
     ) -> Result<Extrapolated, String> {
-        let context = self.context_for(networks)?;
         let with_shadows = shadows.is_some();
+        let context = self.context_for(networks, with_shadows)?;
         let earlier = shadows
             .flatten()
             .map(|(layers, info)| self.upload(layers, info, true, true));
@@ -397,21 +397,21 @@ impl Drop for PluginDriver {
         // SAFETY: every submission was waited on; the context is not used again.
         unsafe {
             let _ = self.engine.device.device_wait_idle();
-            (self.library.destroy)(self.context);
-            for (_, context) in self.network_contexts.get_mut().drain(..) {
+            for (_, context) in self.contexts.get_mut().drain(..) {
                 (self.library.destroy)(context);
             }
         }
     }
 }
 
-/// A context for `width` x `height` on `engine`: the warp and shadows without `networks`, else
-/// with the networks of the weights folder they name (or the built-in ones), in their precision.
+/// A context for `width` x `height` on `engine` with `preset`, and with `networks` the weights
+/// folder they name (or the built-in ones) in their precision.
 fn create(
     library: &PatchexLibrary,
     engine: &Engine,
     width: u32,
     height: u32,
+    preset: PatchexPreset,
     networks: Option<&NetworkChoice>,
 ) -> Result<*mut PatchexContext, String> {
     let mut info = engine.create_info(width, height);
@@ -446,10 +446,7 @@ fn create(
         fi_path: fi.as_ptr(),
         near_be_path: near_be.as_ptr(),
     });
-    info.preset = match networks {
-        Some(_) => PATCHEX_PRESET_FULL,
-        None => PATCHEX_PRESET_WARP_AND_SHADOWS,
-    };
+    info.preset = preset;
     info.header.next = weights.as_ref().map_or(precision_link, |w| {
         w as *const PatchexNetworkWeights as *const c_void
     });
