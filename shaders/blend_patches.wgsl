@@ -7,6 +7,7 @@
 // (output minus its input colour) added to the warped colour: at a resolution divisor d the
 // correction is upsampled bilinearly (texel centres at d-pixel spacing, clamped at the patch's
 // edges) and the frame keeps its own detail. src/reference/inpaint.rs mirrors this pass.
+// #import gbuffer
 // #import patch
 // #import segmentation
 
@@ -21,7 +22,7 @@ var<immediate> params: Params;
 @group(0) @binding(3) var near_be_input: texture_2d_array<f32>;
 @group(0) @binding(4) var near_be_output: texture_2d_array<f32>;
 @group(0) @binding(5) var<storage, read> patches: array<PatchSlot, 3>;
-@group(0) @binding(6) var warped: texture_storage_2d<rgba32float, read_write>;
+@group(0) @binding(6) var warped: texture_storage_2d<rgba16float, read_write>;
 
 fn inside(p: vec2u, rect: Patch) -> bool {
     return all(p >= rect.origin) && all(p - rect.origin < rect.extent * rect.divisor);
@@ -43,8 +44,8 @@ fn repaired(input: texture_2d_array<f32>, output: texture_2d_array<f32>, rect: P
     let top = mix(correction_at(input, output, lo), correction_at(input, output, vec2u(hi.x, lo.y)), f.x);
     let bottom = mix(correction_at(input, output, vec2u(lo.x, hi.y)), correction_at(input, output, hi), f.x);
     let correction = mix(top, bottom, f.y);
-    // The warp's hole flag (alpha) is kept: it says what was guessed.
-    return vec4f(here.rgb + correction, here.a);
+    // The warp's hole flag (alpha) is kept: it says what was guessed. The frame is RGBA16F.
+    return vec4f(to_half(clamp(here.rgb + correction, vec3f(-MAX_HALF), vec3f(MAX_HALF))), here.a);
 }
 
 @compute @workgroup_size(8, 8, 1)

@@ -13,7 +13,7 @@ var<immediate> params: Params;
 @group(0) @binding(0) var color: texture_2d<f32>;
 @group(0) @binding(1) var base_color: texture_2d<f32>;
 @group(0) @binding(2) var material: texture_2d<f32>;
-@group(0) @binding(3) var demodulated: texture_storage_2d<rgba32float, write>;
+@group(0) @binding(3) var shading: texture_storage_2d<rgba16float, write>;
 @group(0) @binding(4) var<storage, read_write> counters: SanitizeCounters;
 
 @compute @workgroup_size(8, 8, 1)
@@ -23,8 +23,9 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
     if (all(p < params.extent)) {
         let m = pixel_modulation(base_color, material, p, params.has_material);
         let color = sanitize_color(textureLoad(color, p, 0).rgb);
-        textureStore(demodulated, p, vec4f(color.value / m.factor, 1.0));
-        if (m.changed || color.changed) {
+        let s = demodulated(color.value, m.factor);
+        textureStore(shading, p, vec4f(s.value, 1.0));
+        if (m.changed || color.changed || s.changed) {
             atomicAdd(&group_tallies[0u], 1u);
         }
     }

@@ -7,7 +7,7 @@ struct Params {
 }
 var<immediate> params: Params;
 
-@group(0) @binding(0) var warped: texture_2d<f32>;
+@group(0) @binding(0) var warped: texture_storage_2d<rgba16float, read>;
 @group(0) @binding(1) var lbp: texture_storage_2d<r32float, write>;
 
 const LUMINANCE: vec3f = vec3f(0.2126, 0.7152, 0.0722);
@@ -16,7 +16,7 @@ const NEIGHBOURS: array<vec2i, 8> = array<vec2i, 8>(
     vec2i(1, 1), vec2i(0, 1), vec2i(-1, 1), vec2i(-1, 0));
 
 fn luminance(s: vec2i) -> f32 {
-    return dot(textureLoad(warped, clamp(s, vec2i(0), vec2i(params.extent) - 1), 0).rgb, LUMINANCE);
+    return dot(textureLoad(warped, clamp(s, vec2i(0), vec2i(params.extent) - 1)).rgb, LUMINANCE);
 }
 
 @compute @workgroup_size(8, 8, 1)

@@ -12,7 +12,7 @@ struct Params {
 }
 var<immediate> params: Params;
 
-@group(0) @binding(0) var warped: texture_2d<f32>;
+@group(0) @binding(0) var warped: texture_storage_2d<rgba16float, read>;
 @group(0) @binding(1) var material: texture_2d<f32>;
 @group(0) @binding(2) var lbp: texture_2d<f32>;
 @group(0) @binding(3) var network_input: texture_storage_2d_array<rgba16float, write>;
@@ -30,7 +30,7 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
         for (var i = 0u; i < d; i++) {
             let f = network_patch.origin + id.xy * d + vec2u(i, j);
             if (all(f < params.frame_extent)) {
-                let w = textureLoad(warped, f, 0);
+                let w = textureLoad(warped, f);
                 // The warp marks holes with alpha 0; their colour is its best guess. A dark texel
                 // under bright light demodulates past what RGBA16F holds: it is held to that range.
                 colour_hole += vec4f(sanitize_color(w.rgb).value, 1.0 - w.a);

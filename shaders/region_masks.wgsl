@@ -1,11 +1,13 @@
 // Segmentation, step 3 of 3: each target pixel's region. FI where a dynamic object covers it,
 // near-BE where it lies inside a grown rectangle but shows the background, far-BE elsewhere.
-// Counts the FI and near-BE pixels.
+// Counts the FI and near-BE pixels; writes the regions only where a later pass reads them.
 // #import segmentation
 // #import tallies
 
 struct Params {
     extent: vec2u,
+    // 0 when no pass reads the regions: a placeholder is bound.
+    write_regions: u32,
 }
 var<immediate> params: Params;
 
@@ -37,7 +39,9 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
     let p = id.xy;
     if (all(p < params.extent)) {
         let region = region_of(p);
-        textureStore(regions, p, vec4u(region, 0u, 0u, 0u));
+        if (params.write_regions != 0u) {
+            textureStore(regions, p, vec4u(region, 0u, 0u, 0u));
+        }
         if (region == REGION_FI) {
             atomicAdd(&group_tallies[TALLY_FI], 1u);
         } else if (region == REGION_NEAR_BE) {

@@ -1,5 +1,6 @@
-// Multiplies the extrapolated shading by the target instant's own modulation factor and writes the
-// engine's output image: texture detail comes from the target's G-buffer, not from the warp.
+// Multiplies the extrapolated shading by the target instant's own modulation factor, in place in
+// the frame image (the engine's output, where the warp wrote its shading): texture detail comes
+// from the target's G-buffer, not from the warp.
 // With a shadow input, the warped shadow layer is added back to the shading first.
 // #import gbuffer
 // #import tallies
@@ -12,10 +13,9 @@ struct Params {
 }
 var<immediate> params: Params;
 
-@group(0) @binding(0) var shading: texture_2d<f32>;
+@group(0) @binding(0) var frame: texture_storage_2d<rgba16float, read_write>;
 @group(0) @binding(1) var base_color: texture_2d<f32>;
 @group(0) @binding(2) var material: texture_2d<f32>;
-@group(0) @binding(3) var output: texture_storage_2d<rgba16float, write>;
 @group(0) @binding(4) var<storage, read_write> counters: SanitizeCounters;
 @group(0) @binding(5) var moved_layer: texture_2d<f32>;
 @group(0) @binding(6) var surface_layer: texture_2d<f32>;
@@ -29,7 +29,7 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
     if (all(p < params.extent)) {
         let m = pixel_modulation(base_color, material, p, params.has_material);
         // The product can exceed what RGBA16F holds; clamp it there and count the pixel.
-        var shading_rgb = textureLoad(shading, p, 0).rgb;
+        var shading_rgb = textureLoad(frame, p).rgb;
         if (params.has_shadow_layers != ABSENT && textureLoad(target_normal_id, p, 0).w == 0.0) {
             // The frame's warp carried frame t's shadows with the surfaces (surface_layer, the
             // layer through the same warp, says how much). On static surfaces, take them away
@@ -42,7 +42,7 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
             shading_rgb = max(shading_rgb + (moved.rgb - carried) * moved.a, vec3f(0.0));
         }
         let color = sanitize_color(shading_rgb * m.factor);
-        textureStore(output, p, vec4f(color.value, 1.0));
+        textureStore(frame, p, vec4f(to_half(color.value), 1.0));
         if (m.changed || color.changed) {
             atomicAdd(&group_tallies[0u], 1u);
         }

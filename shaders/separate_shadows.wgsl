@@ -23,8 +23,8 @@ var<immediate> params: Params;
 @group(0) @binding(2) var shadow_mask: texture_2d<f32>;
 @group(0) @binding(3) var base_color: texture_2d<f32>;
 @group(0) @binding(4) var material: texture_2d<f32>;
-@group(0) @binding(5) var shading: texture_storage_2d<rgba32float, write>;
-@group(0) @binding(6) var shadow_layer: texture_storage_2d<rgba32float, write>;
+@group(0) @binding(5) var shading: texture_storage_2d<rgba16float, write>;
+@group(0) @binding(6) var shadow_layer: texture_storage_2d<rgba16float, write>;
 @group(0) @binding(7) var flow_mask: texture_storage_2d<r32float, write>;
 @group(0) @binding(8) var<storage, read_write> counters: SanitizeCounters;
 @group(0) @binding(9) var source_normal_id: texture_2d<f32>;
@@ -38,15 +38,19 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
         let lit = sanitize_color(textureLoad(color, p, 0).rgb);
         let unshadowed = sanitize_color(textureLoad(color_without_dynamic_shadows, p, 0).rgb);
         let visibility = sanitize_unit(vec3f(textureLoad(shadow_mask, p, 0).r, 0.0, 0.0));
-        textureStore(shading, p, vec4f(lit.value / m.factor, 1.0));
+        let s = demodulated(lit.value, m.factor);
+        textureStore(shading, p, vec4f(s.value, 1.0));
+        var changed = m.changed || lit.changed || unshadowed.changed || visibility.changed || s.changed;
         if (textureLoad(source_normal_id, p, 0).w != 0.0) {
             textureStore(shadow_layer, p, vec4f(0.0, 0.0, 0.0, 1.0));
             textureStore(flow_mask, p, vec4f(1.0, 0.0, 0.0, 0.0));
         } else {
-            textureStore(shadow_layer, p, vec4f((lit.value - unshadowed.value) / m.factor, 1.0));
+            let layer = demodulated(lit.value - unshadowed.value, m.factor);
+            textureStore(shadow_layer, p, vec4f(layer.value, 1.0));
+            changed = changed || layer.changed;
             textureStore(flow_mask, p, vec4f(visibility.value.x, 0.0, 0.0, 0.0));
         }
-        if (m.changed || lit.changed || unshadowed.changed || visibility.changed) {
+        if (changed) {
             atomicAdd(&group_tallies[0u], 1u);
         }
     }

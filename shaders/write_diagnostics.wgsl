@@ -7,7 +7,7 @@ struct Params {
 }
 var<immediate> params: Params;
 
-@group(0) @binding(0) var warped: texture_2d<f32>;
+@group(0) @binding(0) var warped: texture_storage_2d<rgba16float, read>;
 @group(0) @binding(1) var regions: texture_2d<u32>;
 @group(0) @binding(2) var lbp: texture_2d<f32>;
 @group(0) @binding(3) var diagnostics: texture_storage_2d<rgba16float, write>;
@@ -18,7 +18,7 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     if (any(p >= params.extent)) {
         return;
     }
-    let hole = 1.0 - textureLoad(warped, p, 0).a;
+    let hole = 1.0 - textureLoad(warped, p).a;
     let region = f32(textureLoad(regions, p, 0).r) * 0.5;
     textureStore(diagnostics, p, vec4f(hole, region, textureLoad(lbp, p, 0).r, 1.0));
 }

@@ -149,7 +149,15 @@ fn run_on_gpu(
         image.upload(&engine, &source.data, general);
         image
     };
-    let warped = image(&frame.warped, vk::Format::R32G32B32A32_SFLOAT);
+    // The frame image the warp writes, which the gather reads as a storage image.
+    let warped = EngineImage::new(
+        &engine,
+        vk::Format::R16G16B16A16_SFLOAT,
+        width,
+        height,
+        sampled | vk::ImageUsageFlags::STORAGE,
+    );
+    warped.upload(&engine, &frame.warped.data, general);
     let material = image(&frame.material, vk::Format::R32G32B32A32_SFLOAT);
     let lbp = image(&frame.lbp, vk::Format::R32_SFLOAT);
     let texture = |image: &EngineImage| Texture {

@@ -75,6 +75,22 @@ fn sanitize_unit(v: vec3f) -> Sanitized {
     return sanitize(v, 0.0, 1.0);
 }
 
+// The nearest half float to `v` (ties to even; `v` within the half range), so that storing it
+// into an RGBA16F image is exact whatever rounding the driver's conversion uses, and the
+// reference (`round_to_f16`) gets the same value. Drops the 13 mantissa bits a half lacks.
+fn to_half(v: vec3f) -> vec3f {
+    let bits = bitcast<vec3u>(v);
+    let rounded = bits + vec3u(0xfffu) + ((bits >> vec3u(13u)) & vec3u(1u));
+    return bitcast<vec3f>(rounded & vec3u(0xffffe000u));
+}
+
+// Shading (colour over modulation) as the RGBA16F working images hold it: a bright texel on a
+// near-black surface can exceed the half-float range, and is held at its edge and counted.
+fn demodulated(color: vec3f, factor: vec3f) -> Sanitized {
+    let s = sanitize_color(color / factor);
+    return Sanitized(to_half(s.value), s.changed);
+}
+
 // A pixel's modulation factor from its (sanitised) base colour and material.
 struct Modulation {
     factor: vec3f,

@@ -46,7 +46,7 @@ struct WarpCounters {
 @group(0) @binding(3) var target_geometry: texture_2d<f32>;
 @group(0) @binding(4) var target_normal_id: texture_2d<f32>;
 @group(0) @binding(5) var motion: texture_2d<f32>;
-@group(0) @binding(6) var warped: texture_storage_2d<rgba32float, write>;
+@group(0) @binding(6) var warped: texture_storage_2d<rgba16float, write>;
 @group(0) @binding(7) var<storage, read_write> counters: WarpCounters;
 
 // The workgroup's tallies (tallies.wgsl).
@@ -124,7 +124,7 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
     let p = id.xy;
     if (all(p < params.extent)) {
         let result = warp_pixel(p);
-        textureStore(warped, p, vec4f(result.shading, select(1.0, 0.0, result.hole)));
+        textureStore(warped, p, vec4f(to_half(result.shading), select(1.0, 0.0, result.hole)));
         if (result.hole) {
             atomicAdd(&group_tallies[TALLY_HOLES], 1u);
         }

@@ -8,7 +8,7 @@ use crate::abi::*;
 use crate::context::Context;
 use crate::error::{bail, PatchexResult, Result};
 use crate::frame::counters;
-use crate::frame::images::{OutputStaging, ShadowImages, WorkImages};
+use crate::frame::images::{AnalysisImages, OutputStaging, ShadowImages, WorkImages};
 use crate::frame::settings::Extensions;
 use crate::frame::submit::pack_inputs;
 use crate::inputs::{self, TargetInputs};
@@ -118,6 +118,16 @@ impl Context {
                 source.serial,
             )?;
         }
+        // The regions and the LBP map, for the networks and the diagnostics only.
+        let analyse = self.inpainting.is_some() || diagnostics_image.is_some();
+        if analyse {
+            self.images.ensure_analysis(
+                &self.gpu,
+                &mut self.allocator,
+                &mut self.ring,
+                source.serial,
+            )?;
+        }
 
         // Everything is validated and allocated: from here on the call cannot fail.
         let region = 1 + done;
@@ -130,6 +140,16 @@ impl Context {
             }
             _ => None,
         };
+        let analysis = match self.images.analysis.as_mut() {
+            Some(analysis) if analyse => {
+                let [regions, lbp] = &mut analysis.images;
+                rec.initialize(&mut [regions, lbp]);
+                Some(&*analysis)
+            }
+            _ => None,
+        };
+        // The warp writes its shading here; the later passes refine it in place.
+        let frame: Texture = staging.map_or(output, |s| (&s[OutputStaging::FRAME]).into());
         rec.acquire(&access);
         rec.fill_zero(&self.ring.region_counters(slot, region));
         let mut rec = rec.timed(&self.ring, slot, region);
@@ -168,7 +188,7 @@ impl Context {
                            params: &warp::Params,
                            source_shading: &OwnedImage,
                            motion: Texture,
-                           output: &OwnedImage,
+                           output: Texture,
                            counters_offset: u64| {
             warp::record(
                 rec,
@@ -194,7 +214,7 @@ impl Context {
                 &warp_params,
                 &work[WorkImages::SOURCE_SHADING],
                 motion,
-                &work[WorkImages::WARPED],
+                frame,
                 counters::WARP,
             )
         });
@@ -211,7 +231,7 @@ impl Context {
                     &warp_params,
                     layer,
                     motion,
-                    &shadows[ShadowImages::SURFACE_LAYER],
+                    (&shadows[ShadowImages::SURFACE_LAYER]).into(),
                     counters::SURFACE_LAYER,
                 );
                 let flow_warp = PipelineId::WarpOcclusionMotion;
@@ -221,7 +241,7 @@ impl Context {
                     &params,
                     layer,
                     (&shadows[ShadowImages::FLOW]).into(),
-                    &shadows[ShadowImages::WARPED_LAYER],
+                    (&shadows[ShadowImages::WARPED_LAYER]).into(),
                     counters::SHADOW_WARP,
                 );
             });
@@ -242,19 +262,22 @@ impl Context {
                     motion_scale: inputs.geometry.motion_vector_scale,
                 },
                 &object_table,
-                &work[WorkImages::REGIONS],
+                analysis.map(|a| &a[AnalysisImages::REGIONS]),
+                placeholder_uint,
             )
         });
-        rec.stage(PATCHEX_STAGE_LBP, |rec| {
-            lbp::record(
-                rec,
-                passes.get(PipelineId::Lbp),
-                inputs.extent,
-                &work[WorkImages::WARPED],
-                &work[WorkImages::LBP],
-            )
-        });
-        if let Some(inpainting) = &self.inpainting {
+        if let Some(analysis) = analysis {
+            rec.stage(PATCHEX_STAGE_LBP, |rec| {
+                lbp::record(
+                    rec,
+                    passes.get(PipelineId::Lbp),
+                    inputs.extent,
+                    frame,
+                    &analysis[AnalysisImages::LBP],
+                )
+            });
+        }
+        if let Some((inpainting, analysis)) = self.inpainting.as_ref().zip(analysis) {
             let patches = counters(counters::PATCHES, inpaint::PATCH_SLOTS_BYTES);
             rec.stage(PATCHEX_STAGE_INFERENCE, |rec| {
                 inpaint::record_plan(
@@ -273,9 +296,9 @@ impl Context {
                 inpaint::record(
                     rec,
                     &inpaint::FrameInputs {
-                        warped: (&work[WorkImages::WARPED]).into(),
+                        warped: frame,
                         material,
-                        lbp: (&work[WorkImages::LBP]).into(),
+                        lbp: (&analysis[AnalysisImages::LBP]).into(),
                         placeholder,
                         frame_extent: inputs.extent,
                     },
@@ -287,13 +310,38 @@ impl Context {
                     rec,
                     passes.get(PipelineId::BlendPatches),
                     &inpaint::BlendInputs {
-                        regions: &work[WorkImages::REGIONS],
+                        regions: &analysis[AnalysisImages::REGIONS],
                         networks: inpainting.tensors(),
                         whole_frame: run_networks.whole_frame,
                     },
                     &patches,
-                    &work[WorkImages::WARPED],
+                    frame,
                 )
+            });
+        }
+        // Before remodulation, which turns the frame's warped shading into the output.
+        let shadow_diagnostics = shadow_diagnostics_image.zip(shadows);
+        if diagnostics_image.is_some() || shadow_diagnostics.is_some() {
+            rec.stage(PATCHEX_STAGE_DIAGNOSTICS, |rec| {
+                if let Some(image) = diagnostics_image {
+                    let analysis = analysis.expect("made for the diagnostics");
+                    let sources = diagnostics::frame_sources(
+                        frame,
+                        &analysis[AnalysisImages::REGIONS],
+                        &analysis[AnalysisImages::LBP],
+                    );
+                    let pass = passes.get(PipelineId::WriteDiagnostics);
+                    diagnostics::record(rec, pass, inputs.extent, sources, image);
+                }
+                if let Some((image, shadows)) = shadow_diagnostics {
+                    let sources = diagnostics::shadow_sources(
+                        &shadows[ShadowImages::FLOW],
+                        &shadows[ShadowImages::LAYER],
+                        &shadows[ShadowImages::WARPED_LAYER],
+                    );
+                    let pass = passes.get(PipelineId::WriteShadowDiagnostics);
+                    diagnostics::record(rec, pass, inputs.extent, sources, image);
+                }
             });
         }
         rec.stage(PATCHEX_STAGE_REMODULATE, |rec| {
@@ -302,7 +350,6 @@ impl Context {
                 passes.get(PipelineId::Remodulate),
                 inputs.extent,
                 &remodulate::RemodulateInputs {
-                    shading: (&work[WorkImages::WARPED]).into(),
                     base_color,
                     material,
                     shadow_layers: shadows.map(|s| {
@@ -312,7 +359,7 @@ impl Context {
                     target_normal_id: (&work[WorkImages::TARGET_NORMAL_ID]).into(),
                     placeholder,
                 },
-                staging.map_or(output, |s| (&s[OutputStaging::FRAME]).into()),
+                frame,
                 &counters(counters::SANITIZE, SANITIZE_COUNTER_BYTES),
             )
         });
@@ -331,29 +378,6 @@ impl Context {
                         output: &inputs.output,
                     },
                 )
-            });
-        }
-        let shadow_diagnostics = shadow_diagnostics_image.zip(shadows);
-        if diagnostics_image.is_some() || shadow_diagnostics.is_some() {
-            rec.stage(PATCHEX_STAGE_DIAGNOSTICS, |rec| {
-                if let Some(image) = diagnostics_image {
-                    let sources = diagnostics::frame_sources(
-                        &work[WorkImages::WARPED],
-                        &work[WorkImages::REGIONS],
-                        &work[WorkImages::LBP],
-                    );
-                    let pass = passes.get(PipelineId::WriteDiagnostics);
-                    diagnostics::record(rec, pass, inputs.extent, sources, image);
-                }
-                if let Some((image, shadows)) = shadow_diagnostics {
-                    let sources = diagnostics::shadow_sources(
-                        &shadows[ShadowImages::FLOW],
-                        &shadows[ShadowImages::LAYER],
-                        &shadows[ShadowImages::WARPED_LAYER],
-                    );
-                    let pass = passes.get(PipelineId::WriteShadowDiagnostics);
-                    diagnostics::record(rec, pass, inputs.extent, sources, image);
-                }
             });
         }
         let stages = rec.finish(&access);

@@ -43,12 +43,14 @@ const fn atlas_image(name: &'static str, format: vk::Format) -> ImageSpec {
 }
 
 /// Images made, grown and freed together, for frames up to `extent`.
-pub struct ImageSet<const N: usize> {
+/// `Kind` tells apart sets of one size, each with its own image indices.
+pub struct ImageSet<const N: usize, Kind = ()> {
     pub extent: vk::Extent2D,
     pub images: [OwnedImage; N],
+    kind: std::marker::PhantomData<Kind>,
 }
 
-impl<const N: usize> ImageSet<N> {
+impl<const N: usize, Kind> ImageSet<N, Kind> {
     /// Vulkan requires storage-image support for every format used here, but a device that
     /// lacks it must be refused at creation rather than fail later.
     fn check_formats(gpu: &Gpu, specs: &[ImageSpec; N]) -> Result<()> {
@@ -101,7 +103,11 @@ impl<const N: usize> ImageSet<N> {
         let Ok(images) = made.try_into() else {
             unreachable!("one image per spec")
         };
-        Ok(Self { extent, images })
+        Ok(Self {
+            extent,
+            images,
+            kind: std::marker::PhantomData,
+        })
     }
 
     fn holds(&self, extent: vk::Extent2D) -> bool {
@@ -113,34 +119,46 @@ impl<const N: usize> ImageSet<N> {
     }
 }
 
-impl<const N: usize> std::ops::Index<usize> for ImageSet<N> {
+impl<const N: usize, Kind> std::ops::Index<usize> for ImageSet<N, Kind> {
     type Output = OwnedImage;
     fn index(&self, index: usize) -> &OwnedImage {
         &self.images[index]
     }
 }
 
-/// The plugin's working images, all at one extent (the largest frame seen so far).
-pub type WorkImages = ImageSet<8>;
+/// The plugin's working images, all at one extent (the largest frame seen so far). The warp
+/// writes its shading into the frame image itself (the engine's output, or the output staging's
+/// frame), where the later passes refine it in place, so no image holds it.
+pub type WorkImages = ImageSet<5>;
 
 impl WorkImages {
+    /// Frame t's shading, in the output's own format: the extrapolated frame holds no more.
     pub const SOURCE_SHADING: usize = 0;
     pub const SOURCE_GEOMETRY: usize = 1;
     pub const SOURCE_NORMAL_ID: usize = 2;
     pub const TARGET_GEOMETRY: usize = 3;
     pub const TARGET_NORMAL_ID: usize = 4;
-    pub const WARPED: usize = 5;
-    /// Region of each target pixel (segmentation::REGION_*).
-    pub const REGIONS: usize = 6;
-    pub const LBP: usize = 7;
 
-    const SPECS: [ImageSpec; 8] = [
-        frame_image("patchex source shading", vk::Format::R32G32B32A32_SFLOAT),
+    const SPECS: [ImageSpec; 5] = [
+        frame_image("patchex source shading", vk::Format::R16G16B16A16_SFLOAT),
         frame_image("patchex source geometry", vk::Format::R32G32B32A32_SFLOAT),
         frame_image("patchex source normal+id", vk::Format::R16G16B16A16_SFLOAT),
         frame_image("patchex target geometry", vk::Format::R32G32B32A32_SFLOAT),
         frame_image("patchex target normal+id", vk::Format::R16G16B16A16_SFLOAT),
-        frame_image("patchex warped shading", vk::Format::R32G32B32A32_SFLOAT),
+    ];
+}
+
+/// What the networks and the diagnostics read besides the frame, made at the first
+/// extrapolation that runs either: a frame without them needs neither image.
+pub type AnalysisImages = ImageSet<2, Analysis>;
+pub struct Analysis;
+
+impl AnalysisImages {
+    /// Region of each target pixel (segmentation::REGION_*).
+    pub const REGIONS: usize = 0;
+    pub const LBP: usize = 1;
+
+    const SPECS: [ImageSpec; 2] = [
         frame_image("patchex regions", vk::Format::R32_UINT),
         frame_image("patchex lbp", vk::Format::R32_SFLOAT),
     ];
@@ -186,14 +204,15 @@ impl ShadowImages {
     pub const FLOW: usize = 14;
 
     const SPECS: [ImageSpec; 15] = [
-        frame_image("patchex shadow layer", vk::Format::R32G32B32A32_SFLOAT),
+        // Shading, as the frame's: RGBA16F.
+        frame_image("patchex shadow layer", vk::Format::R16G16B16A16_SFLOAT),
         frame_image(
             "patchex moved shadow layer",
-            vk::Format::R32G32B32A32_SFLOAT,
+            vk::Format::R16G16B16A16_SFLOAT,
         ),
         frame_image(
             "patchex surface-warped shadow layer",
-            vk::Format::R32G32B32A32_SFLOAT,
+            vk::Format::R16G16B16A16_SFLOAT,
         ),
         frame_image("patchex shadow mask", vk::Format::R32_SFLOAT),
         atlas_image("patchex shadow mask pyramid", vk::Format::R32_SFLOAT),
@@ -242,6 +261,7 @@ impl ShadowImages {
 /// frame that needs it and grows with the frame.
 pub struct FrameImages {
     pub work: Option<WorkImages>,
+    pub analysis: Option<AnalysisImages>,
     /// Made at the first frame with a shadow input.
     pub shadows: Option<ShadowImages>,
     pub output_staging: Option<OutputStaging>,
@@ -254,6 +274,7 @@ impl FrameImages {
     /// Refuses a device that cannot store or sample a working format.
     pub fn check_formats(gpu: &Gpu) -> Result<()> {
         WorkImages::check_formats(gpu, &WorkImages::SPECS)?;
+        AnalysisImages::check_formats(gpu, &AnalysisImages::SPECS)?;
         OutputStaging::check_formats(gpu, &OutputStaging::SPECS)?;
         ShadowImages::check_formats(gpu, &ShadowImages::SPECS)
     }
@@ -273,13 +294,14 @@ impl FrameImages {
             one,
             sampled,
         )?;
+        // Also bound for a storage image its pass skips (the regions without analysis images).
         let uint = OwnedImage::new(
             gpu,
             allocator,
             "patchex placeholder uint",
-            vk::Format::R8_UINT,
+            vk::Format::R32_UINT,
             one,
-            sampled,
+            sampled | vk::ImageUsageFlags::STORAGE,
         );
         let uint = match uint {
             Ok(uint) => uint,
@@ -291,6 +313,7 @@ impl FrameImages {
         };
         Ok(Self {
             work: None,
+            analysis: None,
             shadows: None,
             output_staging: None,
             placeholder_float: float,
@@ -341,6 +364,28 @@ impl FrameImages {
         )
     }
 
+    /// Makes or grows the analysis images to the working images' extent.
+    pub fn ensure_analysis(
+        &mut self,
+        gpu: &Gpu,
+        allocator: &mut Allocator,
+        ring: &mut FrameRing,
+        serial: u64,
+    ) -> Result<()> {
+        let extent = self.work.as_ref().expect("made by the submit").extent;
+        let specs = &AnalysisImages::SPECS;
+        grow(
+            gpu,
+            allocator,
+            ring,
+            &mut self.analysis,
+            extent,
+            specs,
+            serial,
+        )?;
+        Ok(())
+    }
+
     /// Makes or grows the output staging to the working images' extent.
     pub fn ensure_output_staging(
         &mut self,
@@ -386,6 +431,7 @@ impl FrameImages {
 
     pub fn size_bytes(&self) -> u64 {
         self.work.as_ref().map_or(0, |w| w.size_bytes())
+            + self.analysis.as_ref().map_or(0, |a| a.size_bytes())
             + self.shadows.as_ref().map_or(0, |s| s.size_bytes())
             + self.output_staging.as_ref().map_or(0, |s| s.size_bytes())
             + self.placeholder_float.size_bytes()
@@ -394,11 +440,13 @@ impl FrameImages {
 
     pub fn destroy(&mut self, gpu: &Gpu, allocator: &mut Allocator) {
         let work = self.work.take().map(|w| w.images);
+        let analysis = self.analysis.take().map(|a| a.images);
         let shadows = self.shadows.take().map(|s| s.images);
         let staging = self.output_staging.take().map(|s| s.images);
         for mut image in work
             .into_iter()
             .flatten()
+            .chain(analysis.into_iter().flatten())
             .chain(shadows.into_iter().flatten())
             .chain(staging.into_iter().flatten())
         {
@@ -412,11 +460,11 @@ impl FrameImages {
 /// Makes `set` hold `extent`, at least as large as before on both sides, and hands the images it
 /// replaces to the ring at submit `serial` (the previous submit is the last whose commands may
 /// use them). Returns whether the set was (re)made.
-fn grow<const N: usize>(
+fn grow<const N: usize, Kind>(
     gpu: &Gpu,
     allocator: &mut Allocator,
     ring: &mut FrameRing,
-    set: &mut Option<ImageSet<N>>,
+    set: &mut Option<ImageSet<N, Kind>>,
     extent: vk::Extent2D,
     specs: &[ImageSpec; N],
     serial: u64,
@@ -445,6 +493,7 @@ mod tests {
     fn every_working_format_has_a_texel_size() {
         let specs = WorkImages::SPECS
             .iter()
+            .chain(&AnalysisImages::SPECS)
             .chain(&OutputStaging::SPECS)
             .chain(&ShadowImages::SPECS);
         for spec in specs {

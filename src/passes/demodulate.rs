@@ -30,7 +30,7 @@ pub fn record(
             .image(binding::COLOR, inputs.color)
             .image(binding::BASE_COLOR, inputs.base_color)
             .image(binding::MATERIAL, material)
-            .image(binding::DEMODULATED, shading)
+            .image(binding::SHADING, shading)
             .buffer(binding::COUNTERS, counters)
     });
     let params = Params {

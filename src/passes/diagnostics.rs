@@ -12,15 +12,12 @@ use crate::shaders::{write_diagnostics, write_shadow_diagnostics};
 use crate::vk::image::OwnedImage;
 use crate::vk::recorder::{Pass, Recorder};
 
-/// What `write_diagnostics` reads: the warped shading, the region mask and the LBP map.
-pub fn frame_sources<'a>(
-    warped: &'a OwnedImage,
-    regions: &'a OwnedImage,
-    lbp: &'a OwnedImage,
-) -> [&'a OwnedImage; 3] {
+/// What `write_diagnostics` reads: the warped shading (in the frame image), the region mask and
+/// the LBP map.
+pub fn frame_sources(warped: Texture, regions: &OwnedImage, lbp: &OwnedImage) -> [Texture; 3] {
     use write_diagnostics::binding;
     debug_assert_eq!([binding::WARPED, binding::REGIONS, binding::LBP], [0, 1, 2]);
-    [warped, regions, lbp]
+    [warped, regions.into(), lbp.into()]
 }
 
 /// What `write_shadow_diagnostics` reads: the flow, the shadow layer and the moved layer.
@@ -28,13 +25,13 @@ pub fn shadow_sources<'a>(
     flow: &'a OwnedImage,
     shadow_layer: &'a OwnedImage,
     warped_layer: &'a OwnedImage,
-) -> [&'a OwnedImage; 3] {
+) -> [Texture; 3] {
     use write_shadow_diagnostics::binding;
     debug_assert_eq!(
         [binding::FLOW, binding::SHADOW_LAYER, binding::WARPED_LAYER],
         [0, 1, 2]
     );
-    [flow, shadow_layer, warped_layer]
+    [flow, shadow_layer, warped_layer].map(Texture::from)
 }
 
 /// Records either pass (`pass`) over `extent`.
@@ -42,7 +39,7 @@ pub fn record(
     rec: &mut Recorder,
     pass: Pass,
     extent: vk::Extent2D,
-    sources: [&OwnedImage; 3],
+    sources: [Texture; 3],
     diagnostics: Texture,
 ) {
     use write_diagnostics::{binding, Params};

@@ -349,7 +349,7 @@ pub fn record_blend(
     pass: Pass,
     inputs: &BlendInputs,
     patches: &CounterRange,
-    warped: &OwnedImage,
+    warped: Texture,
 ) {
     use crate::shaders::blend_patches::binding as blend;
     let [fi, near_be] = inputs.networks;

@@ -2,6 +2,7 @@
 
 use ash::vk;
 
+use crate::passes::Texture;
 use crate::shaders::lbp::{binding, Params};
 use crate::vk::image::OwnedImage;
 use crate::vk::recorder::{Pass, Recorder};
@@ -10,7 +11,7 @@ pub fn record(
     rec: &mut Recorder,
     pass: Pass,
     extent: vk::Extent2D,
-    warped: &OwnedImage,
+    warped: Texture,
     lbp: &OwnedImage,
 ) {
     let bound = rec.bind(pass, |writes| {

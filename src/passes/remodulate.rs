@@ -1,5 +1,5 @@
-//! Remodulation: multiplies the extrapolated shading by the target instant's own material and
-//! writes the engine's output image, counting the pixels whose inputs or result it had to
+//! Remodulation: multiplies the extrapolated shading by the target instant's own material in
+//! place in the frame image (the engine's output, or the staging frame), counting the pixels whose inputs or result it had to
 //! sanitise. With a shadow input, the shadow is first moved in the shading (see
 //! `shaders/remodulate.wgsl`).
 
@@ -10,13 +10,12 @@ use crate::shaders::remodulate::{binding, Params};
 use crate::vk::recorder::{Pass, Recorder};
 
 pub struct RemodulateInputs {
-    pub shading: Texture,
     pub base_color: Texture,
     pub material: Option<Texture>,
     /// The shadow layer moved by its flow, and carried by the frame's warp; `None` without a
     /// shadow input.
     pub shadow_layers: Option<[Texture; 2]>,
-    /// The target's packed normal and object id.
+    /// The target's packed normal and object id (read for the shadow layers only).
     pub target_normal_id: Texture,
     pub placeholder: Texture,
 }
@@ -26,20 +25,22 @@ pub fn record(
     pass: Pass,
     extent: vk::Extent2D,
     inputs: &RemodulateInputs,
-    output: Texture,
+    frame: Texture,
     counters: &CounterRange,
 ) {
     let material = inputs.material.unwrap_or(inputs.placeholder);
-    let [moved_layer, surface_layer] = inputs.shadow_layers.unwrap_or([inputs.placeholder; 2]);
+    let (moved_layer, surface_layer, target_normal_id) = match inputs.shadow_layers {
+        Some([moved, surface]) => (moved, surface, inputs.target_normal_id),
+        None => (inputs.placeholder, inputs.placeholder, inputs.placeholder),
+    };
     let bound = rec.bind(pass, |writes| {
         writes
-            .image(binding::SHADING, inputs.shading)
+            .image(binding::FRAME, frame)
             .image(binding::BASE_COLOR, inputs.base_color)
             .image(binding::MATERIAL, material)
             .image(binding::MOVED_LAYER, moved_layer)
             .image(binding::SURFACE_LAYER, surface_layer)
-            .image(binding::TARGET_NORMAL_ID, inputs.target_normal_id)
-            .image(binding::OUTPUT, output)
+            .image(binding::TARGET_NORMAL_ID, target_normal_id)
             .buffer(binding::COUNTERS, counters)
     });
     let params = Params {

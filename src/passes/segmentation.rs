@@ -85,7 +85,8 @@ pub fn record(
     settings: &SegmentationSettings,
     inputs: &SegmentationInputs,
     table: &CounterRange,
-    regions: &OwnedImage,
+    regions: Option<&OwnedImage>,
+    placeholder_uint: Texture,
 ) {
     let extent_params = [extent.width, extent.height];
 
@@ -121,10 +122,15 @@ pub fn record(
         writes
             .image(masks::binding::TARGET_NORMAL_ID, inputs.target_normal_id)
             .buffer(masks::binding::SEGMENTATION, table)
-            .image(masks::binding::REGIONS, regions)
+            .image(
+                masks::binding::REGIONS,
+                regions.map_or(placeholder_uint, Texture::from),
+            )
     });
     let params = masks::Params {
         extent: extent_params,
+        write_regions: regions.is_some() as u32,
+        ..Default::default()
     };
     rec.dispatch(&region_masks, &params, extent);
 }

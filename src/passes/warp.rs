@@ -190,7 +190,7 @@ pub fn record(
     pass: Pass,
     params: &Params,
     inputs: &WarpInputs,
-    warped: &OwnedImage,
+    warped: Texture,
     counters: &CounterRange,
 ) {
     let bound = rec.bind(pass, |writes| {

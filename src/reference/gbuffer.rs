@@ -49,6 +49,13 @@ pub fn sanitize_color(v: Vec3) -> (Vec3, bool) {
 
 /// `pixel_modulation`: the modulation factor from sanitised base colour and material, and
 /// whether either was sanitised.
+/// Shading as the RGBA16F working images hold it (`demodulated` in gbuffer.wgsl): held to the
+/// half-float range (whether it was is returned) and rounded to f16.
+pub fn demodulated(color: Vec3, factor: Vec3) -> (Vec3, bool) {
+    let (shading, changed) = sanitize_color(color / factor);
+    (shading.to_array().map(super::round_to_f16).into(), changed)
+}
+
 pub fn pixel_modulation(
     base_color: &Image,
     material: Option<&Image>,

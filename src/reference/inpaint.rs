@@ -4,7 +4,7 @@
 
 use glam::Vec3;
 
-use super::gbuffer::{sanitize, sanitize_color};
+use super::gbuffer::{sanitize, sanitize_color, MAX_HALF};
 use super::network::{forward, Planes};
 use super::{round_to_f16, Image};
 use crate::network::{Network, TensorPrecision, INPUT_CHANNELS};
@@ -303,7 +303,10 @@ pub fn inpaint(
                 if region == *id && !patch.is_empty() && patch.contains(x, y) {
                     let c = corrected(correction, patch, x, y);
                     let w = warped.at(x, y);
-                    blended.set(x, y, &[w[0] + c[0], w[1] + c[1], w[2] + c[2], w[3]]);
+                    // Into the RGBA16F frame.
+                    let sum = [w[0] + c[0], w[1] + c[1], w[2] + c[2]]
+                        .map(|v| round_to_f16(v.clamp(-MAX_HALF, MAX_HALF)));
+                    blended.set(x, y, &[sum[0], sum[1], sum[2], w[3]]);
                 }
             }
         }

@@ -2,7 +2,7 @@
 
 use glam::Vec3;
 
-use super::gbuffer::{pixel_modulation, sanitize, sanitize_color};
+use super::gbuffer::{demodulated, pixel_modulation, sanitize, sanitize_color};
 use super::Image;
 
 pub struct Separated {
@@ -38,11 +38,12 @@ pub fn separate(
                 sanitize_color(Vec3::from_slice(color_without_dynamic_shadows.at(x, y)));
             let (visibility, mask_changed) =
                 sanitize(Vec3::new(mask.at(x, y)[0], 0.0, 0.0), 0.0, 1.0);
-            let shading = lit / factor;
-            let (layer, visibility) = if normal_id.at(x, y)[3] != 0.0 {
-                (Vec3::ZERO, 1.0)
+            let (shading, shading_changed) = demodulated(lit, factor);
+            let (layer, layer_changed, visibility) = if normal_id.at(x, y)[3] != 0.0 {
+                (Vec3::ZERO, false, 1.0)
             } else {
-                ((lit - unshadowed) / factor, visibility.x)
+                let (layer, changed) = demodulated(lit - unshadowed, factor);
+                (layer, changed, visibility.x)
             };
             separated
                 .shading
@@ -51,8 +52,12 @@ pub fn separate(
                 .shadow_layer
                 .set(x, y, &[layer.x, layer.y, layer.z, 1.0]);
             separated.mask.set(x, y, &[visibility]);
-            separated.sanitized +=
-                (material_changed || lit_changed || unshadowed_changed || mask_changed) as u32;
+            separated.sanitized += (material_changed
+                || lit_changed
+                || unshadowed_changed
+                || mask_changed
+                || shading_changed
+                || layer_changed) as u32;
         }
     }
     separated

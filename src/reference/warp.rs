@@ -3,7 +3,7 @@
 use glam::{IVec2, Vec2, Vec3, Vec4};
 
 use super::gbuffer::is_sky;
-use super::Image;
+use super::{round_to_f16, Image};
 use crate::abi::*;
 use crate::shaders::warp_gbuffer::Params;
 
@@ -321,8 +321,9 @@ pub fn warp(
         if reach <= f32::MAX {
             largest_motion = largest_motion.max(reach);
         }
-        let s = result.shading;
-        vec![s.x, s.y, s.z, if hole { 0.0 } else { 1.0 }]
+        // Stored in an RGBA16F image (the frame, or a shadow layer).
+        let s = result.shading.to_array().map(round_to_f16);
+        vec![s[0], s[1], s[2], if hole { 0.0 } else { 1.0 }]
     });
     Warped {
         warped,

@@ -25,7 +25,7 @@ fn is_readable_layout(layout: vk::ImageLayout) -> bool {
 struct EngineImageUse {
     image: ImportedImage,
     layout_in_pass: vk::ImageLayout,
-    /// How the plugin accesses it: SHADER_READ, SHADER_WRITE, or TRANSFER_WRITE (a copy).
+    /// How the plugin accesses it: SHADER_READ, SHADER_READ | SHADER_WRITE, or TRANSFER_WRITE.
     access: vk::AccessFlags,
 }
 
@@ -105,7 +105,11 @@ impl EngineImageAccess {
                 vk::AccessFlags::TRANSFER_WRITE,
             )
         } else {
-            (vk::ImageLayout::GENERAL, vk::AccessFlags::SHADER_WRITE)
+            // The passes also read it back: the frame is refined in place.
+            (
+                vk::ImageLayout::GENERAL,
+                vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
+            )
         };
         self.uses.push(EngineImageUse {
             image: *image,
