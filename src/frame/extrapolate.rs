@@ -260,10 +260,10 @@ impl Context {
                     target_normal_id: &work[WorkImages::TARGET_NORMAL_ID],
                     motion,
                     motion_scale: inputs.geometry.motion_vector_scale,
+                    placeholder_uint,
                 },
                 &object_table,
                 analysis.map(|a| &a[AnalysisImages::REGIONS]),
-                placeholder_uint,
             )
         });
         if let Some(analysis) = analysis {

@@ -69,6 +69,8 @@ pub struct SegmentationInputs<'a> {
     pub target_normal_id: &'a OwnedImage,
     pub motion: Texture,
     pub motion_scale: [f32; 2],
+    /// Bound for the regions when no pass reads them.
+    pub placeholder_uint: Texture,
 }
 
 pub struct SegmentationPasses<'a> {
@@ -86,7 +88,6 @@ pub fn record(
     inputs: &SegmentationInputs,
     table: &CounterRange,
     regions: Option<&OwnedImage>,
-    placeholder_uint: Texture,
 ) {
     let extent_params = [extent.width, extent.height];
 
@@ -124,7 +125,7 @@ pub fn record(
             .buffer(masks::binding::SEGMENTATION, table)
             .image(
                 masks::binding::REGIONS,
-                regions.map_or(placeholder_uint, Texture::from),
+                regions.map_or(inputs.placeholder_uint, Texture::from),
             )
     });
     let params = masks::Params {
