@@ -31,6 +31,8 @@ struct CompiledPass {
     workgroup_size: [u32; 3],
     bindings: Vec<BindingInfo>,
     push_constants: Option<String>,
+    /// Mirrors of the structs its uniform buffers hold, which the host fills.
+    uniforms: Vec<String>,
     arithmetic: u64,
 }
 
@@ -76,6 +78,7 @@ fn compile(pass_path: &Path) -> Result<CompiledPass, String> {
 
     let mut bindings = Vec::new();
     let mut push_constants = None;
+    let mut uniforms = Vec::new();
     for (_, global) in module.global_variables.iter() {
         let name = global.name.clone().unwrap_or_default();
         if global.space == naga::AddressSpace::Immediate {
@@ -89,6 +92,14 @@ fn compile(pass_path: &Path) -> Result<CompiledPass, String> {
         let Some(binding) = &global.binding else {
             continue;
         };
+        if global.space == naga::AddressSpace::Uniform {
+            let name = module.types[global.ty].name.clone().unwrap_or_default();
+            let mirrored = wgsl::mirror_struct(&module, global.ty, &name, PARAMS_DERIVES)?;
+            uniforms.push(format!(
+                "    /// A uniform buffer's contents, laid out exactly as the shader declares \
+                 them.\n{mirrored}    impl super::PushConstants for {name} {{}}\n"
+            ));
+        }
         if binding.group != 0 {
             return Err(located_error(
                 &source,
@@ -135,6 +146,7 @@ fn compile(pass_path: &Path) -> Result<CompiledPass, String> {
         workgroup_size: entry.workgroup_size,
         bindings,
         push_constants,
+        uniforms,
         arithmetic: arithmetic(&module, &info, &entry.function, info.get_entry_point(0)),
     })
 }
@@ -210,6 +222,9 @@ fn emit(pass: &CompiledPass) -> String {
         .unwrap();
     }
     writeln!(out, "    }}").unwrap();
+    for uniform in &pass.uniforms {
+        out.push_str(uniform);
+    }
     let push_constant_size = match &pass.push_constants {
         Some(push_constants) => {
             out.push_str(push_constants);

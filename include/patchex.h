@@ -753,8 +753,11 @@ typedef struct PatchexShadowDiagnostics {
 
 #define PATCHEX_STAGE_PACK_SOURCE_GBUFFER 1
 
+// No longer recorded (ABI 8): the warps read the target's G-buffer themselves.
 #define PATCHEX_STAGE_PACK_TARGET_GBUFFER 2
 
+// The frame's warp. With nothing between it and the output (no shadow input, networks or
+// diagnostics) it also remodulates, and PATCHEX_STAGE_REMODULATE does not run.
 #define PATCHEX_STAGE_WARP 3
 
 #define PATCHEX_STAGE_REMODULATE 4

@@ -1,15 +1,17 @@
 // Segmentation, step 1 of 3: every target pixel of a dynamic object (stencil id != 0) adds itself
 // to its object's bounds, pixel count and sum of |motion|. The table starts zero-filled.
+// #import gbuffer
 // #import segmentation
 
 struct Params {
     extent: vec2u,
     // Turns the engine's motion vectors into pixels.
     motion_scale: vec2f,
+    has_stencil: u32,
 }
 var<immediate> params: Params;
 
-@group(0) @binding(0) var target_normal_id: texture_2d<f32>;
+@group(0) @binding(0) var target_stencil: texture_2d<u32>;
 @group(0) @binding(1) var motion: texture_2d<f32>;
 @group(0) @binding(2) var<storage, read_write> segmentation: Segmentation;
 
@@ -27,7 +29,7 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     if (any(p >= params.extent)) {
         return;
     }
-    let object = u32(textureLoad(target_normal_id, p, 0).w);
+    let object = select(0u, textureLoad(target_stencil, p, 0).r, params.has_stencil != ABSENT);
     if (object == 0u || object >= MAX_OBJECTS) {
         return;
     }

@@ -1,6 +1,7 @@
 // Segmentation, step 3 of 3: each target pixel's region. FI where a dynamic object covers it,
 // near-BE where it lies inside a grown rectangle but shows the background, far-BE elsewhere.
 // Counts the FI and near-BE pixels; writes the regions only where a later pass reads them.
+// #import gbuffer
 // #import segmentation
 // #import tallies
 
@@ -8,10 +9,11 @@ struct Params {
     extent: vec2u,
     // 0 when no pass reads the regions: a placeholder is bound.
     write_regions: u32,
+    has_stencil: u32,
 }
 var<immediate> params: Params;
 
-@group(0) @binding(0) var target_normal_id: texture_2d<f32>;
+@group(0) @binding(0) var target_stencil: texture_2d<u32>;
 @group(0) @binding(1) var<storage, read_write> segmentation: Segmentation;
 @group(0) @binding(2) var regions: texture_storage_2d<r32uint, write>;
 
@@ -20,7 +22,7 @@ const TALLY_FI: u32 = 0u;
 const TALLY_NEAR_BE: u32 = 1u;
 
 fn region_of(p: vec2u) -> u32 {
-    if (textureLoad(target_normal_id, p, 0).w != 0.0) {
+    if (params.has_stencil != ABSENT && textureLoad(target_stencil, p, 0).r != 0u) {
         return REGION_FI;
     }
     let count = atomicLoad(&segmentation.rect_count);

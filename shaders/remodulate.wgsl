@@ -10,6 +10,7 @@ struct Params {
     has_material: u32,
     // With a shadow input: the shadow is moved first (see below).
     has_shadow_layers: u32,
+    has_stencil: u32,
 }
 var<immediate> params: Params;
 
@@ -19,8 +20,8 @@ var<immediate> params: Params;
 @group(0) @binding(4) var<storage, read_write> counters: SanitizeCounters;
 @group(0) @binding(5) var moved_layer: texture_2d<f32>;
 @group(0) @binding(6) var surface_layer: texture_2d<f32>;
-// The target's packed normal and object id: shadows are moved on static surfaces only.
-@group(0) @binding(7) var target_normal_id: texture_2d<f32>;
+// The target's object ids (the engine's stencil): shadows are moved on static surfaces only.
+@group(0) @binding(7) var target_stencil: texture_2d<u32>;
 
 @compute @workgroup_size(8, 8, 1)
 fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_index) lane: u32) {
@@ -30,7 +31,7 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
         let m = pixel_modulation(base_color, material, p, params.has_material);
         // The product can exceed what RGBA16F holds; clamp it there and count the pixel.
         var shading_rgb = textureLoad(frame, p).rgb;
-        if (params.has_shadow_layers != ABSENT && textureLoad(target_normal_id, p, 0).w == 0.0) {
+        if (params.has_shadow_layers != ABSENT && (params.has_stencil == ABSENT || textureLoad(target_stencil, p, 0).r == 0u)) {
             // The frame's warp carried frame t's shadows with the surfaces (surface_layer, the
             // layer through the same warp, says how much). On static surfaces, take them away
             // and add the layer as its flow moved it, where that found a receiver (alpha 1);

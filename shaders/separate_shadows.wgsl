@@ -27,7 +27,7 @@ var<immediate> params: Params;
 @group(0) @binding(6) var shadow_layer: texture_storage_2d<rgba16float, write>;
 @group(0) @binding(7) var flow_mask: texture_storage_2d<r32float, write>;
 @group(0) @binding(8) var<storage, read_write> counters: SanitizeCounters;
-@group(0) @binding(9) var source_normal_id: texture_2d<f32>;
+@group(0) @binding(9) var source_normal_id: texture_2d<u32>;
 
 @compute @workgroup_size(8, 8, 1)
 fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_index) lane: u32) {
@@ -41,7 +41,7 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
         let s = demodulated(lit.value, m.factor);
         textureStore(shading, p, vec4f(s.value, 1.0));
         var changed = m.changed || lit.changed || unshadowed.changed || visibility.changed || s.changed;
-        if (textureLoad(source_normal_id, p, 0).w != 0.0) {
+        if (object_id(textureLoad(source_normal_id, p, 0).r) != 0u) {
             textureStore(shadow_layer, p, vec4f(0.0, 0.0, 0.0, 1.0));
             textureStore(flow_mask, p, vec4f(1.0, 0.0, 0.0, 0.0));
         } else {

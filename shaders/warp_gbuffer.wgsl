@@ -23,24 +23,24 @@ const HOLE_FILL_BACKGROUND: u32 = 0u;
 // How far texel `s` of frame t is from the target pixel's surface: its relative depth
 // difference (at most 1; a non-finite depth counts 1), plus 1 for another object id, so that a
 // texel of the right object always wins.
-fn depth_mismatch(target_geo: vec4f, target_nid: vec4f, s: vec2i) -> f32 {
-    let source_w = textureLoad(source_geometry, s, 0).w;
-    let id_differs = textureLoad(source_normal_id, s, 0).w != target_nid.w;
-    let relative = abs(source_w - target_geo.w) / max(max(source_w, target_geo.w), 1e-30);
+fn depth_mismatch(t: Surface, s: vec2i) -> f32 {
+    let source_w = textureLoad(source_depth, s, 0).r;
+    let id_differs = object_id(textureLoad(source_normal_id, s, 0).r) != t.id;
+    let relative = abs(source_w - t.depth) / max(max(source_w, t.depth), 1e-30);
     return select(1.0, relative, relative <= 1.0) + select(0.0, 1.0, id_differs);
 }
 
 // A hole's colour from the side the disocclusion uncovers: the mean of the texels around `q`
 // whose depth (and object id) is nearest the target pixel's own. The target's G-buffer knows the
 // uncovered surface's depth; the occluder that hid it in frame t is nearer, so it is left out.
-fn fill_hole(q: vec2f, target_geo: vec4f, target_nid: vec4f) -> vec3f {
+fn fill_hole(q: vec2f, t: Surface) -> vec3f {
     let extent = vec2i(params.extent);
     let centre = texel(q);
     var least = 3.0;
     for (var dy = -FILL_RADIUS; dy <= FILL_RADIUS; dy++) {
         for (var dx = -FILL_RADIUS; dx <= FILL_RADIUS; dx++) {
             let s = clamp(centre + vec2i(dx, dy), vec2i(0), extent - 1);
-            let mismatch = depth_mismatch(target_geo, target_nid, s);
+            let mismatch = depth_mismatch(t, s);
             if (mismatch < least) {
                 least = mismatch;
             }
@@ -51,7 +51,7 @@ fn fill_hole(q: vec2f, target_geo: vec4f, target_nid: vec4f) -> vec3f {
     for (var dy = -FILL_RADIUS; dy <= FILL_RADIUS; dy++) {
         for (var dx = -FILL_RADIUS; dx <= FILL_RADIUS; dx++) {
             let s = clamp(centre + vec2i(dx, dy), vec2i(0), extent - 1);
-            if (depth_mismatch(target_geo, target_nid, s) <= least + DEPTH_BAND) {
+            if (depth_mismatch(t, s) <= least + DEPTH_BAND) {
                 sum += textureLoad(source_shading, s, 0).rgb;
                 count += 1.0;
             }
@@ -63,8 +63,7 @@ fn fill_hole(q: vec2f, target_geo: vec4f, target_nid: vec4f) -> vec3f {
 fn warp_pixel(p: vec2u) -> WarpedPixel {
     let extent = vec2i(params.extent);
     let q = source_point(p, textureLoad(motion, p, 0).xy);
-    let target_geo = textureLoad(target_geometry, p, 0);
-    let target_nid = textureLoad(target_normal_id, p, 0);
+    let t = target_surface(p);
 
     // Bilinear footprint of q, each texel weighted by its agreement with the target.
     let corner = vec2i(floor(q - 0.5));
@@ -75,7 +74,7 @@ fn warp_pixel(p: vec2u) -> WarpedPixel {
     for (var i = 0; i < 4; i++) {
         let offset = vec2i(i & 1, i >> 1u);
         let s = clamp(corner + offset, vec2i(0), extent - 1);
-        let agreement = agreement_at(target_geo, target_nid, s);
+        let agreement = agreement_at(t, s);
         let bilinear = select(1.0 - f, f, vec2<bool>(offset == vec2i(1)));
         let footprint = bilinear.x * bilinear.y;
         shading_sum += footprint * agreement * textureLoad(source_shading, s, 0).rgb;
@@ -94,7 +93,7 @@ fn warp_pixel(p: vec2u) -> WarpedPixel {
         for (var dy = -r; dy <= r; dy++) {
             for (var dx = -r; dx <= r; dx++) {
                 let s = clamp(centre + vec2i(dx, dy), vec2i(0), extent - 1);
-                let agreement = agreement_at(target_geo, target_nid, s);
+                let agreement = agreement_at(t, s);
                 let d = vec2f(s) + 0.5 - q;
                 let weight = exp(-dot(d, d) * params.inv_two_sigma_spatial_sq) * agreement;
                 shading_sum += weight * textureLoad(source_shading, s, 0).rgb;
@@ -110,7 +109,7 @@ fn warp_pixel(p: vec2u) -> WarpedPixel {
     let offscreen = is_offscreen(q);
     let hole = offscreen || best_agreement < AGREEMENT_THRESHOLD;
     if (hole && !offscreen && params.hole_fill == HOLE_FILL_BACKGROUND) {
-        shading = fill_hole(q, target_geo, target_nid);
+        shading = fill_hole(q, t);
     }
     return WarpedPixel(shading, hole, offscreen);
 }

@@ -8,7 +8,7 @@
 
 fn warp_pixel(p: vec2u) -> WarpedPixel {
     let q = source_point(p, textureLoad(motion, p, 0).xy);
-    let agreement = agreement_at(textureLoad(target_geometry, p, 0), textureLoad(target_normal_id, p, 0), texel(q));
+    let agreement = agreement_at(target_surface(p), texel(q));
     let offscreen = is_offscreen(q);
     return WarpedPixel(bilinear_shading(q), offscreen || agreement < AGREEMENT_THRESHOLD, offscreen);
 }

@@ -9,10 +9,9 @@
 // #import tallies
 
 fn warp_pixel(p: vec2u) -> WarpedPixel {
-    let target_geo = textureLoad(target_geometry, p, 0);
-    let target_nid = textureLoad(target_normal_id, p, 0);
+    let t = target_surface(p);
     var q = source_point(p, textureLoad(motion, p, 0).xy);
-    var best_agreement = select(agreement_at(target_geo, target_nid, texel(q)), 0.0, is_offscreen(q));
+    var best_agreement = select(agreement_at(t, texel(q)), 0.0, is_offscreen(q));
     if (best_agreement < AGREEMENT_THRESHOLD) {
         let r = params.occlusion_search_radius;
         let last = vec2i(params.extent) - 1;
@@ -23,7 +22,7 @@ fn warp_pixel(p: vec2u) -> WarpedPixel {
                 if (is_offscreen(candidate)) {
                     continue;
                 }
-                let agreement = agreement_at(target_geo, target_nid, texel(candidate));
+                let agreement = agreement_at(t, texel(candidate));
                 if (agreement > best_agreement) {
                     best_agreement = agreement;
                     q = candidate;

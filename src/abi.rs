@@ -520,7 +520,10 @@ pub type PatchexStage = u32;
 /// Demodulation of frame t; with a PatchexShadowInput, the shadow separation in its place.
 pub const PATCHEX_STAGE_DEMODULATE: PatchexStage = 0;
 pub const PATCHEX_STAGE_PACK_SOURCE_GBUFFER: PatchexStage = 1;
+/// No longer recorded (ABI 8): the warps read the target's G-buffer themselves.
 pub const PATCHEX_STAGE_PACK_TARGET_GBUFFER: PatchexStage = 2;
+/// The frame's warp. With nothing between it and the output (no shadow input, networks or
+/// diagnostics) it also remodulates, and PATCHEX_STAGE_REMODULATE does not run.
 pub const PATCHEX_STAGE_WARP: PatchexStage = 3;
 pub const PATCHEX_STAGE_REMODULATE: PatchexStage = 4;
 /// Foveated segmentation: object bounds, grown rectangles, region masks.

@@ -1,9 +1,33 @@
 //! A validated camera of one instant, and the quantities the passes derive from it.
 
-use glam::{Mat4, Vec2, Vec3, Vec4Swizzles};
+use glam::{DVec2, DVec3, DVec4, Mat4, Vec2, Vec3, Vec4Swizzles};
 
 use crate::abi::{PatchexCamera, PatchexDepthConvention, PATCHEX_DEPTH_HARDWARE_REVERSED};
 use crate::error::{bail, Result};
+
+/// `Camera::pixel_rays`.
+#[derive(Clone, Copy, Debug)]
+pub struct PixelRays {
+    pub position: Vec3,
+    pub at_origin: Vec3,
+    pub per_x: Vec3,
+    pub per_y: Vec3,
+}
+
+impl PixelRays {
+    /// The surface at linear `depth` seen through pixel (x, y), as the warps rebuild it.
+    pub fn surface(&self, x: f32, y: f32, depth: f32) -> Vec3 {
+        let ray = self.at_origin + x * self.per_x + y * self.per_y;
+        self.position + depth * ray
+    }
+}
+
+struct PixelRaysF64 {
+    position: DVec3,
+    at_origin: DVec3,
+    per_x: DVec3,
+    per_y: DVec3,
+}
 
 #[derive(Clone, Copy, Debug)]
 pub struct Camera {
@@ -109,6 +133,65 @@ impl Camera {
             < crate::abi::PATCHEX_CAMERA_CUT_DEGREES.to_radians().cos();
         let zoom = self.projection.y_axis.y.abs() / earlier.projection.y_axis.y.abs();
         turned || (zoom - 1.0).abs() > crate::abi::PATCHEX_CAMERA_CUT_ZOOM
+    }
+
+    /// The rays through the pixel centres of an `extent` frame, scaled to unit linear depth
+    /// (`Cameras` in shaders/include/warp.wgsl): the surface at linear depth d seen through pixel
+    /// (x, y) lies at position + d * (at_origin + x * per_x + y * per_y). Linear depth runs along
+    /// the perspective axis, so the scaled ray is affine in the pixel, for any perspective
+    /// projection. Computed in f64 from the inverse projection, as the packing unprojects.
+    pub fn pixel_rays(&self, extent: ash::vk::Extent2D) -> PixelRays {
+        let rays = self.pixel_rays_f64(extent);
+        PixelRays {
+            position: rays.position.as_vec3(),
+            at_origin: rays.at_origin.as_vec3(),
+            per_x: rays.per_x.as_vec3(),
+            per_y: rays.per_y.as_vec3(),
+        }
+    }
+
+    fn pixel_rays_f64(&self, extent: ash::vk::Extent2D) -> PixelRaysF64 {
+        let inverse = (self.projection.as_dmat4() * self.view.as_dmat4()).inverse();
+        let position = self.view.as_dmat4().inverse().w_axis.truncate();
+        let forward = self.forward().as_dvec3();
+        let size = DVec2::new(extent.width as f64, extent.height as f64);
+        let ray = |x: f64, y: f64| {
+            let ndc = (DVec2::new(x, y) + 0.5) / size * 2.0 - 1.0;
+            let on_ray = inverse * DVec4::new(ndc.x, ndc.y, 0.5, 1.0);
+            let direction = on_ray.truncate() / on_ray.w - position;
+            direction / direction.dot(forward)
+        };
+        // Differences over the whole frame, for precision.
+        let (last_x, last_y) = ((size.x - 1.0).max(1.0), (size.y - 1.0).max(1.0));
+        let at_origin = ray(0.0, 0.0);
+        PixelRaysF64 {
+            position,
+            at_origin,
+            per_x: (ray(last_x, 0.0) - at_origin) / last_x,
+            per_y: (ray(0.0, last_y) - at_origin) / last_y,
+        }
+    }
+
+    /// How hardware depth z at pixel (x, y) of an `extent` frame becomes linear depth:
+    /// 1 / dot(curve, (z, 1, x, y)) (`linear_depth` in shaders/include/gbuffer.wgsl). Along a
+    /// pixel's ray, the point at linear depth d is the camera plus d times the ray; its clip z is
+    /// c + d * z(ray) and its clip w is d * w(ray), where c is the camera's own clip z and w(ray) is
+    /// the same for every pixel (linear depth runs along the perspective axis), so z = c / (d w)
+    /// + z(ray) / w, and z(ray) is affine in the pixel. c is not 0 for an invertible projection.
+    pub fn depth_curve(&self, extent: ash::vk::Extent2D) -> [f32; 4] {
+        let view_projection = self.projection.as_dmat4() * self.view.as_dmat4();
+        let rays = self.pixel_rays_f64(extent);
+        let clip = |ray: DVec3| view_projection * ray.extend(0.0);
+        let own_z = (view_projection * rays.position.extend(1.0)).z;
+        let w = clip(rays.at_origin).w;
+        let z = |ray: DVec3| clip(ray).z;
+        [
+            w / own_z,
+            -z(rays.at_origin) / own_z,
+            -z(rays.per_x) / own_z,
+            -z(rays.per_y) / own_z,
+        ]
+        .map(|v| v as f32)
     }
 
     /// Unit world-space direction of increasing linear depth.

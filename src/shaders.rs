@@ -35,7 +35,8 @@ pub struct ShaderInfo {
     pub arithmetic: u64,
 }
 
-/// Plain-old-data push constants, viewable as bytes for vkCmdPushConstants.
+/// Plain-old-data push constants (or uniform-buffer contents), viewable as bytes for
+/// vkCmdPushConstants (or vkCmdUpdateBuffer).
 pub trait PushConstants: Copy {
     fn as_bytes(&self) -> &[u8] {
         // SAFETY: every generated `Params` is `#[repr(C)]` with its padding spelled out as

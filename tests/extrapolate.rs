@@ -238,11 +238,13 @@ fn several_extrapolations_from_one_frame_report_their_own_stats() {
             "submit stage {stage} has a GPU time"
         );
     }
-    for stage in [
-        PATCHEX_STAGE_PACK_TARGET_GBUFFER,
-        PATCHEX_STAGE_WARP,
-        PATCHEX_STAGE_REMODULATE,
-    ] {
+    // The warp reads the target's G-buffer itself, and with nothing between it and the output
+    // it remodulates too: a warp-only extrapolation is the warp and the segmentation.
+    assert_eq!(
+        first.stages_run,
+        1 << PATCHEX_STAGE_WARP | 1 << PATCHEX_STAGE_SEGMENT
+    );
+    for stage in [PATCHEX_STAGE_WARP, PATCHEX_STAGE_SEGMENT] {
         assert!(
             first.gpu_ms[stage as usize] > 0.0,
             "extrapolation stage {stage} has a GPU time"

@@ -11,6 +11,76 @@ const SKY_DEPTH: f32 = 1e30;
 // Largest value of the RGBA16F output, and so the largest colour worth keeping.
 const MAX_HALF: f32 = 65504.0;
 
+// An instant's packed G-buffer is two R32 images: linear depth (R32F), and the unit normal with
+// the object id (R32UI): the normal octahedral in two 12-bit codes, the id in the low 8 bits
+// (ids come from 8-bit stencils). World positions are rebuilt from depth and the camera
+// (`Cameras` in warp.wgsl). Code 0 on both axes means no normal (a zero or unusable one).
+const OCTAHEDRAL_SCALE: f32 = 2047.0;
+const OCTAHEDRAL_CENTRE: f32 = 2048.0;
+
+fn sign_not_zero(v: vec2f) -> vec2f {
+    return select(vec2f(-1.0), vec2f(1.0), v >= vec2f(0.0));
+}
+
+fn pack_normal_id(n: vec3f, object_id: u32) -> u32 {
+    if (all(n == vec3f(0.0))) {
+        return object_id & 0xffu;
+    }
+    var e = n.xy / (abs(n.x) + abs(n.y) + abs(n.z));
+    if (n.z < 0.0) {
+        e = (1.0 - abs(e.yx)) * sign_not_zero(e);
+    }
+    let code = vec2u(round(clamp(e, vec2f(-1.0), vec2f(1.0)) * OCTAHEDRAL_SCALE + OCTAHEDRAL_CENTRE));
+    return (code.x << 20u) | (code.y << 8u) | (object_id & 0xffu);
+}
+
+fn unpack_normal(packed: u32) -> vec3f {
+    let code = vec2u(packed >> 20u, (packed >> 8u) & 0xfffu);
+    if (all(code == vec2u(0u))) {
+        return vec3f(0.0);
+    }
+    let e = (vec2f(code) - OCTAHEDRAL_CENTRE) / OCTAHEDRAL_SCALE;
+    var n = vec3f(e, 1.0 - abs(e.x) - abs(e.y));
+    if (n.z < 0.0) {
+        n = vec3f((1.0 - abs(n.yx)) * sign_not_zero(n.xy), n.z);
+    }
+    return normalize(n);
+}
+
+fn object_id(packed: u32) -> u32 {
+    return packed & 0xffu;
+}
+
+// Values of `depth_convention` (PATCHEX_DEPTH_*) and `normal_encoding` (PATCHEX_NORMAL_*).
+const DEPTH_LINEAR_VIEW_Z: u32 = 0u;
+const DEPTH_HARDWARE_REVERSED: u32 = 2u;
+const NORMAL_UNORM: u32 = 1u;
+
+// Linear depth of an engine's stored depth at pixel `p`: a linear view z as it is, hardware depth
+// z through the projection: 1 / dot(curve, (z, 1, x, y)) (`Camera::depth_curve`), exact for any
+// perspective projection. Beyond the far plane, or at an infinite one, it is sky.
+fn linear_depth(stored: f32, p: vec2u, curve: vec4f, far: f32, convention: u32) -> f32 {
+    if (convention == DEPTH_LINEAR_VIEW_Z) {
+        return select(stored, SKY_DEPTH, stored >= far);
+    }
+    let at_far = select(stored >= 1.0, stored <= 0.0, convention == DEPTH_HARDWARE_REVERSED);
+    let inverse = dot(curve, vec4f(stored, 1.0, vec2f(p)));
+    if (at_far || inverse == 0.0) {
+        return SKY_DEPTH;
+    }
+    return 1.0 / inverse;
+}
+
+// An engine's stored normal as a unit vector; zero, NaN and infinite ones become no normal.
+fn unit_normal(stored: vec3f, encoding: u32) -> vec3f {
+    var n = stored;
+    if (encoding == NORMAL_UNORM) {
+        n = n * 2.0 - 1.0;
+    }
+    let n_length = length(n);
+    return select(vec3f(0.0), n / n_length, n_length > 1e-6 && n_length <= MAX_FINITE);
+}
+
 // Values of `has_material` and `has_stencil`.
 const ABSENT: u32 = 0u;
 

@@ -5,13 +5,15 @@
 // are called in uniform control flow. Tallies are indexed by constants: naga has no bounds check
 // for a computed index into atomics.
 
-var<workgroup> group_tallies: array<atomic<u32>, 3>;
+var<workgroup> group_tallies: array<atomic<u32>, 5>;
 
 fn open_tallies(lane: u32) {
     if (lane == 0u) {
         atomicStore(&group_tallies[0], 0u);
         atomicStore(&group_tallies[1], 0u);
         atomicStore(&group_tallies[2], 0u);
+        atomicStore(&group_tallies[3], 0u);
+        atomicStore(&group_tallies[4], 0u);
     }
     workgroupBarrier();
 }

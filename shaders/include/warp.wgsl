@@ -1,6 +1,7 @@
-// What every backward warp shares: its parameters, bindings and hole counters, the geometry
-// agreement test, and the entry point. Each warp pass defines `warp_pixel`. Needs gbuffer.wgsl.
-// src/reference/warp.rs mirrors this file.
+// What every backward warp shares: its parameters, bindings and hole counters, the target's
+// G-buffer read straight from the engine's images, the geometry agreement test, and the entry
+// point, which can also remodulate (when nothing else runs between the warp and the output).
+// Each warp pass defines `warp_pixel`. Needs gbuffer.wgsl. src/reference/warp.rs mirrors it.
 
 // A source texel agrees with the target when its geometry weight reaches this value.
 const AGREEMENT_THRESHOLD: f32 = 0.5;
@@ -29,6 +30,10 @@ struct Params {
     pixel_angle: f32,
     // G-buffer-guided warp: PATCHEX_HOLE_FILL_* (0 uncovered side, 1 nearest texel).
     hole_fill: u32,
+    // Not 0: multiply by the target's modulation and write the output (remodulate.wgsl's
+    // work, without shadow layers), counting what was sanitised.
+    remodulate: u32,
+    has_material: u32,
 }
 var<immediate> params: Params;
 
@@ -38,42 +43,108 @@ struct WarpCounters {
     // The largest |motion| of a target pixel, in pixels, as f32 bits: non-negative floats
     // order as their bits, so atomicMax finds it.
     largest_motion_bits: atomic<u32>,
+    // Target pixels whose depth, normal or motion vector is NaN or infinite.
+    invalid_geometry_pixels: atomic<u32>,
+    // With `remodulate`: pixels whose material or result was sanitised.
+    sanitized_pixels: atomic<u32>,
+}
+
+// Each instant's camera as rays through its pixel centres, scaled to unit linear depth: the
+// surface seen through pixel (x, y) lies at position + depth * (at_origin + x per_x + y per_y).
+// Exact for any perspective projection, since linear depth runs along its axis.
+struct Cameras {
+    source_position: vec3f,
+    source_at_origin: vec3f,
+    source_per_x: vec3f,
+    source_per_y: vec3f,
+    target_position: vec3f,
+    target_at_origin: vec3f,
+    target_per_x: vec3f,
+    target_per_y: vec3f,
+    // How the target's engine depth and normals read (gbuffer.wgsl `linear_depth`,
+    // `unit_normal`).
+    target_depth_curve: vec4f,
+    target_far: f32,
+    target_depth_convention: u32,
+    target_normal_encoding: u32,
+    target_has_stencil: u32,
 }
 
 @group(0) @binding(0) var source_shading: texture_2d<f32>;
-@group(0) @binding(1) var source_geometry: texture_2d<f32>;
-@group(0) @binding(2) var source_normal_id: texture_2d<f32>;
-@group(0) @binding(3) var target_geometry: texture_2d<f32>;
-@group(0) @binding(4) var target_normal_id: texture_2d<f32>;
+@group(0) @binding(1) var source_depth: texture_2d<f32>;
+@group(0) @binding(2) var source_normal_id: texture_2d<u32>;
+// The target's G-buffer, the engine's images.
+@group(0) @binding(3) var target_depth: texture_2d<f32>;
+@group(0) @binding(4) var target_normal: texture_2d<f32>;
+@group(0) @binding(9) var target_stencil: texture_2d<u32>;
+// With `remodulate`: the target's material.
+@group(0) @binding(10) var base_color: texture_2d<f32>;
+@group(0) @binding(11) var material: texture_2d<f32>;
 @group(0) @binding(5) var motion: texture_2d<f32>;
 @group(0) @binding(6) var warped: texture_storage_2d<rgba16float, write>;
 @group(0) @binding(7) var<storage, read_write> counters: WarpCounters;
+@group(0) @binding(8) var<uniform> cameras: Cameras;
+
+// The target pixel's surface, unpacked.
+struct Surface {
+    position: vec3f,
+    depth: f32,
+    normal: vec3f,
+    id: u32,
+}
+
+fn target_surface(p: vec2u) -> Surface {
+    let depth = linear_depth(textureLoad(target_depth, p, 0).r, p, cameras.target_depth_curve,
+        cameras.target_far, cameras.target_depth_convention);
+    var id = 0u;
+    if (cameras.target_has_stencil != ABSENT) {
+        id = textureLoad(target_stencil, p, 0).r;
+    }
+    // Through the same packing as frame t's, so that both instants' normals compare alike.
+    let stored_normal = textureLoad(target_normal, p, 0).xyz;
+    let packed = pack_normal_id(unit_normal(stored_normal, cameras.target_normal_encoding), id);
+    let ray = cameras.target_at_origin + f32(p.x) * cameras.target_per_x
+        + f32(p.y) * cameras.target_per_y;
+    return Surface(cameras.target_position + depth * ray, depth, unpack_normal(packed), object_id(packed));
+}
+
+fn source_position(s: vec2i, depth: f32) -> vec3f {
+    let ray = cameras.source_at_origin + f32(s.x) * cameras.source_per_x
+        + f32(s.y) * cameras.source_per_y;
+    return cameras.source_position + depth * ray;
+}
 
 // The workgroup's tallies (tallies.wgsl).
 const TALLY_HOLES: u32 = 0u;
 const TALLY_OFFSCREEN: u32 = 1u;
 const TALLY_LARGEST_MOTION: u32 = 2u;
+const TALLY_INVALID_GEOMETRY: u32 = 3u;
+const TALLY_SANITIZED: u32 = 4u;
 
-fn geometry_weight(target_geo: vec4f, target_nid: vec4f, source_geo: vec4f, source_nid: vec4f) -> f32 {
-    if (target_nid.w != source_nid.w) {
+// Agreement of the target's surface with frame t's texel `s`. What is not needed (another
+// object's texel) is not unpacked.
+fn agreement_at(t: Surface, s: vec2i) -> f32 {
+    let packed = textureLoad(source_normal_id, s, 0).r;
+    if (object_id(packed) != t.id) {
         return 0.0;
     }
-    if (is_sky(target_geo.w) || is_sky(source_geo.w)) {
-        return select(0.0, 1.0, is_sky(target_geo.w) && is_sky(source_geo.w));
+    let depth = textureLoad(source_depth, s, 0).r;
+    if (is_sky(t.depth) || is_sky(depth)) {
+        return select(0.0, 1.0, is_sky(t.depth) && is_sky(depth));
     }
-    var weight = exp(-(1.0 - dot(target_nid.xyz, source_nid.xyz)) * params.inv_sigma_normal);
-    if (target_nid.w == 0.0) {
+    var weight = exp(-(1.0 - dot(t.normal, unpack_normal(packed))) * params.inv_sigma_normal);
+    if (t.id == 0u) {
         // Measured in pixel footprints on the target's surface, so the test means the same at
         // every resolution and viewing angle.
-        let view = normalize(params.camera_position - target_geo.xyz);
-        let facing = max(abs(dot(target_nid.xyz, view)), MIN_FACING);
-        let footprint = target_geo.w * params.pixel_angle / facing;
-        let offset = source_geo.xyz - target_geo.xyz;
-        let across = dot(target_nid.xyz, offset) * target_nid.xyz;
+        let view = normalize(params.camera_position - t.position);
+        let facing = max(abs(dot(t.normal, view)), MIN_FACING);
+        let footprint = t.depth * params.pixel_angle / facing;
+        let offset = source_position(s, depth) - t.position;
+        let across = dot(t.normal, offset) * t.normal;
         let e = length(across + params.in_plane_weight * (offset - across)) / footprint * params.inv_sigma_position;
         weight *= exp(-e * e);
     } else {
-        let e = abs(target_geo.w - source_geo.w) / max(target_geo.w, source_geo.w) * params.inv_sigma_depth;
+        let e = abs(t.depth - depth) / max(t.depth, depth) * params.inv_sigma_depth;
         weight *= exp(-e * e);
     }
     return weight;
@@ -93,11 +164,6 @@ fn texel(q: vec2f) -> vec2i {
     return clamp(vec2i(floor(q)), vec2i(0), vec2i(params.extent) - 1);
 }
 
-// Agreement of the target pixel's geometry with frame t's texel `s`.
-fn agreement_at(target_geo: vec4f, target_nid: vec4f, s: vec2i) -> f32 {
-    return geometry_weight(target_geo, target_nid,
-        textureLoad(source_geometry, s, 0), textureLoad(source_normal_id, s, 0));
-}
 
 // Frame t's shading at `q`, bilinear over the texels around it.
 fn bilinear_shading(q: vec2f) -> vec3f {
@@ -124,7 +190,20 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
     let p = id.xy;
     if (all(p < params.extent)) {
         let result = warp_pixel(p);
-        textureStore(warped, p, vec4f(to_half(result.shading), select(1.0, 0.0, result.hole)));
+        var color = vec4f(to_half(result.shading), select(1.0, 0.0, result.hole));
+        if (params.remodulate != 0u) {
+            let m = pixel_modulation(base_color, material, p, params.has_material);
+            let remodulated = sanitize_color(color.rgb * m.factor);
+            color = vec4f(to_half(remodulated.value), 1.0);
+            if (m.changed || remodulated.changed) {
+                atomicAdd(&group_tallies[TALLY_SANITIZED], 1u);
+            }
+        }
+        textureStore(warped, p, color);
+        let stored = vec4f(textureLoad(target_normal, p, 0).xyz, textureLoad(target_depth, p, 0).r);
+        if (!is_finite(stored) || !is_finite(vec4f(textureLoad(motion, p, 0).xy, 0.0, 0.0))) {
+            atomicAdd(&group_tallies[TALLY_INVALID_GEOMETRY], 1u);
+        }
         if (result.hole) {
             atomicAdd(&group_tallies[TALLY_HOLES], 1u);
         }
@@ -144,5 +223,7 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
         atomicAdd(&counters.hole_pixels, atomicLoad(&group_tallies[TALLY_HOLES]));
         atomicAdd(&counters.offscreen_pixels, atomicLoad(&group_tallies[TALLY_OFFSCREEN]));
         atomicMax(&counters.largest_motion_bits, atomicLoad(&group_tallies[TALLY_LARGEST_MOTION]));
+        atomicAdd(&counters.invalid_geometry_pixels, atomicLoad(&group_tallies[TALLY_INVALID_GEOMETRY]));
+        atomicAdd(&counters.sanitized_pixels, atomicLoad(&group_tallies[TALLY_SANITIZED]));
     }
 }

@@ -1,20 +1,23 @@
 //! Where each pass's counters sit in one region's range of the frame ring's counter buffer (a
-//! submit or one extrapolation). Every offset is a multiple of 256, the largest storage-buffer
-//! offset alignment Vulkan allows.
+//! submit or one extrapolation). Every offset is a multiple of 256, the largest storage- and
+//! uniform-buffer offset alignment Vulkan allows.
 
-use crate::passes::{inpaint, segmentation};
+use crate::passes::{inpaint, segmentation, warp};
 
-/// The warp's hole and off-screen counts and largest motion (`warp::*_OFFSET`).
+/// The frame warp's counts and largest motion (`warp::*_OFFSET`): holes, off-screen pixels, the
+/// target's invalid geometry, and what it sanitised when it remodulates.
 pub const WARP: u64 = 0;
 /// Submit: demodulation's; extrapolation: remodulation's.
 pub const SANITIZE: u64 = 256;
 /// Holes of the shadow layer's two warps, kept apart from the frame's.
 pub const SHADOW_WARP: u64 = 512;
 pub const SURFACE_LAYER: u64 = 768;
-/// The G-buffer packing's count of NaN and infinite geometry.
+/// Submit: the G-buffer packing's count of NaN and infinite geometry.
 pub const GEOMETRY: u64 = 1024;
 pub const OBJECT_TABLE: u64 = 1280;
 /// The networks' patch records (`inpaint::PATCH_SLOT_*`).
 pub const PATCHES: u64 = (OBJECT_TABLE + segmentation::TABLE_BYTES).next_multiple_of(256);
+/// The warps' uniform block (`warp::Cameras`), written by the extrapolation.
+pub const CAMERAS: u64 = (PATCHES + inpaint::PATCH_SLOTS_BYTES).next_multiple_of(256);
 /// One region's counters, which the frame ring allocates per region.
-pub const REGION_BYTES: u64 = PATCHES + inpaint::PATCH_SLOTS_BYTES;
+pub const REGION_BYTES: u64 = CAMERAS + warp::CAMERAS_BYTES;

@@ -10,12 +10,12 @@ use crate::error::{bail, PatchexResult, Result};
 use crate::frame::counters;
 use crate::frame::images::{AnalysisImages, OutputStaging, ShadowImages, WorkImages};
 use crate::frame::settings::Extensions;
-use crate::frame::submit::pack_inputs;
+use crate::frame::submit::engine_gbuffer;
 use crate::inputs::{self, TargetInputs};
 use crate::passes::inpaint;
 use crate::passes::{
-    diagnostics, lbp, pack_gbuffer, pack_output, remodulate, segmentation, warp, PipelineId,
-    Pipelines, RegionPasses, Texture, SANITIZE_COUNTER_BYTES,
+    diagnostics, lbp, pack_output, remodulate, segmentation, warp, PipelineId, Pipelines,
+    RegionPasses, Texture, SANITIZE_COUNTER_BYTES,
 };
 use crate::vk::barriers::EngineImageAccess;
 use crate::vk::frame_ring::RegionRecord;
@@ -64,10 +64,7 @@ impl Context {
         let (placeholder, placeholder_uint) = self.images.placeholders();
         let mut access = EngineImageAccess::default();
         let motion = access.read(&inputs.motion_vectors)?;
-        let pack_inputs = pack_gbuffer::PackInputs {
-            motion: Some(motion),
-            ..pack_inputs(&mut access, &inputs.geometry, placeholder, placeholder_uint)?
-        };
+        let target_gbuffer = engine_gbuffer(&mut access, &inputs.geometry)?;
         let base_color = access.read(&inputs.base_color)?;
         let material = access.read_optional(inputs.material.as_ref())?;
         let output = access.write(&inputs.output)?;
@@ -152,6 +149,13 @@ impl Context {
         let frame: Texture = staging.map_or(output, |s| (&s[OutputStaging::FRAME]).into());
         rec.acquire(&access);
         rec.fill_zero(&self.ring.region_counters(slot, region));
+        let cameras = self
+            .ring
+            .counter_range(slot, region, counters::CAMERAS, warp::CAMERAS_BYTES);
+        rec.update(
+            &cameras,
+            &warp::cameras(&source.camera, &target_gbuffer, inputs.extent),
+        );
         let mut rec = rec.timed(&self.ring, slot, region);
         let passes = RegionPasses {
             pipelines: &self.pipelines,
@@ -168,26 +172,13 @@ impl Context {
             .expect("a submitted frame allocated the work images");
         let shadows = self.images.shadows.as_ref().filter(|_| source.has_shadows);
 
-        rec.stage(PATCHEX_STAGE_PACK_TARGET_GBUFFER, |rec| {
-            pack_gbuffer::record(
-                rec,
-                passes.get(PipelineId::PackGbuffer),
-                inputs.extent,
-                &inputs.geometry.camera,
-                &pack_inputs,
-                &pack_gbuffer::PackOutputs {
-                    geometry: &work[WorkImages::TARGET_GEOMETRY],
-                    normal_id: &work[WorkImages::TARGET_NORMAL_ID],
-                    counters: counters(counters::GEOMETRY, pack_gbuffer::COUNTER_BYTES),
-                },
-            )
-        });
-        // Every warp of this extrapolation reads the geometry of both instants.
+        // Every warp of this extrapolation reads frame t's packed G-buffer and the target's.
         let record_warp = |rec: &mut Recorder,
                            pass,
                            params: &warp::Params,
                            source_shading: &OwnedImage,
                            motion: Texture,
+                           remodulation: Option<&warp::Remodulation>,
                            output: Texture,
                            counters_offset: u64| {
             warp::record(
@@ -196,15 +187,25 @@ impl Context {
                 params,
                 &warp::WarpInputs {
                     source_shading,
-                    source_geometry: &work[WorkImages::SOURCE_GEOMETRY],
+                    source_depth: &work[WorkImages::SOURCE_DEPTH],
                     source_normal_id: &work[WorkImages::SOURCE_NORMAL_ID],
-                    target_geometry: &work[WorkImages::TARGET_GEOMETRY],
-                    target_normal_id: &work[WorkImages::TARGET_NORMAL_ID],
+                    target: &target_gbuffer,
                     motion,
+                    cameras: &cameras,
+                    placeholder,
+                    placeholder_uint,
                 },
+                remodulation,
                 output,
                 &counters(counters_offset, warp::COUNTER_BYTES),
             )
+        };
+        // With nothing to run between the warp and the output (no shadow layers, networks or
+        // diagnostics), the warp remodulates as it writes, and the frame is read and written once.
+        let remodulate_in_warp = shadows.is_none() && self.inpainting.is_none() && !analyse;
+        let remodulation = warp::Remodulation {
+            base_color,
+            material,
         };
         let warp_pipeline = Pipelines::warp(warp_settings.kind);
         rec.stage(PATCHEX_STAGE_WARP, |rec| {
@@ -214,6 +215,7 @@ impl Context {
                 &warp_params,
                 &work[WorkImages::SOURCE_SHADING],
                 motion,
+                remodulate_in_warp.then_some(&remodulation),
                 frame,
                 counters::WARP,
             )
@@ -231,6 +233,7 @@ impl Context {
                     &warp_params,
                     layer,
                     motion,
+                    None,
                     (&shadows[ShadowImages::SURFACE_LAYER]).into(),
                     counters::SURFACE_LAYER,
                 );
@@ -241,6 +244,7 @@ impl Context {
                     &params,
                     layer,
                     (&shadows[ShadowImages::FLOW]).into(),
+                    None,
                     (&shadows[ShadowImages::WARPED_LAYER]).into(),
                     counters::SHADOW_WARP,
                 );
@@ -257,7 +261,7 @@ impl Context {
                 inputs.extent,
                 &segmentation_settings,
                 &segmentation::SegmentationInputs {
-                    target_normal_id: &work[WorkImages::TARGET_NORMAL_ID],
+                    target_stencil: target_gbuffer.stencil,
                     motion,
                     motion_scale: inputs.geometry.motion_vector_scale,
                     placeholder_uint,
@@ -344,25 +348,28 @@ impl Context {
                 }
             });
         }
-        rec.stage(PATCHEX_STAGE_REMODULATE, |rec| {
-            remodulate::record(
-                rec,
-                passes.get(PipelineId::Remodulate),
-                inputs.extent,
-                &remodulate::RemodulateInputs {
-                    base_color,
-                    material,
-                    shadow_layers: shadows.map(|s| {
-                        [ShadowImages::WARPED_LAYER, ShadowImages::SURFACE_LAYER]
-                            .map(|index| (&s[index]).into())
-                    }),
-                    target_normal_id: (&work[WorkImages::TARGET_NORMAL_ID]).into(),
-                    placeholder,
-                },
-                frame,
-                &counters(counters::SANITIZE, SANITIZE_COUNTER_BYTES),
-            )
-        });
+        if !remodulate_in_warp {
+            rec.stage(PATCHEX_STAGE_REMODULATE, |rec| {
+                remodulate::record(
+                    rec,
+                    passes.get(PipelineId::Remodulate),
+                    inputs.extent,
+                    &remodulate::RemodulateInputs {
+                        base_color,
+                        material,
+                        shadow_layers: shadows.map(|s| {
+                            [ShadowImages::WARPED_LAYER, ShadowImages::SURFACE_LAYER]
+                                .map(|index| (&s[index]).into())
+                        }),
+                        target_stencil: target_gbuffer.stencil,
+                        placeholder,
+                        placeholder_uint,
+                    },
+                    frame,
+                    &counters(counters::SANITIZE, SANITIZE_COUNTER_BYTES),
+                )
+            });
+        }
         if let Some(staging) = staging {
             let encoding = pack_output::encoding(inputs.output.format)
                 .expect("every copied output format has an encoding");

@@ -126,25 +126,23 @@ impl<const N: usize, Kind> std::ops::Index<usize> for ImageSet<N, Kind> {
     }
 }
 
-/// The plugin's working images, all at one extent (the largest frame seen so far). The warp
-/// writes its shading into the frame image itself (the engine's output, or the output staging's
-/// frame), where the later passes refine it in place, so no image holds it.
-pub type WorkImages = ImageSet<5>;
+/// The plugin's working images, all at one extent (the largest frame seen so far): what frame t
+/// leaves for its extrapolations. The warps read the target's G-buffer from the engine's images,
+/// and write their shading into the frame image itself (the engine's output, or the output
+/// staging's frame), where the later passes refine it in place, so no image holds either.
+pub type WorkImages = ImageSet<3>;
 
 impl WorkImages {
     /// Frame t's shading, in the output's own format: the extrapolated frame holds no more.
     pub const SOURCE_SHADING: usize = 0;
-    pub const SOURCE_GEOMETRY: usize = 1;
+    /// Frame t's packed G-buffer (`pack_gbuffer`): linear depth, and normal with id.
+    pub const SOURCE_DEPTH: usize = 1;
     pub const SOURCE_NORMAL_ID: usize = 2;
-    pub const TARGET_GEOMETRY: usize = 3;
-    pub const TARGET_NORMAL_ID: usize = 4;
 
-    const SPECS: [ImageSpec; 5] = [
+    const SPECS: [ImageSpec; 3] = [
         frame_image("patchex source shading", vk::Format::R16G16B16A16_SFLOAT),
-        frame_image("patchex source geometry", vk::Format::R32G32B32A32_SFLOAT),
-        frame_image("patchex source normal+id", vk::Format::R16G16B16A16_SFLOAT),
-        frame_image("patchex target geometry", vk::Format::R32G32B32A32_SFLOAT),
-        frame_image("patchex target normal+id", vk::Format::R16G16B16A16_SFLOAT),
+        frame_image("patchex source depth", vk::Format::R32_SFLOAT),
+        frame_image("patchex source normal+id", vk::Format::R32_UINT),
     ];
 }
 

@@ -80,9 +80,11 @@ impl Context {
                     / pixels;
             let segmented =
                 segmentation::read_back(&self.ring.counters, counters + counters::OBJECT_TABLE);
-            stats.sanitized_pixels = self.ring.counters.read_u32(counters + counters::SANITIZE);
-            stats.invalid_geometry_pixels =
-                self.ring.counters.read_u32(counters + counters::GEOMETRY);
+            // Remodulation counts on its own, or in the warp when the warp remodulates.
+            let frame_warp = |offset| self.ring.counters.read_u32(counters + offset);
+            stats.sanitized_pixels = self.ring.counters.read_u32(counters + counters::SANITIZE)
+                + frame_warp(warp::SANITIZED_OFFSET);
+            stats.invalid_geometry_pixels = frame_warp(warp::INVALID_GEOMETRY_OFFSET);
             stats.largest_motion = f32::from_bits(
                 self.ring
                     .counters

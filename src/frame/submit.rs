@@ -11,7 +11,7 @@ use crate::frame::images::{ShadowImages, WorkImages};
 use crate::frame::settings::{Extensions, NEEDS_SHADOW_PRESET};
 use crate::inputs::{self, GeometryInputs, SourceInputs};
 use crate::passes::{
-    demodulate, pack_gbuffer, separate_shadows, shadow_flow, PipelineId, RegionPasses, Texture,
+    demodulate, pack_gbuffer, separate_shadows, shadow_flow, PipelineId, RegionPasses,
     SANITIZE_COUNTER_BYTES,
 };
 use crate::vk::barriers::EngineImageAccess;
@@ -59,8 +59,7 @@ impl Context {
             }),
             None => None,
         };
-        let pack_inputs =
-            pack_inputs(&mut access, &inputs.geometry, placeholder, placeholder_uint)?;
+        let gbuffer = engine_gbuffer(&mut access, &inputs.geometry)?;
 
         let serial = self.source.as_ref().map_or(1, |s| s.serial + 1);
         self.ring.collect(&self.gpu, &mut self.allocator, serial);
@@ -118,10 +117,10 @@ impl Context {
                 rec,
                 passes.get(PipelineId::PackGbuffer),
                 inputs.extent,
-                &inputs.geometry.camera,
-                &pack_inputs,
+                &gbuffer,
+                placeholder_uint,
                 &pack_gbuffer::PackOutputs {
-                    geometry: &work[WorkImages::SOURCE_GEOMETRY],
+                    depth: &work[WorkImages::SOURCE_DEPTH],
                     normal_id: &work[WorkImages::SOURCE_NORMAL_ID],
                     counters: counters(counters::GEOMETRY, pack_gbuffer::COUNTER_BYTES),
                 },
@@ -233,21 +232,16 @@ impl Context {
     }
 }
 
-/// Registers the reads of one instant's geometry and returns them as the pack pass's inputs
-/// (the target's add its motion vectors).
-pub(crate) fn pack_inputs(
+/// Registers the reads of one instant's engine G-buffer and returns it as the passes bind it.
+pub(crate) fn engine_gbuffer(
     access: &mut EngineImageAccess,
     geometry: &GeometryInputs,
-    placeholder: Texture,
-    placeholder_uint: Texture,
-) -> Result<pack_gbuffer::PackInputs> {
-    Ok(pack_gbuffer::PackInputs {
+) -> Result<pack_gbuffer::EngineGbuffer> {
+    Ok(pack_gbuffer::EngineGbuffer {
         depth: access.read(&geometry.depth)?,
         normal: access.read(&geometry.normal)?,
         normal_encoding: geometry.normal_encoding,
         stencil: access.read_optional(geometry.stencil.as_ref())?,
-        motion: None,
-        placeholder,
-        placeholder_uint,
+        camera: geometry.camera,
     })
 }

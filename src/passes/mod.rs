@@ -34,21 +34,20 @@ pub use crate::vk::image::Texture;
 /// Byte size of `SanitizeCounters` in `shaders/include/gbuffer.wgsl`.
 pub const SANITIZE_COUNTER_BYTES: u64 = 4;
 
-/// Every stage a frame can run, with the name reports give it.
-pub const STAGE_NAMES: [(PatchexStage, &str); 13] = [
-    (PATCHEX_STAGE_DEMODULATE, "demodulate"),
+/// Every stage a frame can run, in the order they run, with the name reports give it.
+pub const STAGE_NAMES: [(PatchexStage, &str); 12] = [
     (PATCHEX_STAGE_PACK_SOURCE_GBUFFER, "pack source"),
+    (PATCHEX_STAGE_DEMODULATE, "demodulate"),
     (PATCHEX_STAGE_SHADOW_FLOW, "shadow flow"),
-    (PATCHEX_STAGE_PACK_TARGET_GBUFFER, "pack target"),
     (PATCHEX_STAGE_WARP, "warp"),
     (PATCHEX_STAGE_SHADOW_WARP, "shadow warp"),
     (PATCHEX_STAGE_SEGMENT, "segment"),
     (PATCHEX_STAGE_LBP, "lbp"),
     (PATCHEX_STAGE_INFERENCE, "inference"),
     (PATCHEX_STAGE_BLEND, "blend"),
+    (PATCHEX_STAGE_DIAGNOSTICS, "diagnostics"),
     (PATCHEX_STAGE_REMODULATE, "remodulate"),
     (PATCHEX_STAGE_PACK_OUTPUT, "pack output"),
-    (PATCHEX_STAGE_DIAGNOSTICS, "diagnostics"),
 ];
 
 /// Every pipeline the passes record with, each on one line: its shader, and how many
@@ -68,7 +67,7 @@ macro_rules! pipeline_table {
 
 pipeline_table! {
     Demodulate: demodulate, 1;
-    /// Frame t's G-buffer in the submit, the target's in an extrapolation.
+    /// Frame t's G-buffer, in the submit.
     PackGbuffer: pack_gbuffer, 1;
     SeparateShadows: separate_shadows, 1;
     ShadowPyramid: shadow_pyramid, 1;

@@ -1,7 +1,7 @@
-//! Packs one instant's engine G-buffer into the plugin's canonical images:
-//! geometry = (world position, linear depth), normal_id = (unit world normal, object id).
-//! Runs for frame t at submit and for the target instant at extrapolation, and counts the
-//! pixels whose geometry is NaN or infinite.
+//! Packs one instant's engine G-buffer into the plugin's canonical images: linear depth (R32F),
+//! and the unit world normal with the object id in 32 bits (R32UI; `shaders/include/gbuffer.wgsl`).
+//! World positions are rebuilt from depth where they are needed (`Camera::pixel_rays`).
+//! Runs for frame t at submit, and counts the pixels whose geometry is NaN or infinite.
 
 use ash::vk;
 
@@ -13,20 +13,20 @@ use crate::vk::buffer::CounterRange;
 use crate::vk::image::OwnedImage;
 use crate::vk::recorder::{Pass, Recorder};
 
-pub struct PackInputs {
+/// One instant's engine G-buffer, as passes bind it: frame t's for the packing, the target's for
+/// the warps, which read it through the same functions (`shaders/include/gbuffer.wgsl`).
+#[derive(Clone, Copy)]
+pub struct EngineGbuffer {
     pub depth: Texture,
     pub normal: Texture,
     pub normal_encoding: PatchexNormalEncoding,
-    /// `None`: every pixel is static geometry (id 0); `placeholder_uint` is bound.
+    /// `None`: every pixel is static geometry (id 0); a placeholder is bound instead.
     pub stencil: Option<Texture>,
-    /// The target's motion vectors, checked for NaN and infinity; frame t's are not read.
-    pub motion: Option<Texture>,
-    pub placeholder: Texture,
-    pub placeholder_uint: Texture,
+    pub camera: Camera,
 }
 
 pub struct PackOutputs<'a> {
-    pub geometry: &'a OwnedImage,
+    pub depth: &'a OwnedImage,
     pub normal_id: &'a OwnedImage,
     /// `GeometryCounters`: one u32, the pixels with a NaN or infinite input.
     pub counters: CounterRange,
@@ -39,18 +39,14 @@ pub fn params(
     extent: vk::Extent2D,
     normal_encoding: u32,
     has_stencil: bool,
-    has_motion: bool,
 ) -> Params {
     Params {
-        inv_view_proj: camera.inverse_view_projection().to_cols_array_2d(),
-        camera_position: camera.position().into(),
+        depth_curve: camera.depth_curve(extent),
         far: camera.far,
-        camera_forward: camera.forward().into(),
         depth_convention: camera.depth_convention,
         extent: [extent.width, extent.height],
         normal_encoding,
         has_stencil: has_stencil as u32,
-        has_motion: has_motion as u32,
         ..Default::default()
     }
 }
@@ -59,28 +55,27 @@ pub fn record(
     rec: &mut Recorder,
     pass: Pass,
     extent: vk::Extent2D,
-    camera: &Camera,
-    inputs: &PackInputs,
+    gbuffer: &EngineGbuffer,
+    placeholder_uint: Texture,
     outputs: &PackOutputs,
 ) {
-    let stencil = inputs.stencil.unwrap_or(inputs.placeholder_uint);
-    let motion = inputs.motion.unwrap_or(inputs.placeholder);
     let bound = rec.bind(pass, |writes| {
         writes
-            .image(binding::DEPTH, inputs.depth)
-            .image(binding::NORMAL, inputs.normal)
-            .image(binding::STENCIL, stencil)
-            .image(binding::GEOMETRY, outputs.geometry)
+            .image(binding::DEPTH, gbuffer.depth)
+            .image(binding::NORMAL, gbuffer.normal)
+            .image(
+                binding::STENCIL,
+                gbuffer.stencil.unwrap_or(placeholder_uint),
+            )
+            .image(binding::PACKED_DEPTH, outputs.depth)
             .image(binding::NORMAL_ID, outputs.normal_id)
-            .image(binding::MOTION, motion)
             .buffer(binding::COUNTERS, &outputs.counters)
     });
     let params = params(
-        camera,
+        &gbuffer.camera,
         extent,
-        inputs.normal_encoding,
-        inputs.stencil.is_some(),
-        inputs.motion.is_some(),
+        gbuffer.normal_encoding,
+        gbuffer.stencil.is_some(),
     );
     rec.dispatch(&bound, &params, extent);
 }

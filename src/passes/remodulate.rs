@@ -15,9 +15,11 @@ pub struct RemodulateInputs {
     /// The shadow layer moved by its flow, and carried by the frame's warp; `None` without a
     /// shadow input.
     pub shadow_layers: Option<[Texture; 2]>,
-    /// The target's packed normal and object id (read for the shadow layers only).
-    pub target_normal_id: Texture,
+    /// The target's object ids, the engine's stencil (read for the shadow layers only); `None`:
+    /// all static.
+    pub target_stencil: Option<Texture>,
     pub placeholder: Texture,
+    pub placeholder_uint: Texture,
 }
 
 pub fn record(
@@ -29,9 +31,17 @@ pub fn record(
     counters: &CounterRange,
 ) {
     let material = inputs.material.unwrap_or(inputs.placeholder);
-    let (moved_layer, surface_layer, target_normal_id) = match inputs.shadow_layers {
-        Some([moved, surface]) => (moved, surface, inputs.target_normal_id),
-        None => (inputs.placeholder, inputs.placeholder, inputs.placeholder),
+    let (moved_layer, surface_layer, stencil) = match inputs.shadow_layers {
+        Some([moved, surface]) => (
+            moved,
+            surface,
+            inputs.target_stencil.unwrap_or(inputs.placeholder_uint),
+        ),
+        None => (
+            inputs.placeholder,
+            inputs.placeholder,
+            inputs.placeholder_uint,
+        ),
     };
     let bound = rec.bind(pass, |writes| {
         writes
@@ -40,13 +50,15 @@ pub fn record(
             .image(binding::MATERIAL, material)
             .image(binding::MOVED_LAYER, moved_layer)
             .image(binding::SURFACE_LAYER, surface_layer)
-            .image(binding::TARGET_NORMAL_ID, target_normal_id)
+            .image(binding::TARGET_STENCIL, stencil)
             .buffer(binding::COUNTERS, counters)
     });
     let params = Params {
         extent: [extent.width, extent.height],
         has_material: inputs.material.is_some() as u32,
         has_shadow_layers: inputs.shadow_layers.is_some() as u32,
+        has_stencil: inputs.target_stencil.is_some() as u32,
+        ..Default::default()
     };
     rec.dispatch(&bound, &params, extent);
 }

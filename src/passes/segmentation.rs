@@ -65,8 +65,9 @@ pub const REGION_FAR_BE: u32 = 0;
 pub const REGION_NEAR_BE: u32 = 1;
 pub const REGION_FI: u32 = 2;
 
-pub struct SegmentationInputs<'a> {
-    pub target_normal_id: &'a OwnedImage,
+pub struct SegmentationInputs {
+    /// The target's object ids (the engine's stencil); `None`: all static.
+    pub target_stencil: Option<Texture>,
     pub motion: Texture,
     pub motion_scale: [f32; 2],
     /// Bound for the regions when no pass reads them.
@@ -90,17 +91,20 @@ pub fn record(
     regions: Option<&OwnedImage>,
 ) {
     let extent_params = [extent.width, extent.height];
+    let stencil = inputs.target_stencil.unwrap_or(inputs.placeholder_uint);
 
     use shaders::object_bounds as bounds;
     let object_bounds = rec.bind(passes.object_bounds, |writes| {
         writes
-            .image(bounds::binding::TARGET_NORMAL_ID, inputs.target_normal_id)
+            .image(bounds::binding::TARGET_STENCIL, stencil)
             .image(bounds::binding::MOTION, inputs.motion)
             .buffer(bounds::binding::SEGMENTATION, table)
     });
     let params = bounds::Params {
         extent: extent_params,
         motion_scale: inputs.motion_scale,
+        has_stencil: inputs.target_stencil.is_some() as u32,
+        ..Default::default()
     };
     rec.dispatch(&object_bounds, &params, extent);
 
@@ -121,7 +125,7 @@ pub fn record(
     use shaders::region_masks as masks;
     let region_masks = rec.bind(passes.region_masks, |writes| {
         writes
-            .image(masks::binding::TARGET_NORMAL_ID, inputs.target_normal_id)
+            .image(masks::binding::TARGET_STENCIL, stencil)
             .buffer(masks::binding::SEGMENTATION, table)
             .image(
                 masks::binding::REGIONS,
@@ -131,7 +135,7 @@ pub fn record(
     let params = masks::Params {
         extent: extent_params,
         write_regions: regions.is_some() as u32,
-        ..Default::default()
+        has_stencil: inputs.target_stencil.is_some() as u32,
     };
     rec.dispatch(&region_masks, &params, extent);
 }

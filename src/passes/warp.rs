@@ -8,6 +8,7 @@ use ash::vk;
 use crate::abi::*;
 use crate::camera::Camera;
 use crate::error::{bail, Result};
+use crate::passes::pack_gbuffer::EngineGbuffer;
 use crate::passes::{CounterRange, Texture};
 use crate::shaders;
 use crate::shaders::warp_gbuffer::binding;
@@ -171,11 +172,47 @@ impl WarpSettings {
 
 pub struct WarpInputs<'a> {
     pub source_shading: &'a OwnedImage,
-    pub source_geometry: &'a OwnedImage,
+    pub source_depth: &'a OwnedImage,
     pub source_normal_id: &'a OwnedImage,
-    pub target_geometry: &'a OwnedImage,
-    pub target_normal_id: &'a OwnedImage,
+    /// The target's G-buffer, read where each pixel needs it.
+    pub target: &'a EngineGbuffer,
     pub motion: Texture,
+    /// Both instants' `Cameras`, which the extrapolation writes into its counters first.
+    pub cameras: &'a CounterRange,
+    pub placeholder: Texture,
+    pub placeholder_uint: Texture,
+}
+
+/// The target's material, when the warp also remodulates (`Params::remodulate`).
+pub struct Remodulation {
+    pub base_color: Texture,
+    pub material: Option<Texture>,
+}
+
+/// The three warps' uniform block: both instants' pixel rays.
+pub use crate::shaders::warp_gbuffer::Cameras;
+pub const CAMERAS_BYTES: u64 = size_of::<Cameras>() as u64;
+
+/// Frame t's and the target's cameras as the warps rebuild positions with them, and how the
+/// target's engine G-buffer reads.
+pub fn cameras(source: &Camera, target: &EngineGbuffer, extent: vk::Extent2D) -> Cameras {
+    let (s, t) = (source.pixel_rays(extent), target.camera.pixel_rays(extent));
+    Cameras {
+        source_position: s.position.into(),
+        source_at_origin: s.at_origin.into(),
+        source_per_x: s.per_x.into(),
+        source_per_y: s.per_y.into(),
+        target_position: t.position.into(),
+        target_at_origin: t.at_origin.into(),
+        target_per_x: t.per_x.into(),
+        target_per_y: t.per_y.into(),
+        target_depth_curve: target.camera.depth_curve(extent),
+        target_far: target.camera.far,
+        target_depth_convention: target.camera.depth_convention,
+        target_normal_encoding: target.normal_encoding,
+        target_has_stencil: target.stencil.is_some() as u32,
+        ..Default::default()
+    }
 }
 
 /// Byte offsets of the counters in `CounterRange`, as `WarpCounters` in the shader declares them.
@@ -183,30 +220,50 @@ pub const HOLE_PIXELS_OFFSET: u64 = 0;
 pub const OFFSCREEN_PIXELS_OFFSET: u64 = 4;
 /// f32 bits of the largest |motion| of a target pixel.
 pub const LARGEST_MOTION_OFFSET: u64 = 8;
-pub const COUNTER_BYTES: u64 = 12;
+pub const INVALID_GEOMETRY_OFFSET: u64 = 12;
+pub const SANITIZED_OFFSET: u64 = 16;
+pub const COUNTER_BYTES: u64 = 20;
 
 pub fn record(
     rec: &mut Recorder,
     pass: Pass,
     params: &Params,
     inputs: &WarpInputs,
+    remodulation: Option<&Remodulation>,
     warped: Texture,
     counters: &CounterRange,
 ) {
+    let target = inputs.target;
+    let (base_color, material) = match remodulation {
+        Some(r) => (r.base_color, r.material.unwrap_or(inputs.placeholder)),
+        None => (inputs.placeholder, inputs.placeholder),
+    };
     let bound = rec.bind(pass, |writes| {
         writes
             .image(binding::SOURCE_SHADING, inputs.source_shading)
-            .image(binding::SOURCE_GEOMETRY, inputs.source_geometry)
+            .image(binding::SOURCE_DEPTH, inputs.source_depth)
             .image(binding::SOURCE_NORMAL_ID, inputs.source_normal_id)
-            .image(binding::TARGET_GEOMETRY, inputs.target_geometry)
-            .image(binding::TARGET_NORMAL_ID, inputs.target_normal_id)
+            .image(binding::TARGET_DEPTH, target.depth)
+            .image(binding::TARGET_NORMAL, target.normal)
+            .image(
+                binding::TARGET_STENCIL,
+                target.stencil.unwrap_or(inputs.placeholder_uint),
+            )
+            .image(binding::BASE_COLOR, base_color)
+            .image(binding::MATERIAL, material)
             .image(binding::MOTION, inputs.motion)
             .image(binding::WARPED, warped)
             .buffer(binding::COUNTERS, counters)
+            .buffer(binding::CAMERAS, inputs.cameras)
     });
     let extent = vk::Extent2D {
         width: params.extent[0],
         height: params.extent[1],
     };
-    rec.dispatch(&bound, params, extent);
+    let params = Params {
+        remodulate: remodulation.is_some() as u32,
+        has_material: remodulation.is_some_and(|r| r.material.is_some()) as u32,
+        ..*params
+    };
+    rec.dispatch(&bound, &params, extent);
 }

@@ -82,16 +82,24 @@ pub fn extrapolate(
         width: source.base_color.width as u32,
         height: source.base_color.height as u32,
     };
-    // Frame t's motion vectors are not read; the target's are checked.
+    // The target's G-buffer decodes as frame t's does (the warps read it through the packing's
+    // functions); its motion vectors are checked too, frame t's are not read.
     let pack = |frame: &FrameInputs, motion: Option<&Image>| {
         let params = pack_params(
             frame.camera,
             extent,
             frame.normal_encoding,
             frame.stencil.is_some(),
-            motion.is_some(),
         );
-        pack_gbuffer::pack_gbuffer(frame.depth, frame.normal, frame.stencil, motion, &params)
+        let rays = frame.camera.pixel_rays(extent);
+        pack_gbuffer::pack_gbuffer(
+            frame.depth,
+            frame.normal,
+            frame.stencil,
+            motion,
+            &params,
+            &rays,
+        )
     };
     let (source_packed, target_packed) = (pack(source, None), pack(target, target.motion));
     let color = source.color.expect("frame t has colour");

@@ -1,48 +1,60 @@
-//! Mirror of `shaders/pack_gbuffer.wgsl`, including the rounding of the RGBA16F normal_id image.
+//! Mirror of `shaders/pack_gbuffer.wgsl`, and of how the warps unpack what it stores: linear
+//! depth, the normal through its octahedral code, and world positions rebuilt from depth and the
+//! camera's pixel rays.
 
-use glam::{Mat4, Vec2, Vec3, Vec4};
+use glam::{Vec2, Vec3, Vec4};
 
 use super::gbuffer::SKY_DEPTH;
-use super::{round_to_f16, Image};
+use super::Image;
 use crate::abi::{
     PATCHEX_DEPTH_HARDWARE_REVERSED, PATCHEX_DEPTH_LINEAR_VIEW_Z, PATCHEX_NORMAL_UNORM,
 };
+use crate::camera::PixelRays;
 use crate::shaders::pack_gbuffer::Params;
 
 pub struct Packed {
-    /// (world position, linear depth).
+    /// (world position, linear depth), the position as the warps rebuild it.
     pub geometry: Image,
-    /// (unit world normal, object id).
+    /// (unit world normal, object id), as the warps unpack them.
     pub normal_id: Image,
     /// Pixels whose depth, normal or motion vector has a NaN or infinite component.
     pub invalid_pixels: u32,
 }
 
-fn surface(params: &Params, ndc: Vec2, stored_depth: f32) -> Vec4 {
-    let inv_view_proj = Mat4::from_cols_array_2d(&params.inv_view_proj);
-    let camera_position = Vec3::from(params.camera_position);
-    let unproject = |depth: f32| inv_view_proj * Vec4::new(ndc.x, ndc.y, depth, 1.0);
+/// Linear depth of a stored depth at pixel (x, y) (`linear_depth` in gbuffer.wgsl).
+pub fn linear_depth(params: &Params, x: usize, y: usize, stored: f32) -> f32 {
     if params.depth_convention == PATCHEX_DEPTH_LINEAR_VIEW_Z {
-        if stored_depth >= params.far {
-            return Vec4::new(0.0, 0.0, 0.0, SKY_DEPTH);
-        }
-        let on_ray = unproject(0.5);
-        let ray = on_ray.truncate() / on_ray.w - camera_position;
-        let position =
-            camera_position + ray * (stored_depth / ray.dot(Vec3::from(params.camera_forward)));
-        return position.extend(stored_depth);
+        return if stored >= params.far {
+            SKY_DEPTH
+        } else {
+            stored
+        };
     }
     let at_far = if params.depth_convention == PATCHEX_DEPTH_HARDWARE_REVERSED {
-        stored_depth <= 0.0
+        stored <= 0.0
     } else {
-        stored_depth >= 1.0
+        stored >= 1.0
     };
-    let clip = unproject(stored_depth);
-    if at_far || clip.w.abs() < 1e-20 {
-        return Vec4::new(0.0, 0.0, 0.0, SKY_DEPTH);
+    let inverse = Vec4::from(params.depth_curve).dot(Vec4::new(stored, 1.0, x as f32, y as f32));
+    if at_far || inverse == 0.0 {
+        return SKY_DEPTH;
     }
-    let position = clip.truncate() / clip.w;
-    position.extend((position - camera_position).dot(Vec3::from(params.camera_forward)))
+    1.0 / inverse
+}
+
+/// A stored normal as a unit vector, or zero (`unit_normal`).
+pub fn unit_normal(stored: Vec3, encoding: u32) -> Vec3 {
+    let n = if encoding == PATCHEX_NORMAL_UNORM {
+        stored * 2.0 - 1.0
+    } else {
+        stored
+    };
+    let length = n.length();
+    if length > 1e-6 && length <= f32::MAX {
+        n / length
+    } else {
+        Vec3::ZERO
+    }
 }
 
 /// `stencil` holds object ids as floats; `None` means all static. `motion` is only checked.
@@ -52,31 +64,21 @@ pub fn pack_gbuffer(
     stencil: Option<&Image>,
     motion: Option<&Image>,
     params: &Params,
+    rays: &PixelRays,
 ) -> Packed {
     let (width, height) = (params.extent[0] as usize, params.extent[1] as usize);
-    let extent = Vec2::new(width as f32, height as f32);
     let geometry = Image::from_fn(width, height, 4, |x, y| {
-        let ndc = (Vec2::new(x as f32, y as f32) + 0.5) / extent * 2.0 - 1.0;
-        surface(params, ndc, depth.at(x, y)[0]).to_array().to_vec()
+        let linear = linear_depth(params, x, y, depth.at(x, y)[0]);
+        rays.surface(x as f32, y as f32, linear)
+            .extend(linear)
+            .to_array()
+            .to_vec()
     });
     let normal_id = Image::from_fn(width, height, 4, |x, y| {
-        let mut n = Vec3::from_slice(normal.at(x, y));
-        if params.normal_encoding == PATCHEX_NORMAL_UNORM {
-            n = n * 2.0 - 1.0;
-        }
-        let length = n.length();
-        let n = if length > 1e-6 {
-            n / length
-        } else {
-            Vec3::ZERO
-        };
+        let n = unit_normal(Vec3::from_slice(normal.at(x, y)), params.normal_encoding);
         let id = stencil.map_or(0.0, |s| s.at(x, y)[0]);
-        vec![
-            round_to_f16(n.x),
-            round_to_f16(n.y),
-            round_to_f16(n.z),
-            round_to_f16(id),
-        ]
+        let n = unpack_normal(pack_normal(n));
+        vec![n.x, n.y, n.z, id]
     });
     let finite = |image: &Image, x, y, channels: usize| {
         image.at(x, y)[..channels].iter().all(|v| v.is_finite())
@@ -93,5 +95,70 @@ pub fn pack_gbuffer(
         geometry,
         normal_id,
         invalid_pixels,
+    }
+}
+
+const OCTAHEDRAL_SCALE: f32 = 2047.0;
+const OCTAHEDRAL_CENTRE: f32 = 2048.0;
+
+fn sign_not_zero(v: Vec2) -> Vec2 {
+    Vec2::new(
+        if v.x >= 0.0 { 1.0 } else { -1.0 },
+        if v.y >= 0.0 { 1.0 } else { -1.0 },
+    )
+}
+
+/// The unit normal's two 12-bit octahedral codes (`pack_normal_id` in gbuffer.wgsl); (0, 0) for
+/// no normal.
+pub fn pack_normal(n: Vec3) -> [u32; 2] {
+    if n == Vec3::ZERO {
+        return [0, 0];
+    }
+    let mut e = Vec2::new(n.x, n.y) / (n.x.abs() + n.y.abs() + n.z.abs());
+    if n.z < 0.0 {
+        e = (1.0 - Vec2::new(e.y, e.x).abs()) * sign_not_zero(e);
+    }
+    let code = e.clamp(Vec2::splat(-1.0), Vec2::ONE) * OCTAHEDRAL_SCALE + OCTAHEDRAL_CENTRE;
+    [code.x, code.y].map(|c| c.round_ties_even() as u32)
+}
+
+/// The normal the warps read back from its codes (`unpack_normal`).
+pub fn unpack_normal(code: [u32; 2]) -> Vec3 {
+    if code == [0, 0] {
+        return Vec3::ZERO;
+    }
+    let e = (Vec2::new(code[0] as f32, code[1] as f32) - OCTAHEDRAL_CENTRE) / OCTAHEDRAL_SCALE;
+    let mut n = Vec3::new(e.x, e.y, 1.0 - e.x.abs() - e.y.abs());
+    if n.z < 0.0 {
+        let folded = (1.0 - Vec2::new(n.y, n.x).abs()) * sign_not_zero(Vec2::new(n.x, n.y));
+        n = Vec3::new(folded.x, folded.y, n.z);
+    }
+    n.normalize()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn octahedral_codes_keep_normals_within_a_sixteenth_of_a_degree() {
+        let mut worst = 0.0f32;
+        for i in 0..2000 {
+            // A spiral over the sphere, poles and axes included.
+            let z = 1.0 - 2.0 * i as f32 / 1999.0;
+            let angle = i as f32 * 2.399_963;
+            let r = (1.0 - z * z).max(0.0).sqrt();
+            for n in [
+                Vec3::new(r * angle.cos(), r * angle.sin(), z),
+                Vec3::X,
+                -Vec3::Y,
+                -Vec3::Z,
+            ] {
+                let back = unpack_normal(pack_normal(n));
+                worst = worst.max(n.dot(back).clamp(-1.0, 1.0).acos().to_degrees());
+            }
+        }
+        assert!(worst < 0.0625, "{worst} degrees");
+        assert_eq!(unpack_normal(pack_normal(Vec3::ZERO)), Vec3::ZERO);
     }
 }

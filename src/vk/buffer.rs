@@ -21,6 +21,7 @@ impl ReadbackBuffer {
             // Indirect: the networks' patch records hold their dispatch sizes.
             .usage(
                 vk::BufferUsageFlags::STORAGE_BUFFER
+                    | vk::BufferUsageFlags::UNIFORM_BUFFER
                     | vk::BufferUsageFlags::TRANSFER_DST
                     | vk::BufferUsageFlags::INDIRECT_BUFFER,
             )

@@ -62,7 +62,9 @@ pub struct Gpu {
     /// Nanoseconds per timestamp tick, or `None` when the queue family writes no timestamps.
     pub timestamp_period_ns: Option<f64>,
     pub timestamp_valid_mask: u64,
-    pub min_storage_buffer_offset_alignment: u64,
+    /// The larger of the storage- and uniform-buffer offset alignments: the counters buffer
+    /// binds ranges of both kinds.
+    pub min_buffer_offset_alignment: u64,
 }
 
 impl Gpu {
@@ -151,9 +153,10 @@ impl Gpu {
             queue_family_index: info.queue_family_index,
             timestamp_period_ns: timestamps.then_some(properties.limits.timestamp_period as f64),
             timestamp_valid_mask,
-            min_storage_buffer_offset_alignment: properties
+            min_buffer_offset_alignment: properties
                 .limits
-                .min_storage_buffer_offset_alignment,
+                .min_storage_buffer_offset_alignment
+                .max(properties.limits.min_uniform_buffer_offset_alignment),
         })
     }
 

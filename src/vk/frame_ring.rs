@@ -76,9 +76,8 @@ impl FrameRing {
         pool_sizes: &[vk::DescriptorPoolSize],
         counter_bytes: u64,
     ) -> Result<Self> {
-        // Each region's counters start at a storage-buffer offset the device can bind.
-        let counter_stride =
-            counter_bytes.next_multiple_of(gpu.min_storage_buffer_offset_alignment.max(1));
+        // Each region's counters start at an offset the device can bind.
+        let counter_stride = counter_bytes.next_multiple_of(gpu.min_buffer_offset_alignment.max(1));
         let counters_size = counter_stride * (frames_in_flight * REGIONS_PER_SLOT) as u64;
         let counters =
             ReadbackBuffer::new(gpu, allocator, "patchex frame counters", counters_size)?;

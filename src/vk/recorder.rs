@@ -193,6 +193,21 @@ impl<'a> Recorder<'a> {
         };
     }
 
+    /// Writes `contents` into `range` from the command buffer itself, so that a frame in flight
+    /// that reads the same range keeps its own values (a uniform block of the call).
+    pub fn update<P: PushConstants>(&mut self, range: &CounterRange, contents: &P) {
+        let bytes = contents.as_bytes();
+        debug_assert_eq!(bytes.len() as u64, range.range);
+        self.order(&[transfer_write(Resource::range(range))]);
+        self.traffic.bytes_written += range.range;
+        // SAFETY: cmd is recording; the range lies inside the buffer, which has TRANSFER_DST,
+        // and holds a multiple of 4 bytes under 65536, as every uniform block here does.
+        unsafe {
+            self.device
+                .cmd_update_buffer(self.cmd, range.buffer, range.offset, bytes)
+        };
+    }
+
     /// Clears a plugin image (in GENERAL, with TRANSFER_DST usage) to zero.
     pub fn clear(&mut self, image: &OwnedImage) {
         self.order(&[transfer_write(Resource::Image(image.image))]);

@@ -162,13 +162,7 @@ pub struct BenchArgs {
 
 /// The paper's runtime table groups the stages so.
 const STAGE_GROUPS: [(&str, &[PatchexStage]); 5] = [
-    (
-        "G-buffer",
-        &[
-            PATCHEX_STAGE_PACK_SOURCE_GBUFFER,
-            PATCHEX_STAGE_PACK_TARGET_GBUFFER,
-        ],
-    ),
+    ("G-buffer", &[PATCHEX_STAGE_PACK_SOURCE_GBUFFER]),
     ("warping", &[PATCHEX_STAGE_WARP, PATCHEX_STAGE_SHADOW_WARP]),
     (
         "preprocessing",
