@@ -18,19 +18,14 @@ while [ $# -gt 0 ]; do
     esac
 done
 out=out/compare_builds
-worktree=$out/worktree
 scripts/install-deps.sh
 cargo build --release -p patchex -p patchex-cli
-rm -rf "$worktree"
-git worktree prune
-git worktree add --detach "$worktree" "$rev" >/dev/null
-trap 'git worktree remove --force "$worktree"' EXIT
-# The worktree keeps its own target folder, reused between runs.
-CARGO_TARGET_DIR="$PWD/$out/target" cargo build --release -p patchex -p patchex-cli --manifest-path "$worktree/Cargo.toml"
+source scripts/lib/revision.sh
+build_revision "$rev"
 
 methods=motion-vector,occlusion-motion,gbuffer,gbuffer-nearest-fill,gbuffer-shadows,patchex,patchex-no-shadows,patchex-whole-frame
 for build in before after; do
-    if [ $build = before ]; then tool=$out/target/release/patchex; else tool=target/release/patchex; fi
+    if [ $build = before ]; then tool=$before_tool; else tool=target/release/patchex; fi
     datasets=()
     for scene in scenes/*.toml; do
         name=$(basename "$scene" .toml)

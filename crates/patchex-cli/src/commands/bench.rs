@@ -27,7 +27,7 @@ use serde_json::json;
 use super::costs::{self, Costs};
 use super::metrics::{error_maps, Pooled};
 use super::picture::tone_map;
-use super::plugin_driver::{NetworkChoice, PluginDriver};
+use super::plugin_driver::{InputFormats, NetworkChoice, PluginDriver};
 use super::render::parse_size;
 use super::CommandResult;
 
@@ -152,6 +152,10 @@ pub struct BenchArgs {
     /// Output folder: datasets/, bench.md, bench.json, trade.png.
     #[arg(long, default_value = "out/bench")]
     out: PathBuf,
+    /// How the engine's images hold the G-buffer: float32 (the rendered values exactly, as eval
+    /// uses) or engine (a deferred renderer's formats), which decides the bytes the inputs cost.
+    #[arg(long, value_enum, default_value_t = InputFormats::Float32)]
+    input_formats: InputFormats,
     /// A TrueType font for the plot's text.
     #[arg(
         long,
@@ -230,7 +234,12 @@ pub fn run(args: BenchArgs) -> CommandResult {
                 &mut |_, _| {},
             )?;
             eprintln!("measuring");
-            measure(&dir, &configurations, &mut results[size_index])?;
+            measure(
+                &dir,
+                args.input_formats,
+                &configurations,
+                &mut results[size_index],
+            )?;
         }
     }
     let markdown = report(&args, &configurations, &results);
@@ -254,6 +263,7 @@ pub fn run(args: BenchArgs) -> CommandResult {
 /// Runs every configuration on every target of one dataset.
 fn measure(
     dir: &Path,
+    input_formats: InputFormats,
     configurations: &[Configuration],
     results: &mut [Measured],
 ) -> CommandResult {
@@ -263,7 +273,7 @@ fn measure(
     if targets.is_empty() {
         return Err(format!("{}: fewer than 4 frames", dir.display()).into());
     }
-    let driver = PluginDriver::new(manifest, false)?;
+    let driver = PluginDriver::new(manifest, false)?.with_input_formats(input_formats);
     let read = |index: usize| dataset.read_frame(index);
     let mut frame_index = 0;
     let mut run = |configuration: Configuration,
@@ -330,11 +340,12 @@ fn report(args: &BenchArgs, configurations: &[Configuration], results: &[Vec<Mea
     writeln!(
         out,
         "Every configuration on the same targets of {} ({} frames each, targets from frame 3 \
-         on, alpha 0.5), quality of the tone-mapped frame against the rendered target; GPU ms \
-         per target from timestamp queries (submit plus extrapolation), grouped as the PatchEX \
-         runtime table.\n",
+         on, alpha 0.5, the G-buffer in {:?} formats), quality of the tone-mapped frame \
+         against the rendered target; GPU ms per target from timestamp queries (submit plus \
+         extrapolation), grouped as the PatchEX runtime table.\n",
         scenes.join(" and "),
-        args.frames
+        args.frames,
+        args.input_formats
     )
     .unwrap();
     write!(out, "| size | configuration | PSNR dB | SSIM | FLIP |").unwrap();

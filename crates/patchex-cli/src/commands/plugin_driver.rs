@@ -54,8 +54,21 @@ impl Default for NetworkChoice {
 /// tensors (`whole_frame` and the divisor are chosen per call).
 type ContextKey = (PatchexPreset, Option<PathBuf>, bool);
 
+/// How the driver stores a frame's layers in engine images.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+pub enum InputFormats {
+    /// 32-bit floats: exactly the rendered values.
+    #[default]
+    Float32,
+    /// What a deferred renderer keeps (Unreal's G-buffer): colour RGBA16F, base colour RGBA8
+    /// sRGB, material RGBA8, normals A2B10G10R10 (PATCHEX_NORMAL_UNORM), motion RG16F, linear
+    /// depth R32F, stencil R8.
+    Engine,
+}
+
 pub struct PluginDriver {
     contexts: RefCell<Vec<(ContextKey, *mut PatchexContext)>>,
+    input_formats: InputFormats,
     library: PatchexLibrary,
     pub engine: Engine,
     width: u32,
@@ -110,6 +123,7 @@ impl PluginDriver {
         let (width, height) = (manifest.width as u32, manifest.height as u32);
         Ok(Self {
             contexts: RefCell::new(Vec::new()),
+            input_formats: InputFormats::default(),
             library,
             engine,
             width,
@@ -117,6 +131,12 @@ impl PluginDriver {
             near: manifest.near,
             far: manifest.far,
         })
+    }
+
+    /// Stores the frames' layers in `formats` from now on.
+    pub fn with_input_formats(mut self, formats: InputFormats) -> Self {
+        self.input_formats = formats;
+        self
     }
 
     /// The context that runs `networks` with or without `shadows`, made on first use.
@@ -171,11 +191,25 @@ impl PluginDriver {
             interleave(wu, hu, &[layer.plane(0), layer.plane(1), layer.plane(2)])
         };
         use vk::Format as F;
+        let engine = self.input_formats == InputFormats::Engine;
+        let pick = |exact, engine_format| if engine { engine_format } else { exact };
+        let (color, unit) = (
+            pick(F::R32G32B32A32_SFLOAT, F::R16G16B16A16_SFLOAT),
+            pick(F::R32G32B32A32_SFLOAT, F::R8G8B8A8_UNORM),
+        );
+        let mut normal = rgb(WORLD_NORMAL);
+        if engine {
+            // A2B10G10R10 holds [0, 1]: PATCHEX_NORMAL_UNORM.
+            normal.iter_mut().for_each(|n| *n = *n * 0.5 + 0.5);
+        }
         UploadedFrame {
-            color: with_color.then(|| image(F::R32G32B32A32_SFLOAT, &rgb(FINAL_IMAGE))),
-            base_color: image(F::R32G32B32A32_SFLOAT, &rgb(BASE_COLOR)),
+            color: with_color.then(|| image(color, &rgb(FINAL_IMAGE))),
+            base_color: image(
+                pick(F::R32G32B32A32_SFLOAT, F::R8G8B8A8_SRGB),
+                &rgb(BASE_COLOR),
+            ),
             material: image(
-                F::R32G32B32A32_SFLOAT,
+                unit,
                 &interleave(
                     wu,
                     hu,
@@ -187,13 +221,19 @@ impl PluginDriver {
                 ),
             ),
             depth: image(F::R32_SFLOAT, &layers.layer(SCENE_DEPTH).plane(0)),
-            normal: image(F::R32G32B32A32_SFLOAT, &rgb(WORLD_NORMAL)),
+            normal: image(
+                pick(F::R32G32B32A32_SFLOAT, F::A2B10G10R10_UNORM_PACK32),
+                &normal,
+            ),
             stencil: image(F::R8_UINT, &layers.layer(CUSTOM_STENCIL).plane(0)),
-            motion: image(F::R32G32_SFLOAT, &layers.layer(MOTION_VECTOR).data),
+            motion: image(
+                pick(F::R32G32_SFLOAT, F::R16G16_SFLOAT),
+                &layers.layer(MOTION_VECTOR).data,
+            ),
             shadow: with_shadow.then(|| {
                 (
                     image(F::R32_SFLOAT, &layers.layer(SHADOW_MASK).plane(0)),
-                    image(F::R32G32B32A32_SFLOAT, &rgb(FINAL_IMAGE_NO_DYNAMIC_SHADOWS)),
+                    image(color, &rgb(FINAL_IMAGE_NO_DYNAMIC_SHADOWS)),
                 )
             }),
             camera: PatchexCamera {
@@ -211,7 +251,10 @@ impl PluginDriver {
         PatchexGeometry {
             depth: frame.depth.describe(LAYOUT),
             normal: frame.normal.describe(LAYOUT),
-            normal_encoding: PATCHEX_NORMAL_SIGNED,
+            normal_encoding: match self.input_formats {
+                InputFormats::Float32 => PATCHEX_NORMAL_SIGNED,
+                InputFormats::Engine => PATCHEX_NORMAL_UNORM,
+            },
             stencil: frame.stencil.describe(LAYOUT),
             motion_vectors: frame.motion.describe(LAYOUT),
             motion_vector_scale: [1.0, 1.0],

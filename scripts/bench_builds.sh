@@ -1,0 +1,58 @@
+#!/usr/bin/env bash
+# Measures revision REV (default HEAD, committed work only) against the working tree's build,
+# side by side in one run: `patchex bench` with each build in turn, ROUNDS times, alternating so
+# that both see the same load on a shared machine. Prints each configuration's mean GPU ms per
+# target (timestamp queries) with both builds, their ratio, and the change in PSNR on the same
+# targets (the bench's test scenes).
+#
+#   scripts/bench_builds.sh [REV] [--sizes WxH,...] [--configurations LIST] [--frames N]
+#                           [--rounds N]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+rev=HEAD
+sizes=1920x1080
+configurations=motion-vector,occlusion-motion,gbuffer
+frames=5
+rounds=2
+while [ $# -gt 0 ]; do
+    case "$1" in
+        --sizes) sizes=$2; shift 2 ;;
+        --configurations) configurations=$2; shift 2 ;;
+        --frames) frames=$2; shift 2 ;;
+        --rounds) rounds=$2; shift 2 ;;
+        *) rev=$1; shift ;;
+    esac
+done
+out=out/bench_builds
+scripts/install-deps.sh
+cargo build --release -p patchex -p patchex-cli
+source scripts/lib/revision.sh
+build_revision "$rev"
+rm -rf "$out"
+for round in $(seq "$rounds"); do
+    for build in before after; do
+        if [ $build = before ]; then tool=$before_tool; else tool=target/release/patchex; fi
+        echo "round $round: $build" >&2
+        "$tool" bench --sizes "$sizes" --configurations "$configurations" --frames "$frames" \
+            --out "$out/$build-$round" >/dev/null
+    done
+done
+python3 - "$out" "$rounds" "$rev" <<'PY'
+import json, sys
+out, rounds, rev = sys.argv[1], int(sys.argv[2]), sys.argv[3]
+def rows(build):
+    table = {}
+    for r in range(1, rounds + 1):
+        for row in json.load(open(f"{out}/{build}-{r}/bench.json"))["rows"]:
+            key = (row["label"], row["width"], row["height"])
+            table.setdefault(key, []).append(row)
+    return table
+before, after = rows("before"), rows("after")
+print(f"| configuration | size | {rev} ms | this build ms | ratio | PSNR change dB |")
+print("|---|---|---|---|---|---|")
+for key, runs in before.items():
+    mean = lambda rs: sum(r["total_gpu_ms"] for r in rs) / len(rs)
+    now = after[key]
+    print(f"| {key[0]} | {key[1]}x{key[2]} | {mean(runs):.1f} | {mean(now):.1f} | "
+          f"{mean(now) / mean(runs):.2f} | {now[0]['psnr'] - runs[0]['psnr']:+.3f} |")
+PY
