@@ -85,12 +85,14 @@ struct Cameras {
 @group(0) @binding(7) var<storage, read_write> counters: WarpCounters;
 @group(0) @binding(8) var<uniform> cameras: Cameras;
 
-// The target pixel's surface, unpacked.
+// The target pixel's surface, unpacked, with the size of a pixel's footprint on it, which every
+// texel it is compared with needs.
 struct Surface {
     position: vec3f,
     depth: f32,
     normal: vec3f,
     id: u32,
+    footprint: f32,
 }
 
 fn target_surface(p: vec2u) -> Surface {
@@ -105,7 +107,14 @@ fn target_surface(p: vec2u) -> Surface {
     let packed = pack_normal_id(unit_normal(stored_normal, cameras.target_normal_encoding), id);
     let ray = cameras.target_at_origin + f32(p.x) * cameras.target_per_x
         + f32(p.y) * cameras.target_per_y;
-    return Surface(cameras.target_position + depth * ray, depth, unpack_normal(packed), object_id(packed));
+    let position = cameras.target_position + depth * ray;
+    let normal = unpack_normal(packed);
+    // Grazing surfaces stretch the footprint, so the agreement test means the same at every
+    // resolution and viewing angle.
+    let view = normalize(params.camera_position - position);
+    let facing = max(abs(dot(normal, view)), MIN_FACING);
+    let footprint = depth * params.pixel_angle / facing;
+    return Surface(position, depth, normal, object_id(packed), footprint);
 }
 
 fn source_position(s: vec2i, depth: f32) -> vec3f {
@@ -132,22 +141,18 @@ fn agreement_at(t: Surface, s: vec2i) -> f32 {
     if (is_sky(t.depth) || is_sky(depth)) {
         return select(0.0, 1.0, is_sky(t.depth) && is_sky(depth));
     }
-    var weight = exp(-(1.0 - dot(t.normal, unpack_normal(packed))) * params.inv_sigma_normal);
+    let normal_term = (1.0 - dot(t.normal, unpack_normal(packed))) * params.inv_sigma_normal;
+    var e: f32;
     if (t.id == 0u) {
-        // Measured in pixel footprints on the target's surface, so the test means the same at
-        // every resolution and viewing angle.
-        let view = normalize(params.camera_position - t.position);
-        let facing = max(abs(dot(t.normal, view)), MIN_FACING);
-        let footprint = t.depth * params.pixel_angle / facing;
+        // Measured in pixel footprints on the target's surface.
         let offset = source_position(s, depth) - t.position;
         let across = dot(t.normal, offset) * t.normal;
-        let e = length(across + params.in_plane_weight * (offset - across)) / footprint * params.inv_sigma_position;
-        weight *= exp(-e * e);
+        e = length(across + params.in_plane_weight * (offset - across)) / t.footprint * params.inv_sigma_position;
     } else {
-        let e = abs(t.depth - depth) / max(t.depth, depth) * params.inv_sigma_depth;
-        weight *= exp(-e * e);
+        e = abs(t.depth - depth) / max(t.depth, depth) * params.inv_sigma_depth;
     }
-    return weight;
+    // exp(-normal_term) * exp(-e^2), as one exp.
+    return exp(-(normal_term + e * e));
 }
 
 // Where target pixel `p` lands in frame t when it follows `motion` (raw engine units).

@@ -98,9 +98,8 @@ impl PixelWarp<'_> {
                 0.0
             };
         }
-        let mut weight = (-(1.0 - target_nid.truncate().dot(source_nid.truncate()))
-            * params.inv_sigma_normal)
-            .exp();
+        let normal_term =
+            (1.0 - target_nid.truncate().dot(source_nid.truncate())) * params.inv_sigma_normal;
         let e = if target_nid.w == 0.0 {
             let view = (Vec3::from(params.camera_position) - target_geo.truncate()).normalize();
             let facing = target_nid.truncate().dot(view).abs().max(MIN_FACING);
@@ -114,8 +113,7 @@ impl PixelWarp<'_> {
             (target_geo.w - source_geo.w).abs() / target_geo.w.max(source_geo.w)
                 * params.inv_sigma_depth
         };
-        weight *= (-e * e).exp();
-        weight
+        (-(normal_term + e * e)).exp()
     }
 
     fn agreement_at(&self, s: IVec2) -> f32 {
