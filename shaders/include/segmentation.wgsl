@@ -39,9 +39,7 @@ struct RegionRect {
 struct Segmentation {
     // Entries of `rects` in use.
     rect_count: atomic<u32>,
-    fi_pixels: atomic<u32>,
-    near_be_pixels: atomic<u32>,
-    reserved: u32,
+    reserved: array<u32, 3>,
     rects: array<RegionRect, MAX_OBJECTS>,
     objects: array<ObjectAccumulator, MAX_OBJECTS>,
 }

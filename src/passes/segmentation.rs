@@ -53,8 +53,6 @@ impl SegmentationSettings {
 /// Layout of `Segmentation` in `include/segmentation.wgsl`.
 pub const MAX_OBJECTS: usize = 256;
 const RECT_COUNT_OFFSET: u64 = 0;
-const FI_PIXELS_OFFSET: u64 = 4;
-const NEAR_BE_PIXELS_OFFSET: u64 = 8;
 const RECTS_OFFSET: u64 = 16;
 const RECT_BYTES: u64 = 32;
 const OBJECT_BYTES: u64 = 36;
@@ -80,7 +78,8 @@ pub struct SegmentationPasses<'a> {
     pub region_masks: Pass<'a>,
 }
 
-/// Records the three dispatches. The table must be zero-filled.
+/// Records object bounds and grown rectangles, and with `regions` the region masks. The table
+/// must be zero-filled.
 pub fn record(
     rec: &mut Recorder,
     passes: &SegmentationPasses,
@@ -122,20 +121,21 @@ pub fn record(
     };
     rec.dispatch(&grow_regions, &params, one_per_object);
 
+    // The regions, for the passes that read them; the statistics need only the rectangles.
+    let Some(regions) = regions else {
+        return;
+    };
     use shaders::region_masks as masks;
     let region_masks = rec.bind(passes.region_masks, |writes| {
         writes
             .image(masks::binding::TARGET_STENCIL, stencil)
-            .buffer(masks::binding::SEGMENTATION, table)
-            .image(
-                masks::binding::REGIONS,
-                regions.map_or(inputs.placeholder_uint, Texture::from),
-            )
+            .buffer(masks::binding::TABLE, table)
+            .image(masks::binding::REGIONS, regions)
     });
     let params = masks::Params {
         extent: extent_params,
-        write_regions: regions.is_some() as u32,
         has_stencil: inputs.target_stencil.is_some() as u32,
+        ..Default::default()
     };
     rec.dispatch(&region_masks, &params, extent);
 }
@@ -168,9 +168,69 @@ pub fn read_back(counters: &ReadbackBuffer, offset: u64) -> SegmentationResult {
         })
         .collect();
     rects.sort_by_key(|r| r.object_id);
+    // Every FI pixel lies inside its own object's rectangle, and the near-BE pixels are the rest
+    // of the rectangles' union: both follow from the table, with no pass over the frame.
+    let fi_pixels = rects.iter().map(|r| r.pixel_count).sum();
     SegmentationResult {
-        fi_pixels: word(FI_PIXELS_OFFSET),
-        near_be_pixels: word(NEAR_BE_PIXELS_OFFSET),
+        fi_pixels,
+        near_be_pixels: union_area(&rects).saturating_sub(fi_pixels),
         rects,
+    }
+}
+
+/// Pixels inside at least one of `rects`: column by column between the rectangles' x edges,
+/// the merged length of the y intervals of those that span the column.
+fn union_area(rects: &[PatchexRegionRect]) -> u32 {
+    let mut edges: Vec<u32> = rects.iter().flat_map(|r| [r.x, r.x + r.width]).collect();
+    edges.sort_unstable();
+    edges.dedup();
+    let mut area = 0;
+    for column in edges.windows(2) {
+        let (left, right) = (column[0], column[1]);
+        let mut spans: Vec<(u32, u32)> = rects
+            .iter()
+            .filter(|r| r.x <= left && right <= r.x + r.width)
+            .map(|r| (r.y, r.y + r.height))
+            .collect();
+        spans.sort_unstable();
+        let (mut covered, mut reach) = (0, 0);
+        for (top, bottom) in spans {
+            let top = top.max(reach);
+            if bottom > top {
+                covered += bottom - top;
+                reach = bottom;
+            }
+        }
+        area += covered * (right - left);
+    }
+    area
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn rect(x: u32, y: u32, width: u32, height: u32) -> PatchexRegionRect {
+        PatchexRegionRect {
+            x,
+            y,
+            width,
+            height,
+            ..Default::default()
+        }
+    }
+
+    #[test]
+    fn union_area_counts_overlaps_once() {
+        assert_eq!(union_area(&[]), 0);
+        assert_eq!(union_area(&[rect(2, 3, 4, 5)]), 20);
+        // Two 4x4 squares overlapping in a 2x2 corner, and one inside the first.
+        let rects = [rect(0, 0, 4, 4), rect(2, 2, 4, 4), rect(1, 1, 2, 2)];
+        assert_eq!(union_area(&rects), 16 + 16 - 4);
+        // Side by side, and an empty one.
+        assert_eq!(
+            union_area(&[rect(0, 0, 3, 2), rect(3, 0, 3, 2), rect(9, 9, 0, 4)]),
+            12
+        );
     }
 }
