@@ -102,19 +102,16 @@ fn target_surface(p: vec2u) -> Surface {
     if (cameras.target_has_stencil != ABSENT) {
         id = textureLoad(target_stencil, p, 0).r;
     }
-    // Through the same packing as frame t's, so that both instants' normals compare alike.
-    let stored_normal = textureLoad(target_normal, p, 0).xyz;
-    let packed = pack_normal_id(unit_normal(stored_normal, cameras.target_normal_encoding), id);
+    let normal = unit_normal(textureLoad(target_normal, p, 0).xyz, cameras.target_normal_encoding);
     let ray = cameras.target_at_origin + f32(p.x) * cameras.target_per_x
         + f32(p.y) * cameras.target_per_y;
     let position = cameras.target_position + depth * ray;
-    let normal = unpack_normal(packed);
     // Grazing surfaces stretch the footprint, so the agreement test means the same at every
     // resolution and viewing angle.
     let view = normalize(params.camera_position - position);
     let facing = max(abs(dot(normal, view)), MIN_FACING);
     let footprint = depth * params.pixel_angle / facing;
-    return Surface(position, depth, normal, object_id(packed), footprint);
+    return Surface(position, depth, normal, id, footprint);
 }
 
 fn source_position(s: vec2i, depth: f32) -> vec3f {

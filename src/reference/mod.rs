@@ -83,8 +83,9 @@ pub fn extrapolate(
         height: source.base_color.height as u32,
     };
     // The target's G-buffer decodes as frame t's does (the warps read it through the packing's
-    // functions); its motion vectors are checked too, frame t's are not read.
-    let pack = |frame: &FrameInputs, motion: Option<&Image>| {
+    // functions), but its normals are used as they are, not coded; its motion vectors are
+    // checked too, frame t's are not read.
+    let pack = |frame: &FrameInputs, motion: Option<&Image>, coded_normals: bool| {
         let params = pack_params(
             frame.camera,
             extent,
@@ -99,9 +100,10 @@ pub fn extrapolate(
             motion,
             &params,
             &rays,
+            coded_normals,
         )
     };
-    let (source_packed, target_packed) = (pack(source, None), pack(target, target.motion));
+    let (source_packed, target_packed) = (pack(source, None, true), pack(target, target.motion, false));
     let color = source.color.expect("frame t has colour");
     let separated = shadow_inputs.map(|shadow| {
         separate_shadows::separate(

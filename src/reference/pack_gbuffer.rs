@@ -57,7 +57,9 @@ pub fn unit_normal(stored: Vec3, encoding: u32) -> Vec3 {
     }
 }
 
-/// `stencil` holds object ids as floats; `None` means all static. `motion` is only checked.
+/// `stencil` holds object ids as floats; `None` means all static. With `coded_normals` the
+/// normals go through their octahedral code, as frame t's do; the warps read the target's as
+/// they are. `motion` is only checked.
 pub fn pack_gbuffer(
     depth: &Image,
     normal: &Image,
@@ -65,6 +67,7 @@ pub fn pack_gbuffer(
     motion: Option<&Image>,
     params: &Params,
     rays: &PixelRays,
+    coded_normals: bool,
 ) -> Packed {
     let (width, height) = (params.extent[0] as usize, params.extent[1] as usize);
     let geometry = Image::from_fn(width, height, 4, |x, y| {
@@ -77,7 +80,11 @@ pub fn pack_gbuffer(
     let normal_id = Image::from_fn(width, height, 4, |x, y| {
         let n = unit_normal(Vec3::from_slice(normal.at(x, y)), params.normal_encoding);
         let id = stencil.map_or(0.0, |s| s.at(x, y)[0]);
-        let n = unpack_normal(pack_normal(n));
+        let n = if coded_normals {
+            unpack_normal(pack_normal(n))
+        } else {
+            n
+        };
         vec![n.x, n.y, n.z, id]
     });
     let finite = |image: &Image, x, y, channels: usize| {
