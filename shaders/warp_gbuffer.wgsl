@@ -60,10 +60,9 @@ fn fill_hole(q: vec2f, t: Surface) -> vec3f {
     return sum / max(count, 1.0);
 }
 
-fn warp_pixel(p: vec2u) -> WarpedPixel {
+fn warp_pixel(p: vec2u, t: Surface, motion_vector: vec2f) -> WarpedPixel {
     let extent = vec2i(params.extent);
-    let q = source_point(p, textureLoad(motion, p, 0).xy);
-    let t = target_surface(p);
+    let q = source_point(p, motion_vector);
 
     // Bilinear footprint of q, each texel weighted by its agreement with the target.
     let corner = vec2i(floor(q - 0.5));

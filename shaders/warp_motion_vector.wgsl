@@ -6,9 +6,9 @@
 // #import warp
 // #import tallies
 
-fn warp_pixel(p: vec2u) -> WarpedPixel {
-    let q = source_point(p, textureLoad(motion, p, 0).xy);
-    let agreement = agreement_at(target_surface(p), texel(q));
+fn warp_pixel(p: vec2u, t: Surface, motion_vector: vec2f) -> WarpedPixel {
+    let q = source_point(p, motion_vector);
+    let agreement = agreement_at(t, texel(q));
     let offscreen = is_offscreen(q);
     return WarpedPixel(bilinear_shading(q), offscreen || agreement < AGREEMENT_THRESHOLD, offscreen);
 }

@@ -8,9 +8,8 @@
 // #import warp
 // #import tallies
 
-fn warp_pixel(p: vec2u) -> WarpedPixel {
-    let t = target_surface(p);
-    var q = source_point(p, textureLoad(motion, p, 0).xy);
+fn warp_pixel(p: vec2u, t: Surface, motion_vector: vec2f) -> WarpedPixel {
+    var q = source_point(p, motion_vector);
     var best_agreement = select(agreement_at(t, texel(q)), 0.0, is_offscreen(q));
     if (best_agreement < AGREEMENT_THRESHOLD) {
         let r = params.occlusion_search_radius;

@@ -1,7 +1,8 @@
 // What every backward warp shares: its parameters, bindings and hole counters, the target's
 // G-buffer read straight from the engine's images, the geometry agreement test, and the entry
 // point, which can also remodulate (when nothing else runs between the warp and the output).
-// Each warp pass defines `warp_pixel`. Needs gbuffer.wgsl. src/reference/warp.rs mirrors it.
+// Each warp pass defines `warp_pixel(p, t, motion_vector)`: target pixel p, its surface, its
+// motion vector. Needs gbuffer.wgsl. src/reference/warp.rs mirrors it.
 
 // A source texel agrees with the target when its geometry weight reaches this value.
 const AGREEMENT_THRESHOLD: f32 = 0.5;
@@ -93,16 +94,20 @@ struct Surface {
     normal: vec3f,
     id: u32,
     footprint: f32,
+    // Its stored depth and normal are finite.
+    finite: bool,
 }
 
 fn target_surface(p: vec2u) -> Surface {
-    let depth = linear_depth(textureLoad(target_depth, p, 0).r, p, cameras.target_depth_curve,
-        cameras.target_far, cameras.target_depth_convention);
+    let stored_depth = textureLoad(target_depth, p, 0).r;
+    let depth = linear_depth(stored_depth, p, cameras.target_depth_curve, cameras.target_far,
+        cameras.target_depth_convention);
     var id = 0u;
     if (cameras.target_has_stencil != ABSENT) {
         id = textureLoad(target_stencil, p, 0).r;
     }
-    let normal = unit_normal(textureLoad(target_normal, p, 0).xyz, cameras.target_normal_encoding);
+    let stored_normal = textureLoad(target_normal, p, 0).xyz;
+    let normal = unit_normal(stored_normal, cameras.target_normal_encoding);
     let ray = cameras.target_at_origin + f32(p.x) * cameras.target_per_x
         + f32(p.y) * cameras.target_per_y;
     let position = cameras.target_position + depth * ray;
@@ -111,7 +116,8 @@ fn target_surface(p: vec2u) -> Surface {
     let view = normalize(params.camera_position - position);
     let facing = max(abs(dot(normal, view)), MIN_FACING);
     let footprint = depth * params.pixel_angle / facing;
-    return Surface(position, depth, normal, id, footprint);
+    return Surface(position, depth, normal, id, footprint,
+        is_finite(vec4f(stored_normal, stored_depth)));
 }
 
 fn source_position(s: vec2i, depth: f32) -> vec3f {
@@ -191,7 +197,10 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
 
     let p = id.xy;
     if (all(p < params.extent)) {
-        let result = warp_pixel(p);
+        // Each of the target's inputs is read once, here.
+        let motion_vector = textureLoad(motion, p, 0).xy;
+        let t = target_surface(p);
+        let result = warp_pixel(p, t, motion_vector);
         var color = vec4f(to_half(result.shading), select(1.0, 0.0, result.hole));
         if (params.remodulate != 0u) {
             let m = pixel_modulation(base_color, material, p, params.has_material);
@@ -202,8 +211,7 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
             }
         }
         textureStore(warped, p, color);
-        let stored = vec4f(textureLoad(target_normal, p, 0).xyz, textureLoad(target_depth, p, 0).r);
-        if (!is_finite(stored) || !is_finite(vec4f(textureLoad(motion, p, 0).xy, 0.0, 0.0))) {
+        if (!t.finite || !is_finite(vec4f(motion_vector, 0.0, 0.0))) {
             atomicAdd(&group_tallies[TALLY_INVALID_GEOMETRY], 1u);
         }
         if (result.hole) {
@@ -214,9 +222,11 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
         }
         // NaN and infinite vectors fail the comparison and are left out; the length is spelled
         // out so that vectors whose square overflows are left out on every driver alike.
-        let scaled = textureLoad(motion, p, 0).xy * params.motion_scale;
+        let scaled = motion_vector * params.motion_scale;
         let reach = sqrt(dot(scaled, scaled));
-        if (reach <= MAX_FINITE) {
+        // Only a reach beyond the workgroup's largest so far needs the atomic.
+        let largest = atomicLoad(&group_tallies[TALLY_LARGEST_MOTION]);
+        if (reach <= MAX_FINITE && bitcast<u32>(reach) > largest) {
             atomicMax(&group_tallies[TALLY_LARGEST_MOTION], bitcast<u32>(reach));
         }
     }
