@@ -101,9 +101,11 @@ fn warp_pixel(p: vec2u, t: Surface, motion_vector: vec2f) -> WarpedPixel {
             }
         }
     }
-    var shading = textureLoad(source_shading, texel(q), 0).rgb;
+    var shading: vec3f;
     if (weight_sum > MIN_TOTAL_WEIGHT) {
         shading = shading_sum / weight_sum;
+    } else {
+        shading = textureLoad(source_shading, texel(q), 0).rgb;
     }
     let offscreen = is_offscreen(q);
     let hole = offscreen || best_agreement < AGREEMENT_THRESHOLD;
