@@ -349,15 +349,15 @@ impl FrameImages {
         ring: &mut FrameRing,
         serial: u64,
     ) -> Result<bool> {
-        let extent = self.work.as_ref().expect("made first").extent;
-        let specs = &ShadowImages::SPECS;
+        let extent = self.work_extent();
+        let set = &mut self.shadows;
         grow(
             gpu,
             allocator,
             ring,
-            &mut self.shadows,
+            set,
             extent,
-            specs,
+            &ShadowImages::SPECS,
             serial,
         )
     }
@@ -370,18 +370,18 @@ impl FrameImages {
         ring: &mut FrameRing,
         serial: u64,
     ) -> Result<()> {
-        let extent = self.work.as_ref().expect("made by the submit").extent;
-        let specs = &AnalysisImages::SPECS;
+        let extent = self.work_extent();
+        let set = &mut self.analysis;
         grow(
             gpu,
             allocator,
             ring,
-            &mut self.analysis,
+            set,
             extent,
-            specs,
+            &AnalysisImages::SPECS,
             serial,
-        )?;
-        Ok(())
+        )
+        .map(drop)
     }
 
     /// Makes or grows the output staging to the working images' extent.
@@ -392,18 +392,23 @@ impl FrameImages {
         ring: &mut FrameRing,
         serial: u64,
     ) -> Result<()> {
-        let extent = self.work.as_ref().expect("made by the submit").extent;
-        let specs = &OutputStaging::SPECS;
+        let extent = self.work_extent();
+        let set = &mut self.output_staging;
         grow(
             gpu,
             allocator,
             ring,
-            &mut self.output_staging,
+            set,
             extent,
-            specs,
+            &OutputStaging::SPECS,
             serial,
-        )?;
-        Ok(())
+        )
+        .map(drop)
+    }
+
+    /// The other sets follow the working images, which the submit makes first.
+    fn work_extent(&self) -> vk::Extent2D {
+        self.work.as_ref().expect("made by the submit").extent
     }
 
     /// The placeholders for a float and an unsigned-integer texture.

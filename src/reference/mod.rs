@@ -103,7 +103,8 @@ pub fn extrapolate(
             coded_normals,
         )
     };
-    let (source_packed, target_packed) = (pack(source, None, true), pack(target, target.motion, false));
+    let (source_packed, target_packed) =
+        (pack(source, None, true), pack(target, target.motion, false));
     let color = source.color.expect("frame t has colour");
     let separated = shadow_inputs.map(|shadow| {
         separate_shadows::separate(
