@@ -202,7 +202,7 @@ impl Context {
         };
         // With nothing to run between the warp and the output (no shadow layers, networks or
         // diagnostics), the warp remodulates as it writes, and the frame is read and written once.
-        let remodulate_in_warp = shadows.is_none() && self.inpainting.is_none() && !analyse;
+        let remodulate_in_warp = shadows.is_none() && !analyse;
         let remodulation = warp::Remodulation {
             base_color,
             material,

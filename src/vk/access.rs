@@ -4,7 +4,6 @@
 use ash::vk;
 
 use crate::abi::PatchexStage;
-
 use crate::vk::buffer::CounterRange;
 
 /// What a command touches, for ordering.

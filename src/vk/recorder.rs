@@ -193,8 +193,8 @@ impl<'a> Recorder<'a> {
         };
     }
 
-    /// Writes `contents` into `range` from the command buffer itself, so that a frame in flight
-    /// that reads the same range keeps its own values (a uniform block of the call).
+    /// Writes `contents` into `range` in the command stream (a uniform block of the call), after
+    /// whatever the GPU still does with the range; a write from the host could race it.
     pub fn update<P: PushConstants>(&mut self, range: &CounterRange, contents: &P) {
         let bytes = contents.as_bytes();
         debug_assert_eq!(bytes.len() as u64, range.range);
