@@ -68,25 +68,25 @@ impl Context {
         let base_color = access.read(&inputs.base_color)?;
         let material = access.read_optional(inputs.material.as_ref())?;
         let output = access.write(&inputs.output)?;
-        let diagnostics_image = match &extensions.diagnostics {
-            Some(image) => Some(access.write(&ImportedImage::import_required(
-                &self.gpu,
-                image,
-                &ImageRole::diagnostics("PatchexDiagnostics.image"),
-                inputs.extent,
-            )?)?),
-            None => None,
+        let mut import_diagnostics = |image: Option<&PatchexImage>, name| {
+            image
+                .map(|image| {
+                    let role = ImageRole::diagnostics(name);
+                    access.write(&ImportedImage::import_required(
+                        &self.gpu,
+                        image,
+                        &role,
+                        inputs.extent,
+                    )?)
+                })
+                .transpose()
         };
-
-        let shadow_diagnostics_image = match &extensions.shadow_diagnostics {
-            Some(image) => Some(access.write(&ImportedImage::import_required(
-                &self.gpu,
-                image,
-                &ImageRole::diagnostics("PatchexShadowDiagnostics.image"),
-                inputs.extent,
-            )?)?),
-            None => None,
-        };
+        let diagnostics_image =
+            import_diagnostics(extensions.diagnostics.as_ref(), "PatchexDiagnostics.image")?;
+        let shadow_diagnostics_image = import_diagnostics(
+            extensions.shadow_diagnostics.as_ref(),
+            "PatchexShadowDiagnostics.image",
+        )?;
         if self.inpainting.is_none() && extensions.networks.is_some() {
             bail!(
                 ErrorInvalidArgument,
