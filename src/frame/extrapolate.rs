@@ -8,7 +8,7 @@ use crate::abi::*;
 use crate::context::Context;
 use crate::error::{bail, PatchexResult, Result};
 use crate::frame::counters;
-use crate::frame::images::{AnalysisImages, OutputStaging, ShadowImages, WorkImages};
+use crate::frame::images::{AnalysisImages, Growth, OutputStaging, ShadowImages, WorkImages};
 use crate::frame::settings::Extensions;
 use crate::frame::submit::engine_gbuffer;
 use crate::inputs::{self, TargetInputs};
@@ -107,23 +107,19 @@ impl Context {
             inputs.geometry.motion_vector_scale,
         );
 
+        let mut growth = Growth {
+            gpu: &self.gpu,
+            allocator: &mut self.allocator,
+            ring: &mut self.ring,
+            serial: source.serial,
+        };
         if inputs.output.written_by_copy {
-            self.images.ensure_output_staging(
-                &self.gpu,
-                &mut self.allocator,
-                &mut self.ring,
-                source.serial,
-            )?;
+            self.images.ensure_output_staging(&mut growth)?;
         }
         // The regions and the LBP map, for the networks and the diagnostics only.
         let analyse = self.inpainting.is_some() || diagnostics_image.is_some();
         if analyse {
-            self.images.ensure_analysis(
-                &self.gpu,
-                &mut self.allocator,
-                &mut self.ring,
-                source.serial,
-            )?;
+            self.images.ensure_analysis(&mut growth)?;
         }
 
         // Everything is validated and allocated: from here on the call cannot fail.

@@ -320,88 +320,31 @@ impl FrameImages {
     }
 
     /// Grows the working images to hold `extent`; the old ones wait out the frames in flight.
-    pub fn ensure_work(
-        &mut self,
-        gpu: &Gpu,
-        allocator: &mut Allocator,
-        ring: &mut FrameRing,
-        extent: vk::Extent2D,
-        serial: u64,
-    ) -> Result<()> {
-        grow(
-            gpu,
-            allocator,
-            ring,
-            &mut self.work,
-            extent,
-            &WorkImages::SPECS,
-            serial,
-        )?;
-        Ok(())
+    pub fn ensure_work(&mut self, growth: &mut Growth, extent: vk::Extent2D) -> Result<()> {
+        grow(growth, &mut self.work, extent, &WorkImages::SPECS).map(drop)
     }
 
     /// Makes or grows the shadow images to the working images' extent. Returns whether they
     /// were (re)made, which loses frame t-1's expansion.
-    pub fn ensure_shadows(
-        &mut self,
-        gpu: &Gpu,
-        allocator: &mut Allocator,
-        ring: &mut FrameRing,
-        serial: u64,
-    ) -> Result<bool> {
+    pub fn ensure_shadows(&mut self, growth: &mut Growth) -> Result<bool> {
         let extent = self.work_extent();
-        let set = &mut self.shadows;
-        grow(
-            gpu,
-            allocator,
-            ring,
-            set,
-            extent,
-            &ShadowImages::SPECS,
-            serial,
-        )
+        grow(growth, &mut self.shadows, extent, &ShadowImages::SPECS)
     }
 
     /// Makes or grows the analysis images to the working images' extent.
-    pub fn ensure_analysis(
-        &mut self,
-        gpu: &Gpu,
-        allocator: &mut Allocator,
-        ring: &mut FrameRing,
-        serial: u64,
-    ) -> Result<()> {
+    pub fn ensure_analysis(&mut self, growth: &mut Growth) -> Result<()> {
         let extent = self.work_extent();
-        let set = &mut self.analysis;
-        grow(
-            gpu,
-            allocator,
-            ring,
-            set,
-            extent,
-            &AnalysisImages::SPECS,
-            serial,
-        )
-        .map(drop)
+        grow(growth, &mut self.analysis, extent, &AnalysisImages::SPECS).map(drop)
     }
 
     /// Makes or grows the output staging to the working images' extent.
-    pub fn ensure_output_staging(
-        &mut self,
-        gpu: &Gpu,
-        allocator: &mut Allocator,
-        ring: &mut FrameRing,
-        serial: u64,
-    ) -> Result<()> {
+    pub fn ensure_output_staging(&mut self, growth: &mut Growth) -> Result<()> {
         let extent = self.work_extent();
-        let set = &mut self.output_staging;
         grow(
-            gpu,
-            allocator,
-            ring,
-            set,
+            growth,
+            &mut self.output_staging,
             extent,
             &OutputStaging::SPECS,
-            serial,
         )
         .map(drop)
     }
@@ -460,17 +403,24 @@ impl FrameImages {
     }
 }
 
+/// What growing an image set takes: the device, its allocator, and the ring that keeps the
+/// images a set replaces until no frame in flight can use them; `serial` is the submit the
+/// growth is for.
+pub struct Growth<'a> {
+    pub gpu: &'a Gpu,
+    pub allocator: &'a mut Allocator,
+    pub ring: &'a mut FrameRing,
+    pub serial: u64,
+}
+
 /// Makes `set` hold `extent`, at least as large as before on both sides, and hands the images it
-/// replaces to the ring at submit `serial` (the previous submit is the last whose commands may
+/// replaces to the ring at `growth.serial` (the previous submit is the last whose commands may
 /// use them). Returns whether the set was (re)made.
 fn grow<const N: usize, Kind>(
-    gpu: &Gpu,
-    allocator: &mut Allocator,
-    ring: &mut FrameRing,
+    growth: &mut Growth,
     set: &mut Option<ImageSet<N, Kind>>,
     extent: vk::Extent2D,
     specs: &[ImageSpec; N],
-    serial: u64,
 ) -> Result<bool> {
     let old = set.as_ref().map(|set| set.extent);
     if set.as_ref().is_some_and(|set| set.holds(extent)) {
@@ -480,9 +430,9 @@ fn grow<const N: usize, Kind>(
         width: extent.width.max(old.map_or(0, |e| e.width)),
         height: extent.height.max(old.map_or(0, |e| e.height)),
     };
-    let grown = ImageSet::new(gpu, allocator, size, specs)?;
+    let grown = ImageSet::new(growth.gpu, growth.allocator, size, specs)?;
     for image in set.replace(grown).into_iter().flat_map(|old| old.images) {
-        ring.retire(serial.saturating_sub(1), image);
+        growth.ring.retire(growth.serial.saturating_sub(1), image);
     }
     Ok(true)
 }

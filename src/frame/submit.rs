@@ -7,7 +7,7 @@ use crate::abi::*;
 use crate::context::{Context, SourceFrame};
 use crate::error::{bail, Result};
 use crate::frame::counters;
-use crate::frame::images::{ShadowImages, WorkImages};
+use crate::frame::images::{Growth, ShadowImages, WorkImages};
 use crate::frame::settings::{Extensions, NEEDS_SHADOW_PRESET};
 use crate::inputs::{self, GeometryInputs, SourceInputs};
 use crate::passes::{
@@ -63,13 +63,13 @@ impl Context {
 
         let serial = self.source.as_ref().map_or(1, |s| s.serial + 1);
         self.ring.collect(&self.gpu, &mut self.allocator, serial);
-        self.images.ensure_work(
-            &self.gpu,
-            &mut self.allocator,
-            &mut self.ring,
-            inputs.extent,
+        let mut growth = Growth {
+            gpu: &self.gpu,
+            allocator: &mut self.allocator,
+            ring: &mut self.ring,
             serial,
-        )?;
+        };
+        self.images.ensure_work(&mut growth, inputs.extent)?;
         // Frame t-1's expansion is usable when it was made, unbroken, on the same images.
         let mut track = reset_reason == PATCHEX_RESET_NONE
             && self
@@ -77,12 +77,7 @@ impl Context {
                 .as_ref()
                 .is_some_and(|s| s.has_shadows && s.extent == inputs.extent);
         if shadow_inputs.is_some() {
-            track &= !self.images.ensure_shadows(
-                &self.gpu,
-                &mut self.allocator,
-                &mut self.ring,
-                serial,
-            )?;
+            track &= !self.images.ensure_shadows(&mut growth)?;
             self.shadow_current = 1 - self.shadow_current;
         }
 
