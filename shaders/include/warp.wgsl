@@ -25,8 +25,6 @@ struct Params {
     // points, which must land on themselves; 0 for shadows, which slide across their receiver
     // and need only land on the same plane.
     in_plane_weight: f32,
-    // The target camera, to size a pixel's footprint on a surface.
-    camera_position: vec3f,
     // Radians one pixel spans at the image centre.
     pixel_angle: f32,
     // G-buffer-guided warp: PATCHEX_HOLE_FILL_* (0 uncovered side, 1 nearest texel).
@@ -113,7 +111,7 @@ fn target_surface(p: vec2u) -> Surface {
     let position = cameras.target_position + depth * ray;
     // Grazing surfaces stretch the footprint, so the agreement test means the same at every
     // resolution and viewing angle.
-    let view = normalize(params.camera_position - position);
+    let view = normalize(cameras.target_position - position);
     let facing = max(abs(dot(normal, view)), MIN_FACING);
     let footprint = depth * params.pixel_angle / facing;
     return Surface(position, depth, normal, id, footprint,

@@ -147,7 +147,6 @@ impl WarpSettings {
             inv_sigma_position: 1.0 / self.sigma_position,
             occlusion_search_radius: self.occlusion_search_radius as i32,
             in_plane_weight: 1.0,
-            camera_position: camera.position().into(),
             pixel_angle: camera.pixel_angle(extent.height),
             hole_fill: self.hole_fill,
             ..Default::default()

@@ -139,6 +139,7 @@ pub fn extrapolate(
             geometry: &target_packed.geometry,
             normal_id: &target_packed.normal_id,
             motion,
+            camera_position: target_packed.camera_position,
         },
         &params,
     );
@@ -162,6 +163,7 @@ pub fn extrapolate(
                 geometry: &target_packed.geometry,
                 normal_id: &target_packed.normal_id,
                 motion: &flow,
+                camera_position: target_packed.camera_position,
             },
             &shadow_params,
         );
@@ -176,6 +178,7 @@ pub fn extrapolate(
                 geometry: &target_packed.geometry,
                 normal_id: &target_packed.normal_id,
                 motion,
+                camera_position: target_packed.camera_position,
             },
             &params,
         );

@@ -19,6 +19,8 @@ pub struct Packed {
     pub normal_id: Image,
     /// Pixels whose depth, normal or motion vector has a NaN or infinite component.
     pub invalid_pixels: u32,
+    /// The camera the positions are rebuilt around, as the warps have it.
+    pub camera_position: Vec3,
 }
 
 /// Linear depth of a stored depth at pixel (x, y) (`linear_depth` in gbuffer.wgsl).
@@ -102,6 +104,7 @@ pub fn pack_gbuffer(
         geometry,
         normal_id,
         invalid_pixels,
+        camera_position: rays.position,
     }
 }
 

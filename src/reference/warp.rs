@@ -36,11 +36,12 @@ pub struct WarpSources<'a> {
     pub normal_id: &'a Image,
 }
 
-/// The target's packed images and motion vectors.
+/// The target's packed images, motion vectors and camera position.
 pub struct WarpTarget<'a> {
     pub geometry: &'a Image,
     pub normal_id: &'a Image,
     pub motion: &'a Image,
+    pub camera_position: Vec3,
 }
 
 struct WarpedPixel {
@@ -101,7 +102,7 @@ impl PixelWarp<'_> {
         let normal_term =
             (1.0 - target_nid.truncate().dot(source_nid.truncate())) * params.inv_sigma_normal;
         let e = if target_nid.w == 0.0 {
-            let view = (Vec3::from(params.camera_position) - target_geo.truncate()).normalize();
+            let view = (self.target.camera_position - target_geo.truncate()).normalize();
             let facing = target_nid.truncate().dot(view).abs().max(MIN_FACING);
             let footprint = target_geo.w * params.pixel_angle / facing;
             let normal = target_nid.truncate();
