@@ -31,6 +31,9 @@ enum Command {
     Patches(commands::patches::PatchesArgs),
     /// Render a scene file into a G-buffer dataset sequence.
     Render(commands::render::RenderArgs),
+    /// Write the generated scene set: seeded variations of settings, characters, cameras and
+    /// sun, split into training, validation and test scenes.
+    Scenes(commands::scenes::ScenesArgs),
     /// Make a contact sheet PNG of one dataset frame: colour and every G-buffer layer.
     Sheet(commands::sheet::SheetArgs),
     /// Print what a glTF asset contains: meshes, bounds, animation clips.
@@ -46,6 +49,7 @@ fn main() -> ExitCode {
         Command::Eval(args) => commands::eval::run(args),
         Command::Patches(args) => commands::patches::run(args),
         Command::Render(args) => commands::render::run(args),
+        Command::Scenes(args) => commands::scenes::run(args),
         Command::Sheet(args) => commands::sheet::run(args),
         Command::Inspect(args) => commands::inspect::run(args),
     };

@@ -33,7 +33,8 @@ pub struct DemoArgs {
     /// Output folder: dataset/, strips/, summary.md, summary.json.
     #[arg(long, default_value = "out/demo")]
     out: PathBuf,
-    /// Assets folder; defaults to ../assets relative to the scene file.
+    /// Assets folder; defaults to the `assets` folder beside the nearest folder above the scene
+    /// file that has one.
     #[arg(long)]
     assets: Option<PathBuf>,
     /// Run renderer and plugin under the Vulkan validation layer; fail on any message.

@@ -10,6 +10,7 @@ pub mod patches;
 pub mod picture;
 pub mod plugin_driver;
 pub mod render;
+pub mod scenes;
 pub mod sheet;
 
 /// Errors of any subcommand, shown to the user as one line.

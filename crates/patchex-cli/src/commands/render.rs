@@ -27,7 +27,8 @@ pub struct RenderArgs {
     /// Output folder for manifest.json and frame_NNNN.exr.
     #[arg(long)]
     out: PathBuf,
-    /// Assets folder; defaults to ../assets relative to the scene file.
+    /// Assets folder; defaults to the `assets` folder beside the nearest folder above the scene
+    /// file that has one.
     #[arg(long)]
     assets: Option<PathBuf>,
     /// Run with the Vulkan validation layer and fail on any message.

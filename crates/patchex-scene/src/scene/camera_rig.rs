@@ -34,6 +34,24 @@ impl World {
                 PathMotion::new(path).at(speed * time).0,
                 Vec3::from(*target),
             ),
+            CameraRig::Pan {
+                position,
+                degrees_per_second,
+                start_deg,
+                pitch_deg,
+            } => {
+                let (yaw, pitch) = (
+                    (start_deg + degrees_per_second * time).to_radians(),
+                    pitch_deg.to_radians(),
+                );
+                let position = Vec3::from(*position);
+                let ahead = Vec3::new(
+                    yaw.cos() * pitch.cos(),
+                    -pitch.sin(),
+                    yaw.sin() * pitch.cos(),
+                );
+                (position, position + ahead)
+            }
             CameraRig::Follow {
                 character,
                 offset,

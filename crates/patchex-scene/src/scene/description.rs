@@ -74,6 +74,16 @@ pub enum CameraRig {
         speed: f32,
         target: [f32; 3],
     },
+    /// Stands at `position` and turns: yaw `start_deg + degrees_per_second * t` about the
+    /// vertical (0 looks along +x, 90 along +z), pitched down by `pitch_deg`.
+    Pan {
+        position: [f32; 3],
+        degrees_per_second: f32,
+        #[serde(default)]
+        start_deg: f32,
+        #[serde(default)]
+        pitch_deg: f32,
+    },
     /// Keeps `offset` from the named character (in its facing frame), looking at it.
     Follow {
         character: String,

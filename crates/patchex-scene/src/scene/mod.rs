@@ -11,6 +11,7 @@ mod path;
 mod placement;
 mod projection;
 mod sun;
+pub mod variation;
 mod world;
 
 pub use batch::{Draw, MeshBatch, Vertex};

@@ -84,7 +84,9 @@ impl ModelCache {
 }
 
 impl World {
-    /// Reads a scene file; assets resolve against `assets_dir`, or `<scene dir>/../assets`.
+    /// Reads a scene file; assets resolve against `assets_dir`, or else the `assets` folder
+    /// beside the nearest folder above the scene file that has one (`scenes/x.toml` and
+    /// `scenes/generated/x.toml` both find the repository's).
     pub fn load(scene_path: &Path, assets_dir: Option<&Path>) -> Result<Self> {
         let text = std::fs::read_to_string(scene_path).map_err(io_error(scene_path))?;
         let description: SceneDescription = toml::from_str(&text).map_err(|e| Error::Scene {
@@ -93,11 +95,19 @@ impl World {
         })?;
         let assets_dir = match assets_dir {
             Some(dir) => dir.to_path_buf(),
-            None => scene_path
-                .parent()
-                .unwrap_or(Path::new("."))
-                .join("..")
-                .join("assets"),
+            None => {
+                let scene_dir = scene_path
+                    .parent()
+                    .filter(|dir| !dir.as_os_str().is_empty())
+                    .unwrap_or(Path::new("."));
+                let scene_dir = std::fs::canonicalize(scene_dir).map_err(io_error(scene_dir))?;
+                scene_dir
+                    .ancestors()
+                    .skip(1)
+                    .map(|folder| folder.join("assets"))
+                    .find(|assets| assets.is_dir())
+                    .unwrap_or_else(|| scene_dir.join("..").join("assets"))
+            }
         };
         Self::from_description(description, &assets_dir).map_err(|e| match e {
             Error::Scene { message, .. } => Error::Scene {

@@ -1,0 +1,648 @@
+//! Seeded scene variation: a set of scene files drawn from one seed, each a family's setting
+//! (street, forest, autumn wood, desert, the Littlest Tokyo diorama) with its characters, clips,
+//! paths, camera, sun and start time varied. Families belong to one split each and the
+//! validation and test families use assets, characters and camera kinds that training does not,
+//! so that what is tuned or trained on one split is measured on content it has not seen.
+//! The output is plain scene files: what was generated can be read, rendered and diffed.
+
+use super::placement::SplitMix64;
+use std::fmt::Write;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Split {
+    Training,
+    Validation,
+    Test,
+}
+
+impl Split {
+    pub fn name(self) -> &'static str {
+        match self {
+            Split::Training => "training",
+            Split::Validation => "validation",
+            Split::Test => "test",
+        }
+    }
+}
+
+pub struct GeneratedScene {
+    pub name: String,
+    pub split: Split,
+    /// The scene file's text.
+    pub text: String,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum CameraKind {
+    Orbit,
+    /// A dolly sideways past the action, looking at it.
+    Strafe,
+    Static,
+    Follow,
+    /// A slow dolly with handheld shake.
+    Handheld,
+    /// A fast turn on the spot.
+    Pan,
+}
+
+struct CharacterKind {
+    asset: &'static str,
+    scale: f32,
+    yaw_offset_deg: f32,
+    walk: (&'static str, f32),
+    run: Option<(&'static str, f32)>,
+    /// A clip played standing in place.
+    in_place: Option<&'static str>,
+}
+
+const ROBOT: CharacterKind = CharacterKind {
+    asset: "characters/RobotExpressive.glb",
+    scale: 0.4,
+    yaw_offset_deg: 0.0,
+    walk: ("Walking", 1.1),
+    run: Some(("Running", 4.0)),
+    in_place: Some("Dance"),
+};
+const CESIUM_MAN: CharacterKind = CharacterKind {
+    asset: "characters/CesiumMan.glb",
+    scale: 1.0,
+    yaw_offset_deg: 90.0,
+    walk: ("animation0", 1.2),
+    run: None,
+    in_place: None,
+};
+const CYBERPUNK: CharacterKind = CharacterKind {
+    asset: "characters/cyberpunk_Character.glb",
+    scale: 1.25,
+    yaw_offset_deg: 0.0,
+    walk: ("CharacterArmature|Walk", 1.4),
+    run: Some(("CharacterArmature|Run", 4.0)),
+    in_place: Some("CharacterArmature|Wave"),
+};
+const PLATFORMER: CharacterKind = CharacterKind {
+    asset: "characters/platformer_Character.glb",
+    scale: 0.5,
+    yaw_offset_deg: 0.0,
+    walk: ("CharacterArmature|Walk", 1.2),
+    run: Some(("CharacterArmature|Run", 4.0)),
+    in_place: Some("CharacterArmature|Wave"),
+};
+const FOX: CharacterKind = CharacterKind {
+    asset: "characters/Fox.glb",
+    scale: 0.012,
+    yaw_offset_deg: 0.0,
+    walk: ("Walk", 1.0),
+    run: Some(("Run", 5.0)),
+    in_place: Some("Survey"),
+};
+
+struct Family {
+    name: &'static str,
+    split: Split,
+    count: usize,
+    cameras: &'static [CameraKind],
+    characters: &'static [CharacterKind],
+    /// Writes the ground, the environment and the scatters, given the bearing of the camera
+    /// from the action (radians about +y from +x).
+    setting: fn(&mut SplitMix64, &mut String, f32),
+}
+
+const FAMILIES: [Family; 5] = [
+    Family {
+        name: "street",
+        split: Split::Training,
+        count: 6,
+        cameras: &[
+            CameraKind::Orbit,
+            CameraKind::Strafe,
+            CameraKind::Static,
+            CameraKind::Follow,
+        ],
+        characters: &[ROBOT, CESIUM_MAN, CYBERPUNK],
+        setting: street,
+    },
+    Family {
+        name: "forest",
+        split: Split::Training,
+        count: 6,
+        cameras: &[
+            CameraKind::Strafe,
+            CameraKind::Follow,
+            CameraKind::Orbit,
+            CameraKind::Static,
+        ],
+        characters: &[ROBOT, CESIUM_MAN, CYBERPUNK],
+        setting: forest,
+    },
+    Family {
+        name: "autumn",
+        split: Split::Validation,
+        count: 6,
+        cameras: &[
+            CameraKind::Handheld,
+            CameraKind::Pan,
+            CameraKind::Follow,
+            CameraKind::Orbit,
+        ],
+        characters: &[PLATFORMER, FOX],
+        setting: autumn,
+    },
+    Family {
+        name: "tokyo",
+        split: Split::Test,
+        count: 3,
+        cameras: &[CameraKind::Pan, CameraKind::Handheld, CameraKind::Strafe],
+        characters: &[PLATFORMER, FOX],
+        setting: tokyo,
+    },
+    Family {
+        name: "desert",
+        split: Split::Test,
+        count: 3,
+        cameras: &[CameraKind::Follow, CameraKind::Pan, CameraKind::Handheld],
+        characters: &[PLATFORMER, FOX],
+        setting: desert,
+    },
+];
+
+/// The whole set for `seed`: the same seed always gives the same files.
+pub fn generate_set(seed: u64) -> Vec<GeneratedScene> {
+    let mut scenes = Vec::new();
+    for (f, family) in FAMILIES.iter().enumerate() {
+        for i in 0..family.count {
+            let mut rng = SplitMix64(seed ^ ((f as u64) << 32 | i as u64).wrapping_mul(0x9E37));
+            let camera = family.cameras[i % family.cameras.len()];
+            let name = format!("{}_{:02}", family.name, i + 1);
+            scenes.push(GeneratedScene {
+                text: scene_text(&mut rng, &name, family, camera, seed),
+                name,
+                split: family.split,
+            });
+        }
+    }
+    scenes
+}
+
+fn scene_text(
+    rng: &mut SplitMix64,
+    name: &str,
+    family: &Family,
+    camera: CameraKind,
+    seed: u64,
+) -> String {
+    let start_time = (range(rng, 0.0, 3.0) * 100.0).round() / 100.0;
+    let mut text = format!(
+        "# Generated by `patchex scenes --seed {seed}` ({} split, {} family, {camera:?} camera).\n\
+         name = \"{name}\"\nstart_time = {start_time:.2}\n",
+        family.split.name(),
+        family.name,
+    );
+    // The characters first: the follow camera needs the first one's name.
+    let mut characters = String::new();
+    let count = 1 + (rng.next_u64() % 3) as usize;
+    for c in 0..count {
+        let kind = &family.characters[(rng.next_u64() % family.characters.len() as u64) as usize];
+        // The followed character must move; others may stand and play a clip in place.
+        let must_move = c == 0 && camera == CameraKind::Follow;
+        character(rng, &mut characters, c, kind, must_move);
+    }
+    let bearing = camera_text(rng, &mut text, camera, start_time);
+    sun(rng, &mut text);
+    (family.setting)(rng, &mut text, bearing);
+    text + &characters
+}
+
+fn range(rng: &mut SplitMix64, low: f32, high: f32) -> f32 {
+    low + rng.next_f32() * (high - low)
+}
+
+fn sign(rng: &mut SplitMix64) -> f32 {
+    if rng.next_u64() & 1 == 0 {
+        1.0
+    } else {
+        -1.0
+    }
+}
+
+fn pick<'a>(rng: &mut SplitMix64, items: &[&'a str]) -> &'a str {
+    items[(rng.next_u64() % items.len() as u64) as usize]
+}
+
+fn point([x, y, z]: [f32; 3]) -> String {
+    format!("[{x:.2}, {y:.2}, {z:.2}]")
+}
+
+/// Writes the camera; returns its bearing from the action.
+fn camera_text(rng: &mut SplitMix64, text: &mut String, kind: CameraKind, start_time: f32) -> f32 {
+    let fov = range(rng, 45.0, 65.0);
+    let around = range(rng, 0.0, std::f32::consts::TAU);
+    let distance = range(rng, 4.5, 7.5);
+    let height = range(rng, 1.2, 2.8);
+    let at = |angle: f32, distance: f32, height: f32| {
+        [distance * angle.cos(), height, distance * angle.sin()]
+    };
+    let look = [0.0, 0.9, 0.0];
+    text.push_str("\n[camera]\n");
+    match kind {
+        CameraKind::Orbit => {
+            let speed = sign(rng) * range(rng, 20.0, 45.0);
+            writeln!(
+                text,
+                "kind = \"orbit\"\ncenter = {}\nradius = {distance:.2}\nheight = {:.2}\n\
+                 degrees_per_second = {speed:.1}\nstart_deg = {:.1}",
+                point(look),
+                height - 0.9,
+                around.to_degrees()
+            )
+        }
+        CameraKind::Strafe | CameraKind::Handheld => {
+            // Across the line of sight, a few metres either way of the closest point.
+            let (from, reach) = (at(around, distance, height), range(rng, 2.0, 4.0));
+            let side = [-around.sin() * reach, 0.0, around.cos() * reach];
+            let path = [
+                [from[0] - side[0], from[1], from[2] - side[2]],
+                [from[0] + side[0], from[1], from[2] + side[2]],
+            ];
+            let speed = if kind == CameraKind::Strafe {
+                range(rng, 1.5, 3.5)
+            } else {
+                range(rng, 0.3, 0.8)
+            };
+            writeln!(
+                text,
+                "kind = \"dolly\"\npath = [{}, {}]\nspeed = {speed:.2}\ntarget = {}",
+                point(path[0]),
+                point(path[1]),
+                point(look)
+            )
+        }
+        CameraKind::Static => writeln!(
+            text,
+            "kind = \"static\"\nposition = {}\ntarget = {}",
+            point(at(around, distance, height)),
+            point(look)
+        ),
+        CameraKind::Follow => writeln!(
+            text,
+            "kind = \"follow\"\ncharacter = \"c1\"\noffset = {}\nlook_height = {:.2}",
+            point([
+                range(rng, -0.8, 0.8),
+                range(rng, 1.5, 2.2),
+                -range(rng, 3.0, 4.5)
+            ]),
+            range(rng, 0.8, 1.3)
+        ),
+        CameraKind::Pan => {
+            // Faces the action a tenth of a second into the sequence, and keeps turning fast.
+            let position = at(around, distance, height);
+            let facing = (-position[2]).atan2(-position[0]).to_degrees();
+            let speed = sign(rng) * range(rng, 40.0, 90.0);
+            writeln!(
+                text,
+                "kind = \"pan\"\nposition = {}\ndegrees_per_second = {speed:.1}\n\
+                 start_deg = {:.1}\npitch_deg = {:.1}",
+                point(position),
+                facing - (start_time + 0.1) * speed,
+                (height - 0.9).atan2(distance).to_degrees()
+            )
+        }
+    }
+    .expect("writing to a String");
+    let shake = match kind {
+        CameraKind::Handheld => Some(range(rng, 0.02, 0.04)),
+        CameraKind::Follow if rng.next_u64() & 1 == 0 => Some(range(rng, 0.01, 0.03)),
+        _ => None,
+    };
+    if let Some(amplitude) = shake {
+        let frequency = range(rng, 1.2, 2.5);
+        writeln!(
+            text,
+            "shake = {{ amplitude = {amplitude:.3}, frequency = {frequency:.2} }}"
+        )
+        .expect("writing to a String");
+    }
+    writeln!(text, "fov_deg = {fov:.1}").expect("writing to a String");
+    around
+}
+
+fn sun(rng: &mut SplitMix64, text: &mut String) {
+    let elevation = range(rng, 18.0, 65.0);
+    // Low suns are warmer.
+    let warmth = ((65.0 - elevation) / 47.0).clamp(0.0, 1.0);
+    let color = [1.0, 0.95 - 0.12 * warmth, 0.88 - 0.2 * warmth];
+    writeln!(
+        text,
+        "\n[sun]\nazimuth_deg = {:.1}\nelevation_deg = {elevation:.1}\ncolor = {}\n\
+         intensity = {:.2}\nsky_zenith = [0.25, 0.4, 0.75]\nsky_horizon = {}\n\
+         ground_ambient = [0.12, 0.11, 0.1]\nshadow_resolution = 2048",
+        range(rng, 0.0, 360.0),
+        point(color),
+        range(rng, 2.5, 3.6),
+        point([
+            0.7 + 0.15 * warmth,
+            0.8 - 0.05 * warmth,
+            0.9 - 0.25 * warmth
+        ]),
+    )
+    .expect("writing to a String");
+}
+
+fn character(
+    rng: &mut SplitMix64,
+    text: &mut String,
+    index: usize,
+    kind: &CharacterKind,
+    must_move: bool,
+) {
+    let how = rng.next_u64() % 4;
+    let (clip, speed) = match (how, kind.run, kind.in_place) {
+        (0, Some(run), _) => run,
+        (1, _, Some(clip)) if !must_move => (clip, 0.0),
+        _ => kind.walk,
+    };
+    // A straight walk across the action area, back and forth.
+    let heading = range(rng, 0.0, std::f32::consts::TAU);
+    let offset = range(rng, -1.5, 1.5);
+    let half = if speed > 3.0 { 6.0 } else { 3.0 };
+    let across = [-heading.sin() * offset, 0.0, heading.cos() * offset];
+    let ends = [-half, half].map(|s| {
+        [
+            across[0] + s * heading.cos(),
+            0.0,
+            across[2] + s * heading.sin(),
+        ]
+    });
+    let path = if speed == 0.0 {
+        format!("[{}]", point(across))
+    } else {
+        format!("[{}, {}]", point(ends[0]), point(ends[1]))
+    };
+    writeln!(
+        text,
+        "\n[[character]]\nname = \"c{}\"\nasset = \"{}\"\nclip = \"{clip}\"\nclip_offset = {:.2}\n\
+         scale = {}\nyaw_offset_deg = {}\nyaw_deg = {:.1}\npath = {path}\nwalk_speed = {speed}",
+        index + 1,
+        kind.asset,
+        range(rng, 0.0, 1.0),
+        kind.scale,
+        kind.yaw_offset_deg,
+        range(rng, 0.0, 360.0),
+    )
+    .expect("writing to a String");
+}
+
+fn ground(text: &mut String, height: f32, color: [f32; 3]) {
+    writeln!(
+        text,
+        "\n[ground]\nsize = 90.0\nheight = {height}\nbase_color = {}",
+        point(color)
+    )
+    .expect("writing to a String");
+}
+
+fn prop(text: &mut String, asset: &str, position: [f32; 3], yaw: f32, scale: f32) {
+    writeln!(
+        text,
+        "\n[[environment]]\nasset = \"environments/{asset}\"\nposition = {}\nyaw_deg = {yaw:.1}\n\
+         scale = {scale:.3}",
+        point(position)
+    )
+    .expect("writing to a String");
+}
+
+/// A ring of props around the action, drawn by the renderer's own seeded scatter.
+#[allow(clippy::too_many_arguments)]
+fn scatter(
+    rng: &mut SplitMix64,
+    text: &mut String,
+    assets: &[&str],
+    count: usize,
+    radius: (f32, f32),
+    scale: (f32, f32),
+) {
+    let assets: Vec<String> = assets
+        .iter()
+        .map(|a| format!("\"environments/quaternius_nature/{a}.glb\""))
+        .collect();
+    writeln!(
+        text,
+        "\n[[scatter]]\nassets = [{}]\ncount = {count}\ncenter = [0.0, 0.0, 0.0]\n\
+         radius_min = {:.1}\nradius_max = {:.1}\nscale_min = {:.2}\nscale_max = {:.2}\nseed = {}",
+        assets.join(", "),
+        radius.0,
+        radius.1,
+        scale.0,
+        scale.1,
+        rng.next_u64() % 1_000_000
+    )
+    .expect("writing to a String");
+}
+
+/// A crossing of the street kit with lights and signs at its corners.
+fn street(rng: &mut SplitMix64, text: &mut String, _: f32) {
+    ground(text, -0.12, [0.35, 0.42, 0.28]);
+    let centre = pick(rng, &["Street_4Way", "Street_3Way"]);
+    let kit = |piece: &str| format!("quaternius_street/{piece}.glb");
+    prop(text, &kit(centre), [0.0, 0.0, 0.0], 0.0, 4.0);
+    for (x, z, yaw) in [
+        (8.0, 0.0, 0.0),
+        (-8.0, 0.0, 0.0),
+        (0.0, 8.0, 90.0),
+        (0.0, -8.0, 90.0),
+    ] {
+        let piece = pick(rng, &["Street_Straight", "Street_Straight", "Street_Empty"]);
+        prop(text, &kit(piece), [x, 0.0, z], yaw, 4.0);
+    }
+    let corners = [
+        [4.5, 0.0, 4.5],
+        [-4.5, 0.0, 4.5],
+        [4.5, 0.0, -4.5],
+        [-4.5, 0.0, -4.5],
+    ];
+    for corner in corners {
+        let piece = pick(
+            rng,
+            &[
+                "Streetlight_Single",
+                "Streetlight_Double",
+                "TrafficLight",
+                "Sign_Stop",
+            ],
+        );
+        prop(text, &kit(piece), corner, range(rng, 0.0, 360.0), 1.5);
+    }
+    scatter(
+        rng,
+        text,
+        &["CommonTree_1", "CommonTree_3", "Bush_1"],
+        12,
+        (11.0, 20.0),
+        (1.2, 2.0),
+    );
+}
+
+/// Thin geometry: trees around (beyond the cameras, which stand at most 8.5 m out), grass and
+/// flowers underfoot.
+fn forest(rng: &mut SplitMix64, text: &mut String, _: f32) {
+    ground(text, 0.0, [0.3, 0.42, 0.2]);
+    let trees = [
+        "CommonTree_1",
+        "CommonTree_2",
+        "CommonTree_3",
+        "PineTree_1",
+        "PineTree_2",
+        "PineTree_3",
+        "BirchTree_1",
+        "BirchTree_2",
+        "BirchTree_3",
+    ];
+    let count = 30 + (rng.next_u64() % 30) as usize;
+    scatter(rng, text, &trees, count, (9.0, 20.0), (1.2, 2.0));
+    let grass = ["Grass", "Grass_2", "Grass_Short", "Flowers"];
+    let count = 150 + (rng.next_u64() % 200) as usize;
+    scatter(rng, text, &grass, count, (0.0, 8.0), (0.35, 0.75));
+    let rocks = ["Bush_1", "Rock_1", "Rock_Moss_2", "Plant_1", "TreeStump"];
+    scatter(rng, text, &rocks, 20, (2.0, 10.0), (0.8, 1.4));
+}
+
+/// Validation's wood: autumn trees, willows, logs and mossy rocks.
+fn autumn(rng: &mut SplitMix64, text: &mut String, _: f32) {
+    ground(text, 0.0, [0.42, 0.33, 0.18]);
+    let trees = [
+        "CommonTree_Autumn_1",
+        "CommonTree_Autumn_2",
+        "BirchTree_Autumn_1",
+        "PineTree_Autumn_1",
+        "Willow_Autumn_1",
+        "Willow_Autumn_2",
+    ];
+    let count = 26 + (rng.next_u64() % 26) as usize;
+    scatter(rng, text, &trees, count, (9.0, 20.0), (1.1, 1.9));
+    let ground_cover = [
+        "WoodLog_Moss",
+        "Rock_Moss_1",
+        "Bush_2",
+        "Plant_3",
+        "TreeStump_Moss",
+    ];
+    let count = 20 + (rng.next_u64() % 20) as usize;
+    scatter(rng, text, &ground_cover, count, (1.5, 10.0), (0.7, 1.3));
+}
+
+/// Test's desert: cacti, palms and bare rocks, wide and bright.
+fn desert(rng: &mut SplitMix64, text: &mut String, _: f32) {
+    ground(text, 0.0, [0.72, 0.6, 0.4]);
+    let tall = [
+        "Cactus_1",
+        "Cactus_2",
+        "Cactus_3",
+        "PalmTree_1",
+        "PalmTree_2",
+    ];
+    let count = 20 + (rng.next_u64() % 20) as usize;
+    scatter(rng, text, &tall, count, (9.0, 18.0), (1.0, 1.8));
+    let low = ["CactusFlowers_2", "Rock_2", "Rock_3", "Rock_4"];
+    let count = 25 + (rng.next_u64() % 25) as usize;
+    scatter(rng, text, &low, count, (1.5, 10.0), (0.6, 1.2));
+}
+
+/// Test's city block: the Littlest Tokyo diorama (dense and textured, its own animation not
+/// played: environments are static) behind the action, with street furniture in front.
+fn tokyo(rng: &mut SplitMix64, text: &mut String, camera_bearing: f32) {
+    ground(text, 0.0, [0.4, 0.4, 0.42]);
+    // The diorama's lowest point is 2.1 m below its origin at this scale.
+    // Behind the action as the camera sees it.
+    let yaw = range(rng, 0.0, 360.0);
+    let back = camera_bearing + std::f32::consts::PI + range(rng, -0.5, 0.5);
+    let place = [5.0 * back.cos(), 2.12, 5.0 * back.sin()];
+    prop(text, "LittlestTokyo.glb", place, yaw, 0.01);
+    for _ in 0..3 {
+        let piece = pick(
+            rng,
+            &[
+                "TrafficLight_2",
+                "Streetlight_Triple",
+                "Sign_NoParking",
+                "Sign_Triangle",
+            ],
+        );
+        let angle = range(rng, 0.0, std::f32::consts::TAU);
+        let radius = range(rng, 2.0, 4.0);
+        prop(
+            text,
+            &format!("quaternius_street/{piece}.glb"),
+            [radius * angle.cos(), 0.0, radius * angle.sin()],
+            range(rng, 0.0, 360.0),
+            1.5,
+        );
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::SceneDescription;
+
+    #[test]
+    fn the_set_is_reproducible_and_every_file_parses() {
+        let first = generate_set(1);
+        let second = generate_set(1);
+        assert!(first.len() >= 20);
+        for (a, b) in first.iter().zip(&second) {
+            assert_eq!(a.text, b.text);
+            let scene: SceneDescription = toml::from_str(&a.text)
+                .unwrap_or_else(|e| panic!("{} does not parse: {e}\n{}", a.name, a.text));
+            assert_eq!(scene.name, a.name);
+            assert!(!scene.character.is_empty());
+        }
+        assert_ne!(first[0].text, generate_set(2)[0].text);
+        for split in [Split::Training, Split::Validation, Split::Test] {
+            assert!(first.iter().any(|s| s.split == split), "{split:?} is empty");
+        }
+    }
+
+    #[test]
+    fn the_committed_set_is_what_seed_1_writes() {
+        let folder =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/generated");
+        for scene in generate_set(1) {
+            let path = folder.join(format!("{}.toml", scene.name));
+            let committed = std::fs::read_to_string(&path)
+                .unwrap_or_else(|e| panic!("{}: {e}; run `patchex scenes`", path.display()));
+            assert_eq!(
+                committed,
+                scene.text,
+                "{} is stale; run `patchex scenes`",
+                path.display()
+            );
+        }
+    }
+
+    #[test]
+    fn splits_share_no_setting_asset_or_camera_kind_with_training() {
+        let training: Vec<&Family> = FAMILIES
+            .iter()
+            .filter(|f| f.split == Split::Training)
+            .collect();
+        for family in FAMILIES.iter().filter(|f| f.split != Split::Training) {
+            for kind in family.characters {
+                assert!(
+                    training
+                        .iter()
+                        .all(|t| t.characters.iter().all(|c| c.asset != kind.asset)),
+                    "{} shares {} with training",
+                    family.name,
+                    kind.asset
+                );
+            }
+            assert!(
+                family
+                    .cameras
+                    .iter()
+                    .any(|c| training.iter().all(|t| !t.cameras.contains(c))),
+                "{} has no camera kind that training lacks",
+                family.name
+            );
+        }
+    }
+}
