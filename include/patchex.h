@@ -92,7 +92,7 @@
 #include <vulkan/vulkan.h>
 
 // Version of this ABI, returned by `patchex_abi_version`; bumped on any incompatible change.
-#define PATCHEX_ABI_VERSION 8
+#define PATCHEX_ABI_VERSION 9
 
 // The warp settings a context uses unless told otherwise: a 3x3 gather; a texel keeps most of
 // its weight within ~5% relative depth, ~0.1 of (1 - cos) of normal angle (about 25 degrees),
@@ -626,6 +626,12 @@ typedef struct PatchexNetworkSettings {
   // upsampled bilinearly and added to the warped colour: about 1/d^2 of the inference time
   // for a smoother correction (README, Speed against accuracy).
   uint32_t resolution_divisor;
+  // PATCHEX_FALSE (the default): a network's correction replaces only the warp's holes,
+  // where the warp found no agreeing source in frame t; every other pixel keeps the warp,
+  // which a correction there did not improve on scenes the networks never saw (README,
+  // generated scenes). PATCHEX_TRUE: the paper's blend, the correction over every pixel of
+  // its region.
+  PatchexBool correct_valid_pixels;
 } PatchexNetworkSettings;
 
 // Chainable on PatchexCreateInfo with a networks preset (PATCHEX_PRESET_NETWORKS or FULL): the

@@ -1,6 +1,8 @@
 // Scatters the networks' repaired colour back into the warped frame under the region masks
 // (PatchEX's F = M1*F1 + M2*F2 + M3*F3): FI pixels take the FI network's result, near-BE pixels
-// the near-BE network's, far-BE pixels keep the warp's. It runs over the blend patch only, so
+// the near-BE network's, far-BE pixels keep the warp's. Unless `correct_valid_pixels` (the
+// paper's blend), only the warp's holes take a correction: where the warp found its source,
+// corrections did not improve on it on unseen scenes. It runs over the blend patch only, so
 // its cost follows the patches' area. The warp's hole flag (alpha) is kept: it says what was
 // guessed, and the diagnostics report it. With `whole_frame` (the ablation of foveated
 // segmentation) every pixel takes the FI network's result. A network's result is its correction
@@ -13,6 +15,7 @@
 
 struct Params {
     whole_frame: u32,
+    correct_valid_pixels: u32,
 }
 var<immediate> params: Params;
 
@@ -57,10 +60,14 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     let fi_patch = patches[PATCH_FI].value;
     let near_be_patch = patches[PATCH_NEAR_BE].value;
     let p = blend.origin + id.xy;
+    let here = textureLoad(warped, p);
+    if (here.a != 0.0 && params.correct_valid_pixels == 0u) {
+        return;
+    }
     let region = textureLoad(regions, p, 0).r;
     if ((region == REGION_FI || params.whole_frame != 0u) && inside(p, fi_patch)) {
-        textureStore(warped, p, repaired(fi_input, fi_output, fi_patch, p, textureLoad(warped, p)));
+        textureStore(warped, p, repaired(fi_input, fi_output, fi_patch, p, here));
     } else if (region == REGION_NEAR_BE && inside(p, near_be_patch)) {
-        textureStore(warped, p, repaired(near_be_input, near_be_output, near_be_patch, p, textureLoad(warped, p)));
+        textureStore(warped, p, repaired(near_be_input, near_be_output, near_be_patch, p, here));
     }
 }

@@ -26,7 +26,7 @@ pub type PFN_vkGetInstanceProcAddr = Option<vk::PFN_vkGetInstanceProcAddr>;
 pub type PFN_vkGetDeviceProcAddr = Option<vk::PFN_vkGetDeviceProcAddr>;
 
 /// Version of this ABI, returned by `patchex_abi_version`; bumped on any incompatible change.
-pub const PATCHEX_ABI_VERSION: u32 = 8;
+pub const PATCHEX_ABI_VERSION: u32 = 9;
 
 /// 0 or 1; any other value is rejected as an invalid argument.
 pub type PatchexBool = u32;
@@ -485,6 +485,12 @@ pub struct PatchexNetworkSettings {
     /// upsampled bilinearly and added to the warped colour: about 1/d^2 of the inference time
     /// for a smoother correction (README, Speed against accuracy).
     pub resolution_divisor: u32,
+    /// PATCHEX_FALSE (the default): a network's correction replaces only the warp's holes,
+    /// where the warp found no agreeing source in frame t; every other pixel keeps the warp,
+    /// which a correction there did not improve on scenes the networks never saw (README,
+    /// generated scenes). PATCHEX_TRUE: the paper's blend, the correction over every pixel of
+    /// its region.
+    pub correct_valid_pixels: PatchexBool,
 }
 
 /// Chainable on PatchexExtrapolateDesc: an engine image that receives per-pixel intermediate

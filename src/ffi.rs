@@ -207,6 +207,10 @@ unsafe fn read_chain(
                         "PatchexNetworkSettings.whole_frame",
                     )?,
                     divisor: settings.resolution_divisor,
+                    correct_valid_pixels: boolean(
+                        settings.correct_valid_pixels,
+                        "PatchexNetworkSettings.correct_valid_pixels",
+                    )?,
                 };
                 if ![1, 2, 4].contains(&switches.divisor) {
                     bail!(

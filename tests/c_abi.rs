@@ -181,6 +181,7 @@ fn c11_engine_reaches_every_feature_and_matches_the_rust_path() {
         run_near_be: 1,
         whole_frame: 0,
         resolution_divisor: 1,
+        correct_valid_pixels: 1,
     };
     let weights = PatchexNetworkWeights {
         header: header_of::<PatchexNetworkWeights>(
@@ -292,6 +293,7 @@ fn c11_engine_reaches_every_feature_and_matches_the_rust_path() {
                 run_near_be: (k == 0) as u32,
                 whole_frame: (k == 2) as u32,
                 resolution_divisor: if k == 1 { 2 } else { 1 },
+                correct_valid_pixels: (k == 1) as u32,
             };
             let growth = PatchexSegmentationSettings {
                 header: header_of::<PatchexSegmentationSettings>(

@@ -135,6 +135,57 @@ fn networks_repair_their_regions_as_the_reference_does() {
     assert!(area(patches.near_be) < WIDTH * HEIGHT);
 }
 
+/// By default a correction replaces only the warp's holes: every pixel the warp found a source
+/// for is the warp's, as without networks. With `correct_valid_pixels` (the paper's blend) the
+/// corrections cover their regions, as the reference does.
+#[test]
+fn corrections_replace_only_holes_unless_asked_for_every_pixel() {
+    let sequence = render("crossing_street.toml", 2, WIDTH, HEIGHT);
+    let (source, target) = (&sequence.frames[0], &sequence.frames[1]);
+    let rig = networks_rig();
+    let [fi, near_be] = shipped();
+    let networks = Networks {
+        fi: Some(&fi),
+        near_be: Some(&near_be),
+        ..Networks::default()
+    };
+    let without = expected(source, target, Networks::default());
+    let gated = expected(source, target, networks);
+    let (mut valid, mut holes_changed) = (0, 0);
+    for y in 0..HEIGHT as usize {
+        for x in 0..WIDTH as usize {
+            let (got, before) = (gated.output.at(x, y), without.output.at(x, y));
+            if without.warped.warped.at(x, y)[3] != 0.0 {
+                valid += 1;
+                assert_eq!(got, before, "valid pixel ({x}, {y}) was corrected");
+            } else if got != before {
+                holes_changed += 1;
+            }
+        }
+    }
+    println!("{valid} valid pixels kept; {holes_changed} hole pixels corrected");
+    assert!(holes_changed > 0, "the networks corrected some holes");
+
+    let every_pixel = Chained {
+        networks: Some(NetworkSwitches {
+            correct_valid_pixels: true,
+            ..NetworkSwitches::default()
+        }),
+        ..Chained::default()
+    };
+    let outcome = run_plugin(&rig, source, target, 0.5, &every_pixel);
+    let with = expected(
+        source,
+        target,
+        Networks {
+            correct_valid_pixels: true,
+            ..networks
+        },
+    );
+    let change = assert_matches(&outcome, &with, &without, false);
+    assert!(change > 1e-4, "the networks changed the repaired pixels");
+}
+
 #[test]
 fn a_network_switched_off_leaves_its_region_to_the_warp() {
     let sequence = render("crossing_street.toml", 2, WIDTH, HEIGHT);
@@ -180,8 +231,10 @@ fn networks_at_a_lower_resolution_match_the_reference() {
     for divisor in [1, 2, 4] {
         let rig = networks_rig();
         let chained = Chained {
+            // Every region pixel corrected, so that the whole upsampled correction is checked.
             networks: Some(NetworkSwitches {
                 divisor,
+                correct_valid_pixels: true,
                 ..NetworkSwitches::default()
             }),
             ..Chained::default()
@@ -191,6 +244,7 @@ fn networks_at_a_lower_resolution_match_the_reference() {
             fi: Some(&fi),
             near_be: Some(&near_be),
             divisor,
+            correct_valid_pixels: true,
             ..Networks::default()
         };
         let with = expected(source, target, networks);
@@ -419,6 +473,7 @@ fn weight_files_and_network_settings_are_checked_at_create() {
         run_near_be: 1,
         whole_frame: 1,
         resolution_divisor: 1,
+        correct_valid_pixels: 0,
     };
     let chain = &whole_frame_without_fi as *const _ as _;
     let (result, message) = create_with(PATCHEX_PRESET_NETWORKS, chain).expect_err("refused");
@@ -434,6 +489,16 @@ fn weight_files_and_network_settings_are_checked_at_create() {
     let (result, message) = create_with(PATCHEX_PRESET_NETWORKS, chain).expect_err("refused");
     assert_eq!(result, PatchexResult::ErrorInvalidArgument);
     assert!(message.contains("resolution_divisor 3"), "{message}");
+    let not_a_bool = PatchexNetworkSettings {
+        run_fi: 1,
+        whole_frame: 0,
+        correct_valid_pixels: 2,
+        ..whole_frame_without_fi
+    };
+    let chain = &not_a_bool as *const _ as _;
+    let (result, message) = create_with(PATCHEX_PRESET_NETWORKS, chain).expect_err("refused");
+    assert_eq!(result, PatchexResult::ErrorInvalidArgument);
+    assert!(message.contains("correct_valid_pixels"), "{message}");
     let (result, message) = create_with(7, std::ptr::null()).expect_err("refused");
     assert_eq!(result, PatchexResult::ErrorInvalidArgument);
     assert!(message.contains("preset 7"), "{message}");

@@ -313,6 +313,7 @@ impl Context {
                         regions: &analysis[AnalysisImages::REGIONS],
                         networks: inpainting.tensors(),
                         whole_frame: run_networks.whole_frame,
+                        correct_valid_pixels: run_networks.correct_valid_pixels,
                     },
                     &patches,
                     frame,

@@ -44,6 +44,8 @@ pub struct NetworkSwitches {
     pub whole_frame: bool,
     /// Frame pixels per network texel on each axis: 1, 2 or 4.
     pub divisor: u32,
+    /// The paper's blend: corrections over every pixel of their region, not only holes.
+    pub correct_valid_pixels: bool,
 }
 
 impl Default for NetworkSwitches {
@@ -53,6 +55,7 @@ impl Default for NetworkSwitches {
             near_be: true,
             whole_frame: false,
             divisor: 1,
+            correct_valid_pixels: false,
         }
     }
 }

@@ -340,6 +340,8 @@ pub struct BlendInputs<'a> {
     pub networks: [&'a NetworkTensors; 2],
     /// Every pixel of the FI patch takes the FI network's result.
     pub whole_frame: bool,
+    /// Pixels the warp did not mark as holes take the correction too (the paper's blend).
+    pub correct_valid_pixels: bool,
 }
 
 /// Records `blend_patches`: the networks' results scattered into `warped` under the region
@@ -365,6 +367,7 @@ pub fn record_blend(
     });
     let params = crate::shaders::blend_patches::Params {
         whole_frame: inputs.whole_frame as u32,
+        correct_valid_pixels: inputs.correct_valid_pixels as u32,
     };
     rec.dispatch_indirect(
         &bound,

@@ -70,6 +70,8 @@ pub struct Networks<'a> {
     pub precision: TensorPrecision,
     /// Frame pixels per network texel on each axis (`resolution_divisor`).
     pub divisor: u32,
+    /// Corrections over every pixel of their region, not only the warp's holes.
+    pub correct_valid_pixels: bool,
 }
 
 impl Default for Networks<'_> {
@@ -80,6 +82,7 @@ impl Default for Networks<'_> {
             whole_frame: false,
             precision: TensorPrecision::default(),
             divisor: 1,
+            correct_valid_pixels: false,
         }
     }
 }
@@ -290,7 +293,8 @@ pub fn inpaint(
     ];
     for y in 0..warped.height {
         for x in 0..warped.width {
-            if !patches.blend.contains(x, y) {
+            let hole = warped.at(x, y)[3] == 0.0;
+            if !patches.blend.contains(x, y) || !(hole || networks.correct_valid_pixels) {
                 continue;
             }
             let region = regions.at(x, y)[0] as u32;

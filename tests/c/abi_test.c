@@ -500,6 +500,7 @@ int main(int argc, char **argv) {
   networks.run_near_be = 1;
   networks.whole_frame = 0;
   networks.resolution_divisor = 1;
+  networks.correct_valid_pixels = 1;
   PatchexNetworkWeights weights;
   weights.header = header(PATCHEX_STRUCT_TYPE_NETWORK_WEIGHTS, sizeof weights, &networks);
   weights.fi_path = argv[5];
@@ -596,6 +597,7 @@ int main(int argc, char **argv) {
     run.run_near_be = k == 0;
     run.whole_frame = k == 2;
     run.resolution_divisor = k == 1 ? 2 : 1;
+    run.correct_valid_pixels = k == 1;
     PatchexSegmentationSettings growth;
     growth.header = header(PATCHEX_STRUCT_TYPE_SEGMENTATION_SETTINGS, sizeof growth, &run);
     growth.growth_x = 3.0f;

@@ -147,6 +147,7 @@ pub fn run_plugin_into(
         run_near_be: run.near_be as u32,
         whole_frame: run.whole_frame as u32,
         resolution_divisor: run.divisor,
+        correct_valid_pixels: run.correct_valid_pixels as u32,
     });
     let mut next: *const c_void = std::ptr::null();
     if let Some(networks) = &networks {

@@ -48,6 +48,9 @@ pub enum Method {
     /// PatchEX: the G-buffer-guided warp, the shadow sub-task and the inpainting networks on
     /// the FI and near-BE patches (PATCHEX_PRESET_FULL).
     Patchex,
+    /// PatchEX with the paper's blend: the networks' corrections over every pixel of their
+    /// regions, not only the warp's holes.
+    PatchexEveryPixel,
     /// Ablation: PatchEX without shadow separation.
     PatchexNoShadows,
     /// Ablation: PatchEX without foveated segmentation (the FI network over the whole frame).
@@ -77,6 +80,9 @@ impl Method {
             Method::GbufferNearestFill => "G-buffer-guided warp, holes from the nearest texel",
             Method::GbufferShadows => "G-buffer-guided warp + shadow sub-task",
             Method::Patchex => "PatchEX (warp + shadows + networks on patches)",
+            Method::PatchexEveryPixel => {
+                "PatchEX, corrections over every pixel (the paper's blend)"
+            }
             Method::PatchexNoShadows => "PatchEX without shadow separation",
             Method::PatchexWholeFrame => "PatchEX without foveated segmentation",
             Method::PatchexNoPerceptual => "PatchEX without the perceptual term",
@@ -97,6 +103,7 @@ impl Method {
             Method::Gbuffer
             | Method::GbufferShadows
             | Method::Patchex
+            | Method::PatchexEveryPixel
             | Method::PatchexNoShadows
             | Method::PatchexWholeFrame
             | Method::PatchexNoPerceptual => PATCHEX_WARP_GBUFFER_GUIDED,
@@ -113,6 +120,7 @@ impl Method {
             self,
             Method::GbufferShadows
                 | Method::Patchex
+                | Method::PatchexEveryPixel
                 | Method::PatchexWholeFrame
                 | Method::PatchexNoPerceptual
         )
@@ -122,6 +130,10 @@ impl Method {
     fn networks(self, args: &EvalArgs) -> Option<NetworkChoice> {
         match self {
             Method::Patchex | Method::PatchexNoShadows => Some(NetworkChoice::default()),
+            Method::PatchexEveryPixel => Some(NetworkChoice {
+                correct_valid_pixels: true,
+                ..Default::default()
+            }),
             Method::PatchexWholeFrame => Some(NetworkChoice {
                 whole_frame: true,
                 ..Default::default()

@@ -36,6 +36,9 @@ pub struct NetworkChoice {
     pub fp32_tensors: bool,
     /// Frame pixels per network texel on each axis (`PatchexNetworkSettings`).
     pub resolution_divisor: u32,
+    /// The paper's blend: corrections over valid pixels too, not only holes
+    /// (`PatchexNetworkSettings.correct_valid_pixels`).
+    pub correct_valid_pixels: bool,
 }
 
 impl Default for NetworkChoice {
@@ -46,12 +49,13 @@ impl Default for NetworkChoice {
             whole_frame: false,
             fp32_tensors: false,
             resolution_divisor: 1,
+            correct_valid_pixels: false,
         }
     }
 }
 
 /// What a context is made with: its preset, and for the networks the weights folder and FP32
-/// tensors (`whole_frame` and the divisor are chosen per call).
+/// tensors (`whole_frame`, the divisor and the blend are chosen per call).
 type ContextKey = (PatchexPreset, Option<PathBuf>, bool);
 
 /// How the driver stores a frame's layers in engine images.
@@ -334,6 +338,7 @@ impl PluginDriver {
             run_near_be: 1,
             whole_frame: networks.whole_frame as PatchexBool,
             resolution_divisor: networks.resolution_divisor,
+            correct_valid_pixels: networks.correct_valid_pixels as PatchexBool,
         });
         // The chain, back to front: network settings, warp settings, then diagnostics.
         let mut next: *const c_void = ptr::null();
