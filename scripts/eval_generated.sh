@@ -1,0 +1,22 @@
+#!/usr/bin/env bash
+# The generated scene set's protocol (README, Evaluation on generated scenes): renders the
+# validation and test splits of scenes/generated/split.toml at 640x360 (13 frames: 6 targets
+# each) and scores the methods on each split apart: decisions are made on
+# out/eval_generated/validation, the README reports out/eval_generated/test. Arguments are passed
+# to both evals (e.g. --methods).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scripts/install-deps.sh
+cargo build --release -p patchex -p patchex-cli
+split() { sed -n "s/^$1 = \[\(.*\)\]/\1/p" scenes/generated/split.toml | tr -d '",'; }
+methods=copy,occlusion-motion,gbuffer,gbuffer-shadows,patchex,patchex-every-pixel,interpolation
+for which in validation test; do
+    datasets=()
+    for scene in $(split "$which"); do
+        target/release/patchex render "scenes/generated/$scene.toml" --frames 13 --size 640x360 \
+            --out "out/eval_generated/datasets/$scene"
+        datasets+=("out/eval_generated/datasets/$scene")
+    done
+    target/release/patchex eval "${datasets[@]}" --methods "$methods" \
+        --out "out/eval_generated/$which" "$@"
+done
