@@ -124,7 +124,8 @@ impl PixelWarp<'_> {
         )
     }
 
-    /// Mirror of `fill_hole` in `warp_gbuffer.wgsl`.
+    /// Mirror of `fill_deferred` in `warp_gbuffer.wgsl` (which runs after the workgroup has
+    /// gathered its holes, to the same result).
     fn fill_hole(&self, q: Vec2) -> Vec3 {
         let centre = self.texel_of(q);
         let r = FILL_RADIUS;
