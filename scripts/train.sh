@@ -1,13 +1,14 @@
 #!/usr/bin/env bash
-# Retrains the shipped inpainting networks: renders the five training scenes (65 frames at
-# 640x360: 32 targets each; crossing_street and fast_run are the test scenes and are never
-# rendered here), writes their FI and near-BE patches, and trains both networks with seed 1.
+# Retrains the shipped inpainting networks on the generated scene set's training split, with its
+# validation split for early stopping (scenes/generated/split.toml; the test split and the
+# hand-written test scenes crossing_street and fast_run never reach training). Renders 33 frames
+# at 640x360 per scene (16 targets each), writes their FI and near-BE patches, and trains both
+# networks with seed 1 for the plugin's default blend (corrections kept in holes only).
 # Writes out/datasets_train/, out/patches/ and out/networks/ (weights, manifest.json,
-# loss_curve.png); copy out/networks/* to assets/networks/ to ship them. PyTorch (~3 GB) goes
-# into out/torchenv; about 15 minutes of training on two CPU cores, less on a GPU.
-# Arguments are passed to training/train.py (e.g. --vgg16 PATH, --epochs N); the ablation without
-# the perceptual term is `scripts/train.sh --no-perceptual --out out/networks_no_perceptual`
-# (shipped in assets/networks/ablations/no_perceptual/).
+# loss_curve.png, per-epoch checkpoints); copy the weights and manifest to assets/networks/ to
+# ship them. An interrupted run goes on where it stopped: run it again. PyTorch (~3 GB) goes into
+# out/torchenv; about an hour on two CPU cores, less on a GPU. Arguments are passed to
+# training/train.py (e.g. --vgg16 PATH, --epochs N, --every-pixel for the paper's blend).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh python3-venv
@@ -16,15 +17,24 @@ if [ ! -x out/torchenv/bin/python ]; then
     python3 -m venv out/torchenv
     out/torchenv/bin/pip install --quiet -r training/requirements.txt
 fi
+split() { sed -n "s/^$1 = \[\(.*\)\]/\1/p" scenes/generated/split.toml | tr -d '",'; }
+training=$(split training)
+validation=$(split validation)
 datasets=()
-for name in dance_static follow_chase forest_walk orbit_plaza shadow_terrain; do
-    if [ ! -d "out/datasets_train/$name" ]; then
-        target/release/patchex render "scenes/$name.toml" --frames 65 --size 640x360 \
+for name in $training $validation; do
+    if [ ! -f "out/datasets_train/$name/manifest.json" ]; then
+        target/release/patchex render "scenes/generated/$name.toml" --frames 33 --size 640x360 \
             --out "out/datasets_train/$name"
     fi
     datasets+=("out/datasets_train/$name")
 done
-rm -rf out/patches
-target/release/patchex patches "${datasets[@]}" --out out/patches
-out/torchenv/bin/python training/train.py --patches out/patches --seed 1 \
-    --test-scenes crossing_street,fast_run --out out/networks "$@"
+if [ ! -f out/patches/done ]; then
+    rm -rf out/patches
+    target/release/patchex patches "${datasets[@]}" --out out/patches
+    touch out/patches/done
+fi
+test_scenes=$(split test | tr ' ' ',')
+out/torchenv/bin/python training/train.py --patches out/patches --seed 1 --out out/networks \
+    --validation-scenes "$(echo $validation | tr ' ' ',')" \
+    --test-scenes "crossing_street,fast_run,$test_scenes" \
+    --epochs 20 --steps 50 --patience 4 --resume "$@"

@@ -4,14 +4,20 @@
 
 Each network learns on the patches of its own region (FI or near-BE) from the training scenes;
 the test scenes never reach this script (`--test-scenes` are refused if any patch comes from
-one). Patches are split 80:20 into training and validation at random (seeded); each step draws
-a batch of 16 random 64x64 crops centred on pixels of the region, flipped left-right at random.
+one). With `--validation-scenes`, the patches of those scenes are the validation set, apart
+from training; otherwise patches are split 80:20 at random (seeded). Each step draws a batch of
+16 random 64x64 crops centred on pixels whose result the plugin keeps, flipped left-right at
+random. Every epoch is checkpointed (`--resume` goes on from the last), and the weights written
+are the epoch with the lowest validation loss; `--patience N` stops after N epochs without a
+better one.
 
-The loss follows the paper (section 5.3), over the pixels whose result the plugin keeps (the
-patch's region), on Reinhard-tone-mapped colour so that bright pixels do not drown the rest:
-L1 over the region + 0.5 L1 over its holes + 0.5 L1 over its valid pixels + 0.1 perceptual
-(feature L1) + 0.01 style (Gram-matrix L1); `--no-perceptual` drops the last two (the paper's
-ablation). The perceptual and style terms use VGG-16's first
+The loss follows the paper (section 5.3), over the pixels whose result the plugin keeps, on
+Reinhard-tone-mapped colour so that bright pixels do not drown the rest: L1 over them + 0.5 L1
+over their holes + 0.5 L1 over their valid pixels + 0.1 perceptual (feature L1) + 0.01 style
+(Gram-matrix L1); `--no-perceptual` drops the last two (the paper's ablation). The kept pixels
+are the patch's region for the paper's blend (`--every-pixel`); by default they are the region's
+holes, since the plugin's default blend keeps a correction only there
+(`PatchexNetworkSettings.correct_valid_pixels`). The perceptual and style terms use VGG-16's first
 three blocks when `--vgg16 PATH` names a file of its ImageNet weights (a PyTorch state dict with
 torchvision's `features.N.weight` names); otherwise a fixed, seeded, randomly initialised
 network of the same shape (random-feature perceptual loss): no download is needed, and the
@@ -105,11 +111,14 @@ def gram(f):
 
 
 class Loss:
-    def __init__(self, features, mean, std, perceptual_weights):
+    def __init__(self, features, mean, std, perceptual_weights, every_pixel):
         self.features, self.mean, self.std = features, mean, std
         self.perceptual_weight, self.style_weight = perceptual_weights
+        self.every_pixel = every_pixel
 
     def __call__(self, output, target, region, hole):
+        if not self.every_pixel:
+            region = region * hole
         out, tgt = tone_map(output), tone_map(target)
         diff = (out - tgt).abs().mean(1, keepdim=True)
         eps = 1.0
@@ -131,7 +140,7 @@ class Loss:
         return total, {k: v.item() for k, v in parts.items()}
 
 
-def load_patches(folder, network, test_scenes):
+def load_patches(folder, network, test_scenes, every_pixel):
     patches = []
     for path in sorted(glob.glob(os.path.join(folder, f"*_{network}.safetensors"))):
         with safe_open(path, "np") as f:
@@ -139,8 +148,8 @@ def load_patches(folder, network, test_scenes):
         if meta["dataset"] in test_scenes:
             raise SystemExit(f"{path} comes from test scene {meta['dataset']}: keep it out of training")
         t = load_file(path)
-        region = t["region"][0]
-        if region.sum() == 0:
+        kept = t["region"][0] if every_pixel else t["region"][0] * t["hole"][0]
+        if kept.sum() == 0:
             continue
         patches.append(
             {
@@ -148,7 +157,7 @@ def load_patches(folder, network, test_scenes):
                 "target": t["target"],
                 "region": t["region"],
                 "hole": t["hole"],
-                "centres": np.argwhere(region > 0),
+                "centres": np.argwhere(kept > 0),
                 "dataset": meta["dataset"],
             }
         )
@@ -180,22 +189,50 @@ def batch(patches, rng, size=BATCH):
     return [torch.from_numpy(np.stack(parts)) for parts in zip(*crops)]
 
 
+def split(patches, args):
+    """Training and validation patches: by scene with --validation-scenes, else 80:20 at random."""
+    if args.validation_scenes:
+        scenes = set(args.validation_scenes.split(","))
+        training = [p for p in patches if p["dataset"] not in scenes]
+        validation = [p for p in patches if p["dataset"] in scenes]
+        if not training or not validation:
+            raise SystemExit(f"--validation-scenes {args.validation_scenes} leaves a split empty")
+        return training, validation
+    order = list(range(len(patches)))
+    random.Random(args.seed).shuffle(order)
+    cut = max(1, int(round(0.8 * len(order))))
+    training = [patches[i] for i in order[:cut]]
+    return training, [patches[i] for i in order[cut:]] or training[:1]
+
+
+def validation_batches(validation, args):
+    """A fixed validation set: the same crops every epoch."""
+    val_rng = random.Random(args.seed + 1)
+    return [batch(validation, val_rng) for _ in range(args.val_batches)]
+
+
 def train(network, patches, args, loss_fn, log):
     torch.manual_seed(args.seed)
     rng = random.Random(args.seed)
-    order = list(range(len(patches)))
-    rng.shuffle(order)
-    split = max(1, int(round(0.8 * len(order))))
-    training = [patches[i] for i in order[:split]]
-    validation = [patches[i] for i in order[split:]] or training[:1]
-    # A fixed validation set: the same crops every epoch.
-    val_rng = random.Random(args.seed + 1)
-    val_batches = [batch(validation, val_rng) for _ in range(args.val_batches)]
+    training, validation = split(patches, args)
+    val_batches = validation_batches(validation, args)
 
     net = PatchNet(NETWORKS[network])
     optimiser = torch.optim.Adam(net.parameters(), lr=args.lr)
-    curve = []
-    for epoch in range(1, args.epochs + 1):
+    curve, best, first = [], None, 1
+    checkpoint = os.path.join(args.out, f"checkpoint_{network}.pt")
+    if args.resume and os.path.exists(checkpoint):
+        state = torch.load(checkpoint, weights_only=False)
+        net.load_state_dict(state["net"])
+        optimiser.load_state_dict(state["optimiser"])
+        curve, best, first = state["curve"], state["best"], state["epoch"] + 1
+        rng.setstate(state["rng"])
+        torch.set_rng_state(state["torch_rng"])
+        log(f"{network}: resumed after epoch {state['epoch']}")
+    for epoch in range(first, args.epochs + 1):
+        if best and epoch - best["epoch"] > args.patience:
+            log(f"{network}: no better validation loss for {args.patience} epochs, stopping")
+            break
         net.train()
         train_total = 0.0
         for _ in range(args.steps):
@@ -212,20 +249,21 @@ def train(network, patches, args, loss_fn, log):
         parts = {k: sum(v[1][k] for v in val) / len(val) for k in val[0][1]}
         curve.append({"epoch": epoch, "train": train_total / args.steps, "validation": val_total, **parts})
         log(f"{network} epoch {epoch}/{args.epochs}: train {train_total / args.steps:.4f}, validation {val_total:.4f} {parts}")
-    return net, curve, len(training), len(validation)
+        if best is None or val_total < best["validation"]:
+            best = {"epoch": epoch, "validation": val_total, "net": {k: v.clone() for k, v in net.state_dict().items()}}
+        torch.save(
+            {"net": net.state_dict(), "optimiser": optimiser.state_dict(), "curve": curve, "best": best,
+             "epoch": epoch, "rng": rng.getstate(), "torch_rng": torch.get_rng_state()},
+            checkpoint,
+        )
+    net.load_state_dict(best["net"])
+    return net, curve, best["epoch"], len(training), len(validation)
 
 
 def warp_only_validation(patches, args, loss_fn):
     """The loss of passing the warped colour through unchanged: what the network must beat."""
-    rng = random.Random(args.seed)
-    order = list(range(len(patches)))
-    rng.shuffle(order)
-    validation = [patches[i] for i in order[max(1, int(round(0.8 * len(order)))):]] or [patches[order[0]]]
-    val_rng = random.Random(args.seed + 1)
-    losses = []
-    for _ in range(args.val_batches):
-        x, y, r, h = batch(validation, val_rng)
-        losses.append(float(loss_fn(x[:, 0:3], y, r, h)[0]))
+    _, validation = split(patches, args)
+    losses = [float(loss_fn(x[:, 0:3], y, r, h)[0]) for x, y, r, h in validation_batches(validation, args)]
     return sum(losses) / len(losses)
 
 
@@ -259,6 +297,14 @@ def main():
     parser.add_argument("--lr", type=float, default=2e-3)
     parser.add_argument("--vgg16", help="VGG-16 ImageNet state dict for the perceptual terms")
     parser.add_argument("--test-scenes", default="crossing_street,fast_run")
+    parser.add_argument("--validation-scenes", help="scenes whose patches are the validation set")
+    parser.add_argument("--patience", type=int, default=1000, help="epochs without a better validation loss before stopping")
+    parser.add_argument("--resume", action="store_true", help="go on from the checkpoints in --out")
+    parser.add_argument(
+        "--every-pixel",
+        action="store_true",
+        help="train for the paper's blend: the loss over the whole region, not only its holes",
+    )
     parser.add_argument("--networks", default="fi,near_be")
     parser.add_argument(
         "--no-perceptual",
@@ -273,7 +319,7 @@ def main():
     test_scenes = set(filter(None, args.test_scenes.split(",")))
     features, mean, std, perceptual_name = feature_network(args.vgg16)
     perceptual_weights = (0.0, 0.0) if args.no_perceptual else (0.1, 0.01)
-    loss_fn = Loss(features, mean, std, perceptual_weights)
+    loss_fn = Loss(features, mean, std, perceptual_weights, args.every_pixel)
     started = time.time()
     manifest = {
         "command": "python training/train.py " + " ".join(
@@ -290,22 +336,26 @@ def main():
         "perceptual": perceptual_name,
         "loss_weights": {"l1": 1.0, "hole": 0.5, "valid": 0.5, "perceptual": perceptual_weights[0], "style": perceptual_weights[1]},
         "test_scenes": sorted(test_scenes),
+        "validation_scenes": sorted(filter(None, (args.validation_scenes or "").split(","))),
+        "kept_pixels": "the region" if args.every_pixel else "the region's holes",
         "networks": {},
     }
     curves = {}
     for network in args.networks.split(","):
-        patches = load_patches(args.patches, network, test_scenes)
+        patches = load_patches(args.patches, network, test_scenes, args.every_pixel)
         baseline = warp_only_validation(patches, args, loss_fn)
-        net, curve, n_train, n_val = train(network, patches, args, loss_fn, print)
-        final = curve[-1]
+        net, curve, best_epoch, n_train, n_val = train(network, patches, args, loss_fn, print)
+        final = curve[best_epoch - 1]
         manifest["networks"][network] = {
             "widths": NETWORKS[network],
             "training_scenes": sorted({p["dataset"] for p in patches}),
             "patches": {"training": n_train, "validation": n_val},
+            "best_epoch": best_epoch,
+            "epochs_run": len(curve),
             "final_losses": final,
             "validation_loss_of_the_warp_alone": baseline,
         }
-        save(net, os.path.join(args.out, f"{network}.safetensors"), {"seed": args.seed, "epochs": args.epochs})
+        save(net, os.path.join(args.out, f"{network}.safetensors"), {"seed": args.seed, "epochs": best_epoch})
         curves[network] = curve
     manifest["seconds"] = round(time.time() - started)
     with open(os.path.join(args.out, "manifest.json"), "w") as f:
