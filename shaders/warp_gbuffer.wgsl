@@ -5,8 +5,7 @@
 // that agreement, so zero motion returns frame t exactly. Where they do not (disocclusions,
 // silhouettes, motion-vector errors), it gathers from a (2r+1)^2 window with a joint bilateral
 // kernel instead. A pixel whose source leaves the screen or finds no agreeing texel is a hole;
-// a hole on screen is filled from the side the disocclusion uncovers (`fill_deferred`), after
-// the workgroup has gathered its holes (warp.wgsl, `defer_hole`).
+// a hole on screen is filled from the side the disocclusion uncovers (`fill_hole`).
 // #import gbuffer
 // #import warp
 // #import tallies
@@ -21,27 +20,27 @@ const FILL_RADIUS: i32 = 3;
 const DEPTH_BAND: f32 = 0.02;
 const HOLE_FILL_BACKGROUND: u32 = 0u;
 
-// How far texel `s` of frame t is from the target pixel's surface (its linear depth and object
-// id): their relative depth difference (at most 1; a non-finite depth counts 1), plus 1 for
-// another object id, so that a texel of the right object always wins.
-fn depth_mismatch(depth: f32, id: u32, s: vec2i) -> f32 {
+// How far texel `s` of frame t is from the target pixel's surface: its relative depth
+// difference (at most 1; a non-finite depth counts 1), plus 1 for another object id, so that a
+// texel of the right object always wins.
+fn depth_mismatch(t: Surface, s: vec2i) -> f32 {
     let source_w = textureLoad(source_depth, s, 0).r;
-    let id_differs = object_id(textureLoad(source_normal_id, s, 0).r) != id;
-    let relative = abs(source_w - depth) / max(max(source_w, depth), 1e-30);
+    let id_differs = object_id(textureLoad(source_normal_id, s, 0).r) != t.id;
+    let relative = abs(source_w - t.depth) / max(max(source_w, t.depth), 1e-30);
     return select(1.0, relative, relative <= 1.0) + select(0.0, 1.0, id_differs);
 }
 
 // A hole's colour from the side the disocclusion uncovers: the mean of the texels around `q`
 // whose depth (and object id) is nearest the target pixel's own. The target's G-buffer knows the
 // uncovered surface's depth; the occluder that hid it in frame t is nearer, so it is left out.
-fn fill_deferred(q: vec2f, depth: f32, id: u32) -> vec3f {
+fn fill_hole(q: vec2f, t: Surface) -> vec3f {
     let extent = vec2i(params.extent);
     let centre = texel(q);
     var least = 3.0;
     for (var dy = -FILL_RADIUS; dy <= FILL_RADIUS; dy++) {
         for (var dx = -FILL_RADIUS; dx <= FILL_RADIUS; dx++) {
             let s = clamp(centre + vec2i(dx, dy), vec2i(0), extent - 1);
-            let mismatch = depth_mismatch(depth, id, s);
+            let mismatch = depth_mismatch(t, s);
             if (mismatch < least) {
                 least = mismatch;
             }
@@ -52,7 +51,7 @@ fn fill_deferred(q: vec2f, depth: f32, id: u32) -> vec3f {
     for (var dy = -FILL_RADIUS; dy <= FILL_RADIUS; dy++) {
         for (var dx = -FILL_RADIUS; dx <= FILL_RADIUS; dx++) {
             let s = clamp(centre + vec2i(dx, dy), vec2i(0), extent - 1);
-            if (depth_mismatch(depth, id, s) <= least + DEPTH_BAND) {
+            if (depth_mismatch(t, s) <= least + DEPTH_BAND) {
                 sum += textureLoad(source_shading, s, 0).rgb;
                 count += 1.0;
             }
@@ -110,9 +109,8 @@ fn warp_pixel(p: vec2u, t: Surface, motion_vector: vec2f) -> WarpedPixel {
     }
     let offscreen = is_offscreen(q);
     let hole = offscreen || best_agreement < AGREEMENT_THRESHOLD;
-    let deferred = hole && !offscreen && params.hole_fill == HOLE_FILL_BACKGROUND;
-    if (deferred) {
-        defer_hole(p, q, t);
+    if (hole && !offscreen && params.hole_fill == HOLE_FILL_BACKGROUND) {
+        shading = fill_hole(q, t);
     }
-    return WarpedPixel(shading, hole, offscreen, deferred);
+    return WarpedPixel(shading, hole, offscreen);
 }

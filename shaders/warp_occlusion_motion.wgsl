@@ -30,10 +30,5 @@ fn warp_pixel(p: vec2u, t: Surface, motion_vector: vec2f) -> WarpedPixel {
         }
     }
     let offscreen = is_offscreen(q);
-    return WarpedPixel(bilinear_shading(q), offscreen || best_agreement < AGREEMENT_THRESHOLD, offscreen, false);
-}
-
-// This warp defers no hole.
-fn fill_deferred(q: vec2f, depth: f32, id: u32) -> vec3f {
-    return vec3f(0.0);
+    return WarpedPixel(bilinear_shading(q), offscreen || best_agreement < AGREEMENT_THRESHOLD, offscreen);
 }

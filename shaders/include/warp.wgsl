@@ -2,8 +2,7 @@
 // G-buffer read straight from the engine's images, the geometry agreement test, and the entry
 // point, which can also remodulate (when nothing else runs between the warp and the output).
 // Each warp pass defines `warp_pixel(p, t, motion_vector)`: target pixel p, its surface, its
-// motion vector; and `fill_deferred(q, depth, id)`, the colour of a hole it deferred
-// (`defer_hole`). Needs gbuffer.wgsl. src/reference/warp.rs mirrors it.
+// motion vector. Needs gbuffer.wgsl. src/reference/warp.rs mirrors it.
 
 // A source texel agrees with the target when its geometry weight reaches this value.
 const AGREEMENT_THRESHOLD: f32 = 0.5;
@@ -188,48 +187,10 @@ struct WarpedPixel {
     shading: vec3f,
     hole: bool,
     offscreen: bool,
-    // Its colour comes from `fill_deferred`, after the workgroup's pixels are warped.
-    deferred: bool,
-}
-
-// Holes are rare and their fill is long. A lane whose hole needs the fill hands it to the
-// workgroup here; once every pixel is warped, the first lanes fill the gathered holes side by
-// side. Filling in place would hold the seven other lanes of a SIMD vector (CPU drivers) or of
-// a GPU's warp through the fill of one. What the fill needs: the source point and the target's
-// depth and object id.
-var<workgroup> deferred_count: atomic<u32>;
-var<workgroup> deferred_pixels: array<vec2u, 64>;
-var<workgroup> deferred_points: array<vec2f, 64>;
-var<workgroup> deferred_depths: array<f32, 64>;
-var<workgroup> deferred_ids: array<u32, 64>;
-
-fn defer_hole(p: vec2u, q: vec2f, t: Surface) {
-    let slot = atomicAdd(&deferred_count, 1u);
-    deferred_pixels[slot] = p;
-    deferred_points[slot] = q;
-    deferred_depths[slot] = t.depth;
-    deferred_ids[slot] = t.id;
-}
-
-// Writes pixel p's warped shading, remodulated when the warp also remodulates.
-fn store_pixel(p: vec2u, shading: vec3f, hole: bool) {
-    var color = vec4f(to_half(shading), select(1.0, 0.0, hole));
-    if (params.remodulate != 0u) {
-        let m = pixel_modulation(base_color, material, p, params.has_material);
-        let remodulated = sanitize_color(color.rgb * m.factor);
-        color = vec4f(to_half(remodulated.value), 1.0);
-        if (m.changed || remodulated.changed) {
-            atomicAdd(&group_tallies[TALLY_SANITIZED], 1u);
-        }
-    }
-    textureStore(warped, p, color);
 }
 
 @compute @workgroup_size(8, 8, 1)
 fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_index) lane: u32) {
-    if (lane == 0u) {
-        atomicStore(&deferred_count, 0u);
-    }
     open_tallies(lane);
 
     let p = id.xy;
@@ -238,9 +199,16 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
         let motion_vector = textureLoad(motion, p, 0).xy;
         let t = target_surface(p);
         let result = warp_pixel(p, t, motion_vector);
-        if (!result.deferred) {
-            store_pixel(p, result.shading, result.hole);
+        var color = vec4f(to_half(result.shading), select(1.0, 0.0, result.hole));
+        if (params.remodulate != 0u) {
+            let m = pixel_modulation(base_color, material, p, params.has_material);
+            let remodulated = sanitize_color(color.rgb * m.factor);
+            color = vec4f(to_half(remodulated.value), 1.0);
+            if (m.changed || remodulated.changed) {
+                atomicAdd(&group_tallies[TALLY_SANITIZED], 1u);
+            }
         }
+        textureStore(warped, p, color);
         if (!t.finite || !is_finite(vec4f(motion_vector, 0.0, 0.0))) {
             atomicAdd(&group_tallies[TALLY_INVALID_GEOMETRY], 1u);
         }
@@ -259,12 +227,6 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
         if (reach <= MAX_FINITE && bitcast<u32>(reach) > largest) {
             atomicMax(&group_tallies[TALLY_LARGEST_MOTION], bitcast<u32>(reach));
         }
-    }
-
-    workgroupBarrier();
-    if (lane < atomicLoad(&deferred_count)) {
-        let q = deferred_points[lane];
-        store_pixel(deferred_pixels[lane], fill_deferred(q, deferred_depths[lane], deferred_ids[lane]), true);
     }
 
     if (close_tallies(lane)) {

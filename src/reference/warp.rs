@@ -124,8 +124,7 @@ impl PixelWarp<'_> {
         )
     }
 
-    /// Mirror of `fill_deferred` in `warp_gbuffer.wgsl` (which runs after the workgroup has
-    /// gathered its holes, to the same result).
+    /// Mirror of `fill_hole` in `warp_gbuffer.wgsl`.
     fn fill_hole(&self, q: Vec2) -> Vec3 {
         let centre = self.texel_of(q);
         let r = FILL_RADIUS;
