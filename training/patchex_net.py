@@ -49,6 +49,10 @@ class PatchNet(nn.Module):
             [GatedConv(widths[i + 1] + widths[i], widths[i]) for i in range(levels - 1)]
         )
         self.out = nn.Conv2d(widths[0], 3, 3, padding=1)
+        # The correction starts at zero: an untrained network passes the warp through, and
+        # training moves it only as far as the loss gains.
+        nn.init.zeros_(self.out.weight)
+        nn.init.zeros_(self.out.bias)
 
     @property
     def multiple(self):

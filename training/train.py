@@ -348,7 +348,7 @@ def main():
         final = curve[best_epoch - 1]
         manifest["networks"][network] = {
             "widths": NETWORKS[network],
-            "training_scenes": sorted({p["dataset"] for p in patches}),
+            "training_scenes": sorted({p["dataset"] for p in split(patches, args)[0]}),
             "patches": {"training": n_train, "validation": n_val},
             "best_epoch": best_epoch,
             "epochs_run": len(curve),
