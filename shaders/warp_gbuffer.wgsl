@@ -5,59 +5,29 @@
 // that agreement, so zero motion returns frame t exactly. Where they do not (disocclusions,
 // silhouettes, motion-vector errors), it gathers from a (2r+1)^2 window with a joint bilateral
 // kernel instead. A pixel whose source leaves the screen or finds no agreeing texel is a hole;
-// a hole on screen is filled from the side the disocclusion uncovers (`fill_hole`).
+// a hole on screen is filled from the side the disocclusion uncovers, by fill_holes.wgsl.
 // #import gbuffer
 // #import warp
+// #import warp_entry
 // #import tallies
 
 // The bilinear blend is kept when agreeing texels carry at least this share of its weight.
 const BILINEAR_ACCEPT: f32 = 0.5;
 // Below this total weight the kernel found nothing usable; take the nearest texel instead.
 const MIN_TOTAL_WEIGHT: f32 = 1e-6;
-// The hole fill looks this far around the source point (chosen on the validation scenes), and
-// averages the texels whose depth mismatch is within this much of the best one's.
-const FILL_RADIUS: i32 = 3;
-const DEPTH_BAND: f32 = 0.02;
 const HOLE_FILL_BACKGROUND: u32 = 0u;
 
-// How far texel `s` of frame t is from the target pixel's surface: its relative depth
-// difference (at most 1; a non-finite depth counts 1), plus 1 for another object id, so that a
-// texel of the right object always wins.
-fn depth_mismatch(t: Surface, s: vec2i) -> f32 {
-    let source_w = textureLoad(source_depth, s, 0).r;
-    let id_differs = object_id(textureLoad(source_normal_id, s, 0).r) != t.id;
-    let relative = abs(source_w - t.depth) / max(max(source_w, t.depth), 1e-30);
-    return select(1.0, relative, relative <= 1.0) + select(0.0, 1.0, id_differs);
-}
+// The holes this warp leaves to fill_holes.wgsl: each entry is a pixel, x | y << 16, at list
+// index i = x + y * width.
+@group(0) @binding(12) var hole_list: texture_storage_2d<r32uint, write>;
+@group(0) @binding(13) var<storage, read_write> deferred: DeferredHoles;
 
-// A hole's colour from the side the disocclusion uncovers: the mean of the texels around `q`
-// whose depth (and object id) is nearest the target pixel's own. The target's G-buffer knows the
-// uncovered surface's depth; the occluder that hid it in frame t is nearer, so it is left out.
-fn fill_hole(q: vec2f, t: Surface) -> vec3f {
-    let extent = vec2i(params.extent);
-    let centre = texel(q);
-    var least = 3.0;
-    for (var dy = -FILL_RADIUS; dy <= FILL_RADIUS; dy++) {
-        for (var dx = -FILL_RADIUS; dx <= FILL_RADIUS; dx++) {
-            let s = clamp(centre + vec2i(dx, dy), vec2i(0), extent - 1);
-            let mismatch = depth_mismatch(t, s);
-            if (mismatch < least) {
-                least = mismatch;
-            }
-        }
-    }
-    var sum = vec3f(0.0);
-    var count = 0.0;
-    for (var dy = -FILL_RADIUS; dy <= FILL_RADIUS; dy++) {
-        for (var dx = -FILL_RADIUS; dx <= FILL_RADIUS; dx++) {
-            let s = clamp(centre + vec2i(dx, dy), vec2i(0), extent - 1);
-            if (depth_mismatch(t, s) <= least + DEPTH_BAND) {
-                sum += textureLoad(source_shading, s, 0).rgb;
-                count += 1.0;
-            }
-        }
-    }
-    return sum / max(count, 1.0);
+// Hands hole pixel p to the fill. The fill's many taps stay out of this shader: on a CPU driver
+// every pixel paid for them, hole or not.
+fn defer_hole(p: vec2u) {
+    let slot = atomicAdd(&deferred.count, 1u);
+    textureStore(hole_list, vec2u(slot % params.extent.x, slot / params.extent.x), vec4u(p.x | (p.y << 16u)));
+    atomicMax(&deferred.groups, slot / 64u + 1u);
 }
 
 fn warp_pixel(p: vec2u, t: Surface, motion_vector: vec2f) -> WarpedPixel {
@@ -109,8 +79,9 @@ fn warp_pixel(p: vec2u, t: Surface, motion_vector: vec2f) -> WarpedPixel {
     }
     let offscreen = is_offscreen(q);
     let hole = offscreen || best_agreement < AGREEMENT_THRESHOLD;
-    if (hole && !offscreen && params.hole_fill == HOLE_FILL_BACKGROUND) {
-        shading = fill_hole(q, t);
+    let deferred = hole && !offscreen && params.hole_fill == HOLE_FILL_BACKGROUND;
+    if (deferred) {
+        defer_hole(p);
     }
-    return WarpedPixel(shading, hole, offscreen);
+    return WarpedPixel(shading, hole, offscreen, deferred);
 }

@@ -4,11 +4,12 @@
 // those whose source leaves the screen, are counted as holes.
 // #import gbuffer
 // #import warp
+// #import warp_entry
 // #import tallies
 
 fn warp_pixel(p: vec2u, t: Surface, motion_vector: vec2f) -> WarpedPixel {
     let q = source_point(p, motion_vector);
     let agreement = agreement_at(t, texel(q));
     let offscreen = is_offscreen(q);
-    return WarpedPixel(bilinear_shading(q), offscreen || agreement < AGREEMENT_THRESHOLD, offscreen);
+    return WarpedPixel(bilinear_shading(q), offscreen || agreement < AGREEMENT_THRESHOLD, offscreen, false);
 }

@@ -6,6 +6,7 @@
 // which fetches the background beside the occluder in frame t instead of the occluder.
 // #import gbuffer
 // #import warp
+// #import warp_entry
 // #import tallies
 
 fn warp_pixel(p: vec2u, t: Surface, motion_vector: vec2f) -> WarpedPixel {
@@ -30,5 +31,5 @@ fn warp_pixel(p: vec2u, t: Surface, motion_vector: vec2f) -> WarpedPixel {
         }
     }
     let offscreen = is_offscreen(q);
-    return WarpedPixel(bilinear_shading(q), offscreen || best_agreement < AGREEMENT_THRESHOLD, offscreen);
+    return WarpedPixel(bilinear_shading(q), offscreen || best_agreement < AGREEMENT_THRESHOLD, offscreen, false);
 }

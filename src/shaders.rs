@@ -53,4 +53,7 @@ pub trait PushConstants: Copy {
 /// For pipelines without push constants.
 impl PushConstants for () {}
 
+/// Plain words, for records the host writes into the counters (`warp::NO_DEFERRED_HOLES`).
+impl PushConstants for [u32; 4] {}
+
 include!(concat!(env!("OUT_DIR"), "/shaders.rs"));

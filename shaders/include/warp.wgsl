@@ -1,8 +1,8 @@
 // What every backward warp shares: its parameters, bindings and hole counters, the target's
-// G-buffer read straight from the engine's images, the geometry agreement test, and the entry
-// point, which can also remodulate (when nothing else runs between the warp and the output).
-// Each warp pass defines `warp_pixel(p, t, motion_vector)`: target pixel p, its surface, its
-// motion vector. Needs gbuffer.wgsl. src/reference/warp.rs mirrors it.
+// G-buffer read straight from the engine's images, the geometry agreement test, and how a pixel
+// is stored, remodulated when nothing else runs between the warp and the output. The entry point
+// is warp_entry.wgsl; fill_holes.wgsl shares the rest. Needs gbuffer.wgsl and tallies.wgsl.
+// src/reference/warp.rs mirrors it.
 
 // A source texel agrees with the target when its geometry weight reaches this value.
 const AGREEMENT_THRESHOLD: f32 = 0.5;
@@ -187,53 +187,29 @@ struct WarpedPixel {
     shading: vec3f,
     hole: bool,
     offscreen: bool,
+    // Left to the hole fill (fill_holes.wgsl), which writes the pixel.
+    deferred: bool,
 }
 
-@compute @workgroup_size(8, 8, 1)
-fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_index) lane: u32) {
-    open_tallies(lane);
+// The holes a G-buffer warp leaves to the fill: their count, and the fill's indirect dispatch
+// (one 64-wide workgroup per 64 holes; y and z are 1, written by the host before the warp).
+struct DeferredHoles {
+    count: atomic<u32>,
+    groups: atomic<u32>,
+    groups_y: u32,
+    groups_z: u32,
+}
 
-    let p = id.xy;
-    if (all(p < params.extent)) {
-        // Each of the target's inputs is read once, here.
-        let motion_vector = textureLoad(motion, p, 0).xy;
-        let t = target_surface(p);
-        let result = warp_pixel(p, t, motion_vector);
-        var color = vec4f(to_half(result.shading), select(1.0, 0.0, result.hole));
-        if (params.remodulate != 0u) {
-            let m = pixel_modulation(base_color, material, p, params.has_material);
-            let remodulated = sanitize_color(color.rgb * m.factor);
-            color = vec4f(to_half(remodulated.value), 1.0);
-            if (m.changed || remodulated.changed) {
-                atomicAdd(&group_tallies[TALLY_SANITIZED], 1u);
-            }
-        }
-        textureStore(warped, p, color);
-        if (!t.finite || !is_finite(vec4f(motion_vector, 0.0, 0.0))) {
-            atomicAdd(&group_tallies[TALLY_INVALID_GEOMETRY], 1u);
-        }
-        if (result.hole) {
-            atomicAdd(&group_tallies[TALLY_HOLES], 1u);
-        }
-        if (result.offscreen) {
-            atomicAdd(&group_tallies[TALLY_OFFSCREEN], 1u);
-        }
-        // NaN and infinite vectors fail the comparison and are left out; the length is spelled
-        // out so that vectors whose square overflows are left out on every driver alike.
-        let scaled = motion_vector * params.motion_scale;
-        let reach = sqrt(dot(scaled, scaled));
-        // Only a reach beyond the workgroup's largest so far needs the atomic.
-        let largest = atomicLoad(&group_tallies[TALLY_LARGEST_MOTION]);
-        if (reach <= MAX_FINITE && bitcast<u32>(reach) > largest) {
-            atomicMax(&group_tallies[TALLY_LARGEST_MOTION], bitcast<u32>(reach));
+// Writes pixel p's warped shading (alpha 0 for a hole), remodulated when the warp remodulates.
+fn store_pixel(p: vec2u, shading: vec3f, hole: bool) {
+    var color = vec4f(to_half(shading), select(1.0, 0.0, hole));
+    if (params.remodulate != 0u) {
+        let m = pixel_modulation(base_color, material, p, params.has_material);
+        let remodulated = sanitize_color(color.rgb * m.factor);
+        color = vec4f(to_half(remodulated.value), 1.0);
+        if (m.changed || remodulated.changed) {
+            atomicAdd(&group_tallies[TALLY_SANITIZED], 1u);
         }
     }
-
-    if (close_tallies(lane)) {
-        atomicAdd(&counters.hole_pixels, atomicLoad(&group_tallies[TALLY_HOLES]));
-        atomicAdd(&counters.offscreen_pixels, atomicLoad(&group_tallies[TALLY_OFFSCREEN]));
-        atomicMax(&counters.largest_motion_bits, atomicLoad(&group_tallies[TALLY_LARGEST_MOTION]));
-        atomicAdd(&counters.invalid_geometry_pixels, atomicLoad(&group_tallies[TALLY_INVALID_GEOMETRY]));
-        atomicAdd(&counters.sanitized_pixels, atomicLoad(&group_tallies[TALLY_SANITIZED]));
-    }
+    textureStore(warped, p, color);
 }

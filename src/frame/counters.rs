@@ -19,5 +19,9 @@ pub const OBJECT_TABLE: u64 = 1280;
 pub const PATCHES: u64 = (OBJECT_TABLE + segmentation::TABLE_BYTES).next_multiple_of(256);
 /// The warps' uniform block (`warp::Cameras`), written by the extrapolation.
 pub const CAMERAS: u64 = (PATCHES + inpaint::PATCH_SLOTS_BYTES).next_multiple_of(256);
+/// The holes the G-buffer warp left to the fill (`warp::HoleList`): the frame's, and the shadow
+/// layer's through the frame's warp.
+pub const DEFERRED_HOLES: u64 = (CAMERAS + warp::CAMERAS_BYTES).next_multiple_of(256);
+pub const SURFACE_DEFERRED_HOLES: u64 = DEFERRED_HOLES + 256;
 /// One region's counters, which the frame ring allocates per region.
-pub const REGION_BYTES: u64 = CAMERAS + warp::CAMERAS_BYTES;
+pub const REGION_BYTES: u64 = SURFACE_DEFERRED_HOLES + warp::DEFERRED_HOLES_BYTES;

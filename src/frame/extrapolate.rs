@@ -14,8 +14,8 @@ use crate::frame::submit::engine_gbuffer;
 use crate::inputs::{self, TargetInputs};
 use crate::passes::inpaint;
 use crate::passes::{
-    diagnostics, lbp, pack_output, remodulate, segmentation, warp, PipelineId, Pipelines,
-    RegionPasses, Texture, SANITIZE_COUNTER_BYTES,
+    diagnostics, fill_holes, lbp, pack_output, remodulate, segmentation, warp, CounterRange,
+    PipelineId, Pipelines, RegionPasses, Texture, SANITIZE_COUNTER_BYTES,
 };
 use crate::vk::barriers::EngineImageAccess;
 use crate::vk::frame_ring::RegionRecord;
@@ -152,6 +152,14 @@ impl Context {
             &cameras,
             &warp::cameras(&source.camera, &target_gbuffer, inputs.extent),
         );
+        let deferred_holes =
+            [counters::DEFERRED_HOLES, counters::SURFACE_DEFERRED_HOLES].map(|offset| {
+                let range =
+                    self.ring
+                        .counter_range(slot, region, offset, warp::DEFERRED_HOLES_BYTES);
+                rec.update(&range, &warp::NO_DEFERRED_HOLES);
+                range
+            });
         let mut rec = rec.timed(&self.ring, slot, region);
         let passes = RegionPasses {
             pipelines: &self.pipelines,
@@ -168,20 +176,20 @@ impl Context {
             .expect("a submitted frame allocated the work images");
         let shadows = self.images.shadows.as_ref().filter(|_| source.has_shadows);
 
-        // Every warp of this extrapolation reads frame t's packed G-buffer and the target's.
-        let record_warp = |rec: &mut Recorder,
-                           pass,
-                           params: &warp::Params,
-                           source_shading: &OwnedImage,
-                           motion: Texture,
-                           remodulation: Option<&warp::Remodulation>,
-                           output: Texture,
-                           counters_offset: u64| {
-            warp::record(
-                rec,
-                pass,
-                params,
-                &warp::WarpInputs {
+        // Every warp of this extrapolation reads frame t's packed G-buffer and the target's. The
+        // G-buffer warp lists its holes in `hole_list`, and the fill follows it.
+        let warp_pipeline = Pipelines::warp(warp_settings.kind);
+        let record_warp =
+            |rec: &mut Recorder,
+             (pipeline, nth): (PipelineId, usize),
+             params: &warp::Params,
+             source_shading: &OwnedImage,
+             motion: Texture,
+             remodulation: Option<&warp::Remodulation>,
+             output: Texture,
+             counters_offset: u64,
+             hole_list: Option<(&OwnedImage, &CounterRange, usize)>| {
+                let inputs = warp::WarpInputs {
                     source_shading,
                     source_depth: &work[WorkImages::SOURCE_DEPTH],
                     source_normal_id: &work[WorkImages::SOURCE_NORMAL_ID],
@@ -190,12 +198,40 @@ impl Context {
                     cameras: &cameras,
                     placeholder,
                     placeholder_uint,
-                },
-                remodulation,
-                output,
-                &counters(counters_offset, warp::COUNTER_BYTES),
-            )
-        };
+                };
+                let counters = counters(counters_offset, warp::COUNTER_BYTES);
+                let holes = hole_list.map(|(list, deferred, fill)| {
+                    let holes = warp::HoleList {
+                        list,
+                        deferred: CounterRange { ..*deferred },
+                    };
+                    (holes, fill)
+                });
+                let pass = passes.nth(pipeline, nth);
+                let listed = holes.as_ref().map(|(holes, _)| holes);
+                warp::record(
+                    rec,
+                    pass,
+                    params,
+                    &inputs,
+                    remodulation,
+                    output,
+                    &counters,
+                    listed,
+                );
+                if let Some((holes, fill)) = &holes {
+                    fill_holes::record(
+                        rec,
+                        passes.nth(PipelineId::FillHoles, *fill),
+                        params,
+                        &inputs,
+                        remodulation,
+                        output,
+                        &counters,
+                        holes,
+                    );
+                }
+            };
         // With nothing to run between the warp and the output (no shadow layers, networks or
         // diagnostics), the warp remodulates as it writes, and the frame is read and written once.
         let remodulate_in_warp = shadows.is_none() && !analyse;
@@ -203,17 +239,18 @@ impl Context {
             base_color,
             material,
         };
-        let warp_pipeline = Pipelines::warp(warp_settings.kind);
+        let lists_holes = warp_pipeline == PipelineId::WarpGbuffer;
         rec.stage(PATCHEX_STAGE_WARP, |rec| {
             record_warp(
                 rec,
-                passes.get(warp_pipeline),
+                (warp_pipeline, 0),
                 &warp_params,
                 &work[WorkImages::SOURCE_SHADING],
                 motion,
                 remodulate_in_warp.then_some(&remodulation),
                 frame,
                 counters::WARP,
+                lists_holes.then_some((&work[WorkImages::HOLE_LIST], &deferred_holes[0], 0)),
             )
         });
         if let Some(shadows) = shadows {
@@ -223,26 +260,29 @@ impl Context {
                 warp_settings.shadow_params(inputs.extent, &inputs.geometry.camera, inputs.alpha);
             let layer = &shadows[ShadowImages::LAYER];
             rec.stage(PATCHEX_STAGE_SHADOW_WARP, |rec| {
+                let surface_holes = &shadows[ShadowImages::SURFACE_HOLE_LIST];
                 record_warp(
                     rec,
-                    passes.nth(warp_pipeline, 1),
+                    (warp_pipeline, 1),
                     &warp_params,
                     layer,
                     motion,
                     None,
                     (&shadows[ShadowImages::SURFACE_LAYER]).into(),
                     counters::SURFACE_LAYER,
+                    lists_holes.then_some((surface_holes, &deferred_holes[1], 1)),
                 );
                 let flow_warp = PipelineId::WarpOcclusionMotion;
                 record_warp(
                     rec,
-                    passes.nth(flow_warp, if warp_pipeline == flow_warp { 2 } else { 0 }),
+                    (flow_warp, if warp_pipeline == flow_warp { 2 } else { 0 }),
                     &params,
                     layer,
                     (&shadows[ShadowImages::FLOW]).into(),
                     None,
                     (&shadows[ShadowImages::WARPED_LAYER]).into(),
                     counters::SHADOW_WARP,
+                    None,
                 );
             });
         }

@@ -130,7 +130,7 @@ impl<const N: usize, Kind> std::ops::Index<usize> for ImageSet<N, Kind> {
 /// leaves for its extrapolations. The warps read the target's G-buffer from the engine's images,
 /// and write their shading into the frame image itself (the engine's output, or the output
 /// staging's frame), where the later passes refine it in place, so no image holds either.
-pub type WorkImages = ImageSet<3>;
+pub type WorkImages = ImageSet<4>;
 
 impl WorkImages {
     /// Frame t's shading, in the output's own format: the extrapolated frame holds no more.
@@ -138,11 +138,14 @@ impl WorkImages {
     /// Frame t's packed G-buffer (`pack_gbuffer`): linear depth, and normal with id.
     pub const SOURCE_DEPTH: usize = 1;
     pub const SOURCE_NORMAL_ID: usize = 2;
+    /// The holes the G-buffer warp leaves to the fill (`warp::HoleList`).
+    pub const HOLE_LIST: usize = 3;
 
-    const SPECS: [ImageSpec; 3] = [
+    const SPECS: [ImageSpec; 4] = [
         frame_image("patchex source shading", vk::Format::R16G16B16A16_SFLOAT),
         frame_image("patchex source depth", vk::Format::R32_SFLOAT),
         frame_image("patchex source normal+id", vk::Format::R32_UINT),
+        frame_image("patchex hole list", vk::Format::R32_UINT),
     ];
 }
 
@@ -181,7 +184,7 @@ impl OutputStaging {
 }
 
 /// The shadow sub-task's images, made at the first frame with a shadow input.
-pub type ShadowImages = ImageSet<15>;
+pub type ShadowImages = ImageSet<16>;
 
 impl ShadowImages {
     pub const LAYER: usize = 0;
@@ -200,8 +203,10 @@ impl ShadowImages {
     const ROWS_H2: usize = 12;
     pub const FLOW_PYRAMID: usize = 13;
     pub const FLOW: usize = 14;
+    /// The holes of the shadow layer's G-buffer warp (`warp::HoleList`).
+    pub const SURFACE_HOLE_LIST: usize = 15;
 
-    const SPECS: [ImageSpec; 15] = [
+    const SPECS: [ImageSpec; 16] = [
         // Shading, as the frame's: RGBA16F.
         frame_image("patchex shadow layer", vk::Format::R16G16B16A16_SFLOAT),
         frame_image(
@@ -236,6 +241,7 @@ impl ShadowImages {
             cleared: true,
             ..frame_image("patchex shadow flow", vk::Format::R32G32B32A32_SFLOAT)
         },
+        frame_image("patchex shadow hole list", vk::Format::R32_UINT),
     ];
 
     pub fn flow_images(&self, current: usize) -> shadow_flow::FlowImages<'_> {

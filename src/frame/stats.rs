@@ -7,6 +7,7 @@ use crate::error::{bail, PatchexResult, Result};
 use crate::frame::counters;
 use crate::passes::{inpaint, segmentation, warp};
 use crate::vk::access::StageRecord;
+use crate::vk::buffer::ReadbackBuffer;
 
 impl Context {
     /// Fills `out` for `frame_index`; `NotReady` while the GPU has not finished it.
@@ -55,7 +56,7 @@ impl Context {
             [PatchexStageTraffic::default(); PATCHEX_MAX_EXTRAPOLATIONS_PER_FRAME];
         for (region_record, traffic) in record.extrapolations.iter().zip(&mut extrapolation_traffic)
         {
-            *traffic = stage_traffic(&region_record.stages);
+            *traffic = stage_traffic(&region_record.stages, &self.ring.counters);
         }
         let pixels = (record.extent.width * record.extent.height) as f32;
         for (index, (region_record, stats)) in record
@@ -147,7 +148,7 @@ impl Context {
             device_memory_bytes: self.device_memory_bytes(),
             submit_stages_run: stage_bits(&record.submit.stages),
             shadow_history: record.shadow_history,
-            submit_traffic: stage_traffic(&record.submit.stages),
+            submit_traffic: stage_traffic(&record.submit.stages, &self.ring.counters),
             extrapolation_traffic,
         };
         Ok(if ready {
@@ -172,13 +173,23 @@ fn stage_bits(stages: &[StageRecord]) -> u32 {
         .fold(0, |bits, record| bits | 1 << record.stage)
 }
 
-fn stage_traffic(stages: &[StageRecord]) -> PatchexStageTraffic {
+/// Each stage's traffic, listed dispatches counted for the lengths `counters` hold.
+fn stage_traffic(stages: &[StageRecord], counters: &ReadbackBuffer) -> PatchexStageTraffic {
     let mut out = PatchexStageTraffic::default();
-    for &StageRecord { stage, traffic } in stages {
-        let stage = stage as usize;
-        out.bytes_read[stage] += traffic.bytes_read;
-        out.bytes_written[stage] += traffic.bytes_written;
-        out.arithmetic_operations[stage] += traffic.operations;
+    for StageRecord {
+        stage,
+        traffic,
+        listed,
+    } in stages
+    {
+        let stage = *stage as usize;
+        let mut total = *traffic;
+        for list in listed {
+            total += list.scaled(counters.read_u32(list.count_offset));
+        }
+        out.bytes_read[stage] += total.bytes_read;
+        out.bytes_written[stage] += total.bytes_written;
+        out.arithmetic_operations[stage] += total.operations;
     }
     out
 }

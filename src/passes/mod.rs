@@ -5,6 +5,7 @@
 
 pub mod demodulate;
 pub mod diagnostics;
+pub mod fill_holes;
 pub mod inpaint;
 pub mod lbp;
 pub mod pack_gbuffer;
@@ -81,6 +82,8 @@ pipeline_table! {
     WarpMotionVector: warp_motion_vector, 2;
     /// The same two, and always the shadow layer moved by its flow.
     WarpOcclusionMotion: warp_occlusion_motion, 3;
+    /// The G-buffer warp's hole fill: the frame's, and the shadow layer's.
+    FillHoles: fill_holes, 2;
     ObjectBounds: object_bounds, 1;
     GrowRegions: grow_regions, 1;
     RegionMasks: region_masks, 1;

@@ -15,6 +15,7 @@ use crate::shaders::warp_gbuffer::binding;
 /// The three warps' shared parameter block.
 pub use crate::shaders::warp_gbuffer::Params;
 use crate::vk::image::OwnedImage;
+use crate::vk::pipeline::DescriptorWrites;
 use crate::vk::recorder::{Pass, Recorder};
 
 pub const MAX_KERNEL_RADIUS: u32 = 3;
@@ -223,6 +224,21 @@ pub const INVALID_GEOMETRY_OFFSET: u64 = 12;
 pub const SANITIZED_OFFSET: u64 = 16;
 pub const COUNTER_BYTES: u64 = 20;
 
+/// Where a G-buffer warp lists the holes it leaves to `fill_holes`: the list image (R32_UINT,
+/// the frame's size) and its `DeferredHoles` record, which the host sets to (0, 0, 1, 1) first.
+pub struct HoleList<'a> {
+    pub list: &'a OwnedImage,
+    pub deferred: CounterRange,
+}
+
+/// Bytes of `DeferredHoles` in `shaders/include/warp.wgsl`.
+pub const DEFERRED_HOLES_BYTES: u64 = 16;
+/// Its contents before a warp: no hole yet, and an indirect dispatch of (0, 1, 1) workgroups.
+pub const NO_DEFERRED_HOLES: [u32; 4] = [0, 0, 1, 1];
+
+/// Records a warp. `holes` is the G-buffer warp's hole list, which it fills in place of the
+/// holes' colour (`fill_holes` follows it); the other warps take none.
+#[allow(clippy::too_many_arguments)]
 pub fn record(
     rec: &mut Recorder,
     pass: Pass,
@@ -231,38 +247,60 @@ pub fn record(
     remodulation: Option<&Remodulation>,
     warped: Texture,
     counters: &CounterRange,
+    holes: Option<&HoleList>,
 ) {
-    let target = inputs.target;
-    let (base_color, material) = match remodulation {
-        Some(r) => (r.base_color, r.material.unwrap_or(inputs.placeholder)),
-        None => (inputs.placeholder, inputs.placeholder),
-    };
     let bound = rec.bind(pass, |writes| {
-        writes
-            .image(binding::SOURCE_SHADING, inputs.source_shading)
-            .image(binding::SOURCE_DEPTH, inputs.source_depth)
-            .image(binding::SOURCE_NORMAL_ID, inputs.source_normal_id)
-            .image(binding::TARGET_DEPTH, target.depth)
-            .image(binding::TARGET_NORMAL, target.normal)
-            .image(
-                binding::TARGET_STENCIL,
-                target.stencil.unwrap_or(inputs.placeholder_uint),
-            )
-            .image(binding::BASE_COLOR, base_color)
-            .image(binding::MATERIAL, material)
-            .image(binding::MOTION, inputs.motion)
-            .image(binding::WARPED, warped)
-            .buffer(binding::COUNTERS, counters)
-            .buffer(binding::CAMERAS, inputs.cameras)
+        let writes = bind_common(writes, inputs, remodulation, warped, counters);
+        match holes {
+            Some(holes) => writes
+                .image(binding::HOLE_LIST, holes.list)
+                .buffer(binding::DEFERRED, &holes.deferred),
+            None => writes,
+        }
     });
     let extent = vk::Extent2D {
         width: params.extent[0],
         height: params.extent[1],
     };
-    let params = Params {
+    rec.dispatch(&bound, &with_remodulation(params, remodulation), extent);
+}
+
+/// The parameters with the remodulation switched on when there is one.
+pub fn with_remodulation(params: &Params, remodulation: Option<&Remodulation>) -> Params {
+    Params {
         remodulate: remodulation.is_some() as u32,
         has_material: remodulation.is_some_and(|r| r.material.is_some()) as u32,
         ..*params
+    }
+}
+
+/// The bindings of `shaders/include/warp.wgsl`, which every warp and the hole fill declare.
+pub fn bind_common<'p>(
+    writes: DescriptorWrites<'p>,
+    inputs: &WarpInputs<'p>,
+    remodulation: Option<&Remodulation>,
+    warped: Texture,
+    counters: &CounterRange,
+) -> DescriptorWrites<'p> {
+    let target = inputs.target;
+    let (base_color, material) = match remodulation {
+        Some(r) => (r.base_color, r.material.unwrap_or(inputs.placeholder)),
+        None => (inputs.placeholder, inputs.placeholder),
     };
-    rec.dispatch(&bound, &params, extent);
+    writes
+        .image(binding::SOURCE_SHADING, inputs.source_shading)
+        .image(binding::SOURCE_DEPTH, inputs.source_depth)
+        .image(binding::SOURCE_NORMAL_ID, inputs.source_normal_id)
+        .image(binding::TARGET_DEPTH, target.depth)
+        .image(binding::TARGET_NORMAL, target.normal)
+        .image(
+            binding::TARGET_STENCIL,
+            target.stencil.unwrap_or(inputs.placeholder_uint),
+        )
+        .image(binding::BASE_COLOR, base_color)
+        .image(binding::MATERIAL, material)
+        .image(binding::MOTION, inputs.motion)
+        .image(binding::WARPED, warped)
+        .buffer(binding::COUNTERS, counters)
+        .buffer(binding::CAMERAS, inputs.cameras)
 }

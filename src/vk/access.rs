@@ -77,10 +77,35 @@ impl std::ops::AddAssign for Traffic {
 
 /// A stage a recorder recorded, and what its commands move (commands outside stages, such as
 /// zeroing the counters, are not counted).
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct StageRecord {
     pub stage: PatchexStage,
     pub traffic: Traffic,
+    /// Dispatches over a list the GPU wrote, whose traffic follows the list's length.
+    pub listed: Vec<ListedTraffic>,
+}
+
+/// A dispatch that runs over the first `count` of `capacity` entries of a list (one invocation
+/// per entry), `count` being a u32 the GPU wrote at `count_offset` of the frame ring's counters.
+/// Its bound resources' bytes count in the share `count / capacity`: such a pass touches its
+/// resources only around its entries.
+#[derive(Clone, Copy, Debug)]
+pub struct ListedTraffic {
+    pub traffic: Traffic,
+    pub count_offset: u64,
+    pub capacity: u64,
+}
+
+impl ListedTraffic {
+    /// The traffic of a run over `count` entries.
+    pub fn scaled(&self, count: u32) -> Traffic {
+        let share = |bytes: u64| bytes * count as u64 / self.capacity.max(1);
+        Traffic {
+            bytes_read: share(self.traffic.bytes_read),
+            bytes_written: share(self.traffic.bytes_written),
+            operations: share(self.traffic.operations),
+        }
+    }
 }
 
 /// Whether `next` must wait for `earlier`: one of them writes a resource the other touches.

@@ -11,7 +11,7 @@ use ash::vk;
 
 use crate::abi::PatchexStage;
 use crate::shaders::PushConstants;
-use crate::vk::access::{self, Access, Resource, StageRecord, Traffic};
+use crate::vk::access::{self, Access, ListedTraffic, Resource, StageRecord, Traffic};
 use crate::vk::barriers::{self, EngineImageAccess};
 use crate::vk::buffer::CounterRange;
 use crate::vk::frame_ring::FrameRing;
@@ -58,6 +58,7 @@ pub struct Recorder<'a> {
     stages: Vec<StageRecord>,
     /// What the stage being recorded has moved so far.
     traffic: Traffic,
+    listed: Vec<ListedTraffic>,
 }
 
 impl<'a> Recorder<'a> {
@@ -75,6 +76,7 @@ impl<'a> Recorder<'a> {
             times: None,
             stages: Vec::new(),
             traffic: Traffic::default(),
+            listed: Vec::new(),
         }
     }
 
@@ -114,8 +116,11 @@ impl<'a> Recorder<'a> {
         if let Some((timer, query)) = query {
             timer.write(self.device, self.cmd, query, true);
         }
-        let traffic = std::mem::take(&mut self.traffic);
-        self.stages.push(StageRecord { stage, traffic });
+        self.stages.push(StageRecord {
+            stage,
+            traffic: std::mem::take(&mut self.traffic),
+            listed: std::mem::take(&mut self.listed),
+        });
     }
 
     /// Writes `pass`'s descriptor set with what `writes` binds; the pass's accesses are the
@@ -180,6 +185,32 @@ impl<'a> Recorder<'a> {
         self.traffic.bytes_read += args.range;
         let Pass { pipeline, set } = bound.pass;
         pipeline.dispatch_indirect(self.device, self.cmd, set, params, args.buffer, args.offset);
+    }
+
+    /// `dispatch_indirect` over a list of `capacity` entries whose length the GPU wrote into
+    /// `count` (in the frame ring's counters): its traffic is reported for that length.
+    pub fn dispatch_listed<P: PushConstants>(
+        &mut self,
+        bound: &Bound,
+        params: &P,
+        args: &CounterRange,
+        count: &CounterRange,
+        capacity: u64,
+    ) {
+        let before = std::mem::take(&mut self.traffic);
+        self.dispatch_indirect(bound, params, args);
+        let traffic = std::mem::replace(&mut self.traffic, before);
+        let [group_x, group_y, group_z] = bound.pass.pipeline.shader.workgroup_size;
+        let listed = Traffic {
+            operations: capacity * bound.pass.pipeline.shader.arithmetic,
+            ..traffic
+        };
+        debug_assert_eq!(group_x * group_y * group_z, 64, "one invocation per entry");
+        self.listed.push(ListedTraffic {
+            traffic: listed,
+            count_offset: count.offset,
+            capacity,
+        });
     }
 
     /// Zeroes `range` (counters before the passes that count into them).
