@@ -37,4 +37,4 @@ test_scenes=$(split test | tr ' ' ',')
 out/torchenv/bin/python training/train.py --patches out/patches --seed 1 --out out/networks \
     --validation-scenes "$(echo $validation | tr ' ' ',')" \
     --test-scenes "crossing_street,fast_run,$test_scenes" \
-    --epochs 20 --steps 50 --patience 4 --resume "$@"
+    --epochs 20 --steps 80 --lr 1e-3 --patience 4 --resume "$@"
