@@ -475,30 +475,33 @@ fn weight_files_and_network_settings_are_checked_at_create() {
         resolution_divisor: 1,
         correct_valid_pixels: 0,
     };
-    let chain = &whole_frame_without_fi as *const _ as _;
-    let (result, message) = create_with(PATCHEX_PRESET_NETWORKS, chain).expect_err("refused");
-    assert_eq!(result, PatchexResult::ErrorInvalidArgument);
-    assert!(message.contains("whole_frame"), "{message}");
-    let divisor_three = PatchexNetworkSettings {
+    let valid = PatchexNetworkSettings {
         run_fi: 1,
         whole_frame: 0,
-        resolution_divisor: 3,
         ..whole_frame_without_fi
     };
-    let chain = &divisor_three as *const _ as _;
-    let (result, message) = create_with(PATCHEX_PRESET_NETWORKS, chain).expect_err("refused");
-    assert_eq!(result, PatchexResult::ErrorInvalidArgument);
-    assert!(message.contains("resolution_divisor 3"), "{message}");
-    let not_a_bool = PatchexNetworkSettings {
-        run_fi: 1,
-        whole_frame: 0,
-        correct_valid_pixels: 2,
-        ..whole_frame_without_fi
-    };
-    let chain = &not_a_bool as *const _ as _;
-    let (result, message) = create_with(PATCHEX_PRESET_NETWORKS, chain).expect_err("refused");
-    assert_eq!(result, PatchexResult::ErrorInvalidArgument);
-    assert!(message.contains("correct_valid_pixels"), "{message}");
+    for (settings, reason) in [
+        (whole_frame_without_fi, "whole_frame"),
+        (
+            PatchexNetworkSettings {
+                resolution_divisor: 3,
+                ..valid
+            },
+            "resolution_divisor 3",
+        ),
+        (
+            PatchexNetworkSettings {
+                correct_valid_pixels: 2,
+                ..valid
+            },
+            "correct_valid_pixels",
+        ),
+    ] {
+        let chain = &settings as *const _ as _;
+        let (result, message) = create_with(PATCHEX_PRESET_NETWORKS, chain).expect_err("refused");
+        assert_eq!(result, PatchexResult::ErrorInvalidArgument);
+        assert!(message.contains(reason), "{message}");
+    }
     let (result, message) = create_with(7, std::ptr::null()).expect_err("refused");
     assert_eq!(result, PatchexResult::ErrorInvalidArgument);
     assert!(message.contains("preset 7"), "{message}");

@@ -14,8 +14,8 @@ use crate::frame::submit::engine_gbuffer;
 use crate::inputs::{self, TargetInputs};
 use crate::passes::inpaint;
 use crate::passes::{
-    diagnostics, fill_holes, lbp, pack_output, remodulate, segmentation, warp, CounterRange,
-    PipelineId, Pipelines, RegionPasses, Texture, SANITIZE_COUNTER_BYTES,
+    diagnostics, fill_holes, lbp, pack_output, remodulate, segmentation, warp, PipelineId,
+    Pipelines, RegionPasses, Texture, SANITIZE_COUNTER_BYTES,
 };
 use crate::vk::barriers::EngineImageAccess;
 use crate::vk::frame_ring::RegionRecord;
@@ -177,61 +177,58 @@ impl Context {
         let shadows = self.images.shadows.as_ref().filter(|_| source.has_shadows);
 
         // Every warp of this extrapolation reads frame t's packed G-buffer and the target's. The
-        // G-buffer warp lists its holes in `hole_list`, and the fill follows it.
+        // G-buffer warp lists its holes in `hole_list`'s image with its count in
+        // `deferred_holes[n]`, and the fill's n-th set follows it.
         let warp_pipeline = Pipelines::warp(warp_settings.kind);
-        let record_warp =
-            |rec: &mut Recorder,
-             (pipeline, nth): (PipelineId, usize),
-             params: &warp::Params,
-             source_shading: &OwnedImage,
-             motion: Texture,
-             remodulation: Option<&warp::Remodulation>,
-             output: Texture,
-             counters_offset: u64,
-             hole_list: Option<(&OwnedImage, &CounterRange, usize)>| {
-                let inputs = warp::WarpInputs {
-                    source_shading,
-                    source_depth: &work[WorkImages::SOURCE_DEPTH],
-                    source_normal_id: &work[WorkImages::SOURCE_NORMAL_ID],
-                    target: &target_gbuffer,
-                    motion,
-                    cameras: &cameras,
-                    placeholder,
-                    placeholder_uint,
-                };
-                let counters = counters(counters_offset, warp::COUNTER_BYTES);
-                let holes = hole_list.map(|(list, deferred, fill)| {
-                    let holes = warp::HoleList {
-                        list,
-                        deferred: CounterRange { ..*deferred },
-                    };
-                    (holes, fill)
-                });
-                let pass = passes.nth(pipeline, nth);
-                let listed = holes.as_ref().map(|(holes, _)| holes);
-                warp::record(
+        let record_warp = |rec: &mut Recorder,
+                           (pipeline, nth): (PipelineId, usize),
+                           params: &warp::Params,
+                           source_shading: &OwnedImage,
+                           motion: Texture,
+                           remodulation: Option<&warp::Remodulation>,
+                           output: Texture,
+                           counters_offset: u64,
+                           hole_list: Option<(&OwnedImage, usize)>| {
+            let inputs = warp::WarpInputs {
+                source_shading,
+                source_depth: &work[WorkImages::SOURCE_DEPTH],
+                source_normal_id: &work[WorkImages::SOURCE_NORMAL_ID],
+                target: &target_gbuffer,
+                motion,
+                cameras: &cameras,
+                placeholder,
+                placeholder_uint,
+            };
+            let counters = counters(counters_offset, warp::COUNTER_BYTES);
+            let holes = hole_list.map(|(list, n)| {
+                let deferred = &deferred_holes[n];
+                (warp::HoleList { list, deferred }, n)
+            });
+            let pass = passes.nth(pipeline, nth);
+            let listed = holes.as_ref().map(|(holes, _)| holes);
+            warp::record(
+                rec,
+                pass,
+                params,
+                &inputs,
+                remodulation,
+                output,
+                &counters,
+                listed,
+            );
+            if let Some((holes, n)) = &holes {
+                fill_holes::record(
                     rec,
-                    pass,
+                    passes.nth(PipelineId::FillHoles, *n),
                     params,
                     &inputs,
                     remodulation,
                     output,
                     &counters,
-                    listed,
+                    holes,
                 );
-                if let Some((holes, fill)) = &holes {
-                    fill_holes::record(
-                        rec,
-                        passes.nth(PipelineId::FillHoles, *fill),
-                        params,
-                        &inputs,
-                        remodulation,
-                        output,
-                        &counters,
-                        holes,
-                    );
-                }
-            };
+            }
+        };
         // With nothing to run between the warp and the output (no shadow layers, networks or
         // diagnostics), the warp remodulates as it writes, and the frame is read and written once.
         let remodulate_in_warp = shadows.is_none() && !analyse;
@@ -250,7 +247,7 @@ impl Context {
                 remodulate_in_warp.then_some(&remodulation),
                 frame,
                 counters::WARP,
-                lists_holes.then_some((&work[WorkImages::HOLE_LIST], &deferred_holes[0], 0)),
+                lists_holes.then_some((&work[WorkImages::HOLE_LIST], 0)),
             )
         });
         if let Some(shadows) = shadows {
@@ -270,7 +267,7 @@ impl Context {
                     None,
                     (&shadows[ShadowImages::SURFACE_LAYER]).into(),
                     counters::SURFACE_LAYER,
-                    lists_holes.then_some((surface_holes, &deferred_holes[1], 1)),
+                    lists_holes.then_some((surface_holes, 1)),
                 );
                 let flow_warp = PipelineId::WarpOcclusionMotion;
                 record_warp(

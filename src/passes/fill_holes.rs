@@ -9,9 +9,9 @@ use crate::passes::{CounterRange, Texture};
 use crate::shaders::fill_holes::binding;
 use crate::vk::recorder::{Pass, Recorder};
 
-#[allow(clippy::too_many_arguments)]
 /// Records the fill of the holes `holes` lists into `warped`, after the warp that listed them
 /// and with its parameters, remodulating as it did.
+#[allow(clippy::too_many_arguments)]
 pub fn record(
     rec: &mut Recorder,
     pass: Pass,
@@ -25,7 +25,7 @@ pub fn record(
     let bound = rec.bind(pass, |writes| {
         bind_common(writes, inputs, remodulation, warped, counters)
             .image(binding::HOLE_LIST, holes.list)
-            .buffer(binding::DEFERRED, &holes.deferred)
+            .buffer(binding::DEFERRED, holes.deferred)
     });
     // `DeferredHoles.count`, then `groups` and the two ones after it.
     let part = |offset, range| CounterRange {

@@ -228,7 +228,7 @@ pub const COUNTER_BYTES: u64 = 20;
 /// the frame's size) and its `DeferredHoles` record, which the host sets to (0, 0, 1, 1) first.
 pub struct HoleList<'a> {
     pub list: &'a OwnedImage,
-    pub deferred: CounterRange,
+    pub deferred: &'a CounterRange,
 }
 
 /// Bytes of `DeferredHoles` in `shaders/include/warp.wgsl`.
@@ -254,7 +254,7 @@ pub fn record(
         match holes {
             Some(holes) => writes
                 .image(binding::HOLE_LIST, holes.list)
-                .buffer(binding::DEFERRED, &holes.deferred),
+                .buffer(binding::DEFERRED, holes.deferred),
             None => writes,
         }
     });
