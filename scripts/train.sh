@@ -7,7 +7,8 @@
 # Writes out/datasets_train/, out/patches/ and out/networks/ (weights, manifest.json,
 # loss_curve.png, per-epoch checkpoints); copy the weights and manifest to assets/networks/ to
 # ship them. An interrupted run goes on where it stopped: run it again. PyTorch (~3 GB) goes into
-# out/torchenv; about an hour on two CPU cores, less on a GPU. Arguments are passed to
+# out/torchenv; rendering and patches take minutes, training about 5 minutes on two CPU
+# cores (early stopping ends it after 5 or 6 epochs). Arguments are passed to
 # training/train.py (e.g. --vgg16 PATH, --epochs N, --every-pixel for the paper's blend).
 set -euo pipefail
 cd "$(dirname "$0")/.."
