@@ -200,33 +200,23 @@ impl Context {
                 placeholder_uint,
             };
             let counters = counters(counters_offset, warp::COUNTER_BYTES);
-            let holes = hole_list.map(|(list, n)| {
-                let deferred = &deferred_holes[n];
-                (warp::HoleList { list, deferred }, n)
+            let holes = hole_list.map(|(list, n)| warp::HoleList {
+                list,
+                deferred: &deferred_holes[n],
+                fill: passes.nth(PipelineId::FillHoles, n),
             });
-            let pass = passes.nth(pipeline, nth);
-            let listed = holes.as_ref().map(|(holes, _)| holes);
             warp::record(
                 rec,
-                pass,
+                passes.nth(pipeline, nth),
                 params,
                 &inputs,
                 remodulation,
                 output,
                 &counters,
-                listed,
+                holes.as_ref(),
             );
-            if let Some((holes, n)) = &holes {
-                fill_holes::record(
-                    rec,
-                    passes.nth(PipelineId::FillHoles, *n),
-                    params,
-                    &inputs,
-                    remodulation,
-                    output,
-                    &counters,
-                    holes,
-                );
+            if let Some(holes) = &holes {
+                fill_holes::record(rec, params, &inputs, remodulation, output, &counters, holes);
             }
         };
         // With nothing to run between the warp and the output (no shadow layers, networks or

@@ -7,14 +7,12 @@ use crate::passes::warp::{
 };
 use crate::passes::{CounterRange, Texture};
 use crate::shaders::fill_holes::binding;
-use crate::vk::recorder::{Pass, Recorder};
+use crate::vk::recorder::Recorder;
 
 /// Records the fill of the holes `holes` lists into `warped`, after the warp that listed them
 /// and with its parameters, remodulating as it did.
-#[allow(clippy::too_many_arguments)]
 pub fn record(
     rec: &mut Recorder,
-    pass: Pass,
     params: &Params,
     inputs: &WarpInputs,
     remodulation: Option<&Remodulation>,
@@ -22,7 +20,7 @@ pub fn record(
     counters: &CounterRange,
     holes: &HoleList,
 ) {
-    let bound = rec.bind(pass, |writes| {
+    let bound = rec.bind(holes.fill, |writes| {
         bind_common(writes, inputs, remodulation, warped, counters)
             .image(binding::HOLE_LIST, holes.list)
             .buffer(binding::DEFERRED, holes.deferred)

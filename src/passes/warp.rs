@@ -225,10 +225,12 @@ pub const SANITIZED_OFFSET: u64 = 16;
 pub const COUNTER_BYTES: u64 = 20;
 
 /// Where a G-buffer warp lists the holes it leaves to `fill_holes`: the list image (R32_UINT,
-/// the frame's size) and its `DeferredHoles` record, which the host sets to (0, 0, 1, 1) first.
+/// the frame's size) and its `DeferredHoles` record, which the host sets to (0, 0, 1, 1) first;
+/// and the fill's pass that reads them.
 pub struct HoleList<'a> {
     pub list: &'a OwnedImage,
     pub deferred: &'a CounterRange,
+    pub fill: Pass<'a>,
 }
 
 /// Bytes of `DeferredHoles` in `shaders/include/warp.wgsl`.
