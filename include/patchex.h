@@ -92,7 +92,7 @@
 #include <vulkan/vulkan.h>
 
 // Version of this ABI, returned by `patchex_abi_version`; bumped on any incompatible change.
-#define PATCHEX_ABI_VERSION 9
+#define PATCHEX_ABI_VERSION 10
 
 // The warp settings a context uses unless told otherwise: a 3x3 gather; a texel keeps most of
 // its weight within ~5% relative depth, ~0.1 of (1 - cos) of normal angle (about 25 degrees),
@@ -127,6 +127,15 @@
 #define PATCHEX_DEFAULT_FLOW_POLY_RADIUS 2
 
 #define PATCHEX_DEFAULT_FLOW_POLY_SIGMA 1.1
+
+// About 25 MiB of FP16 tensors per network, whatever the frame size; at 1920x1080 a patch up to
+// 512 pixels a side runs at the frame's resolution.
+#define PATCHEX_DEFAULT_NETWORK_MAX_PATCH_SIDE 512
+
+// Every network's patch is a multiple of 2^(levels - 1) texels, at most 32.
+#define PATCHEX_NETWORK_PATCH_SIDE_MULTIPLE 32
+
+#define PATCHEX_MAX_NETWORK_PATCH_SIDE 4096
 
 // Maximum number of extrapolations recorded from one submitted frame.
 #define PATCHEX_MAX_EXTRAPOLATIONS_PER_FRAME 4
@@ -441,6 +450,10 @@ typedef struct PatchexExtrapolationStats {
   // passes are written so that these never reach the output: such a pixel's warp finds no
   // agreeing source (a hole) or falls off-screen, and the result stays finite.
   uint32_t invalid_geometry_pixels;
+  // Frame pixels per network texel each network ran at, FI then near-BE: the requested
+  // `resolution_divisor`, or a multiple of it where the patch was larger than
+  // `PatchexNetworkMemory.max_patch_side`; 0 for a network that did not run.
+  uint32_t network_divisors[2];
 } PatchexExtrapolationStats;
 
 // `PatchexFrameStats.shadow_history`.
@@ -619,12 +632,14 @@ typedef struct PatchexNetworkSettings {
   PatchexBool run_near_be;
   // Runs the FI network over the whole frame and takes its result for every pixel; the
   // near-BE network does not run. The paper's ablation of foveated segmentation: it costs
-  // the whole frame's inference and is less accurate (README, evaluation). Needs run_fi.
+  // the whole frame's inference and is less accurate (README, evaluation); a frame wider or
+  // taller than `PatchexNetworkMemory.max_patch_side` runs at a coarser divisor. Needs run_fi.
   PatchexBool whole_frame;
   // Frame pixels per network texel on each axis: 1 (the frame's resolution, the default), 2
   // or 4. A network at divisor d reads each d x d block's mean, and its correction is
   // upsampled bilinearly and added to the warped colour: about 1/d^2 of the inference time
-  // for a smoother correction (README, Speed against accuracy).
+  // for a smoother correction (README, Speed against accuracy). A patch larger than
+  // `PatchexNetworkMemory.max_patch_side` runs at a multiple of it.
   uint32_t resolution_divisor;
   // PATCHEX_FALSE (the default): a network's correction replaces only the warp's holes,
   // where the warp found no agreeing source in frame t; every other pixel keeps the warp,
@@ -641,6 +656,20 @@ typedef struct PatchexNetworkPrecision {
   struct PatchexStructHeader header;
   PatchexTensorPrecision tensors;
 } PatchexNetworkPrecision;
+
+// Chainable on PatchexCreateInfo with a networks preset (PATCHEX_PRESET_NETWORKS or FULL): how
+// large a patch the networks' tensors hold, fixed when the context makes them. A patch that
+// spans more than `max_patch_side` network texels on either axis runs at twice the resolution
+// divisor, doubled until it fits (`PatchexExtrapolationStats.network_divisors` reports the
+// divisor each network ran at). The tensors' memory and the inference's time stay bounded
+// whatever the frame size, and a large patch gets a smoother correction (README, memory).
+typedef struct PatchexNetworkMemory {
+  // PATCHEX_STRUCT_TYPE_NETWORK_MEMORY, sizeof(PatchexNetworkMemory), chain.
+  struct PatchexStructHeader header;
+  // Network texels per axis: a multiple of PATCHEX_NETWORK_PATCH_SIDE_MULTIPLE from
+  // PATCHEX_NETWORK_PATCH_SIDE_MULTIPLE to PATCHEX_MAX_NETWORK_PATCH_SIDE.
+  uint32_t max_patch_side;
+} PatchexNetworkMemory;
 
 // Chainable on PatchexExtrapolateDesc: an engine image that receives per-pixel intermediate
 // results, for debug views and evaluation. R16G16B16A16_SFLOAT with STORAGE usage, the size of
@@ -688,6 +717,8 @@ typedef struct PatchexShadowDiagnostics {
 #define PATCHEX_STRUCT_TYPE_NETWORK_SETTINGS 12
 
 #define PATCHEX_STRUCT_TYPE_NETWORK_PRECISION 13
+
+#define PATCHEX_STRUCT_TYPE_NETWORK_MEMORY 14
 
 // Demodulate, warp (PatchexWarpSettings), remodulate. Holes keep the warp's nearest colour.
 #define PATCHEX_PRESET_WARP_ONLY 0

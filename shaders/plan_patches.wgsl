@@ -3,8 +3,10 @@
 // Each is widened by a margin of context, clamped to the frame, rounded up to its network's
 // multiple (patch texels past the frame read as zero), and given the indirect dispatch of each
 // of its network's levels. With a resolution divisor d a network texel covers d x d pixels, so
-// the patch's extent in texels is a d-th of its extent in the frame. The blend patch bounds both, for the pass that scatters the results
-// back. A frame without dynamic objects, or a network that is off (levels 0), gets an empty
+// the patch's extent in texels is a d-th of its extent in the frame. A patch that would span
+// more texels than the tensors hold (`max_patch_side`, or the frame's own extent if smaller)
+// doubles its divisor until it fits. The blend patch bounds both, for the pass that scatters
+// the results back. A frame without dynamic objects, or a network that is off (levels 0), gets an empty
 // patch that dispatches no workgroup. With `whole_frame` (the ablation of foveated segmentation)
 // the FI patch is the whole frame instead. src/reference/inpaint.rs mirrors this pass.
 // #import segmentation
@@ -18,6 +20,7 @@ struct Params {
     levels: vec2u,
     whole_frame: u32,
     divisor: u32,
+    max_patch_side: u32,
 }
 var<immediate> params: Params;
 
@@ -39,24 +42,42 @@ fn union_span(a: Span, b: Span) -> Span {
     return Span(min(a.lo, b.lo), max(a.hi, b.hi));
 }
 
-// The frame pixels a network with `levels` levels covers over `span`, as (origin, end).
-fn plan(span: Span, levels: u32) -> Span {
+// The frame pixels a network's patch covers, [lo, hi), and how many each texel covers a side.
+struct Planned {
+    span: Span,
+    divisor: u32,
+}
+
+// Network texels over `pixels` frame pixels at divisor `d`, rounded up to the network's multiple.
+fn texels_at(pixels: vec2u, d: u32, multiple: u32) -> vec2u {
+    return ((pixels + vec2u(d - 1u)) / d + vec2u(multiple - 1u)) / multiple * multiple;
+}
+
+// The patch of a network with `levels` levels over `span`.
+fn plan(span: Span, levels: u32) -> Planned {
     if (levels == 0u || any(span.lo >= span.hi)) {
-        return Span(vec2u(0u), vec2u(0u));
+        return Planned(Span(vec2u(0u), vec2u(0u)), params.divisor);
     }
     let origin = span.lo - min(span.lo, vec2u(params.margin));
     let end = min(span.hi + vec2u(params.margin), params.extent);
-    let d = params.divisor;
     let multiple = 1u << (levels - 1u);
-    let texels = ((end - origin + vec2u(d - 1u)) / d + vec2u(multiple - 1u)) / multiple * multiple;
-    return Span(origin, origin + texels * d);
+    let capacity = texels_at(min(params.extent, vec2u(params.max_patch_side)), 1u, multiple);
+    var d = params.divisor;
+    var texels = texels_at(end - origin, d, multiple);
+    // It fits by the time d spans the frame (one multiple of texels); the bound only guards
+    // the loop.
+    for (var doubled = 0u; doubled < 16u && any(texels > capacity); doubled++) {
+        d *= 2u;
+        texels = texels_at(end - origin, d, multiple);
+    }
+    return Planned(Span(origin, origin + texels * d), d);
 }
 
-fn write_patch(slot: u32, planned: Span, levels: u32, divisor: u32) {
-    let extent = (planned.hi - planned.lo) / divisor;
-    patches[slot].value.origin = planned.lo;
+fn write_patch(slot: u32, planned: Planned, levels: u32) {
+    let extent = (planned.span.hi - planned.span.lo) / planned.divisor;
+    patches[slot].value.origin = planned.span.lo;
     patches[slot].value.extent = extent;
-    patches[slot].value.divisor = divisor;
+    patches[slot].value.divisor = planned.divisor;
     for (var level = 0u; level < 6u; level++) {
         var groups = vec2u(0u);
         if (level < levels) {
@@ -91,11 +112,11 @@ fn main() {
     }
     let fi_planned = plan(fi, params.levels.x);
     let near_be_planned = plan(near_be, params.levels.y);
-    write_patch(PATCH_FI, fi_planned, params.levels.x, params.divisor);
-    write_patch(PATCH_NEAR_BE, near_be_planned, params.levels.y, params.divisor);
+    write_patch(PATCH_FI, fi_planned, params.levels.x);
+    write_patch(PATCH_NEAR_BE, near_be_planned, params.levels.y);
     // The blend is one dispatch at the frame's resolution over what either network wrote.
-    var blend = union_span(union_span(nothing, fi_planned), near_be_planned);
+    var blend = union_span(union_span(nothing, fi_planned.span), near_be_planned.span);
     blend.hi = min(blend.hi, params.extent);
     blend.lo = min(blend.lo, blend.hi);
-    write_patch(PATCH_BLEND, blend, 1u, 1u);
+    write_patch(PATCH_BLEND, Planned(blend, 1u), 1u);
 }

@@ -26,7 +26,7 @@ pub type PFN_vkGetInstanceProcAddr = Option<vk::PFN_vkGetInstanceProcAddr>;
 pub type PFN_vkGetDeviceProcAddr = Option<vk::PFN_vkGetDeviceProcAddr>;
 
 /// Version of this ABI, returned by `patchex_abi_version`; bumped on any incompatible change.
-pub const PATCHEX_ABI_VERSION: u32 = 9;
+pub const PATCHEX_ABI_VERSION: u32 = 10;
 
 /// 0 or 1; any other value is rejected as an invalid argument.
 pub type PatchexBool = u32;
@@ -46,6 +46,7 @@ pub const PATCHEX_STRUCT_TYPE_SHADOW_DIAGNOSTICS: PatchexStructType = 10;
 pub const PATCHEX_STRUCT_TYPE_NETWORK_WEIGHTS: PatchexStructType = 11;
 pub const PATCHEX_STRUCT_TYPE_NETWORK_SETTINGS: PatchexStructType = 12;
 pub const PATCHEX_STRUCT_TYPE_NETWORK_PRECISION: PatchexStructType = 13;
+pub const PATCHEX_STRUCT_TYPE_NETWORK_MEMORY: PatchexStructType = 14;
 
 /// The first fields of every versioned struct, read before the rest.
 #[repr(C)]
@@ -465,6 +466,28 @@ pub struct PatchexNetworkPrecision {
     pub tensors: PatchexTensorPrecision,
 }
 
+/// Chainable on PatchexCreateInfo with a networks preset (PATCHEX_PRESET_NETWORKS or FULL): how
+/// large a patch the networks' tensors hold, fixed when the context makes them. A patch that
+/// spans more than `max_patch_side` network texels on either axis runs at twice the resolution
+/// divisor, doubled until it fits (`PatchexExtrapolationStats.network_divisors` reports the
+/// divisor each network ran at). The tensors' memory and the inference's time stay bounded
+/// whatever the frame size, and a large patch gets a smoother correction (README, memory).
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct PatchexNetworkMemory {
+    /// PATCHEX_STRUCT_TYPE_NETWORK_MEMORY, sizeof(PatchexNetworkMemory), chain.
+    pub header: PatchexStructHeader,
+    /// Network texels per axis: a multiple of PATCHEX_NETWORK_PATCH_SIDE_MULTIPLE from
+    /// PATCHEX_NETWORK_PATCH_SIDE_MULTIPLE to PATCHEX_MAX_NETWORK_PATCH_SIDE.
+    pub max_patch_side: u32,
+}
+/// About 25 MiB of FP16 tensors per network, whatever the frame size; at 1920x1080 a patch up to
+/// 512 pixels a side runs at the frame's resolution.
+pub const PATCHEX_DEFAULT_NETWORK_MAX_PATCH_SIDE: u32 = 512;
+/// Every network's patch is a multiple of 2^(levels - 1) texels, at most 32.
+pub const PATCHEX_NETWORK_PATCH_SIDE_MULTIPLE: u32 = 32;
+pub const PATCHEX_MAX_NETWORK_PATCH_SIDE: u32 = 4096;
+
 /// Chainable on PatchexCreateInfo (context default) or PatchexExtrapolateDesc (this call) with
 /// a networks preset (PATCHEX_PRESET_NETWORKS or FULL): which region's network runs. A network
 /// that is off leaves its region as the warp made it. Both run by default, each on its region's
@@ -478,12 +501,14 @@ pub struct PatchexNetworkSettings {
     pub run_near_be: PatchexBool,
     /// Runs the FI network over the whole frame and takes its result for every pixel; the
     /// near-BE network does not run. The paper's ablation of foveated segmentation: it costs
-    /// the whole frame's inference and is less accurate (README, evaluation). Needs run_fi.
+    /// the whole frame's inference and is less accurate (README, evaluation); a frame wider or
+    /// taller than `PatchexNetworkMemory.max_patch_side` runs at a coarser divisor. Needs run_fi.
     pub whole_frame: PatchexBool,
     /// Frame pixels per network texel on each axis: 1 (the frame's resolution, the default), 2
     /// or 4. A network at divisor d reads each d x d block's mean, and its correction is
     /// upsampled bilinearly and added to the warped colour: about 1/d^2 of the inference time
-    /// for a smoother correction (README, Speed against accuracy).
+    /// for a smoother correction (README, Speed against accuracy). A patch larger than
+    /// `PatchexNetworkMemory.max_patch_side` runs at a multiple of it.
     pub resolution_divisor: u32,
     /// PATCHEX_FALSE (the default): a network's correction replaces only the warp's holes,
     /// where the warp found no agreeing source in frame t; every other pixel keeps the warp,
@@ -621,6 +646,10 @@ pub struct PatchexExtrapolationStats {
     /// passes are written so that these never reach the output: such a pixel's warp finds no
     /// agreeing source (a hole) or falls off-screen, and the result stays finite.
     pub invalid_geometry_pixels: u32,
+    /// Frame pixels per network texel each network ran at, FI then near-BE: the requested
+    /// `resolution_divisor`, or a multiple of it where the patch was larger than
+    /// `PatchexNetworkMemory.max_patch_side`; 0 for a network that did not run.
+    pub network_divisors: [u32; 2],
 }
 
 /// Bits of `PatchexExtrapolationStats.render_instead_reasons`.

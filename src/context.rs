@@ -104,6 +104,9 @@ impl Context {
                     width: info.max_width,
                     height: info.max_height,
                 },
+                defaults
+                    .network_max_patch_side
+                    .unwrap_or(PATCHEX_DEFAULT_NETWORK_MAX_PATCH_SIDE),
             )?),
             None => None,
         };

@@ -244,6 +244,25 @@ unsafe fn read_chain(
                     ),
                 });
             }
+            PATCHEX_STRUCT_TYPE_NETWORK_MEMORY => {
+                let memory = read_versioned(
+                    next.cast::<PatchexNetworkMemory>(),
+                    kind,
+                    "PatchexNetworkMemory",
+                )?;
+                let side = memory.max_patch_side;
+                let multiple = PATCHEX_NETWORK_PATCH_SIDE_MULTIPLE;
+                if !(multiple..=PATCHEX_MAX_NETWORK_PATCH_SIDE).contains(&side)
+                    || side % multiple != 0
+                {
+                    bail!(
+                        ErrorInvalidArgument,
+                        "PatchexNetworkMemory.max_patch_side {side} must be a multiple of \
+                         {multiple} from {multiple} to {PATCHEX_MAX_NETWORK_PATCH_SIDE}"
+                    );
+                }
+                extensions.network_max_patch_side = Some(side);
+            }
             _ => unreachable!("every accepted struct type is handled"),
         }
         next = header.next;
@@ -377,6 +396,7 @@ pub unsafe extern "C" fn patchex_create(
                 PATCHEX_STRUCT_TYPE_NETWORK_WEIGHTS,
                 PATCHEX_STRUCT_TYPE_NETWORK_SETTINGS,
                 PATCHEX_STRUCT_TYPE_NETWORK_PRECISION,
+                PATCHEX_STRUCT_TYPE_NETWORK_MEMORY,
             ],
             "PatchexCreateInfo",
         )

@@ -165,10 +165,17 @@ fn c11_engine_reaches_every_feature_and_matches_the_rust_path() {
     // The same calls through the Rust path.
     let fi_path = CString::new(fi.to_str().unwrap()).unwrap();
     let near_be_path = CString::new(near_be.to_str().unwrap()).unwrap();
+    let memory = PatchexNetworkMemory {
+        header: header_of::<PatchexNetworkMemory>(
+            PATCHEX_STRUCT_TYPE_NETWORK_MEMORY,
+            std::ptr::null(),
+        ),
+        max_patch_side: 64,
+    };
     let precision = PatchexNetworkPrecision {
         header: header_of::<PatchexNetworkPrecision>(
             PATCHEX_STRUCT_TYPE_NETWORK_PRECISION,
-            std::ptr::null(),
+            link(&memory),
         ),
         tensors: PATCHEX_TENSOR_PRECISION_FP32,
     };
@@ -369,6 +376,8 @@ fn c11_engine_reaches_every_feature_and_matches_the_rust_path() {
     assert!(ran(guided, PATCHEX_STAGE_INFERENCE) && guided.repaired_fraction > 0.0);
     assert!(!ran(motion, PATCHEX_STAGE_DIAGNOSTICS));
     assert!(ran(occlusion, PATCHEX_STAGE_PACK_OUTPUT) && occlusion.repaired_fraction == 1.0);
+    // The whole 96-pixel-wide frame in tensors of 64 texels a side.
+    assert_eq!(occlusion.network_divisors, [2, 0]);
     assert!(
         diagnostics.data.chunks(4).any(|p| p[1] == 1.0),
         "the diagnostics show an FI region"

@@ -130,6 +130,11 @@ fn networks_repair_their_regions_as_the_reference_does() {
     assert_eq!(stats.repaired_fraction, repaired);
     let patches = with.inpainted.as_ref().unwrap().patches;
     println!("patches: {patches:?}");
+    assert_eq!(
+        stats.network_divisors,
+        [1, 1],
+        "both ran at the frame's resolution"
+    );
     // Cost follows the objects: the patches cover the characters, not the frame.
     let area = |p: reference::inpaint::Patch| p.extent[0] * p.extent[1];
     assert!(area(patches.near_be) < WIDTH * HEIGHT);
@@ -289,6 +294,52 @@ fn whole_frame_runs_the_fi_network_over_every_pixel() {
     assert_eq!(patches.blend.extent, [WIDTH, HEIGHT]);
     assert!(patches.near_be.is_empty());
     assert_eq!(outcome.stats.extrapolations[0].repaired_fraction, 1.0);
+}
+
+/// Tensors smaller than the patch (`PatchexNetworkMemory`): the whole-frame patch doubles its
+/// divisor until it fits, the stats report it, and the upsampled correction is the reference's.
+#[test]
+fn a_patch_larger_than_the_tensors_runs_coarser() {
+    let sequence = render("crossing_street.toml", 2, WIDTH, HEIGHT);
+    let (source, target) = (&sequence.frames[0], &sequence.frames[1]);
+    const SIDE: u32 = PATCHEX_NETWORK_PATCH_SIDE_MULTIPLE;
+    let memory = PatchexNetworkMemory {
+        header: PatchexStructHeader::of::<PatchexNetworkMemory>(PATCHEX_STRUCT_TYPE_NETWORK_MEMORY),
+        max_patch_side: SIDE,
+    };
+    let rig = Rig::with_create_info(WIDTH, HEIGHT, |info| {
+        info.preset = PATCHEX_PRESET_NETWORKS;
+        info.header.next = &memory as *const _ as *const c_void;
+    });
+    let switches = NetworkSwitches {
+        whole_frame: true,
+        correct_valid_pixels: true,
+        ..NetworkSwitches::default()
+    };
+    let chained = Chained {
+        networks: Some(switches),
+        ..Chained::default()
+    };
+    let outcome = run_plugin(&rig, source, target, 0.5, &chained);
+    let [fi, near_be] = shipped();
+    let networks = Networks {
+        fi: Some(&fi),
+        near_be: Some(&near_be),
+        whole_frame: true,
+        correct_valid_pixels: true,
+        max_patch_side: SIDE,
+        ..Networks::default()
+    };
+    let with = expected(source, target, networks);
+    let without = expected(source, target, Networks::default());
+    assert_matches(&outcome, &with, &without, true);
+    let patches = with.inpainted.as_ref().unwrap().patches;
+    println!("patches: {patches:?}");
+    // 128 x 72 pixels in at most 32 texels a side: a quarter of the resolution.
+    assert_eq!(patches.fi.divisor, 4);
+    assert!(patches.fi.extent.iter().all(|&side| side <= SIDE));
+    assert_eq!(patches.blend.extent, [WIDTH, HEIGHT]);
+    assert_eq!(outcome.stats.extrapolations[0].network_divisors, [4, 0]);
 }
 
 /// PATCHEX_PRESET_FULL on a static frame without a shadow input: a warp alone.
@@ -538,5 +589,27 @@ fn weight_files_and_network_settings_are_checked_at_create() {
         create_with(PATCHEX_PRESET_WARP_AND_SHADOWS, &fp32 as *const _ as _).expect_err("refused");
     assert_eq!(result, PatchexResult::ErrorInvalidArgument);
     assert!(message.contains("PatchexNetworkPrecision"), "{message}");
+
+    // A patch side that is not a multiple of 32 from 32 to 4096, or one without networks, is
+    // refused.
+    let memory = |max_patch_side| PatchexNetworkMemory {
+        header: PatchexStructHeader::of::<PatchexNetworkMemory>(PATCHEX_STRUCT_TYPE_NETWORK_MEMORY),
+        max_patch_side,
+    };
+    for side in [0, 16, 48, 8192] {
+        let memory = memory(side);
+        let (result, message) =
+            create_with(PATCHEX_PRESET_NETWORKS, &memory as *const _ as _).expect_err("refused");
+        assert_eq!(result, PatchexResult::ErrorInvalidArgument);
+        assert!(
+            message.contains(&format!("PatchexNetworkMemory.max_patch_side {side}")),
+            "{message}"
+        );
+    }
+    let memory = memory(256);
+    let (result, message) =
+        create_with(PATCHEX_PRESET_WARP_ONLY, &memory as *const _ as _).expect_err("refused");
+    assert_eq!(result, PatchexResult::ErrorInvalidArgument);
+    assert!(message.contains("PatchexNetworkMemory"), "{message}");
     engine.assert_validation_clean();
 }

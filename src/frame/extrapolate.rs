@@ -315,6 +315,7 @@ impl Context {
                         levels: inpainting.levels(run_networks.running()),
                         whole_frame: run_networks.whole_frame,
                         divisor: run_networks.divisor,
+                        max_patch_side: inpainting.max_patch_side,
                     },
                     &object_table,
                     &patches,

@@ -26,6 +26,8 @@ pub struct Extensions {
     pub network_weights: Option<NetworkWeightPaths>,
     pub networks: Option<NetworkSwitches>,
     pub network_precision: Option<TensorPrecision>,
+    /// `PatchexNetworkMemory.max_patch_side`, validated.
+    pub network_max_patch_side: Option<u32>,
 }
 
 /// Weight files in place of the built-in networks (`PatchexNetworkWeights`).
@@ -94,12 +96,13 @@ impl Preset {
         if !networks
             && (defaults.network_weights.is_some()
                 || defaults.networks.is_some()
-                || defaults.network_precision.is_some())
+                || defaults.network_precision.is_some()
+                || defaults.network_max_patch_side.is_some())
         {
             bail!(
                 ErrorInvalidArgument,
-                "PatchexNetworkWeights, PatchexNetworkSettings and PatchexNetworkPrecision need \
-                 PATCHEX_PRESET_NETWORKS or PATCHEX_PRESET_FULL"
+                "PatchexNetworkWeights, PatchexNetworkSettings, PatchexNetworkPrecision and \
+                 PatchexNetworkMemory need PATCHEX_PRESET_NETWORKS or PATCHEX_PRESET_FULL"
             );
         }
         if !shadows && defaults.flow.is_some() {

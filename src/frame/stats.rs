@@ -93,17 +93,20 @@ impl Context {
             );
             stats.stages_run = stage_bits(&region_record.stages);
             // The networks' stages were recorded, but dispatch nothing on empty patches.
-            let patch_extent = |patch_slot: u64| {
-                inpaint::read_patch_extent(
+            // The divisor each network ran at; 0 for one whose patch was empty.
+            let divisors = [inpaint::PATCH_SLOT_FI, inpaint::PATCH_SLOT_NEAR_BE].map(|slot| {
+                let (extent, divisor) = inpaint::read_patch(
                     &self.ring.counters,
-                    counters + counters::PATCHES + patch_slot * inpaint::PATCH_SLOT_BYTES,
-                )
-            };
-            let ran = |patch_slot| patch_extent(patch_slot).iter().all(|&side| side > 0);
-            let (fi_ran, near_be_ran) = (
-                ran(inpaint::PATCH_SLOT_FI),
-                ran(inpaint::PATCH_SLOT_NEAR_BE),
-            );
+                    counters + counters::PATCHES + slot * inpaint::PATCH_SLOT_BYTES,
+                );
+                if extent.iter().all(|&side| side > 0) {
+                    divisor
+                } else {
+                    0
+                }
+            });
+            stats.network_divisors = divisors;
+            let (fi_ran, near_be_ran) = (divisors[0] > 0, divisors[1] > 0);
             if !fi_ran && !near_be_ran {
                 stats.stages_run &= !(1 << PATCHEX_STAGE_INFERENCE | 1 << PATCHEX_STAGE_BLEND);
             }

@@ -21,6 +21,13 @@ use crate::vk::recorder::{Pass, Recorder};
 /// field, a pixel at the edge of a region sees its surroundings as in training.
 pub const PATCH_MARGIN: u32 = 8;
 
+/// The network texels a patch may span on each axis, for frames up to `extent`: the tensors'
+/// extent. A network's patch is a multiple of `multiple` texels, and so is `max_patch_side`
+/// (`PATCHEX_NETWORK_PATCH_SIDE_MULTIPLE`): a frame smaller than it needs only its own extent.
+pub fn patch_capacity(extent: [u32; 2], max_patch_side: u32, multiple: u32) -> [u32; 2] {
+    extent.map(|side| side.min(max_patch_side).next_multiple_of(multiple))
+}
+
 /// A network's compiled layers and its gather pass. Their descriptor sets are the frame ring's,
 /// after the fixed pipelines' (`Inpainting::set_layouts`).
 pub struct NetworkPipelines {
@@ -299,8 +306,10 @@ pub struct PatchPlan {
     pub levels: [u32; 2],
     /// FI's patch is the whole frame.
     pub whole_frame: bool,
-    /// Frame pixels per network texel on each axis.
+    /// Frame pixels per network texel on each axis, as asked for; a patch larger than
+    /// `max_patch_side` texels runs at a multiple of it.
     pub divisor: u32,
+    pub max_patch_side: u32,
 }
 
 /// Records `plan_patches`: the FI, near-BE and blend patches from the object table.
@@ -325,6 +334,8 @@ pub fn record_plan(
         levels: plan.levels,
         whole_frame: plan.whole_frame as u32,
         divisor: plan.divisor,
+        max_patch_side: plan.max_patch_side,
+        _pad_end: [0; 4],
     };
     let one = vk::Extent2D {
         width: 1,
@@ -380,25 +391,29 @@ pub fn record_blend(
 pub struct Inpainting {
     /// FI, then near-BE.
     pub networks: [(NetworkPipelines, NetworkTensors); 2],
+    /// The network texels a patch may span per axis (`PatchexNetworkMemory`).
+    pub max_patch_side: u32,
 }
 
 impl Inpainting {
-    /// Compiles `networks` (FI, near-BE) and makes their tensors for patches as large as
-    /// `max_extent`.
+    /// Compiles `networks` (FI, near-BE) and makes their tensors for the patches of frames up to
+    /// `max_extent`, at most `max_patch_side` texels a side.
     pub fn new(
         gpu: &Gpu,
         allocator: &mut Allocator,
         networks: [Network; 2],
         precision: TensorPrecision,
         max_extent: vk::Extent2D,
+        max_patch_side: u32,
     ) -> Result<Self> {
         let mut built: Vec<(NetworkPipelines, NetworkTensors)> = Vec::new();
         for network in networks {
-            let multiple = network.multiple();
-            let extent = vk::Extent2D {
-                width: max_extent.width.next_multiple_of(multiple),
-                height: max_extent.height.next_multiple_of(multiple),
-            };
+            let [width, height] = patch_capacity(
+                [max_extent.width, max_extent.height],
+                max_patch_side,
+                network.multiple(),
+            );
+            let extent = vk::Extent2D { width, height };
             let made = NetworkPipelines::new(gpu, network, precision).and_then(|mut pipelines| {
                 match NetworkTensors::new(gpu, allocator, &pipelines, extent) {
                     Ok(tensors) => Ok((pipelines, tensors)),
@@ -420,7 +435,10 @@ impl Inpainting {
             }
         }
         let networks = <[_; 2]>::try_from(built).unwrap_or_else(|_| unreachable!("two networks"));
-        Ok(Self { networks })
+        Ok(Self {
+            networks,
+            max_patch_side,
+        })
     }
 
     /// Level counts for `plan_patches`: 0 for a network that is switched off.
@@ -487,10 +505,14 @@ impl Inpainting {
     }
 }
 
-/// The extent `plan_patches` wrote into the patch record at `offset` of the counters.
-pub fn read_patch_extent(counters: &crate::vk::buffer::ReadbackBuffer, offset: u64) -> [u32; 2] {
-    [
-        counters.read_u32(offset + 8),
-        counters.read_u32(offset + 12),
-    ]
+/// The extent and divisor `plan_patches` wrote into the patch record at `offset` of the
+/// counters.
+pub fn read_patch(counters: &crate::vk::buffer::ReadbackBuffer, offset: u64) -> ([u32; 2], u32) {
+    (
+        [
+            counters.read_u32(offset + 8),
+            counters.read_u32(offset + 12),
+        ],
+        counters.read_u32(offset + 16),
+    )
 }

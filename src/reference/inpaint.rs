@@ -7,8 +7,9 @@ use glam::Vec3;
 use super::gbuffer::{sanitize, sanitize_color, MAX_HALF};
 use super::network::{forward, Planes};
 use super::{round_to_f16, Image};
+use crate::abi::PATCHEX_DEFAULT_NETWORK_MAX_PATCH_SIDE;
 use crate::network::{Network, TensorPrecision, INPUT_CHANNELS};
-use crate::passes::inpaint::PATCH_MARGIN;
+use crate::passes::inpaint::{patch_capacity, PATCH_MARGIN};
 use crate::passes::segmentation::{REGION_FI, REGION_NEAR_BE};
 
 /// Where a pass runs: `extent` texels from `origin` in the frame, each covering `divisor` x
@@ -70,6 +71,8 @@ pub struct Networks<'a> {
     pub precision: TensorPrecision,
     /// Frame pixels per network texel on each axis (`resolution_divisor`).
     pub divisor: u32,
+    /// The network texels a patch may span per axis (`PatchexNetworkMemory`).
+    pub max_patch_side: u32,
     /// Corrections over every pixel of their region, not only the warp's holes.
     pub correct_valid_pixels: bool,
 }
@@ -82,6 +85,7 @@ impl Default for Networks<'_> {
             whole_frame: false,
             precision: TensorPrecision::default(),
             divisor: 1,
+            max_patch_side: PATCHEX_DEFAULT_NETWORK_MAX_PATCH_SIDE,
             correct_valid_pixels: false,
         }
     }
@@ -104,13 +108,15 @@ pub struct Patches {
 /// Plans the patches of a frame of `extent` from its segmentation: FI bounds the FI pixels of
 /// `regions`, near-BE the grown `rects`; with `whole_frame`, FI bounds the frame. `levels` are
 /// the FI and near-BE networks' level counts, 0 for a network that does not run; their texels
-/// cover `divisor` pixels a side.
+/// cover `divisor` pixels a side, or a multiple of it for a patch larger than `max_patch_side`
+/// texels.
 pub fn plan_patches(
     regions: &Image,
     rects: &[crate::abi::PatchexRegionRect],
     levels: [u32; 2],
     whole_frame: bool,
     divisor: u32,
+    max_patch_side: u32,
 ) -> Patches {
     let extent = [regions.width as u32, regions.height as u32];
     let mut fi: Span = None;
@@ -138,10 +144,21 @@ pub fn plan_patches(
         let multiple = 1 << (levels - 1);
         let origin = lo.map(|v| v.saturating_sub(PATCH_MARGIN));
         let end = [0, 1].map(|a| (hi[a] + PATCH_MARGIN).min(extent[a]));
+        let capacity = patch_capacity(extent, max_patch_side, multiple);
+        let texels_at = |divisor: u32| {
+            [0, 1].map(|a| {
+                (end[a] - origin[a])
+                    .div_ceil(divisor)
+                    .next_multiple_of(multiple)
+            })
+        };
+        let mut divisor = divisor;
+        while (0..2).any(|a| texels_at(divisor)[a] > capacity[a]) {
+            divisor *= 2;
+        }
         Patch {
             origin,
-            extent: [0, 1]
-                .map(|a| (end[a] - origin[a]).div_ceil(divisor).div_ceil(multiple) * multiple),
+            extent: texels_at(divisor),
             divisor,
         }
     };
@@ -270,6 +287,7 @@ pub fn inpaint(
         levels,
         networks.whole_frame,
         networks.divisor,
+        networks.max_patch_side,
     );
     let corrections = [(networks.fi, patches.fi), (near_be, patches.near_be)].map(
         |(network, patch)| match network {

@@ -490,9 +490,13 @@ int main(int argc, char **argv) {
   }
   create_gpu();
 
-  /* Every struct a create info takes, chained. */
+  /* Every struct a create info takes, chained. Tensors for patches up to 64 texels a side: the
+     whole-frame extrapolation runs at half the frame's resolution. */
+  PatchexNetworkMemory memory;
+  memory.header = header(PATCHEX_STRUCT_TYPE_NETWORK_MEMORY, sizeof memory, NULL);
+  memory.max_patch_side = 64;
   PatchexNetworkPrecision precision;
-  precision.header = header(PATCHEX_STRUCT_TYPE_NETWORK_PRECISION, sizeof precision, NULL);
+  precision.header = header(PATCHEX_STRUCT_TYPE_NETWORK_PRECISION, sizeof precision, &memory);
   precision.tensors = PATCHEX_TENSOR_PRECISION_FP32;
   PatchexNetworkSettings networks;
   networks.header = header(PATCHEX_STRUCT_TYPE_NETWORK_SETTINGS, sizeof networks, &precision);

@@ -88,10 +88,7 @@ impl Configuration {
             Configuration::Patchex | Configuration::PatchexNoShadows => {
                 Some(NetworkChoice::default())
             }
-            Configuration::PatchexWholeFrame => Some(NetworkChoice {
-                whole_frame: true,
-                ..Default::default()
-            }),
+            Configuration::PatchexWholeFrame => Some(NetworkChoice::whole_frame()),
             Configuration::PatchexFp32 => Some(NetworkChoice {
                 fp32_tensors: true,
                 ..Default::default()

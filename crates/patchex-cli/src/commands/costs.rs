@@ -141,8 +141,8 @@ pub fn report(
          inputs and output (PatchexStageTraffic), arithmetic operations per pixel (a static \
          count), the time measured here, and the roofline lower bound on the {} ({}): the \
          larger of bytes over bandwidth and operations over peak. The networks' stages \
-         (inference, blend) count their tensors whole, as the context holds them for a whole \
-         frame, and their layers' arithmetic not at all: for them the bytes bound the traffic \
+         (inference, blend) count their tensors whole, at the size the context holds them (the \
+         largest patch, PatchexNetworkMemory), and their layers' arithmetic not at all: for them the bytes bound the traffic \
          from above and the roofline figure is no lower bound.\n\n\
          | configuration | stage | read B/px | written B/px | ops/px | measured ms | {} bound \
          µs |\n|---|---|---|---|---|---|---|",

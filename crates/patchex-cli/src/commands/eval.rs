@@ -134,10 +134,7 @@ impl Method {
                 correct_valid_pixels: true,
                 ..Default::default()
             }),
-            Method::PatchexWholeFrame => Some(NetworkChoice {
-                whole_frame: true,
-                ..Default::default()
-            }),
+            Method::PatchexWholeFrame => Some(NetworkChoice::whole_frame()),
             Method::PatchexNoPerceptual => Some(NetworkChoice {
                 weights: Some(args.no_perceptual_weights.clone()),
                 ..Default::default()

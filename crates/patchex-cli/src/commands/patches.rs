@@ -177,7 +177,9 @@ pub fn run(args: PatchesArgs) -> CommandResult {
             );
             let (truth, _) = demodulate(&target.color, &target.base_color, Some(&target.material));
             let regions = &result.segmented.regions;
-            let patches = plan_patches(regions, &result.segmented.rects, LEVELS, false, 1);
+            // At the frame's resolution, whatever the patch's size: training crops it anyway.
+            let patches =
+                plan_patches(regions, &result.segmented.rects, LEVELS, false, 1, u32::MAX);
             for (network, region_id, patch) in [
                 ("fi", REGION_FI, patches.fi),
                 ("near_be", REGION_NEAR_BE, patches.near_be),

@@ -39,6 +39,9 @@ pub struct NetworkChoice {
     /// The paper's blend: corrections over valid pixels too, not only holes
     /// (`PatchexNetworkSettings.correct_valid_pixels`).
     pub correct_valid_pixels: bool,
+    /// Network texels a patch may span per axis (`PatchexNetworkMemory`); the library's default
+    /// without one.
+    pub max_patch_side: Option<u32>,
 }
 
 impl Default for NetworkChoice {
@@ -50,6 +53,19 @@ impl Default for NetworkChoice {
             fp32_tensors: false,
             resolution_divisor: 1,
             correct_valid_pixels: false,
+            max_patch_side: None,
+        }
+    }
+}
+
+impl NetworkChoice {
+    /// The paper's ablation of foveated segmentation: the FI network over the whole frame, at
+    /// the frame's resolution (tensors for the whole frame).
+    pub fn whole_frame() -> Self {
+        Self {
+            whole_frame: true,
+            max_patch_side: Some(PATCHEX_MAX_NETWORK_PATCH_SIDE),
+            ..Self::default()
         }
     }
 }
@@ -474,16 +490,31 @@ fn create(
         )),
         None => None,
     };
-    // The chain: the weights (when a folder is named), then the precision (when FP32).
+    // The chain: the weights (when a folder is named), then the precision (when FP32), then the
+    // tensors' patch side (when one is named).
+    let memory = networks
+        .and_then(|n| n.max_patch_side)
+        .map(|max_patch_side| PatchexNetworkMemory {
+            header: PatchexStructHeader::of::<PatchexNetworkMemory>(
+                PATCHEX_STRUCT_TYPE_NETWORK_MEMORY,
+            ),
+            max_patch_side,
+        });
+    let memory_link = memory.as_ref().map_or(ptr::null(), |m| {
+        m as *const PatchexNetworkMemory as *const c_void
+    });
     let precision = networks
         .filter(|n| n.fp32_tensors)
         .map(|_| PatchexNetworkPrecision {
-            header: PatchexStructHeader::of::<PatchexNetworkPrecision>(
-                PATCHEX_STRUCT_TYPE_NETWORK_PRECISION,
-            ),
+            header: PatchexStructHeader {
+                next: memory_link,
+                ..PatchexStructHeader::of::<PatchexNetworkPrecision>(
+                    PATCHEX_STRUCT_TYPE_NETWORK_PRECISION,
+                )
+            },
             tensors: PATCHEX_TENSOR_PRECISION_FP32,
         });
-    let precision_link = precision.as_ref().map_or(ptr::null(), |p| {
+    let precision_link = precision.as_ref().map_or(memory_link, |p| {
         p as *const PatchexNetworkPrecision as *const c_void
     });
     let weights = paths.as_ref().map(|(fi, near_be)| PatchexNetworkWeights {
