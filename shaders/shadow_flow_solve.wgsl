@@ -12,7 +12,7 @@ var<immediate> params: Params;
 
 @group(0) @binding(0) var rows: texture_2d<f32>;
 @group(0) @binding(1) var rows_h2: texture_2d<f32>;
-@group(0) @binding(2) var flow: texture_storage_2d<rgba32float, write>;
+@group(0) @binding(2) var flow: texture_storage_2d<rg32float, write>;
 
 @compute @workgroup_size(8, 8, 1)
 fn main(@builtin(global_invocation_id) id: vec3u) {

@@ -10,7 +10,7 @@ struct Params {
 var<immediate> params: Params;
 
 @group(0) @binding(0) var flow_pyramid: texture_2d<f32>;
-@group(0) @binding(1) var flow: texture_storage_2d<rgba32float, write>;
+@group(0) @binding(1) var flow: texture_storage_2d<rg32float, write>;
 
 @compute @workgroup_size(8, 8, 1)
 fn main(@builtin(global_invocation_id) id: vec3u) {

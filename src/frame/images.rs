@@ -233,13 +233,11 @@ impl ShadowImages {
         atlas_image("patchex flow equations h2", vk::Format::R32_SFLOAT),
         atlas_image("patchex flow rows", vk::Format::R32G32B32A32_SFLOAT),
         atlas_image("patchex flow rows h2", vk::Format::R32_SFLOAT),
-        atlas_image(
-            "patchex shadow flow pyramid",
-            vk::Format::R32G32B32A32_SFLOAT,
-        ),
+        // Displacements: two channels.
+        atlas_image("patchex shadow flow pyramid", vk::Format::R32G32_SFLOAT),
         ImageSpec {
             cleared: true,
-            ..frame_image("patchex shadow flow", vk::Format::R32G32B32A32_SFLOAT)
+            ..frame_image("patchex shadow flow", vk::Format::R32G32_SFLOAT)
         },
         frame_image("patchex shadow hole list", vk::Format::R32_UINT),
     ];
