@@ -1,6 +1,7 @@
 // One level of the shadow mask's pyramid: each texel is the mean of the 2x2 texels of the finer
 // level it covers (the last row or column of an odd-sized level repeats). The finest level
-// averages frame t's full-resolution mask, written by separate_shadows.wgsl.
+// averages frame t's full-resolution mask, written by separate_shadows.wgsl, in blocks of
+// `mask_step` x `mask_step` pixels (src/passes/shadow_flow.rs).
 // #import flow
 
 struct Params {
@@ -10,6 +11,8 @@ struct Params {
     finer_size: vec2u,
     // 1: the finer level is the frame's mask; 0: the previous level of the atlas.
     from_mask: u32,
+    // Edge of the block of finer texels each texel averages.
+    block: u32,
 }
 var<immediate> params: Params;
 
@@ -31,12 +34,13 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     if (any(p >= params.level_size)) {
         return;
     }
-    let q = 2 * vec2i(p);
+    let n = i32(params.block);
+    let q = n * vec2i(p);
     var sum = 0.0;
-    for (var dy = 0; dy < 2; dy++) {
-        for (var dx = 0; dx < 2; dx++) {
+    for (var dy = 0; dy < n; dy++) {
+        for (var dx = 0; dx < n; dx++) {
             sum += finer_texel(q + vec2i(dx, dy));
         }
     }
-    textureStore(level, params.level_offset + p, vec4f(0.25 * sum, 0.0, 0.0, 0.0));
+    textureStore(level, params.level_offset + p, vec4f(sum / f32(n * n), 0.0, 0.0, 0.0));
 }

@@ -373,7 +373,8 @@ pub struct PatchexSegmentationSettings {
 /// the shadows cast by dynamic objects in frame t. Warping moves what is painted on surfaces,
 /// but a moving character's shadow moves over ground whose motion vectors are zero; with this
 /// input patchex separates that shadow from frame t, estimates its motion from the masks of
-/// frames t-1 and t (Farneback dense optical flow, at half resolution), moves it to the target
+/// frames t-1 and t (Farneback dense optical flow, at half resolution, or coarser where the
+/// context's frames have been larger than 1280 pixels a side), moves it to the target
 /// instant with the occlusion-motion-vector warp, and swaps it for the shadow the frame's own
 /// warp carried along. Without it the shadow sub-task does
 /// not run and costs nothing; its motion is known from the second consecutive frame with it.

@@ -14,11 +14,12 @@ mod support;
 
 use std::ffi::c_void;
 
+use ash::vk;
 use glam::{Vec2, Vec3};
 use patchex::abi::*;
 use patchex::camera::Camera;
 use patchex::error::PatchexResult;
-use patchex::passes::shadow_flow::{FlowSettings, MAX_WINDOW_RADIUS};
+use patchex::passes::shadow_flow::{mask_step, FlowSettings, MAX_WINDOW_RADIUS};
 use patchex::reference::{self, round_to_f16, Image, ShadowInputs};
 use support::pipeline::{inputs, psnr, read_image};
 use support::scene::{Frame, Scene};
@@ -114,6 +115,11 @@ fn reference_run(
             mask: &source.shadow_mask,
             previous: Some((&previous.shadow_mask, &previous.stencil)),
             flow: FlowSettings::default(),
+            // The rigs are made for the frames' own size.
+            mask_step: mask_step(vk::Extent2D {
+                width: source.color.width as u32,
+                height: source.color.height as u32,
+            }),
         }),
         alpha,
         &Default::default(),
@@ -133,14 +139,27 @@ fn worst_error(got: f32, want: f32, absolute: f32, relative: f32) -> f32 {
 
 #[test]
 fn shadow_passes_match_their_references_on_rendered_frames() {
-    const W: u32 = 128;
-    const H: u32 = 72;
+    assert_shadow_passes_match_their_references(128, 72);
+}
+
+/// A frame wider than 1280 pixels: the flow's finest level averages 4 x 4 pixels.
+#[test]
+fn shadow_flow_of_a_large_frame_starts_coarser_as_the_reference_does() {
+    let extent = vk::Extent2D {
+        width: 1344,
+        height: 96,
+    };
+    assert_eq!(mask_step(extent), 4);
+    assert_shadow_passes_match_their_references(extent.width, extent.height);
+}
+
+fn assert_shadow_passes_match_their_references(width: u32, height: u32) {
     // Frames 0 and 2 are rendered frames t-1 and t, frame 3 the instant halfway to t+1.
-    let sequence = support::rendered::render("shadow_terrain.toml", 4, W, H);
+    let sequence = support::rendered::render("shadow_terrain.toml", 4, width, height);
     let [previous, _, source, target] = &sequence.frames[..] else {
         unreachable!("four frames")
     };
-    let rig = shadows_rig(W, H);
+    let rig = shadows_rig(width, height);
     let outcome = run_with_shadows(&rig, previous, source, target, 0.5, true);
     let messages = rig.engine.take_validation_messages();
     assert!(messages.is_empty(), "validation: {messages:?}");
@@ -150,8 +169,8 @@ fn shadow_passes_match_their_references_on_rendered_frames() {
     let (mut flow_worst, mut layer_worst, mut warped_worst, mut output_worst) =
         (0.0f32, 0.0f32, 0.0f32, 0.0f32);
     let mut moving = 0;
-    for y in 0..H as usize {
-        for x in 0..W as usize {
+    for y in 0..height as usize {
+        for x in 0..width as usize {
             let got = outcome.diagnostics.at(x, y);
             let flow = shadows.flow.at(x, y);
             for c in 0..2 {
@@ -185,7 +204,7 @@ fn shadow_passes_match_their_references_on_rendered_frames() {
     assert!(output_worst <= 1.0, "output differs from the reference");
     // The case is real: the character's shadow moves and darkens the ground.
     assert!(moving > 50, "only {moving} pixels of the flow move");
-    let shadowed = (0..(W * H) as usize)
+    let shadowed = (0..(width * height) as usize)
         .filter(|&i| source.shadow_mask.data[i] < 0.5)
         .count();
     assert!(shadowed > 50, "only {shadowed} pixels in shadow");

@@ -255,6 +255,7 @@ impl ShadowImages {
             rows_h2: &self[Self::ROWS_H2],
             flow_pyramid: &self[Self::FLOW_PYRAMID],
             flow: &self[Self::FLOW],
+            mask_step: shadow_flow::mask_step(self.extent),
         }
     }
 }

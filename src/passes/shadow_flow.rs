@@ -6,9 +6,10 @@
 //! frame t-1 in pixels: the convention of motion vectors, so the occlusion-motion-vector warp
 //! can carry the shadow layer with it.
 //!
-//! The pyramid starts at half the frame's resolution: shadows are soft and move as wholes, and
-//! the flow costs a quarter of what it would at full resolution (time and memory) for a field
-//! that is smooth anyway. Every quantity's pyramid is one atlas image: level 0 at the origin,
+//! The pyramid starts at half the frame's resolution, or coarser in a context whose frames have
+//! been larger than 1280 pixels a side (`mask_step`): shadows are soft and move as wholes, and the flow costs a quarter of
+//! what it would at full resolution (time and memory), and no more at larger frames, for a
+//! field that is smooth anyway. Every quantity's pyramid is one atlas image: level 0 at the origin,
 //! each coarser level in a column to its right (`pyramid`). One descriptor set per pass serves
 //! every level; push constants say which. The expansion of frame t-1 is the one computed at the
 //! previous submit.
@@ -158,17 +159,33 @@ pub fn pyramid(extent: vk::Extent2D, levels: u32) -> Vec<Level> {
     result
 }
 
-/// The extent of the pyramid's finest level for a frame of `extent`: half of it, rounded up.
-pub fn flow_extent(extent: vk::Extent2D) -> vk::Extent2D {
+/// The most texels the pyramid's finest level spans on either axis: about 640 x 360, enough for
+/// a soft shadow's edge at 720p, and the cost of the flow at any larger frame.
+pub const FINEST_MAX_SIDE: u32 = 640;
+
+/// Frame pixels per texel of the pyramid's finest level on each axis, for frames up to
+/// `largest` (the shadow images' extent): 2, or the next power of two that brings the level
+/// within `FINEST_MAX_SIDE`.
+pub fn mask_step(largest: vk::Extent2D) -> u32 {
+    let mut step = 2;
+    while largest.width.max(largest.height).div_ceil(step) > FINEST_MAX_SIDE {
+        step *= 2;
+    }
+    step
+}
+
+/// The extent of the pyramid's finest level for a frame of `extent`: a `step`-th of it, rounded
+/// up.
+pub fn flow_extent(extent: vk::Extent2D, step: u32) -> vk::Extent2D {
     vk::Extent2D {
-        width: extent.width.div_ceil(2),
-        height: extent.height.div_ceil(2),
+        width: extent.width.div_ceil(step),
+        height: extent.height.div_ceil(step),
     }
 }
 
 /// The size of an atlas holding the pyramid of every frame up to `extent`.
 pub fn atlas_extent(extent: vk::Extent2D) -> vk::Extent2D {
-    let finest = flow_extent(extent);
+    let finest = flow_extent(extent, mask_step(extent));
     vk::Extent2D {
         width: finest.width + finest.width.div_ceil(2),
         height: finest.height,
@@ -191,6 +208,8 @@ pub struct FlowImages<'a> {
     pub flow_pyramid: &'a OwnedImage,
     /// The result, at the frame's resolution.
     pub flow: &'a OwnedImage,
+    /// Frame pixels per texel of the finest level (`mask_step` of the images' extent).
+    pub mask_step: u32,
 }
 
 pub struct FlowPasses<'a> {
@@ -263,7 +282,7 @@ pub fn record(
             .image(u::binding::FLOW, images.flow)
     });
 
-    let levels = pyramid(flow_extent(extent), settings.levels);
+    let levels = pyramid(flow_extent(extent, images.mask_step), settings.levels);
     let frame = Level {
         offset: [0, 0],
         size: [extent.width, extent.height],
@@ -277,7 +296,7 @@ pub fn record(
             finer_offset: finer.unwrap_or(&frame).offset,
             finer_size: finer.unwrap_or(&frame).size,
             from_mask: finer.is_none() as u32,
-            ..Default::default()
+            block: if finer.is_none() { images.mask_step } else { 2 },
         };
         rec.dispatch(&mask_pyramid, &params, extent_of(level));
     }

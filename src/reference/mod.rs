@@ -36,6 +36,9 @@ pub struct ShadowInputs<'a> {
     /// Frame t-1's mask and object ids (stencil).
     pub previous: Option<(&'a Image, &'a Image)>,
     pub flow: crate::passes::shadow_flow::FlowSettings,
+    /// Frame pixels per texel of the flow's finest level: `shadow_flow::mask_step` of the
+    /// largest frame the context has seen.
+    pub mask_step: u32,
 }
 
 /// The shadow sub-task's results.
@@ -147,7 +150,12 @@ pub fn extrapolate(
         let flow = match shadow.previous {
             Some((mask, object_ids)) => {
                 let previous_mask = separate_shadows::flow_mask(mask, object_ids);
-                optical_flow::frame_flow(&separated.mask, &previous_mask, &shadow.flow)
+                optical_flow::frame_flow(
+                    &separated.mask,
+                    &previous_mask,
+                    &shadow.flow,
+                    shadow.mask_step,
+                )
             }
             None => Image::new(extent.width as usize, extent.height as usize, 4),
         };

@@ -37,25 +37,30 @@ fn bilinear(image: &Image, pos: Vec2) -> Vec4 {
     top * (1.0 - f.y) + bottom * f.y
 }
 
-/// The mask pyramid: level 0 the 2x2 mean of the frame's mask, each level the 2x2 mean of the
-/// finer one.
-pub fn pyramid(mask: &Image, levels: u32) -> Vec<Image> {
+/// The mask pyramid: level 0 the mean of the frame's mask over blocks of `mask_step` pixels a
+/// side, each level the 2x2 mean of the finer one.
+pub fn pyramid(mask: &Image, levels: u32, mask_step: u32) -> Vec<Image> {
     let mut result: Vec<Image> = Vec::new();
     for _ in 0..levels {
         let finer = result.last().unwrap_or(mask);
+        let n = if result.is_empty() {
+            mask_step as usize
+        } else {
+            2
+        };
         let level = Image::from_fn(
-            finer.width.div_ceil(2),
-            finer.height.div_ceil(2),
+            finer.width.div_ceil(n),
+            finer.height.div_ceil(n),
             1,
             |x, y| {
-                let (x, y) = (2 * x as i32, 2 * y as i32);
+                let (x, y) = (n * x, n * y);
                 let mut sum = 0.0;
-                for dy in 0..2 {
-                    for dx in 0..2 {
-                        sum += finer.clamped(x + dx, y + dy)[0];
+                for dy in 0..n {
+                    for dx in 0..n {
+                        sum += finer.clamped((x + dx) as i32, (y + dy) as i32)[0];
                     }
                 }
-                vec![0.25 * sum]
+                vec![sum / (n * n) as f32]
             },
         );
         result.push(level);
@@ -100,8 +105,8 @@ pub fn expand(level: &Image, params: &shadow_poly::Params) -> Expansion {
 }
 
 /// Every level's expansion of a mask, as the submit computes it.
-pub fn expand_pyramid(mask: &Image, settings: &FlowSettings) -> Vec<Expansion> {
-    let levels = pyramid(mask, settings.levels);
+pub fn expand_pyramid(mask: &Image, settings: &FlowSettings, mask_step: u32) -> Vec<Expansion> {
+    let levels = pyramid(mask, settings.levels, mask_step);
     levels
         .iter()
         .map(|level| {
@@ -229,11 +234,17 @@ pub fn upsample(flow: &Image, width: usize, height: usize) -> Image {
 }
 
 /// Each pixel's displacement from frame t to frame t-1, from the two frames' masks as the flow
-/// sees them (`separate_shadows::flow_mask`).
-pub fn frame_flow(current: &Image, previous: &Image, settings: &FlowSettings) -> Image {
+/// sees them (`separate_shadows::flow_mask`), with the finest level at a `mask_step`-th of the
+/// frame's resolution.
+pub fn frame_flow(
+    current: &Image,
+    previous: &Image,
+    settings: &FlowSettings,
+    mask_step: u32,
+) -> Image {
     let finest = flow(
-        &expand_pyramid(current, settings),
-        &expand_pyramid(previous, settings),
+        &expand_pyramid(current, settings, mask_step),
+        &expand_pyramid(previous, settings, mask_step),
         settings,
     );
     upsample(&finest, current.width, current.height)
