@@ -247,7 +247,8 @@ impl Context {
                 warp_settings.shadow_params(inputs.extent, &inputs.geometry.camera, inputs.alpha);
             let layer = &shadows[ShadowImages::LAYER];
             rec.stage(PATCHEX_STAGE_SHADOW_WARP, |rec| {
-                let surface_holes = &shadows[ShadowImages::SURFACE_HOLE_LIST];
+                // The frame's fill has read its holes: the list's image takes the layer's.
+                let surface_holes = &work[WorkImages::HOLE_LIST];
                 record_warp(
                     rec,
                     (warp_pipeline, 1),

@@ -138,7 +138,8 @@ impl WorkImages {
     /// Frame t's packed G-buffer (`pack_gbuffer`): linear depth, and normal with id.
     pub const SOURCE_DEPTH: usize = 1;
     pub const SOURCE_NORMAL_ID: usize = 2;
-    /// The holes the G-buffer warp leaves to the fill (`warp::HoleList`).
+    /// The holes the G-buffer warp leaves to the fill (`warp::HoleList`); the shadow layer's
+    /// warp lists its own there after the frame's fill.
     pub const HOLE_LIST: usize = 3;
 
     const SPECS: [ImageSpec; 4] = [
@@ -184,7 +185,7 @@ impl OutputStaging {
 }
 
 /// The shadow sub-task's images, made at the first frame with a shadow input.
-pub type ShadowImages = ImageSet<16>;
+pub type ShadowImages = ImageSet<15>;
 
 impl ShadowImages {
     pub const LAYER: usize = 0;
@@ -203,10 +204,8 @@ impl ShadowImages {
     const ROWS_H2: usize = 12;
     pub const FLOW_PYRAMID: usize = 13;
     pub const FLOW: usize = 14;
-    /// The holes of the shadow layer's G-buffer warp (`warp::HoleList`).
-    pub const SURFACE_HOLE_LIST: usize = 15;
 
-    const SPECS: [ImageSpec; 16] = [
+    const SPECS: [ImageSpec; 15] = [
         // Shading, as the frame's: RGBA16F.
         frame_image("patchex shadow layer", vk::Format::R16G16B16A16_SFLOAT),
         frame_image(
@@ -239,7 +238,6 @@ impl ShadowImages {
             cleared: true,
             ..frame_image("patchex shadow flow", vk::Format::R32G32_SFLOAT)
         },
-        frame_image("patchex shadow hole list", vk::Format::R32_UINT),
     ];
 
     pub fn flow_images(&self, current: usize) -> shadow_flow::FlowImages<'_> {
