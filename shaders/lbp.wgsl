@@ -1,6 +1,6 @@
 // Local binary pattern of the warped frame, an input of the inpainting networks: bit k is set
 // when neighbour k (clockwise from the top-left) is at least as bright as the centre. Written as
-// code / 255. Luminance of the demodulated shading, neighbours clamped at the image edge.
+// code / 255 in R16F, which the networks' input holds anyway. Luminance of the demodulated shading, neighbours clamped at the image edge.
 
 struct Params {
     extent: vec2u,
@@ -8,7 +8,7 @@ struct Params {
 var<immediate> params: Params;
 
 @group(0) @binding(0) var warped: texture_storage_2d<rgba16float, read>;
-@group(0) @binding(1) var lbp: texture_storage_2d<r32float, write>;
+@group(0) @binding(1) var lbp: texture_storage_2d<r16float, write>;
 
 const LUMINANCE: vec3f = vec3f(0.2126, 0.7152, 0.0722);
 const NEIGHBOURS: array<vec2i, 8> = array<vec2i, 8>(

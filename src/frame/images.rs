@@ -162,7 +162,7 @@ impl AnalysisImages {
 
     const SPECS: [ImageSpec; 2] = [
         frame_image("patchex regions", vk::Format::R32_UINT),
-        frame_image("patchex lbp", vk::Format::R32_SFLOAT),
+        frame_image("patchex lbp", vk::Format::R16_SFLOAT),
     ];
 }
 

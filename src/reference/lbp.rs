@@ -2,7 +2,7 @@
 
 use glam::Vec3;
 
-use super::Image;
+use super::{round_to_f16, Image};
 
 pub const LUMINANCE: Vec3 = Vec3::new(0.2126, 0.7152, 0.0722);
 /// Clockwise from the top-left; neighbour k sets bit k.
@@ -21,7 +21,7 @@ pub fn luminance(image: &Image, x: i32, y: i32) -> f32 {
     Vec3::from_slice(image.clamped(x, y)).dot(LUMINANCE)
 }
 
-/// LBP codes of `warped`'s luminance, as code / 255 in one channel.
+/// LBP codes of `warped`'s luminance, as code / 255 in one channel, rounded to f16 as stored.
 pub fn lbp(warped: &Image) -> Image {
     Image::from_fn(warped.width, warped.height, 1, |x, y| {
         let (x, y) = (x as i32, y as i32);
@@ -31,6 +31,6 @@ pub fn lbp(warped: &Image) -> Image {
             .enumerate()
             .filter(|(_, (dx, dy))| luminance(warped, x + dx, y + dy) >= centre)
             .fold(0u32, |code, (k, _)| code | 1 << k);
-        vec![code as f32 / 255.0]
+        vec![round_to_f16(code as f32 / 255.0)]
     })
 }
