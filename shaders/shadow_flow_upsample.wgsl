@@ -1,5 +1,6 @@
 // The flow of the pyramid's finest level (half the frame's resolution) scaled up to the frame:
-// bilinear in position, multiplied by the size ratio in length.
+// bilinear in position, multiplied by the size ratio in length, stored in half floats as the
+// engine's motion vectors usually are (1/32 pixel up to 64 pixels).
 // #import flow
 
 struct Params {
@@ -10,7 +11,7 @@ struct Params {
 var<immediate> params: Params;
 
 @group(0) @binding(0) var flow_pyramid: texture_2d<f32>;
-@group(0) @binding(1) var flow: texture_storage_2d<rg32float, write>;
+@group(0) @binding(1) var flow: texture_storage_2d<rg16float, write>;
 
 @compute @workgroup_size(8, 8, 1)
 fn main(@builtin(global_invocation_id) id: vec3u) {

@@ -232,11 +232,11 @@ impl ShadowImages {
         atlas_image("patchex flow equations h2", vk::Format::R32_SFLOAT),
         atlas_image("patchex flow rows", vk::Format::R32G32B32A32_SFLOAT),
         atlas_image("patchex flow rows h2", vk::Format::R32_SFLOAT),
-        // Displacements: two channels.
+        // Displacements: two channels; the frame's in half floats, as motion vectors come.
         atlas_image("patchex shadow flow pyramid", vk::Format::R32G32_SFLOAT),
         ImageSpec {
             cleared: true,
-            ..frame_image("patchex shadow flow", vk::Format::R32G32_SFLOAT)
+            ..frame_image("patchex shadow flow", vk::Format::R16G16_SFLOAT)
         },
     ];
 

@@ -5,7 +5,7 @@
 
 use glam::{Vec2, Vec4};
 
-use super::Image;
+use super::{round_to_f16, Image};
 use crate::passes::shadow_flow::{FlowSettings, Level, REGULARIZATION};
 use crate::shaders::shadow_poly;
 
@@ -229,7 +229,7 @@ pub fn upsample(flow: &Image, width: usize, height: usize) -> Image {
         let pos = (Vec2::new(x as f32, y as f32) + 0.5) / ratio - 0.5;
         let v = bilinear(flow, pos);
         let d = Vec2::new(v.x, v.y) * ratio;
-        vec![d.x, d.y, 0.0, 0.0]
+        vec![round_to_f16(d.x), round_to_f16(d.y), 0.0, 0.0]
     })
 }
 
