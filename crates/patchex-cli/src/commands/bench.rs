@@ -153,6 +153,11 @@ pub struct BenchArgs {
     /// uses) or engine (a deferred renderer's formats), which decides the bytes the inputs cost.
     #[arg(long, value_enum, default_value_t = InputFormats::Float32)]
     input_formats: InputFormats,
+    /// Network texels a patch may span per axis (`PatchexNetworkMemory.max_patch_side`) for the
+    /// configurations on patches; the library's default (512) without it. The whole-frame
+    /// ablation always holds the whole frame.
+    #[arg(long)]
+    max_patch_side: Option<u32>,
     /// A TrueType font for the plot's text.
     #[arg(
         long,
@@ -234,6 +239,7 @@ pub fn run(args: BenchArgs) -> CommandResult {
             measure(
                 &dir,
                 args.input_formats,
+                args.max_patch_side,
                 &configurations,
                 &mut results[size_index],
             )?;
@@ -261,6 +267,7 @@ pub fn run(args: BenchArgs) -> CommandResult {
 fn measure(
     dir: &Path,
     input_formats: InputFormats,
+    max_patch_side: Option<u32>,
     configurations: &[Configuration],
     results: &mut [Measured],
 ) -> CommandResult {
@@ -280,6 +287,10 @@ fn measure(
                    index: usize| {
         frame_index += 2;
         let shadows = configuration.with_shadows();
+        let networks = configuration.networks().map(|networks| NetworkChoice {
+            max_patch_side: networks.max_patch_side.or(max_patch_side),
+            ..networks
+        });
         driver.extrapolate(
             frame_index,
             (source, &manifest.frames[index - 1]),
@@ -289,7 +300,7 @@ fn measure(
                 kind: configuration.warp(),
                 ..WarpSettings::default()
             }),
-            configuration.networks().as_ref(),
+            networks.as_ref(),
             false,
             shadows.then_some(Some((earlier, &manifest.frames[index - 3]))),
         )
@@ -337,12 +348,15 @@ fn report(args: &BenchArgs, configurations: &[Configuration], results: &[Vec<Mea
     writeln!(
         out,
         "Every configuration on the same targets of {} ({} frames each, targets from frame 3 \
-         on, alpha 0.5, the G-buffer in {:?} formats), quality of the tone-mapped frame \
-         against the rendered target; GPU ms per target from timestamp queries (submit plus \
-         extrapolation), grouped as the PatchEX runtime table.\n",
+         on, alpha 0.5, the G-buffer in {:?} formats, the networks' patches up to {} texels a \
+         side, the whole-frame ablation's the whole frame), quality of the tone-mapped frame against the rendered \
+         target; GPU ms per target from timestamp queries (submit plus extrapolation), grouped \
+         as the PatchEX runtime table.\n",
         scenes.join(" and "),
         args.frames,
-        args.input_formats
+        args.input_formats,
+        args.max_patch_side
+            .unwrap_or(PATCHEX_DEFAULT_NETWORK_MAX_PATCH_SIDE)
     )
     .unwrap();
     write!(out, "| size | configuration | PSNR dB | SSIM | FLIP |").unwrap();
