@@ -562,7 +562,8 @@ typedef struct PatchexSegmentationSettings {
 // the shadows cast by dynamic objects in frame t. Warping moves what is painted on surfaces,
 // but a moving character's shadow moves over ground whose motion vectors are zero; with this
 // input patchex separates that shadow from frame t, estimates its motion from the masks of
-// frames t-1 and t (Farneback dense optical flow, at half resolution), moves it to the target
+// frames t-1 and t (Farneback dense optical flow, at half resolution, or coarser where the
+// context's frames have been larger than 1280 pixels a side), moves it to the target
 // instant with the occlusion-motion-vector warp, and swaps it for the shadow the frame's own
 // warp carried along. Without it the shadow sub-task does
 // not run and costs nothing; its motion is known from the second consecutive frame with it.
@@ -685,7 +686,8 @@ typedef struct PatchexDiagnostics {
 // intermediate results, written only when frame t came with a PatchexShadowInput.
 // R16G16B16A16_SFLOAT with STORAGE usage, the size of the output. RG = the shadow mask's flow at
 // this pixel of frame t (its displacement to frame t-1, in pixels); B = luminance of frame t's
-// demodulated shadow layer; A = luminance of that layer warped to the target instant.
+// demodulated shadow layer; A = luminance of the change the shadows make at the target instant
+// (the layer moved by its flow, less the layer as the frame's warp carried it).
 typedef struct PatchexShadowDiagnostics {
   // PATCHEX_STRUCT_TYPE_SHADOW_DIAGNOSTICS, sizeof(PatchexShadowDiagnostics), chain.
   struct PatchexStructHeader header;

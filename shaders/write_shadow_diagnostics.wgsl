@@ -1,6 +1,7 @@
 // Copies the shadow sub-task's intermediate results into the engine's shadow diagnostics image:
 // RG = the mask's flow at this pixel of frame t (displacement to frame t-1, pixels),
-// B = luminance of frame t's shadow layer, A = luminance of the warped shadow layer.
+// B = luminance of frame t's shadow layer, A = luminance of the shadow's change at the target
+// (the layer as its flow moved it, less as the frame's warp carried it).
 
 struct Params {
     extent: vec2u,
@@ -9,7 +10,7 @@ var<immediate> params: Params;
 
 @group(0) @binding(0) var flow: texture_2d<f32>;
 @group(0) @binding(1) var shadow_layer: texture_2d<f32>;
-@group(0) @binding(2) var warped_layer: texture_2d<f32>;
+@group(0) @binding(2) var shadow_change: texture_2d<f32>;
 @group(0) @binding(3) var diagnostics: texture_storage_2d<rgba16float, write>;
 
 const LUMINANCE: vec3f = vec3f(0.2126, 0.7152, 0.0722);
@@ -21,6 +22,6 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
         return;
     }
     let layer = dot(textureLoad(shadow_layer, p, 0).rgb, LUMINANCE);
-    let warped = dot(textureLoad(warped_layer, p, 0).rgb, LUMINANCE);
-    textureStore(diagnostics, p, vec4f(textureLoad(flow, p, 0).xy, layer, warped));
+    let change = dot(textureLoad(shadow_change, p, 0).rgb, LUMINANCE);
+    textureStore(diagnostics, p, vec4f(textureLoad(flow, p, 0).xy, layer, change));
 }

@@ -535,7 +535,8 @@ pub struct PatchexDiagnostics {
 /// intermediate results, written only when frame t came with a PatchexShadowInput.
 /// R16G16B16A16_SFLOAT with STORAGE usage, the size of the output. RG = the shadow mask's flow at
 /// this pixel of frame t (its displacement to frame t-1, in pixels); B = luminance of frame t's
-/// demodulated shadow layer; A = luminance of that layer warped to the target instant.
+/// demodulated shadow layer; A = luminance of the change the shadows make at the target instant
+/// (the layer moved by its flow, less the layer as the frame's warp carried it).
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
 pub struct PatchexShadowDiagnostics {

@@ -37,7 +37,7 @@ fn shadows_rig(max_width: u32, max_height: u32) -> Rig {
 /// What one run of three frames gave back.
 struct ShadowOutcome {
     output: Image,
-    /// RG flow, B layer luminance, A warped layer luminance (`PatchexShadowDiagnostics`).
+    /// RG flow, B layer luminance, A shadow change luminance (`PatchexShadowDiagnostics`).
     diagnostics: Image,
     stats: PatchexFrameStats,
 }
@@ -166,7 +166,7 @@ fn assert_shadow_passes_match_their_references(width: u32, height: u32) {
     let expected = reference_run(previous, source, target, 0.5);
     let shadows = expected.shadows.as_ref().expect("a shadow input was given");
 
-    let (mut flow_worst, mut layer_worst, mut warped_worst, mut output_worst) =
+    let (mut flow_worst, mut layer_worst, mut change_worst, mut output_worst) =
         (0.0f32, 0.0f32, 0.0f32, 0.0f32);
     let mut moving = 0;
     for y in 0..height as usize {
@@ -180,8 +180,8 @@ fn assert_shadow_passes_match_their_references(width: u32, height: u32) {
             moving += (Vec2::new(flow[0], flow[1]).length() > 0.5) as usize;
             let layer = round_to_f16(luminance(shadows.separated.shadow_layer.at(x, y)));
             layer_worst = layer_worst.max(worst_error(got[2], layer, 1e-4, 2e-3));
-            let warped = round_to_f16(luminance(shadows.warped_layer.warped.at(x, y)));
-            warped_worst = warped_worst.max(worst_error(got[3], warped, 1e-3, 2e-3));
+            let change = round_to_f16(luminance(shadows.change.at(x, y)));
+            change_worst = change_worst.max(worst_error(got[3], change, 1e-3, 2e-3));
             for c in 0..3 {
                 let (g, w) = (outcome.output.at(x, y)[c], expected.output.at(x, y)[c]);
                 output_worst = output_worst.max(worst_error(g, w, 1e-3, 2e-3));
@@ -189,8 +189,8 @@ fn assert_shadow_passes_match_their_references(width: u32, height: u32) {
         }
     }
     eprintln!(
-        "worst / tolerance: flow {flow_worst:.3}, layer {layer_worst:.3}, warped layer \
-         {warped_worst:.3}, output {output_worst:.3}; {moving} pixels of flow over 0.5 px"
+        "worst / tolerance: flow {flow_worst:.3}, layer {layer_worst:.3}, shadow change \
+         {change_worst:.3}, output {output_worst:.3}; {moving} pixels of flow over 0.5 px"
     );
     assert!(flow_worst <= 1.0, "flow differs from the reference");
     assert!(
@@ -198,8 +198,8 @@ fn assert_shadow_passes_match_their_references(width: u32, height: u32) {
         "shadow layer differs from the reference"
     );
     assert!(
-        warped_worst <= 1.0,
-        "warped shadow layer differs from the reference"
+        change_worst <= 1.0,
+        "shadow change differs from the reference"
     );
     assert!(output_worst <= 1.0, "output differs from the reference");
     // The case is real: the character's shadow moves and darkens the ground.

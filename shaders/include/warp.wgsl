@@ -33,6 +33,9 @@ struct Params {
     // work, without shadow layers), counting what was sanitised.
     remodulate: u32,
     has_material: u32,
+    // Not 0 for the shadow layer through the frame's warp: store the shadow's change instead
+    // (`store_pixel`).
+    shadow_delta: u32,
 }
 var<immediate> params: Params;
 
@@ -83,6 +86,8 @@ struct Cameras {
 @group(0) @binding(6) var warped: texture_storage_2d<rgba16float, write>;
 @group(0) @binding(7) var<storage, read_write> counters: WarpCounters;
 @group(0) @binding(8) var<uniform> cameras: Cameras;
+// With `shadow_delta`: the shadow layer as its flow moved it, which `warped` holds.
+@group(0) @binding(15) var moved_layer: texture_2d<f32>;
 
 // The target pixel's surface, unpacked, with the size of a pixel's footprint on it, which every
 // texel it is compared with needs.
@@ -200,7 +205,8 @@ struct DeferredHoles {
     groups_z: u32,
 }
 
-// Writes pixel p's warped shading (alpha 0 for a hole), remodulated when the warp remodulates.
+// Writes pixel p's warped shading (alpha 0 for a hole), remodulated when the warp remodulates,
+// or the shadow's change when it carries the shadow layer.
 fn store_pixel(p: vec2u, shading: vec3f, hole: bool) {
     var color = vec4f(to_half(shading), select(1.0, 0.0, hole));
     if (params.remodulate != 0u) {
@@ -210,6 +216,14 @@ fn store_pixel(p: vec2u, shading: vec3f, hole: bool) {
         if (m.changed || remodulated.changed) {
             atomicAdd(&group_tallies[TALLY_SANITIZED], 1u);
         }
+    }
+    if (params.shadow_delta != 0u) {
+        // What remodulation adds on static surfaces: the layer as its flow moved it, less the
+        // shadow this warp carried with the surfaces (in half floats, as it was stored before),
+        // where the flow found a receiver (alpha 1); nothing elsewhere.
+        let moved = textureLoad(moved_layer, p, 0);
+        let change = clamp((moved.rgb - color.rgb) * moved.a, vec3f(-MAX_HALF), vec3f(MAX_HALF));
+        color = vec4f(to_half(change), moved.a);
     }
     textureStore(warped, p, color);
 }

@@ -185,7 +185,7 @@ impl Context {
                            params: &warp::Params,
                            source_shading: &OwnedImage,
                            motion: Texture,
-                           remodulation: Option<&warp::Remodulation>,
+                           store: warp::Store,
                            output: Texture,
                            counters_offset: u64,
                            hole_list: Option<(&OwnedImage, usize)>| {
@@ -210,13 +210,13 @@ impl Context {
                 passes.nth(pipeline, nth),
                 params,
                 &inputs,
-                remodulation,
+                store,
                 output,
                 &counters,
                 holes.as_ref(),
             );
             if let Some(holes) = &holes {
-                fill_holes::record(rec, params, &inputs, remodulation, output, &counters, holes);
+                fill_holes::record(rec, params, &inputs, store, output, &counters, holes);
             }
         };
         // With nothing to run between the warp and the output (no shadow layers, networks or
@@ -234,32 +234,24 @@ impl Context {
                 &warp_params,
                 &work[WorkImages::SOURCE_SHADING],
                 motion,
-                remodulate_in_warp.then_some(&remodulation),
+                match remodulate_in_warp {
+                    true => warp::Store::Remodulated(&remodulation),
+                    false => warp::Store::Shading,
+                },
                 frame,
                 counters::WARP,
                 lists_holes.then_some((&work[WorkImages::HOLE_LIST], 0)),
             )
         });
         if let Some(shadows) = shadows {
-            // The shadow layer through the frame's own warp (where that warp put frame t's
-            // shadow), and moved by the mask's flow scaled to the target instant.
+            // The shadow layer moved by the mask's flow scaled to the target instant; then
+            // through the frame's own warp (where that warp put frame t's shadow), which turns
+            // the moved layer into the shadow's change in place.
             let params =
                 warp_settings.shadow_params(inputs.extent, &inputs.geometry.camera, inputs.alpha);
             let layer = &shadows[ShadowImages::LAYER];
+            let change: Texture = (&shadows[ShadowImages::SHADOW_CHANGE]).into();
             rec.stage(PATCHEX_STAGE_SHADOW_WARP, |rec| {
-                // The frame's fill has read its holes: the list's image takes the layer's.
-                let surface_holes = &work[WorkImages::HOLE_LIST];
-                record_warp(
-                    rec,
-                    (warp_pipeline, 1),
-                    &warp_params,
-                    layer,
-                    motion,
-                    None,
-                    (&shadows[ShadowImages::SURFACE_LAYER]).into(),
-                    counters::SURFACE_LAYER,
-                    lists_holes.then_some((surface_holes, 1)),
-                );
                 let flow_warp = PipelineId::WarpOcclusionMotion;
                 record_warp(
                     rec,
@@ -267,10 +259,22 @@ impl Context {
                     &params,
                     layer,
                     (&shadows[ShadowImages::FLOW]).into(),
-                    None,
-                    (&shadows[ShadowImages::WARPED_LAYER]).into(),
+                    warp::Store::Shading,
+                    change,
                     counters::SHADOW_WARP,
                     None,
+                );
+                // The frame's fill has read its holes: the list's image takes the layer's.
+                record_warp(
+                    rec,
+                    (warp_pipeline, 1),
+                    &warp_params,
+                    layer,
+                    motion,
+                    warp::Store::ShadowChange,
+                    change,
+                    counters::SURFACE_LAYER,
+                    lists_holes.then_some((&work[WorkImages::HOLE_LIST], 1)),
                 );
             });
         }
@@ -367,7 +371,7 @@ impl Context {
                     let sources = diagnostics::shadow_sources(
                         &shadows[ShadowImages::FLOW],
                         &shadows[ShadowImages::LAYER],
-                        &shadows[ShadowImages::WARPED_LAYER],
+                        &shadows[ShadowImages::SHADOW_CHANGE],
                     );
                     let pass = passes.get(PipelineId::WriteShadowDiagnostics);
                     diagnostics::record(rec, pass, inputs.extent, sources, image);
@@ -383,10 +387,7 @@ impl Context {
                     &remodulate::RemodulateInputs {
                         base_color,
                         material,
-                        shadow_layers: shadows.map(|s| {
-                            [ShadowImages::WARPED_LAYER, ShadowImages::SURFACE_LAYER]
-                                .map(|index| (&s[index]).into())
-                        }),
+                        shadow_change: shadows.map(|s| (&s[ShadowImages::SHADOW_CHANGE]).into()),
                         target_stencil: target_gbuffer.stencil,
                         placeholder,
                         placeholder_uint,

@@ -185,37 +185,29 @@ impl OutputStaging {
 }
 
 /// The shadow sub-task's images, made at the first frame with a shadow input.
-pub type ShadowImages = ImageSet<15>;
+pub type ShadowImages = ImageSet<14>;
 
 impl ShadowImages {
     pub const LAYER: usize = 0;
-    /// The layer moved by the flow.
-    pub const WARPED_LAYER: usize = 1;
-    /// The layer carried by the frame's own warp: where that warp puts frame t's shadow.
-    pub const SURFACE_LAYER: usize = 2;
-    pub const MASK: usize = 3;
-    pub const MASK_PYRAMID: usize = 4;
+    /// The layer as its flow moved it, which the frame's warp of the layer then turns into the
+    /// shadow's change at the target: moved less carried, where the flow found a receiver.
+    pub const SHADOW_CHANGE: usize = 1;
+    pub const MASK: usize = 2;
+    pub const MASK_PYRAMID: usize = 3;
     /// Frame t's and frame t-1's expansions, alternating (`Context::shadow_current`).
-    pub const POLY: [usize; 2] = [5, 6];
-    pub const POLY_XY: [usize; 2] = [7, 8];
-    pub const EQUATIONS: usize = 9;
-    const EQUATIONS_H2: usize = 10;
-    pub const ROWS: usize = 11;
-    const ROWS_H2: usize = 12;
-    pub const FLOW_PYRAMID: usize = 13;
-    pub const FLOW: usize = 14;
+    pub const POLY: [usize; 2] = [4, 5];
+    pub const POLY_XY: [usize; 2] = [6, 7];
+    pub const EQUATIONS: usize = 8;
+    const EQUATIONS_H2: usize = 9;
+    pub const ROWS: usize = 10;
+    const ROWS_H2: usize = 11;
+    pub const FLOW_PYRAMID: usize = 12;
+    pub const FLOW: usize = 13;
 
-    const SPECS: [ImageSpec; 15] = [
+    const SPECS: [ImageSpec; 14] = [
         // Shading, as the frame's: RGBA16F.
         frame_image("patchex shadow layer", vk::Format::R16G16B16A16_SFLOAT),
-        frame_image(
-            "patchex moved shadow layer",
-            vk::Format::R16G16B16A16_SFLOAT,
-        ),
-        frame_image(
-            "patchex surface-warped shadow layer",
-            vk::Format::R16G16B16A16_SFLOAT,
-        ),
+        frame_image("patchex shadow change", vk::Format::R16G16B16A16_SFLOAT),
         frame_image("patchex shadow mask", vk::Format::R32_SFLOAT),
         atlas_image("patchex shadow mask pyramid", vk::Format::R32_SFLOAT),
         atlas_image(

@@ -20,18 +20,18 @@ pub fn frame_sources(warped: Texture, regions: &OwnedImage, lbp: &OwnedImage) ->
     [warped, regions.into(), lbp.into()]
 }
 
-/// What `write_shadow_diagnostics` reads: the flow, the shadow layer and the moved layer.
+/// What `write_shadow_diagnostics` reads: the flow, the shadow layer and the shadow's change.
 pub fn shadow_sources<'a>(
     flow: &'a OwnedImage,
     shadow_layer: &'a OwnedImage,
-    warped_layer: &'a OwnedImage,
+    shadow_change: &'a OwnedImage,
 ) -> [Texture; 3] {
     use write_shadow_diagnostics::binding;
     debug_assert_eq!(
-        [binding::FLOW, binding::SHADOW_LAYER, binding::WARPED_LAYER],
+        [binding::FLOW, binding::SHADOW_LAYER, binding::SHADOW_CHANGE],
         [0, 1, 2]
     );
-    [flow, shadow_layer, warped_layer].map(Texture::from)
+    [flow, shadow_layer, shadow_change].map(Texture::from)
 }
 
 /// Records either pass (`pass`) over `extent`.

@@ -12,9 +12,9 @@ use crate::vk::recorder::{Pass, Recorder};
 pub struct RemodulateInputs {
     pub base_color: Texture,
     pub material: Option<Texture>,
-    /// The shadow layer moved by its flow, and carried by the frame's warp; `None` without a
+    /// The shadow's change at the target (`warp::Store::ShadowChange`); `None` without a
     /// shadow input.
-    pub shadow_layers: Option<[Texture; 2]>,
+    pub shadow_change: Option<Texture>,
     /// The target's object ids, the engine's stencil (read for the shadow layers only); `None`:
     /// all static.
     pub target_stencil: Option<Texture>,
@@ -31,32 +31,26 @@ pub fn record(
     counters: &CounterRange,
 ) {
     let material = inputs.material.unwrap_or(inputs.placeholder);
-    let (moved_layer, surface_layer, stencil) = match inputs.shadow_layers {
-        Some([moved, surface]) => (
-            moved,
-            surface,
+    let (shadow_change, stencil) = match inputs.shadow_change {
+        Some(change) => (
+            change,
             inputs.target_stencil.unwrap_or(inputs.placeholder_uint),
         ),
-        None => (
-            inputs.placeholder,
-            inputs.placeholder,
-            inputs.placeholder_uint,
-        ),
+        None => (inputs.placeholder, inputs.placeholder_uint),
     };
     let bound = rec.bind(pass, |writes| {
         writes
             .image(binding::FRAME, frame)
             .image(binding::BASE_COLOR, inputs.base_color)
             .image(binding::MATERIAL, material)
-            .image(binding::MOVED_LAYER, moved_layer)
-            .image(binding::SURFACE_LAYER, surface_layer)
+            .image(binding::SHADOW_CHANGE, shadow_change)
             .image(binding::TARGET_STENCIL, stencil)
             .buffer(binding::COUNTERS, counters)
     });
     let params = Params {
         extent: [extent.width, extent.height],
         has_material: inputs.material.is_some() as u32,
-        has_shadow_layers: inputs.shadow_layers.is_some() as u32,
+        has_shadow_change: inputs.shadow_change.is_some() as u32,
         has_stencil: inputs.target_stencil.is_some() as u32,
         ..Default::default()
     };

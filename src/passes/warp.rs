@@ -189,6 +189,19 @@ pub struct Remodulation {
     pub material: Option<Texture>,
 }
 
+/// What a warp stores for a pixel.
+#[derive(Clone, Copy)]
+pub enum Store<'a> {
+    /// The warped shading, alpha 0 in holes.
+    Shading,
+    /// The shading remodulated: the output, when nothing runs between the warp and it.
+    Remodulated(&'a Remodulation),
+    /// For the shadow layer through the frame's warp, into the image where the flow's warp left
+    /// the moved layer: the shadow's change, the moved layer less the carried one where the
+    /// flow found a receiver (`Params::shadow_delta`).
+    ShadowChange,
+}
+
 /// The three warps' uniform block: both instants' pixel rays.
 pub use crate::shaders::warp_gbuffer::Cameras;
 pub const CAMERAS_BYTES: u64 = size_of::<Cameras>() as u64;
@@ -246,13 +259,13 @@ pub fn record(
     pass: Pass,
     params: &Params,
     inputs: &WarpInputs,
-    remodulation: Option<&Remodulation>,
+    store: Store,
     warped: Texture,
     counters: &CounterRange,
     holes: Option<&HoleList>,
 ) {
     let bound = rec.bind(pass, |writes| {
-        let writes = bind_common(writes, inputs, remodulation, warped, counters);
+        let writes = bind_common(writes, inputs, store, warped, counters);
         match holes {
             Some(holes) => writes
                 .image(binding::HOLE_LIST, holes.list)
@@ -264,14 +277,19 @@ pub fn record(
         width: params.extent[0],
         height: params.extent[1],
     };
-    rec.dispatch(&bound, &with_remodulation(params, remodulation), extent);
+    rec.dispatch(&bound, &storing(params, store), extent);
 }
 
-/// The parameters with the remodulation switched on when there is one.
-pub fn with_remodulation(params: &Params, remodulation: Option<&Remodulation>) -> Params {
+/// The parameters with what the warp stores switched on.
+pub fn storing(params: &Params, store: Store) -> Params {
+    let remodulation = match store {
+        Store::Remodulated(remodulation) => Some(remodulation),
+        _ => None,
+    };
     Params {
         remodulate: remodulation.is_some() as u32,
         has_material: remodulation.is_some_and(|r| r.material.is_some()) as u32,
+        shadow_delta: matches!(store, Store::ShadowChange) as u32,
         ..*params
     }
 }
@@ -280,14 +298,18 @@ pub fn with_remodulation(params: &Params, remodulation: Option<&Remodulation>) -
 pub fn bind_common<'p>(
     writes: DescriptorWrites<'p>,
     inputs: &WarpInputs<'p>,
-    remodulation: Option<&Remodulation>,
+    store: Store,
     warped: Texture,
     counters: &CounterRange,
 ) -> DescriptorWrites<'p> {
     let target = inputs.target;
-    let (base_color, material) = match remodulation {
-        Some(r) => (r.base_color, r.material.unwrap_or(inputs.placeholder)),
-        None => (inputs.placeholder, inputs.placeholder),
+    let (base_color, material) = match store {
+        Store::Remodulated(r) => (r.base_color, r.material.unwrap_or(inputs.placeholder)),
+        _ => (inputs.placeholder, inputs.placeholder),
+    };
+    let moved_layer = match store {
+        Store::ShadowChange => warped,
+        _ => inputs.placeholder,
     };
     writes
         .image(binding::SOURCE_SHADING, inputs.source_shading)
@@ -303,6 +325,7 @@ pub fn bind_common<'p>(
         .image(binding::MATERIAL, material)
         .image(binding::MOTION, inputs.motion)
         .image(binding::WARPED, warped)
+        .image(binding::MOVED_LAYER, moved_layer)
         .buffer(binding::COUNTERS, counters)
         .buffer(binding::CAMERAS, inputs.cameras)
 }

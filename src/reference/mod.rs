@@ -50,6 +50,9 @@ pub struct Shadows {
     pub warped_layer: warp::Warped,
     /// The layer carried by the frame's own warp, as the frame's shadows are.
     pub surface_layer: warp::Warped,
+    /// What remodulation adds on static surfaces: moved less carried where the flow found a
+    /// receiver, rounded to f16 as stored (`include/warp.wgsl`, `shadow_delta`).
+    pub change: Image,
 }
 
 /// Every intermediate result of one extrapolation.
@@ -190,11 +193,13 @@ pub fn extrapolate(
             },
             &params,
         );
+        let change = shadow_change(&warped_layer.warped, &surface_layer.warped);
         Shadows {
             separated,
             flow,
             warped_layer,
             surface_layer,
+            change,
         }
     });
     let segmented = segmentation::segment(
@@ -216,9 +221,7 @@ pub fn extrapolate(
     });
     let (output, target_sanitized) = remodulate::remodulate(
         inpainted.as_ref().map_or(&warped.warped, |i| &i.blended),
-        shadows
-            .as_ref()
-            .map(|s| [&s.warped_layer.warped, &s.surface_layer.warped]),
+        shadows.as_ref().map(|s| &s.change),
         &target_packed.normal_id,
         target.base_color,
         target.material,
@@ -235,6 +238,19 @@ pub fn extrapolate(
         source_invalid_geometry: source_packed.invalid_pixels,
         target_invalid_geometry: target_packed.invalid_pixels,
     }
+}
+
+/// The shadow's change at the target: the `moved` layer less the `carried` one where the flow
+/// found a receiver (alpha 1), rounded to f16 as stored; alpha the moved layer's.
+fn shadow_change(moved: &Image, carried: &Image) -> Image {
+    Image::from_fn(moved.width, moved.height, 4, |x, y| {
+        let (moved, carried) = (moved.at(x, y), carried.at(x, y));
+        let change = |c: usize| {
+            let value = (moved[c] - carried[c]) * moved[3];
+            round_to_f16(value.clamp(-gbuffer::MAX_HALF, gbuffer::MAX_HALF))
+        };
+        vec![change(0), change(1), change(2), moved[3]]
+    })
 }
 
 /// A float image in row-major order with interleaved channels.

@@ -6,11 +6,11 @@ use super::gbuffer::{pixel_modulation, sanitize_color};
 use super::{round_to_f16, Image};
 
 /// The output image, and the number of pixels whose inputs or result were sanitised.
-/// `shadow_layers` are, for a frame with a shadow input, its shadow layer moved by its flow and
-/// carried by the frame's warp; `target_normal_id` the target's packed G-buffer (object ids).
+/// `shadow_change` is, for a frame with a shadow input, the change its shadows make at the
+/// target (`Shadows::change`); `target_normal_id` the target's packed G-buffer (object ids).
 pub fn remodulate(
     shading: &Image,
-    shadow_layers: Option<[&Image; 2]>,
+    shadow_change: Option<&Image>,
     target_normal_id: &Image,
     base_color: &Image,
     material: Option<&Image>,
@@ -19,10 +19,8 @@ pub fn remodulate(
     let output = Image::from_fn(shading.width, shading.height, 4, |x, y| {
         let (factor, material_changed) = pixel_modulation(base_color, material, x, y);
         let mut shading = Vec3::from_slice(shading.at(x, y));
-        if let (Some([moved, carried]), 0.0) = (shadow_layers, target_normal_id.at(x, y)[3]) {
-            let moved = moved.at(x, y);
-            let carried = Vec3::from_slice(carried.at(x, y));
-            shading = (shading + (Vec3::from_slice(moved) - carried) * moved[3]).max(Vec3::ZERO);
+        if let (Some(change), 0.0) = (shadow_change, target_normal_id.at(x, y)[3]) {
+            shading = (shading + Vec3::from_slice(change.at(x, y))).max(Vec3::ZERO);
         }
         let (color, color_changed) = sanitize_color(shading * factor);
         sanitized += (material_changed || color_changed) as u32;
