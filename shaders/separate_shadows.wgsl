@@ -5,9 +5,9 @@
 // with F the colour, U the colour without dynamic shadows and m the modulation factor. Nothing
 // is divided by the mask, so fully shadowed pixels (mask 0) are as stable as lit ones.
 // Dynamic objects keep the shadows on them (mostly their own, which move with them, as the
-// warp moves them): there the layer is zero and the mask taken as lit, so the flow follows the
-// shadows on static receivers only. The sanitised mask is what the flow's pyramid is built
-// from. Each pixel with any input sanitised is counted once. Runs after the G-buffer packing,
+// warp moves them): there the layer is zero, and the flow's pyramid (shadow_pyramid.wgsl) takes
+// the mask as lit, so the flow follows the shadows on static receivers only. Each pixel with
+// any input sanitised, the mask included, is counted once. Runs after the G-buffer packing,
 // whose object ids it reads.
 // #import gbuffer
 // #import tallies
@@ -25,7 +25,6 @@ var<immediate> params: Params;
 @group(0) @binding(4) var material: texture_2d<f32>;
 @group(0) @binding(5) var shading: texture_storage_2d<rgba16float, write>;
 @group(0) @binding(6) var shadow_layer: texture_storage_2d<rgba16float, write>;
-@group(0) @binding(7) var flow_mask: texture_storage_2d<r32float, write>;
 @group(0) @binding(8) var<storage, read_write> counters: SanitizeCounters;
 @group(0) @binding(9) var source_normal_id: texture_2d<u32>;
 
@@ -43,12 +42,10 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
         var changed = m.changed || lit.changed || unshadowed.changed || visibility.changed || s.changed;
         if (object_id(textureLoad(source_normal_id, p, 0).r) != 0u) {
             textureStore(shadow_layer, p, vec4f(0.0, 0.0, 0.0, 1.0));
-            textureStore(flow_mask, p, vec4f(1.0, 0.0, 0.0, 0.0));
         } else {
             let layer = demodulated(lit.value - unshadowed.value, m.factor);
             textureStore(shadow_layer, p, vec4f(layer.value, 1.0));
             changed = changed || layer.changed;
-            textureStore(flow_mask, p, vec4f(visibility.value.x, 0.0, 0.0, 0.0));
         }
         if (changed) {
             atomicAdd(&group_tallies[0u], 1u);

@@ -1,7 +1,10 @@
 // One level of the shadow mask's pyramid: each texel is the mean of the 2x2 texels of the finer
 // level it covers (the last row or column of an odd-sized level repeats). The finest level
-// averages frame t's full-resolution mask, written by separate_shadows.wgsl, in blocks of
-// `mask_step` x `mask_step` pixels (src/passes/shadow_flow.rs).
+// averages, in blocks of `mask_step` x `mask_step` pixels (src/passes/shadow_flow.rs), what the
+// flow tracks of frame t: the engine's shadow mask, sanitised, on static pixels, and dynamic
+// objects as lit (their shadows move with them). src/reference/separate_shadows.rs `flow_mask`
+// mirrors that.
+// #import gbuffer
 // #import flow
 
 struct Params {
@@ -16,14 +19,19 @@ struct Params {
 }
 var<immediate> params: Params;
 
+// The engine's shadow mask of frame t, and frame t's packed normal and object id.
 @group(0) @binding(0) var mask: texture_2d<f32>;
+@group(0) @binding(3) var source_normal_id: texture_2d<u32>;
 @group(0) @binding(1) var finer: texture_2d<f32>;
 @group(0) @binding(2) var level: texture_storage_2d<r32float, write>;
 
 fn finer_texel(q: vec2i) -> f32 {
     let texel = level_texel(params.finer_offset, params.finer_size, q);
     if (params.from_mask != 0u) {
-        return textureLoad(mask, texel, 0).r;
+        if (object_id(textureLoad(source_normal_id, texel, 0).r) != 0u) {
+            return 1.0;
+        }
+        return sanitize_unit(vec3f(textureLoad(mask, texel, 0).r, 0.0, 0.0)).value.x;
     }
     return textureLoad(finer, texel, 0).r;
 }

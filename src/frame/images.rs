@@ -185,30 +185,28 @@ impl OutputStaging {
 }
 
 /// The shadow sub-task's images, made at the first frame with a shadow input.
-pub type ShadowImages = ImageSet<14>;
+pub type ShadowImages = ImageSet<13>;
 
 impl ShadowImages {
     pub const LAYER: usize = 0;
     /// The layer as its flow moved it, which the frame's warp of the layer then turns into the
     /// shadow's change at the target: moved less carried, where the flow found a receiver.
     pub const SHADOW_CHANGE: usize = 1;
-    pub const MASK: usize = 2;
-    pub const MASK_PYRAMID: usize = 3;
+    pub const MASK_PYRAMID: usize = 2;
     /// Frame t's and frame t-1's expansions, alternating (`Context::shadow_current`).
-    pub const POLY: [usize; 2] = [4, 5];
-    pub const POLY_XY: [usize; 2] = [6, 7];
-    pub const EQUATIONS: usize = 8;
-    const EQUATIONS_H2: usize = 9;
-    pub const ROWS: usize = 10;
-    const ROWS_H2: usize = 11;
-    pub const FLOW_PYRAMID: usize = 12;
-    pub const FLOW: usize = 13;
+    pub const POLY: [usize; 2] = [3, 4];
+    pub const POLY_XY: [usize; 2] = [5, 6];
+    pub const EQUATIONS: usize = 7;
+    const EQUATIONS_H2: usize = 8;
+    pub const ROWS: usize = 9;
+    const ROWS_H2: usize = 10;
+    pub const FLOW_PYRAMID: usize = 11;
+    pub const FLOW: usize = 12;
 
-    const SPECS: [ImageSpec; 14] = [
+    const SPECS: [ImageSpec; 13] = [
         // Shading, as the frame's: RGBA16F.
         frame_image("patchex shadow layer", vk::Format::R16G16B16A16_SFLOAT),
         frame_image("patchex shadow change", vk::Format::R16G16B16A16_SFLOAT),
-        frame_image("patchex shadow mask", vk::Format::R32_SFLOAT),
         atlas_image("patchex shadow mask pyramid", vk::Format::R32_SFLOAT),
         atlas_image(
             "patchex shadow expansion A",
@@ -232,9 +230,13 @@ impl ShadowImages {
         },
     ];
 
-    pub fn flow_images(&self, current: usize) -> shadow_flow::FlowImages<'_> {
+    pub fn flow_images<'a>(
+        &'a self,
+        current: usize,
+        frame: shadow_flow::FrameMask<'a>,
+    ) -> shadow_flow::FlowImages<'a> {
         shadow_flow::FlowImages {
-            mask: &self[Self::MASK],
+            frame,
             mask_pyramid: &self[Self::MASK_PYRAMID],
             poly: Self::POLY.map(|index| &self[index]),
             poly_xy: Self::POLY_XY.map(|index| &self[index]),

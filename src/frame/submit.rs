@@ -132,7 +132,6 @@ impl Context {
                         source_normal_id: &work[WorkImages::SOURCE_NORMAL_ID],
                         shading: &work[WorkImages::SOURCE_SHADING],
                         shadow_layer: &shadows[ShadowImages::LAYER],
-                        flow_mask: &shadows[ShadowImages::MASK],
                     },
                     &sanitize_counters,
                 ),
@@ -151,7 +150,7 @@ impl Context {
                 ),
             }
         });
-        if let Some(shadows) = shadows {
+        if let Some((shadows, separation)) = shadows.zip(separation_inputs.as_ref()) {
             rec.stage(PATCHEX_STAGE_SHADOW_FLOW, |rec| {
                 shadow_flow::record(
                     rec,
@@ -165,7 +164,13 @@ impl Context {
                     },
                     inputs.extent,
                     &flow_settings,
-                    &shadows.flow_images(self.shadow_current),
+                    &shadows.flow_images(
+                        self.shadow_current,
+                        shadow_flow::FrameMask {
+                            mask: separation.mask,
+                            source_normal_id: &work[WorkImages::SOURCE_NORMAL_ID],
+                        },
+                    ),
                     track,
                 )
             });

@@ -1,7 +1,7 @@
 //! Shadow separation (`shaders/separate_shadows.wgsl`), run in place of demodulation when the
 //! engine gives a shadow input, after the G-buffer packing (it reads the object ids): writes
-//! the demodulated frame, the shadow layer and the mask the flow tracks, and counts the pixels
-//! whose inputs it sanitised.
+//! the demodulated frame and the shadow layer, and counts the pixels whose inputs it sanitised
+//! (the flow's pyramid reads the mask itself).
 
 use ash::vk;
 
@@ -25,7 +25,6 @@ pub struct SeparationOutputs<'a> {
     pub source_normal_id: &'a OwnedImage,
     pub shading: &'a OwnedImage,
     pub shadow_layer: &'a OwnedImage,
-    pub flow_mask: &'a OwnedImage,
 }
 
 pub fn record(
@@ -47,7 +46,6 @@ pub fn record(
             .image(binding::MATERIAL, material)
             .image(binding::SHADING, outputs.shading)
             .image(binding::SHADOW_LAYER, outputs.shadow_layer)
-            .image(binding::FLOW_MASK, outputs.flow_mask)
             .image(binding::SOURCE_NORMAL_ID, outputs.source_normal_id)
             .buffer(binding::COUNTERS, counters)
     });

@@ -19,7 +19,7 @@ use ash::vk;
 use crate::abi::*;
 use crate::error::{bail, Result};
 use crate::shaders;
-use crate::vk::image::OwnedImage;
+use crate::vk::image::{OwnedImage, Texture};
 use crate::vk::recorder::{Pass, Recorder};
 
 pub const MAX_LEVELS: u32 = 6;
@@ -192,11 +192,18 @@ pub fn atlas_extent(extent: vk::Extent2D) -> vk::Extent2D {
     }
 }
 
+/// What the pyramid's finest level reads of frame t: the engine's shadow mask, and the packed
+/// object ids that tell dynamic pixels (taken as lit).
+#[derive(Clone, Copy)]
+pub struct FrameMask<'a> {
+    pub mask: Texture,
+    pub source_normal_id: &'a OwnedImage,
+}
+
 /// The images of the flow stage. `poly_*[current]` receive frame t's expansion; the other
 /// pair holds frame t-1's.
 pub struct FlowImages<'a> {
-    /// Frame t's mask at full resolution, as separation wrote it.
-    pub mask: &'a OwnedImage,
+    pub frame: FrameMask<'a>,
     pub mask_pyramid: &'a OwnedImage,
     pub poly: [&'a OwnedImage; 2],
     pub poly_xy: [&'a OwnedImage; 2],
@@ -243,7 +250,8 @@ pub fn record(
     let (current, previous) = (images.current, 1 - images.current);
     let mask_pyramid = rec.bind(passes.pyramid, |writes| {
         writes
-            .image(y::binding::MASK, images.mask)
+            .image(y::binding::MASK, images.frame.mask)
+            .image(y::binding::SOURCE_NORMAL_ID, images.frame.source_normal_id)
             .image(y::binding::FINER, images.mask_pyramid)
             .image(y::binding::LEVEL, images.mask_pyramid)
     });
