@@ -154,7 +154,7 @@ pub struct BenchArgs {
     #[arg(long, value_enum, default_value_t = InputFormats::Float32)]
     input_formats: InputFormats,
     /// Network texels a patch may span per axis (`PatchexNetworkMemory.max_patch_side`) for the
-    /// configurations on patches; the library's default (512) without it. The whole-frame
+    /// configurations on patches; the library's default (256) without it. The whole-frame
     /// ablation always holds the whole frame.
     #[arg(long)]
     max_patch_side: Option<u32>,

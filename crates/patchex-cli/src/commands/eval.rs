@@ -128,7 +128,7 @@ impl Method {
 
     /// The inpainting networks the method runs, if any.
     fn networks(self, args: &EvalArgs) -> Option<NetworkChoice> {
-        match self {
+        let choice = match self {
             Method::Patchex | Method::PatchexNoShadows => Some(NetworkChoice::default()),
             Method::PatchexEveryPixel => Some(NetworkChoice {
                 correct_valid_pixels: true,
@@ -140,7 +140,11 @@ impl Method {
                 ..Default::default()
             }),
             _ => None,
-        }
+        };
+        choice.map(|choice| NetworkChoice {
+            max_patch_side: choice.max_patch_side.or(args.max_patch_side),
+            ..choice
+        })
     }
 }
 
@@ -169,6 +173,10 @@ pub struct EvalArgs {
     /// by default the repository's, wherever the tool runs from.
     #[arg(long, default_value_os_t = repository_path("assets/networks/ablations/no_perceptual"))]
     no_perceptual_weights: PathBuf,
+    /// Network texels a patch may span per axis (`PatchexNetworkMemory.max_patch_side`) for the
+    /// methods on patches; the library's default without it.
+    #[arg(long)]
+    max_patch_side: Option<u32>,
     /// Also write every method's output, linear as scored, to
     /// OUT/frames/SCENE/METHOD/TARGET.exr (one "FinalImage" layer, R G B), so that other tools
     /// can score them.
