@@ -234,9 +234,10 @@ impl Context {
                 &warp_params,
                 &work[WorkImages::SOURCE_SHADING],
                 motion,
-                match remodulate_in_warp {
-                    true => warp::Store::Remodulated(&remodulation),
-                    false => warp::Store::Shading,
+                if remodulate_in_warp {
+                    warp::Store::Remodulated(&remodulation)
+                } else {
+                    warp::Store::Shading
                 },
                 frame,
                 counters::WARP,

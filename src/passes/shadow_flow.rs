@@ -7,10 +7,10 @@
 //! can carry the shadow layer with it.
 //!
 //! The pyramid starts at half the frame's resolution, or coarser in a context whose frames have
-//! been larger than 1280 pixels a side (`mask_step`): shadows are soft and move as wholes, and the flow costs a quarter of
-//! what it would at full resolution (time and memory), and no more at larger frames, for a
-//! field that is smooth anyway. Every quantity's pyramid is one atlas image: level 0 at the origin,
-//! each coarser level in a column to its right (`pyramid`). One descriptor set per pass serves
+//! been larger than 1280 pixels a side (`mask_step`): shadows are soft and move as wholes, and
+//! the flow costs a quarter of what it would at full resolution (time and memory), and no more
+//! at larger frames, for a field that is smooth anyway. Every quantity's pyramid is one atlas
+//! image: level 0 at the origin, each coarser level in a column to its right (`pyramid`). One descriptor set per pass serves
 //! every level; push constants say which. The expansion of frame t-1 is the one computed at the
 //! previous submit.
 

@@ -72,7 +72,9 @@ impl NetworkChoice {
 
 /// What a context is made with: its preset, and for the networks the weights folder and FP32
 /// tensors (`whole_frame`, the divisor and the blend are chosen per call).
-type ContextKey = (PatchexPreset, Option<PathBuf>, bool);
+/// What a context is made with: its preset, the weights' folder, FP32 tensors, and the
+/// tensors' patch side.
+type ContextKey = (PatchexPreset, Option<PathBuf>, bool, Option<u32>);
 
 /// How the driver stores a frame's layers in engine images.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
@@ -175,6 +177,7 @@ impl PluginDriver {
             preset,
             networks.and_then(|n| n.weights.clone()),
             networks.is_some_and(|n| n.fp32_tensors),
+            networks.and_then(|n| n.max_patch_side),
         );
         let mut contexts = self.contexts.borrow_mut();
         if let Some((_, context)) = contexts.iter().find(|(k, _)| *k == key) {
