@@ -1,6 +1,7 @@
 // Local binary pattern of the warped frame, an input of the inpainting networks: bit k is set
 // when neighbour k (clockwise from the top-left) is at least as bright as the centre. Written as
-// code / 255 in R16F, which the networks' input holds anyway. Luminance of the demodulated shading, neighbours clamped at the image edge.
+// code / 255 in R16F, which the networks' input holds anyway. Luminance of the demodulated
+// shading, neighbours clamped at the image edge.
 
 struct Params {
     extent: vec2u,

@@ -6,9 +6,10 @@
 // the patch's extent in texels is a d-th of its extent in the frame. A patch that would span
 // more texels than the tensors hold (`max_patch_side`, or the frame's own extent if smaller)
 // doubles its divisor until it fits. The blend patch bounds both, for the pass that scatters
-// the results back. A frame without dynamic objects, or a network that is off (levels 0), gets an empty
-// patch that dispatches no workgroup. With `whole_frame` (the ablation of foveated segmentation)
-// the FI patch is the whole frame instead. src/reference/inpaint.rs mirrors this pass.
+// the results back. A frame without dynamic objects, or a network that is off (levels 0), gets
+// an empty patch that dispatches no workgroup. With `whole_frame` (the ablation of foveated
+// segmentation) the FI patch is the whole frame instead. src/reference/inpaint.rs mirrors this
+// pass.
 // #import segmentation
 // #import patch
 

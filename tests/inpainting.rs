@@ -266,80 +266,59 @@ fn networks_at_a_lower_resolution_match_the_reference() {
 }
 
 /// The ablation of foveated segmentation: the FI network over the whole frame, every pixel
-/// repaired, as the reference does.
+/// repaired, as the reference does. In tensors smaller than the frame (`PatchexNetworkMemory`)
+/// the patch doubles its divisor until it fits, the stats report it, and the upsampled
+/// correction (over every pixel, `correct_valid_pixels`) is the reference's.
 #[test]
 fn whole_frame_runs_the_fi_network_over_every_pixel() {
     let sequence = render("crossing_street.toml", 2, WIDTH, HEIGHT);
     let (source, target) = (&sequence.frames[0], &sequence.frames[1]);
-    let rig = networks_rig();
-    let chained = Chained {
-        networks: Some(NetworkSwitches {
-            whole_frame: true,
-            ..NetworkSwitches::default()
-        }),
-        ..Chained::default()
-    };
-    let outcome = run_plugin(&rig, source, target, 0.5, &chained);
     let [fi, near_be] = shipped();
-    let networks = Networks {
-        fi: Some(&fi),
-        near_be: Some(&near_be),
-        whole_frame: true,
-        ..Networks::default()
-    };
-    let with = expected(source, target, networks);
     let without = expected(source, target, Networks::default());
-    assert_matches(&outcome, &with, &without, true);
-    let patches = with.inpainted.as_ref().unwrap().patches;
-    assert_eq!(patches.blend.extent, [WIDTH, HEIGHT]);
-    assert!(patches.near_be.is_empty());
-    assert_eq!(outcome.stats.extrapolations[0].repaired_fraction, 1.0);
-}
-
-/// Tensors smaller than the patch (`PatchexNetworkMemory`): the whole-frame patch doubles its
-/// divisor until it fits, the stats report it, and the upsampled correction is the reference's.
-#[test]
-fn a_patch_larger_than_the_tensors_runs_coarser() {
-    let sequence = render("crossing_street.toml", 2, WIDTH, HEIGHT);
-    let (source, target) = (&sequence.frames[0], &sequence.frames[1]);
-    const SIDE: u32 = PATCHEX_NETWORK_PATCH_SIDE_MULTIPLE;
-    let memory = PatchexNetworkMemory {
-        header: PatchexStructHeader::of::<PatchexNetworkMemory>(PATCHEX_STRUCT_TYPE_NETWORK_MEMORY),
-        max_patch_side: SIDE,
-    };
-    let rig = Rig::with_create_info(WIDTH, HEIGHT, |info| {
-        info.preset = PATCHEX_PRESET_NETWORKS;
-        info.header.next = &memory as *const _ as *const c_void;
-    });
-    let switches = NetworkSwitches {
-        whole_frame: true,
-        correct_valid_pixels: true,
-        ..NetworkSwitches::default()
-    };
-    let chained = Chained {
-        networks: Some(switches),
-        ..Chained::default()
-    };
-    let outcome = run_plugin(&rig, source, target, 0.5, &chained);
-    let [fi, near_be] = shipped();
-    let networks = Networks {
-        fi: Some(&fi),
-        near_be: Some(&near_be),
-        whole_frame: true,
-        correct_valid_pixels: true,
-        max_patch_side: SIDE,
-        ..Networks::default()
-    };
-    let with = expected(source, target, networks);
-    let without = expected(source, target, Networks::default());
-    assert_matches(&outcome, &with, &without, true);
-    let patches = with.inpainted.as_ref().unwrap().patches;
-    println!("patches: {patches:?}");
     // 128 x 72 pixels in at most 32 texels a side: a quarter of the resolution.
-    assert_eq!(patches.fi.divisor, 4);
-    assert!(patches.fi.extent.iter().all(|&side| side <= SIDE));
-    assert_eq!(patches.blend.extent, [WIDTH, HEIGHT]);
-    assert_eq!(outcome.stats.extrapolations[0].network_divisors, [4, 0]);
+    const SIDE: u32 = PATCHEX_NETWORK_PATCH_SIDE_MULTIPLE;
+    for (max_patch_side, divisor) in [(None, 1), (Some(SIDE), 4)] {
+        let memory = max_patch_side.map(|max_patch_side| PatchexNetworkMemory {
+            header: PatchexStructHeader::of::<PatchexNetworkMemory>(
+                PATCHEX_STRUCT_TYPE_NETWORK_MEMORY,
+            ),
+            max_patch_side,
+        });
+        let rig = Rig::with_create_info(WIDTH, HEIGHT, |info| {
+            info.preset = PATCHEX_PRESET_NETWORKS;
+            if let Some(memory) = &memory {
+                info.header.next = memory as *const _ as *const c_void;
+            }
+        });
+        let correct_valid_pixels = max_patch_side.is_some();
+        let chained = Chained {
+            networks: Some(NetworkSwitches {
+                whole_frame: true,
+                correct_valid_pixels,
+                ..NetworkSwitches::default()
+            }),
+            ..Chained::default()
+        };
+        let outcome = run_plugin(&rig, source, target, 0.5, &chained);
+        let networks = Networks {
+            fi: Some(&fi),
+            near_be: Some(&near_be),
+            whole_frame: true,
+            correct_valid_pixels,
+            max_patch_side: max_patch_side.unwrap_or(PATCHEX_DEFAULT_NETWORK_MAX_PATCH_SIDE),
+            ..Networks::default()
+        };
+        let with = expected(source, target, networks);
+        assert_matches(&outcome, &with, &without, true);
+        let patches = with.inpainted.as_ref().unwrap().patches;
+        println!("max_patch_side {max_patch_side:?}: {patches:?}");
+        assert_eq!(patches.fi.divisor, divisor);
+        assert_eq!(patches.blend.extent, [WIDTH, HEIGHT]);
+        assert!(patches.near_be.is_empty());
+        let stats = &outcome.stats.extrapolations[0];
+        assert_eq!(stats.network_divisors, [divisor, 0]);
+        assert_eq!(stats.repaired_fraction, 1.0);
+    }
 }
 
 /// PATCHEX_PRESET_FULL on a static frame without a shadow input: a warp alone.
