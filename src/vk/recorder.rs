@@ -188,7 +188,8 @@ impl<'a> Recorder<'a> {
     }
 
     /// `dispatch_indirect` over a list of `capacity` entries whose length the GPU wrote into
-    /// `count` (in the frame ring's counters): its traffic is reported for that length.
+    /// `count` (in the frame ring's counters), one invocation per entry: the bindings' traffic
+    /// is reported for that length, the indirect arguments' whole.
     pub fn dispatch_listed<P: PushConstants>(
         &mut self,
         bound: &Bound,
@@ -199,15 +200,14 @@ impl<'a> Recorder<'a> {
     ) {
         let before = std::mem::take(&mut self.traffic);
         self.dispatch_indirect(bound, params, args);
-        let traffic = std::mem::replace(&mut self.traffic, before);
-        let [group_x, group_y, group_z] = bound.pass.pipeline.shader.workgroup_size;
-        let listed = Traffic {
-            operations: capacity * bound.pass.pipeline.shader.arithmetic,
-            ..traffic
-        };
-        debug_assert_eq!(group_x * group_y * group_z, 64, "one invocation per entry");
+        let whole = std::mem::replace(&mut self.traffic, before);
+        self.traffic.bytes_read += args.range;
         self.listed.push(ListedTraffic {
-            traffic: listed,
+            traffic: Traffic {
+                bytes_read: whole.bytes_read - args.range,
+                operations: capacity * bound.pass.pipeline.shader.arithmetic,
+                ..whole
+            },
             count_offset: count.offset,
             capacity,
         });
