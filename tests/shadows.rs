@@ -20,6 +20,7 @@ use patchex::abi::*;
 use patchex::camera::Camera;
 use patchex::error::PatchexResult;
 use patchex::passes::shadow_flow::{mask_step, FlowSettings, MAX_WINDOW_RADIUS};
+use patchex::passes::warp::WarpSettings;
 use patchex::reference::{self, round_to_f16, Image, ShadowInputs};
 use support::pipeline::{inputs, psnr, read_image};
 use support::scene::{Frame, Scene};
@@ -52,6 +53,17 @@ fn run_with_shadows(
     alpha: f32,
     with_shadows: bool,
 ) -> ShadowOutcome {
+    run_with_shadows_warped(rig, [previous, source, target], alpha, with_shadows, None)
+}
+
+/// `run_with_shadows` with the extrapolation's warp settings `warp`.
+fn run_with_shadows_warped(
+    rig: &Rig,
+    [previous, source, target]: [&Frame; 3],
+    alpha: f32,
+    with_shadows: bool,
+    warp: Option<&WarpSettings>,
+) -> ShadowOutcome {
     let engine = &rig.engine;
     let family = engine.queue_family_index;
     let (width, height) = (source.color.width, source.color.height);
@@ -59,10 +71,16 @@ fn run_with_shadows(
     let gpu_target = GpuFrame::upload(engine, target);
     let output = output_image(engine, width as u32, height as u32);
     let diagnostics_image = output_image(engine, width as u32, height as u32);
+    let warp = warp.map(WarpSettings::to_abi);
     let diagnostics = PatchexShadowDiagnostics {
-        header: PatchexStructHeader::of::<PatchexShadowDiagnostics>(
-            PATCHEX_STRUCT_TYPE_SHADOW_DIAGNOSTICS,
-        ),
+        header: PatchexStructHeader {
+            next: warp
+                .as_ref()
+                .map_or(std::ptr::null(), |w| w as *const _ as *const c_void),
+            ..PatchexStructHeader::of::<PatchexShadowDiagnostics>(
+                PATCHEX_STRUCT_TYPE_SHADOW_DIAGNOSTICS,
+            )
+        },
         image: diagnostics_image.describe(OUTPUT_LAYOUT),
     };
     let shadow_inputs = frames.each_ref().map(|frame| frame.shadow_input());
@@ -104,6 +122,7 @@ fn reference_run(
     source: &Frame,
     target: &Frame,
     alpha: f32,
+    warp: &WarpSettings,
 ) -> reference::Extrapolation {
     let source_camera = Camera::from_abi(&source.camera, "source").unwrap();
     let target_camera = Camera::from_abi(&target.camera, "target").unwrap();
@@ -122,7 +141,7 @@ fn reference_run(
             }),
         }),
         alpha,
-        &Default::default(),
+        warp,
         &Default::default(),
         Default::default(),
     )
@@ -139,7 +158,18 @@ fn worst_error(got: f32, want: f32, absolute: f32, relative: f32) -> f32 {
 
 #[test]
 fn shadow_passes_match_their_references_on_rendered_frames() {
-    assert_shadow_passes_match_their_references(128, 72);
+    assert_shadow_passes_match_their_references(128, 72, &WarpSettings::default());
+}
+
+/// With the motion-vector warp as the frame's, whose warp of the layer stores the shadow's
+/// change as the G-buffer warp's does.
+#[test]
+fn shadow_passes_match_their_references_with_the_motion_vector_warp() {
+    let warp = WarpSettings {
+        kind: PATCHEX_WARP_MOTION_VECTOR,
+        ..WarpSettings::default()
+    };
+    assert_shadow_passes_match_their_references(128, 72, &warp);
 }
 
 /// A frame wider than 1280 pixels: the flow's finest level averages 4 x 4 pixels.
@@ -150,20 +180,25 @@ fn shadow_flow_of_a_large_frame_starts_coarser_as_the_reference_does() {
         height: 96,
     };
     assert_eq!(mask_step(extent), 4);
-    assert_shadow_passes_match_their_references(extent.width, extent.height);
+    assert_shadow_passes_match_their_references(
+        extent.width,
+        extent.height,
+        &WarpSettings::default(),
+    );
 }
 
-fn assert_shadow_passes_match_their_references(width: u32, height: u32) {
+fn assert_shadow_passes_match_their_references(width: u32, height: u32, warp: &WarpSettings) {
     // Frames 0 and 2 are rendered frames t-1 and t, frame 3 the instant halfway to t+1.
     let sequence = support::rendered::render("shadow_terrain.toml", 4, width, height);
     let [previous, _, source, target] = &sequence.frames[..] else {
         unreachable!("four frames")
     };
     let rig = shadows_rig(width, height);
-    let outcome = run_with_shadows(&rig, previous, source, target, 0.5, true);
+    let frames = [previous, source, target];
+    let outcome = run_with_shadows_warped(&rig, frames, 0.5, true, Some(warp));
     let messages = rig.engine.take_validation_messages();
     assert!(messages.is_empty(), "validation: {messages:?}");
-    let expected = reference_run(previous, source, target, 0.5);
+    let expected = reference_run(previous, source, target, 0.5, warp);
     let shadows = expected.shadows.as_ref().expect("a shadow input was given");
 
     let (mut flow_worst, mut layer_worst, mut change_worst, mut output_worst) =
@@ -506,7 +541,7 @@ fn non_finite_shadow_inputs_are_sanitised_and_counted() {
     }
     let rig = shadows_rig(160, 96);
     let outcome = run_with_shadows(&rig, &previous, &source, &target, 0.5, true);
-    let expected = reference_run(&previous, &source, &target, 0.5);
+    let expected = reference_run(&previous, &source, &target, 0.5, &WarpSettings::default());
     let shadows = expected.shadows.as_ref().expect("a shadow input was given");
     assert!(outcome.output.data.iter().all(|v| v.is_finite()));
     assert!(outcome.diagnostics.data.iter().all(|v| v.is_finite()));
