@@ -174,17 +174,8 @@ impl<'a> Recorder<'a> {
         params: &P,
         args: &CounterRange,
     ) {
-        let mut accesses = bound.accesses.clone();
-        accesses.push(Access {
-            resource: Resource::range(args),
-            write: false,
-            stage: vk::PipelineStageFlags::DRAW_INDIRECT,
-        });
-        self.order(&accesses);
+        self.record_indirect(bound, params, args);
         self.traffic += bound.traffic;
-        self.traffic.bytes_read += args.range;
-        let Pass { pipeline, set } = bound.pass;
-        pipeline.dispatch_indirect(self.device, self.cmd, set, params, args.buffer, args.offset);
     }
 
     /// `dispatch_indirect` over a list of `capacity` entries whose length the GPU wrote into
@@ -198,19 +189,35 @@ impl<'a> Recorder<'a> {
         count: &CounterRange,
         capacity: u64,
     ) {
-        let before = std::mem::take(&mut self.traffic);
-        self.dispatch_indirect(bound, params, args);
-        let whole = std::mem::replace(&mut self.traffic, before);
-        self.traffic.bytes_read += args.range;
+        self.record_indirect(bound, params, args);
         self.listed.push(ListedTraffic {
             traffic: Traffic {
-                bytes_read: whole.bytes_read - args.range,
                 operations: capacity * bound.pass.pipeline.shader.arithmetic,
-                ..whole
+                ..bound.traffic
             },
             count_offset: count.offset,
             capacity,
         });
+    }
+
+    /// An indirect dispatch after what it must wait for, counting the arguments it reads (its
+    /// bindings are the caller's to count).
+    fn record_indirect<P: PushConstants>(
+        &mut self,
+        bound: &Bound,
+        params: &P,
+        args: &CounterRange,
+    ) {
+        let mut accesses = bound.accesses.clone();
+        accesses.push(Access {
+            resource: Resource::range(args),
+            write: false,
+            stage: vk::PipelineStageFlags::DRAW_INDIRECT,
+        });
+        self.order(&accesses);
+        self.traffic.bytes_read += args.range;
+        let Pass { pipeline, set } = bound.pass;
+        pipeline.dispatch_indirect(self.device, self.cmd, set, params, args.buffer, args.offset);
     }
 
     /// Zeroes `range` (counters before the passes that count into them).
