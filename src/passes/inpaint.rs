@@ -25,6 +25,8 @@ pub const PATCH_MARGIN: u32 = 8;
 /// extent. A network's patch is a multiple of `multiple` texels, and so is `max_patch_side`
 /// (`PATCHEX_NETWORK_PATCH_SIDE_MULTIPLE`): a frame smaller than it needs only its own extent.
 pub fn patch_capacity(extent: [u32; 2], max_patch_side: u32, multiple: u32) -> [u32; 2] {
+    const DEEPEST_MULTIPLE: u32 = 1 << (MAX_LEVELS - 1);
+    const _: () = assert!(DEEPEST_MULTIPLE == crate::abi::PATCHEX_NETWORK_PATCH_SIDE_MULTIPLE);
     extent.map(|side| side.min(max_patch_side).next_multiple_of(multiple))
 }
 
