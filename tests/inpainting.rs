@@ -35,6 +35,19 @@ fn shipped() -> [Network; 2] {
     ]
 }
 
+/// What the reference runs for a call with `switches`, with the networks of `shipped`.
+fn reference_networks(switches: NetworkSwitches, shipped: &[Network; 2]) -> Networks<'_> {
+    let [fi, near_be] = shipped;
+    Networks {
+        fi: switches.fi.then_some(fi),
+        near_be: switches.near_be.then_some(near_be),
+        whole_frame: switches.whole_frame,
+        divisor: switches.divisor,
+        correct_valid_pixels: switches.correct_valid_pixels,
+        ..Networks::default()
+    }
+}
+
 fn networks_rig() -> Rig {
     Rig::with_create_info(WIDTH, HEIGHT, |info| info.preset = PATCHEX_PRESET_NETWORKS)
 }
@@ -196,23 +209,17 @@ fn a_network_switched_off_leaves_its_region_to_the_warp() {
     let sequence = render("crossing_street.toml", 2, WIDTH, HEIGHT);
     let (source, target) = (&sequence.frames[0], &sequence.frames[1]);
     let rig = networks_rig();
+    let switches = NetworkSwitches {
+        fi: false,
+        ..NetworkSwitches::default()
+    };
     let chained = Chained {
-        networks: Some(NetworkSwitches {
-            fi: false,
-            ..NetworkSwitches::default()
-        }),
+        networks: Some(switches),
         ..Chained::default()
     };
     let outcome = run_plugin(&rig, source, target, 0.5, &chained);
-    let [_, near_be] = shipped();
-    let with = expected(
-        source,
-        target,
-        Networks {
-            near_be: Some(&near_be),
-            ..Networks::default()
-        },
-    );
+    let shipped = shipped();
+    let with = expected(source, target, reference_networks(switches, &shipped));
     let without = expected(source, target, Networks::default());
     assert_matches(&outcome, &with, &without, false);
     let stats = &outcome.stats.extrapolations[0];
@@ -230,29 +237,23 @@ fn a_network_switched_off_leaves_its_region_to_the_warp() {
 fn networks_at_a_lower_resolution_match_the_reference() {
     let sequence = render("crossing_street.toml", 2, WIDTH, HEIGHT);
     let (source, target) = (&sequence.frames[0], &sequence.frames[1]);
-    let [fi, near_be] = shipped();
+    let shipped = shipped();
     let without = expected(source, target, Networks::default());
     let mut extents = Vec::new();
     for divisor in [1, 2, 4] {
         let rig = networks_rig();
+        // Every region pixel corrected, so that the whole upsampled correction is checked.
+        let switches = NetworkSwitches {
+            divisor,
+            correct_valid_pixels: true,
+            ..NetworkSwitches::default()
+        };
         let chained = Chained {
-            // Every region pixel corrected, so that the whole upsampled correction is checked.
-            networks: Some(NetworkSwitches {
-                divisor,
-                correct_valid_pixels: true,
-                ..NetworkSwitches::default()
-            }),
+            networks: Some(switches),
             ..Chained::default()
         };
         let outcome = run_plugin(&rig, source, target, 0.5, &chained);
-        let networks = Networks {
-            fi: Some(&fi),
-            near_be: Some(&near_be),
-            divisor,
-            correct_valid_pixels: true,
-            ..Networks::default()
-        };
-        let with = expected(source, target, networks);
+        let with = expected(source, target, reference_networks(switches, &shipped));
         let change = assert_matches(&outcome, &with, &without, false);
         let patches = with.inpainted.as_ref().unwrap().patches;
         println!("divisor {divisor}: {patches:?}, change {change}");
@@ -273,7 +274,7 @@ fn networks_at_a_lower_resolution_match_the_reference() {
 fn whole_frame_runs_the_fi_network_over_every_pixel() {
     let sequence = render("crossing_street.toml", 2, WIDTH, HEIGHT);
     let (source, target) = (&sequence.frames[0], &sequence.frames[1]);
-    let [fi, near_be] = shipped();
+    let shipped = shipped();
     let without = expected(source, target, Networks::default());
     // 128 x 72 pixels in at most 32 texels a side: a quarter of the resolution.
     const SIDE: u32 = PATCHEX_NETWORK_PATCH_SIDE_MULTIPLE;
@@ -290,23 +291,19 @@ fn whole_frame_runs_the_fi_network_over_every_pixel() {
                 info.header.next = memory as *const _ as *const c_void;
             }
         });
-        let correct_valid_pixels = max_patch_side.is_some();
+        let switches = NetworkSwitches {
+            whole_frame: true,
+            correct_valid_pixels: max_patch_side.is_some(),
+            ..NetworkSwitches::default()
+        };
         let chained = Chained {
-            networks: Some(NetworkSwitches {
-                whole_frame: true,
-                correct_valid_pixels,
-                ..NetworkSwitches::default()
-            }),
+            networks: Some(switches),
             ..Chained::default()
         };
         let outcome = run_plugin(&rig, source, target, 0.5, &chained);
         let networks = Networks {
-            fi: Some(&fi),
-            near_be: Some(&near_be),
-            whole_frame: true,
-            correct_valid_pixels,
             max_patch_side: max_patch_side.unwrap_or(PATCHEX_DEFAULT_NETWORK_MAX_PATCH_SIDE),
-            ..Networks::default()
+            ..reference_networks(switches, &shipped)
         };
         let with = expected(source, target, networks);
         assert_matches(&outcome, &with, &without, true);
