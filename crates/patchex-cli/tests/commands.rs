@@ -133,3 +133,86 @@ fn bad_sizes_and_missing_scenes_are_reported() {
         text(&missing)
     );
 }
+
+/// `patchex patches --holes` writes each target's whole frame: its holes as the region, the
+/// planes the networks read, and the target's G-buffer as `guide`, whose modulation turns the
+/// demodulated target back into the rendered colour.
+#[test]
+fn patches_with_holes_writes_whole_frames_with_their_guide() {
+    use patchex_scene::dataset::{Dataset, FINAL_IMAGE};
+    use safetensors::SafeTensors;
+
+    let out = tempfile::tempdir().unwrap();
+    let scene = repo().join("crates/patchex-scene/tests/scenes/crossing.toml");
+    let dataset = out.path().join("seq");
+    let rendered = patchex(&[
+        "render",
+        scene.to_str().unwrap(),
+        "--frames",
+        "3",
+        "--size",
+        "96x54",
+        "--assets",
+        repo().join("assets").to_str().unwrap(),
+        "--out",
+        dataset.to_str().unwrap(),
+    ]);
+    assert!(rendered.status.success(), "{}", text(&rendered));
+    let samples = out.path().join("samples");
+    let written = patchex(&[
+        "patches",
+        dataset.to_str().unwrap(),
+        "--holes",
+        "--out",
+        samples.to_str().unwrap(),
+    ]);
+    assert!(written.status.success(), "{}", text(&written));
+
+    let bytes = std::fs::read(samples.join("seq_0001_holes.safetensors")).unwrap();
+    let tensors = SafeTensors::deserialize(&bytes).unwrap();
+    let plane = |name: &str, channels: usize| -> Vec<f32> {
+        let view = tensors.tensor(name).unwrap();
+        assert_eq!(view.shape(), [channels, 54, 96], "{name}");
+        view.data()
+            .chunks(4)
+            .map(|b| f32::from_le_bytes(b.try_into().unwrap()))
+            .collect()
+    };
+    let (input, target, region, hole, guide) = (
+        plane("input", 8),
+        plane("target", 3),
+        plane("region", 1),
+        plane("hole", 1),
+        plane("guide", 8),
+    );
+    let pixels = 96 * 54;
+    assert_eq!(region, hole);
+    assert_eq!(&input[3 * pixels..4 * pixels], &hole[..], "the input's hole plane");
+    assert!(hole.iter().all(|&h| h == 0.0 || h == 1.0));
+    let holes = hole.iter().filter(|&&h| h == 1.0).count();
+    assert!(holes > 0 && holes < pixels / 2, "{holes} holes");
+
+    let truth = Dataset::open(&dataset).unwrap().read_frame(1).unwrap();
+    let colour = truth.layer(FINAL_IMAGE);
+    let mut checked = 0;
+    for y in 0..54 {
+        for x in 0..96 {
+            let i = y * 96 + x;
+            let normal: f32 = (0..3).map(|c| guide[c * pixels + i].powi(2)).sum();
+            assert!((normal.sqrt() - 1.0).abs() < 1e-3, "normal at ({x}, {y})");
+            for c in 0..3 {
+                let modulation = guide[(5 + c) * pixels + i];
+                let rendered = colour.value(x, y, c);
+                if modulation > 0.05 && rendered < 1e3 {
+                    let back = target[c * pixels + i] * modulation;
+                    assert!(
+                        (back - rendered).abs() <= 1e-3 * rendered.max(1.0),
+                        "({x}, {y}) channel {c}: {back} against {rendered}"
+                    );
+                    checked += 1;
+                }
+            }
+        }
+    }
+    assert!(checked > pixels, "{checked} values checked");
+}

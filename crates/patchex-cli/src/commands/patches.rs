@@ -9,6 +9,9 @@
 //! - `hole` (H, W): 1 where the warp found no source.
 //!
 //! Metadata names the dataset, the frame, the network and the patch's place in the frame.
+//!
+//! With `--holes` it also writes each target's whole frame, its holes as the region, with a
+//! `guide` tensor of what the target's G-buffer knows there: `training/hole_study.py` reads it.
 
 use std::collections::HashMap;
 use std::path::PathBuf;
@@ -18,6 +21,7 @@ use patchex::abi::{PatchexCamera, PATCHEX_DEPTH_LINEAR_VIEW_Z, PATCHEX_NORMAL_SI
 use patchex::camera::Camera;
 use patchex::passes::segmentation::{SegmentationSettings, REGION_FI, REGION_NEAR_BE};
 use patchex::passes::warp::WarpSettings;
+use patchex::reference::gbuffer::pixel_modulation;
 use patchex::reference::inpaint::{gather_inputs, plan_patches, Patch};
 use patchex::reference::network::Planes;
 use patchex::reference::{self, demodulate::demodulate, FrameInputs, Image};
@@ -34,6 +38,11 @@ use super::CommandResult;
 /// training/patchex_net.py): patches are planned as the plugin plans them for these.
 const LEVELS: [u32; 2] = [3, 3];
 
+/// The `guide` planes of a `--holes` sample.
+const GUIDE_NAMES: &str =
+    "normal_x,normal_y,normal_z,depth,agreement,modulation_r,modulation_g,modulation_b";
+const GUIDE_CHANNELS: usize = 8;
+
 #[derive(Args)]
 pub struct PatchesArgs {
     /// Dataset folders written by `patchex render`.
@@ -42,6 +51,11 @@ pub struct PatchesArgs {
     /// Output folder for <dataset>_<frame>_<fi|near_be>.safetensors.
     #[arg(long)]
     out: PathBuf,
+    /// Also write each target's whole frame as <dataset>_<frame>_holes.safetensors, its holes as
+    /// the region, with a `guide` tensor of the target's G-buffer (normal xyz, linear depth, the
+    /// warp's best agreement, the remodulation factor rgb): data for a hole network.
+    #[arg(long)]
+    holes: bool,
 }
 
 /// One instant's layers as the reference's images.
@@ -148,6 +162,60 @@ fn write(
     Ok(())
 }
 
+/// The whole target frame as one sample, its holes as the region, with the target's `guide`
+/// planes (`GUIDE_NAMES`).
+fn write_holes(
+    out: &std::path::Path,
+    name: &str,
+    target_index: usize,
+    alpha: f32,
+    target: &Frame,
+    truth: &Image,
+    result: &reference::Extrapolation,
+) -> CommandResult {
+    let (width, height) = (truth.width, truth.height);
+    let frame = Patch {
+        origin: [0, 0],
+        extent: [width as u32, height as u32],
+        divisor: 1,
+    };
+    let warped = &result.warped;
+    let guide = Image::from_fn(width, height, GUIDE_CHANNELS, |x, y| {
+        let normal = target.normal.at(x, y);
+        let (modulation, _) = pixel_modulation(&target.base_color, Some(&target.material), x, y);
+        vec![
+            normal[0],
+            normal[1],
+            normal[2],
+            target.depth.at(x, y)[0],
+            warped.best_agreement[y * width + x],
+            modulation.x,
+            modulation.y,
+            modulation.z,
+        ]
+    });
+    let hole = crop(&warped.warped, 1, frame, |p, _| 1.0 - p[3]);
+    let metadata = HashMap::from([
+        ("dataset".to_string(), name.to_string()),
+        ("frame".to_string(), target_index.to_string()),
+        ("network".to_string(), "holes".to_string()),
+        ("alpha".to_string(), alpha.to_string()),
+        ("guide".to_string(), GUIDE_NAMES.to_string()),
+    ]);
+    let input = gather_inputs(&warped.warped, Some(&target.material), &result.lbp, frame);
+    write(
+        &out.join(format!("{name}_{target_index:04}_holes.safetensors")),
+        &[
+            ("input", &input),
+            ("target", &crop(truth, 3, frame, |p, c| p[c])),
+            ("region", &hole),
+            ("hole", &hole),
+            ("guide", &crop(&guide, GUIDE_CHANNELS, frame, |p, c| p[c])),
+        ],
+        metadata,
+    )
+}
+
 pub fn run(args: PatchesArgs) -> CommandResult {
     std::fs::create_dir_all(&args.out)?;
     let mut written = 0;
@@ -212,6 +280,18 @@ pub fn run(args: PatchesArgs) -> CommandResult {
                         ("hole", &hole),
                     ],
                     metadata,
+                )?;
+                written += 1;
+            }
+            if args.holes {
+                write_holes(
+                    &args.out,
+                    &name,
+                    target_index,
+                    alpha,
+                    &target,
+                    &truth,
+                    &result,
                 )?;
                 written += 1;
             }
