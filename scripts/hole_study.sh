@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# Issue 19's hole study (training/hole_study.py): can a network repair the warp's holes anywhere
+# in the frame, and what must it read? Renders the generated set at 640x360 with 33 frames a
+# scene (training and validation into out/datasets_train, as scripts/train.sh does; test into
+# out/datasets_test), writes every target's whole frame with `patchex patches --holes` (about
+# 6 GB), and trains one network per input set with seed 1 on two CPU cores (about 10 minutes
+# each). Writes out/hole_study/results.{md,json}. Arguments are passed to hole_study.py.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scripts/install-deps.sh python3-venv
+cargo build --release -p patchex-cli
+if [ ! -x out/torchenv/bin/python ]; then
+    python3 -m venv out/torchenv
+    out/torchenv/bin/pip install --quiet -r training/requirements.txt
+fi
+split() { sed -n "s/^$1 = \[\(.*\)\]/\1/p" scenes/generated/split.toml | tr -d '",'; }
+samples() { # dataset folder, sample folder, then the scenes
+    local datasets=$1 samples=$2
+    shift 2
+    if [ -f "$samples/done" ]; then return; fi
+    rm -rf "$samples"
+    for name in "$@"; do
+        [ -f "$datasets/$name/manifest.json" ] || target/release/patchex render \
+            "scenes/generated/$name.toml" --frames 33 --size 640x360 --out "$datasets/$name"
+        target/release/patchex patches "$datasets/$name" --holes --out "$samples"
+    done
+    touch "$samples/done"
+}
+samples out/datasets_train out/hole_samples $(split training) $(split validation)
+samples out/datasets_test out/hole_samples_test $(split test)
+out/torchenv/bin/python training/hole_study.py --samples out/hole_samples \
+    --test-samples out/hole_samples_test --seed 1 --out out/hole_study "$@"
