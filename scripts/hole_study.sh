@@ -7,13 +7,7 @@
 # each). Writes out/hole_study/results.{md,json}. Arguments are passed to hole_study.py.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-scripts/install-deps.sh python3-venv
-cargo build --release -p patchex-cli
-if [ ! -x out/torchenv/bin/python ]; then
-    python3 -m venv out/torchenv
-    out/torchenv/bin/pip install --quiet -r training/requirements.txt
-fi
-split() { sed -n "s/^$1 = \[\(.*\)\]/\1/p" scenes/generated/split.toml | tr -d '",'; }
+source scripts/lib/training.sh
 samples() { # dataset folder, sample folder, then the scenes
     local datasets=$1 samples=$2
     shift 2

@@ -12,13 +12,7 @@
 # training/train.py (e.g. --vgg16 PATH, --epochs N, --every-pixel for the paper's blend).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-scripts/install-deps.sh python3-venv
-cargo build --release -p patchex-cli
-if [ ! -x out/torchenv/bin/python ]; then
-    python3 -m venv out/torchenv
-    out/torchenv/bin/pip install --quiet -r training/requirements.txt
-fi
-split() { sed -n "s/^$1 = \[\(.*\)\]/\1/p" scenes/generated/split.toml | tr -d '",'; }
+source scripts/lib/training.sh
 training=$(split training)
 validation=$(split validation)
 datasets=()

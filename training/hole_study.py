@@ -33,12 +33,10 @@ import time
 
 import numpy as np
 import torch
-import torch.nn as nn
-import torch.nn.functional as F
 from safetensors import safe_open
 from safetensors.numpy import load_file
 
-from patchex_net import FI_WIDTHS, GatedConv, INPUT_NAMES
+from patchex_net import FI_WIDTHS, INPUT_NAMES, PatchNet
 
 CROP = 64
 BATCH = 16
@@ -68,33 +66,6 @@ def load(path, inputs):
     hole = t["hole"]
     return {"x": x, "y": t["target"], "hole": hole, "modulation": guide[MODULATION], "dataset": dataset,
             "centres": np.argwhere(hole[0] > 0)}
-
-
-class HoleNet(nn.Module):
-    """PatchNet's U-Net (training/patchex_net.py) with `inputs` planes: a correction to the colour."""
-
-    def __init__(self, inputs, widths):
-        super().__init__()
-        levels = len(widths)
-        self.enc = nn.ModuleList([GatedConv(inputs, widths[0])]
-                                 + [GatedConv(widths[i - 1], widths[i], stride=2) for i in range(1, levels)])
-        self.bottle = GatedConv(widths[-1], widths[-1], dilation=2)
-        self.dec = nn.ModuleList([GatedConv(widths[i + 1] + widths[i], widths[i]) for i in range(levels - 1)])
-        self.out = nn.Conv2d(widths[0], 3, 3, padding=1)
-        nn.init.zeros_(self.out.weight)
-        nn.init.zeros_(self.out.bias)
-        self.multiple = 2 ** (levels - 1)
-
-    def forward(self, x):
-        skips, h = [], x
-        for layer in self.enc:
-            h = layer(h)
-            skips.append(h)
-        h = self.bottle(h)
-        for i in reversed(range(len(self.dec))):
-            h = F.interpolate(h, scale_factor=2, mode="nearest")
-            h = self.dec[i](torch.cat([h, skips[i]], dim=1))
-        return x[:, 0:3] + self.out(h)
 
 
 def tone_map(x):
@@ -153,7 +124,7 @@ def study(inputs, samples, args, log):
     validation = [s for s in samples if s["dataset"] in split["validation"]]
     torch.manual_seed(args.seed)
     rng = random.Random(args.seed)
-    net = HoleNet(training[0]["x"].shape[0], FI_WIDTHS)
+    net = PatchNet(FI_WIDTHS, inputs=training[0]["x"].shape[0])
     optimiser = torch.optim.Adam(net.parameters(), lr=args.lr)
     best = {"step": 0, "validation": score(net, validation), "state": {k: v.clone() for k, v in net.state_dict().items()}}
     log(f"{inputs}: warp alone {best['validation']['warp']:.3f} dB over the validation holes")

@@ -36,12 +36,14 @@ class GatedConv(nn.Module):
 
 
 class PatchNet(nn.Module):
-    def __init__(self, widths):
+    """`inputs` planes: the plugin's networks read INPUT_CHANNELS; studies may read more."""
+
+    def __init__(self, widths, inputs=INPUT_CHANNELS):
         super().__init__()
         self.widths = list(widths)
         levels = len(widths)
         self.enc = nn.ModuleList(
-            [GatedConv(INPUT_CHANNELS, widths[0])]
+            [GatedConv(inputs, widths[0])]
             + [GatedConv(widths[i - 1], widths[i], stride=2) for i in range(1, levels)]
         )
         self.bottle = GatedConv(widths[-1], widths[-1], dilation=2)
