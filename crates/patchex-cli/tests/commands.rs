@@ -187,7 +187,11 @@ fn patches_with_holes_writes_whole_frames_with_their_guide() {
     );
     let pixels = 96 * 54;
     assert_eq!(region, hole);
-    assert_eq!(&input[3 * pixels..4 * pixels], &hole[..], "the input's hole plane");
+    assert_eq!(
+        &input[3 * pixels..4 * pixels],
+        &hole[..],
+        "the input's hole plane"
+    );
     assert!(hole.iter().all(|&h| h == 0.0 || h == 1.0));
     let holes = hole.iter().filter(|&&h| h == 1.0).count();
     assert!(holes > 0 && holes < pixels / 2, "{holes} holes");
