@@ -1,56 +1,67 @@
 // The G-buffer-guided warp's hole fill, over the holes that warp listed (warp_gbuffer.wgsl,
-// `defer_hole`), one invocation per hole: a hole takes the mean of the texels around its source
-// point whose depth (and object id) is nearest the target pixel's own. The target's G-buffer
-// knows the uncovered surface's depth; the occluder that hid it in frame t is nearer, so it is
-// left out. Dispatched indirectly from the warp's count, so a frame without holes runs no
-// workgroup. src/reference/warp.rs (`fill_hole`) mirrors it.
+// `defer_hole`), one invocation per hole: a hole takes a weighted mean of frame t's texels
+// around its source point, weighted by how well each texel's surface matches the target
+// pixel's own (the target's G-buffer knows the uncovered surface's normal, depth and object
+// id) and by its distance. The occluder that hid the surface in frame t is nearer, or another
+// object, so it weighs next to nothing; the wide window reaches the background on every side
+// of it, and scenery that enters at the frame's edge takes the texels inside the edge that
+// face the same way. Dispatched indirectly from the warp's count, so a frame without holes
+// runs no workgroup. src/reference/warp.rs (`fill_hole`) mirrors it.
 // #import gbuffer
 // #import warp
 // #import tallies
 
-// The fill looks this far around the source point (chosen on the validation scenes), and
-// averages the texels whose depth mismatch is within this much of the best one's.
-const FILL_RADIUS: i32 = 3;
-const DEPTH_BAND: f32 = 0.02;
+// The window's radius and tap spacing, and the widths of the weights' terms (chosen on the
+// validation scenes): normal difference (length of the vectors' difference), relative depth
+// difference, and the cost of another object's texel.
+const FILL_RADIUS: i32 = 12;
+const FILL_STEP: i32 = 2;
+const FILL_SIGMA_NORMAL: f32 = 0.15;
+const FILL_SIGMA_DEPTH: f32 = 0.03;
+const FILL_OTHER_OBJECT: f32 = 20.0;
 
 @group(0) @binding(13) var<storage, read_write> deferred: DeferredHoles;
 @group(0) @binding(14) var hole_list: texture_2d<u32>;
 
-// How far texel `s` of frame t is from the target pixel's surface: its relative depth
-// difference (at most 1; a non-finite depth counts 1), plus 1 for another object id, so that a
-// texel of the right object always wins.
-fn depth_mismatch(t: Surface, s: vec2i) -> f32 {
+// -log of texel `s`'s weight for the target surface `t` at window offset `offset`. A
+// non-finite depth on either side counts as relative difference 1.
+fn fill_cost(t: Surface, s: vec2i, offset: vec2i) -> f32 {
+    let packed = textureLoad(source_normal_id, s, 0).r;
     let source_w = textureLoad(source_depth, s, 0).r;
-    let id_differs = object_id(textureLoad(source_normal_id, s, 0).r) != t.id;
     let relative = abs(source_w - t.depth) / max(max(source_w, t.depth), 1e-30);
-    return select(1.0, relative, relative <= 1.0) + select(0.0, 1.0, id_differs);
+    let depth_term = select(1.0, relative, relative <= 1.0) / FILL_SIGMA_DEPTH;
+    let normal_delta = unpack_normal(packed) - t.normal;
+    let normal_term = dot(normal_delta, normal_delta) / (FILL_SIGMA_NORMAL * FILL_SIGMA_NORMAL);
+    let distance_term = f32(dot(offset, offset)) / f32(FILL_RADIUS * FILL_RADIUS);
+    let other_object = select(0.0, FILL_OTHER_OBJECT, object_id(packed) != t.id);
+    return depth_term * depth_term + normal_term + distance_term + other_object;
 }
 
 fn fill_hole(q: vec2f, t: Surface) -> vec3f {
-    let extent = vec2i(params.extent);
+    let last = vec2i(params.extent) - 1;
     let centre = texel(q);
-    var least = 3.0;
-    for (var dy = -FILL_RADIUS; dy <= FILL_RADIUS; dy++) {
-        for (var dx = -FILL_RADIUS; dx <= FILL_RADIUS; dx++) {
-            let s = clamp(centre + vec2i(dx, dy), vec2i(0), extent - 1);
-            let mismatch = depth_mismatch(t, s);
-            if (mismatch < least) {
-                least = mismatch;
-            }
-        }
-    }
+    // The weights are exp(least - cost), rescaled as a cheaper texel appears, so that no
+    // window underflows however badly every texel matches.
+    var least = 3.4e38;
     var sum = vec3f(0.0);
-    var count = 0.0;
-    for (var dy = -FILL_RADIUS; dy <= FILL_RADIUS; dy++) {
-        for (var dx = -FILL_RADIUS; dx <= FILL_RADIUS; dx++) {
-            let s = clamp(centre + vec2i(dx, dy), vec2i(0), extent - 1);
-            if (depth_mismatch(t, s) <= least + DEPTH_BAND) {
-                sum += textureLoad(source_shading, s, 0).rgb;
-                count += 1.0;
+    var total = 0.0;
+    for (var dy = -FILL_RADIUS; dy <= FILL_RADIUS; dy += FILL_STEP) {
+        for (var dx = -FILL_RADIUS; dx <= FILL_RADIUS; dx += FILL_STEP) {
+            let offset = vec2i(dx, dy);
+            let s = clamp(centre + offset, vec2i(0), last);
+            let cost = fill_cost(t, s, offset);
+            if (cost < least) {
+                let rescale = exp(cost - least);
+                sum *= rescale;
+                total *= rescale;
+                least = cost;
             }
+            let w = exp(least - cost);
+            sum += w * textureLoad(source_shading, s, 0).rgb;
+            total += w;
         }
     }
-    return sum / max(count, 1.0);
+    return sum / total;
 }
 
 @compute @workgroup_size(64, 1, 1)

@@ -79,7 +79,7 @@ fn warp_pixel(p: vec2u, t: Surface, motion_vector: vec2f) -> WarpedPixel {
     }
     let offscreen = is_offscreen(q);
     let hole = offscreen || best_agreement < AGREEMENT_THRESHOLD;
-    let deferred = hole && !offscreen && params.hole_fill == HOLE_FILL_BACKGROUND;
+    let deferred = hole && params.hole_fill == HOLE_FILL_BACKGROUND;
     if (deferred) {
         defer_hole(p);
     }

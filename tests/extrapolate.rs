@@ -128,11 +128,13 @@ fn hole_psnr(outcome: &support::pipeline::Outcome, truth: &Image) -> f64 {
 }
 
 /// Both hole fills match the reference on rendered frames (crossing_street, characters
-/// crossing a textured street); over the holes the characters uncover, filling from the
-/// uncovered side beats the nearest texel, which is mostly the character that hid them.
+/// crossing a textured street); over the holes the characters and the camera uncover, filling
+/// from the uncovered side beats the nearest texel, which is mostly the character that hid them.
+/// At 320x180, so that the holes are a sample (about 80 pixels) rather than a handful that one
+/// specular texel decides: at 128x72 (29 holes) either fill can win by one pixel.
 #[test]
 fn uncovered_side_fill_beats_the_nearest_texel_over_holes() {
-    let sequence = support::rendered::render("crossing_street.toml", 2, 128, 72);
+    let sequence = support::rendered::render("crossing_street.toml", 2, 320, 180);
     let (source, target) = (&sequence.frames[0], &sequence.frames[1]);
     let mut hole_psnrs = Vec::new();
     for hole_fill in [PATCHEX_HOLE_FILL_NEAREST, PATCHEX_HOLE_FILL_BACKGROUND] {
@@ -143,7 +145,7 @@ fn uncovered_side_fill_beats_the_nearest_texel_over_holes() {
             }),
             ..Chained::default()
         };
-        let rig = Rig::new(128, 72);
+        let rig = Rig::new(320, 180);
         let outcome = run_plugin(&rig, source, target, 0.5, &chained);
         assert_matches_reference(source, target, &outcome, &chained);
         hole_psnrs.push(hole_psnr(&outcome, &target.color));

@@ -11,9 +11,12 @@ pub const AGREEMENT_THRESHOLD: f32 = 0.5;
 const MIN_FACING: f32 = 0.25;
 pub const BILINEAR_ACCEPT: f32 = 0.5;
 const MIN_TOTAL_WEIGHT: f32 = 1e-6;
-/// The hole fill's window radius and its band of depth mismatch.
-const FILL_RADIUS: i32 = 3;
-const DEPTH_BAND: f32 = 0.02;
+/// The hole fill's window radius and tap spacing, and the widths of its weights' terms.
+const FILL_RADIUS: i32 = 12;
+const FILL_STEP: usize = 2;
+const FILL_SIGMA_NORMAL: f32 = 0.15;
+const FILL_SIGMA_DEPTH: f32 = 0.03;
+const FILL_OTHER_OBJECT: f32 = 20.0;
 
 pub struct Warped {
     /// (shading, 1 for valid or 0 for hole).
@@ -124,39 +127,50 @@ impl PixelWarp<'_> {
         )
     }
 
-    /// Mirror of `fill_hole` in `warp_gbuffer.wgsl`.
+    /// Mirror of `fill_hole` in `fill_holes.wgsl`: the window's texels weighted by
+    /// exp(least cost - cost), rescaled as a cheaper texel appears.
     fn fill_hole(&self, q: Vec2) -> Vec3 {
         let centre = self.texel_of(q);
         let r = FILL_RADIUS;
-        let window = || {
-            (-r..=r).flat_map(move |dy| {
-                (-r..=r).map(move |dx| {
-                    centre
-                        .wrapping_add(IVec2::new(dx, dy))
-                        .clamp(IVec2::ZERO, self.extent() - 1)
-                })
-            })
-        };
-        let least = window()
-            .map(|s| self.depth_mismatch(s))
-            .fold(3.0f32, |least, m| if m < least { m } else { least });
-        let (sum, count) = window()
-            .filter(|&s| self.depth_mismatch(s) <= least + DEPTH_BAND)
-            .fold((Vec3::ZERO, 0.0f32), |(sum, count), s| {
-                (sum + texel(self.source.shading, s).truncate(), count + 1.0)
-            });
-        sum / count.max(1.0)
+        let mut least = 3.4e38f32;
+        let (mut sum, mut total) = (Vec3::ZERO, 0.0f32);
+        for dy in (-r..=r).step_by(FILL_STEP) {
+            for dx in (-r..=r).step_by(FILL_STEP) {
+                let offset = IVec2::new(dx, dy);
+                let s = centre
+                    .wrapping_add(offset)
+                    .clamp(IVec2::ZERO, self.extent() - 1);
+                let cost = self.fill_cost(s, offset);
+                if cost < least {
+                    let rescale = (cost - least).exp();
+                    sum *= rescale;
+                    total *= rescale;
+                    least = cost;
+                }
+                let w = (least - cost).exp();
+                sum += w * texel(self.source.shading, s).truncate();
+                total += w;
+            }
+        }
+        sum / total
     }
 
-    /// Mirror of `depth_mismatch`: relative depth difference to the target (at most 1; a
-    /// non-finite depth counts 1), plus 1 for another object id.
-    fn depth_mismatch(&self, s: IVec2) -> f32 {
+    /// Mirror of `fill_cost`: -log of texel `s`'s weight at window offset `offset`.
+    fn fill_cost(&self, s: IVec2, offset: IVec2) -> f32 {
+        let source_nid = texel(self.source.normal_id, s);
         let source_w = texel(self.source.geometry, s).w;
-        let id_differs = texel(self.source.normal_id, s).w != self.target_nid.w;
-        let relative =
-            (source_w - self.target_geo.w).abs() / source_w.max(self.target_geo.w).max(1e-30);
-        let relative = if relative <= 1.0 { relative } else { 1.0 };
-        relative + if id_differs { 1.0 } else { 0.0 }
+        let target_w = self.target_geo.w;
+        let relative = (source_w - target_w).abs() / source_w.max(target_w).max(1e-30);
+        let depth_term = if relative <= 1.0 { relative } else { 1.0 } / FILL_SIGMA_DEPTH;
+        let normal_delta = source_nid.truncate() - self.target_nid.truncate();
+        let normal_term = normal_delta.dot(normal_delta) / (FILL_SIGMA_NORMAL * FILL_SIGMA_NORMAL);
+        let distance_term = offset.dot(offset) as f32 / (FILL_RADIUS * FILL_RADIUS) as f32;
+        let other_object = if source_nid.w != self.target_nid.w {
+            FILL_OTHER_OBJECT
+        } else {
+            0.0
+        };
+        depth_term * depth_term + normal_term + distance_term + other_object
     }
 
     fn bilinear_shading(&self, q: Vec2) -> Vec3 {
@@ -227,7 +241,7 @@ impl PixelWarp<'_> {
         };
         let offscreen = self.is_offscreen(q);
         let hole = offscreen || best_agreement < AGREEMENT_THRESHOLD;
-        if hole && !offscreen && self.params.hole_fill == PATCHEX_HOLE_FILL_BACKGROUND {
+        if hole && self.params.hole_fill == PATCHEX_HOLE_FILL_BACKGROUND {
             shading = self.fill_hole(q);
         }
         WarpedPixel {
