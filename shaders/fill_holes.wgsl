@@ -15,7 +15,7 @@
 // validation scenes): normal difference (length of the vectors' difference), relative depth
 // difference, and the cost of another object's texel.
 const FILL_RADIUS: i32 = 12;
-const FILL_STEP: i32 = 2;
+const FILL_STEP: i32 = 3;
 const FILL_SIGMA_NORMAL: f32 = 0.15;
 const FILL_SIGMA_DEPTH: f32 = 0.03;
 const FILL_OTHER_OBJECT: f32 = 20.0;

@@ -13,7 +13,7 @@ pub const BILINEAR_ACCEPT: f32 = 0.5;
 const MIN_TOTAL_WEIGHT: f32 = 1e-6;
 /// The hole fill's window radius and tap spacing, and the widths of its weights' terms.
 const FILL_RADIUS: i32 = 12;
-const FILL_STEP: usize = 2;
+const FILL_STEP: usize = 3;
 const FILL_SIGMA_NORMAL: f32 = 0.15;
 const FILL_SIGMA_DEPTH: f32 = 0.03;
 const FILL_OTHER_OBJECT: f32 = 20.0;
