@@ -287,10 +287,9 @@ fn measure(
                    index: usize| {
         frame_index += 2;
         let shadows = configuration.with_shadows();
-        let networks = configuration.networks().map(|networks| NetworkChoice {
-            max_patch_side: networks.max_patch_side.or(max_patch_side),
-            ..networks
-        });
+        let networks = configuration
+            .networks()
+            .map(|networks| networks.or_max_patch_side(max_patch_side));
         driver.extrapolate(
             frame_index,
             (source, &manifest.frames[index - 1]),

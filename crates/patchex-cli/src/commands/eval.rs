@@ -141,10 +141,7 @@ impl Method {
             }),
             _ => None,
         };
-        choice.map(|choice| NetworkChoice {
-            max_patch_side: choice.max_patch_side.or(args.max_patch_side),
-            ..choice
-        })
+        choice.map(|choice| choice.or_max_patch_side(args.max_patch_side))
     }
 }
 

@@ -68,12 +68,18 @@ impl NetworkChoice {
             ..Self::default()
         }
     }
+
+    /// This choice, with `max_patch_side` (a command's option) where it names none itself.
+    pub fn or_max_patch_side(self, max_patch_side: Option<u32>) -> Self {
+        Self {
+            max_patch_side: self.max_patch_side.or(max_patch_side),
+            ..self
+        }
+    }
 }
 
-/// What a context is made with: its preset, and for the networks the weights folder and FP32
-/// tensors (`whole_frame`, the divisor and the blend are chosen per call).
 /// What a context is made with: its preset, the weights' folder, FP32 tensors, and the
-/// tensors' patch side.
+/// tensors' patch side (`whole_frame`, the divisor and the blend are chosen per call).
 type ContextKey = (PatchexPreset, Option<PathBuf>, bool, Option<u32>);
 
 /// How the driver stores a frame's layers in engine images.
