@@ -771,10 +771,12 @@ typedef struct PatchexShadowDiagnostics {
 
 #define PATCHEX_LOG_INFO 2
 
-// From the side the disocclusion uncovers: the mean of the texels within 3 pixels of the
-// pixel's own source point whose depth (and object id) is nearest the target pixel's own. The
-// occluder that hid the pixel is nearer than the surface it uncovers, so it is not smeared
-// into the hole.
+// From the side the disocclusion uncovers: a mean of frame t's texels within 12 pixels of the
+// pixel's own source point, each weighted by how closely its normal, depth and object id match
+// the target pixel's own surface and by its distance. The occluder that hid the pixel is
+// nearer than the surface it uncovers, so it is not smeared into the hole; scenery entering at
+// the frame's edge (an off-screen source point) takes the texels inside the edge that face the
+// same way.
 #define PATCHEX_HOLE_FILL_BACKGROUND 0
 
 // The source texel nearest to where the pixel's own motion lands: usually the occluder itself,

@@ -345,10 +345,12 @@ pub struct PatchexWarpSettings {
 
 /// `PatchexWarpSettings.hole_fill`.
 pub type PatchexHoleFill = u32;
-/// From the side the disocclusion uncovers: the mean of the texels within 3 pixels of the
-/// pixel's own source point whose depth (and object id) is nearest the target pixel's own. The
-/// occluder that hid the pixel is nearer than the surface it uncovers, so it is not smeared
-/// into the hole.
+/// From the side the disocclusion uncovers: a mean of frame t's texels within 12 pixels of the
+/// pixel's own source point, each weighted by how closely its normal, depth and object id match
+/// the target pixel's own surface and by its distance. The occluder that hid the pixel is
+/// nearer than the surface it uncovers, so it is not smeared into the hole; scenery entering at
+/// the frame's edge (an off-screen source point) takes the texels inside the edge that face the
+/// same way.
 pub const PATCHEX_HOLE_FILL_BACKGROUND: PatchexHoleFill = 0;
 /// The source texel nearest to where the pixel's own motion lands: usually the occluder itself,
 /// which leaves a halo of it around moving silhouettes. For comparison.
