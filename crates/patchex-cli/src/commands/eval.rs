@@ -58,7 +58,7 @@ pub enum Method {
     /// Ablation: PatchEX with networks trained without the perceptual and style terms
     /// (`--no-perceptual-weights`).
     PatchexNoPerceptual,
-    /// Bidirectional interpolation with frame t+1: the upper reference, a frame of latency.
+    /// Bidirectional interpolation with frame t+1, a frame of latency: what the future frame adds.
     Interpolation,
 }
 

@@ -1,6 +1,7 @@
-//! The upper reference that extrapolation aims at: bidirectional interpolation, which also uses
+//! The reference for what the future frame adds: bidirectional interpolation, which also uses
 //! the future frame t+1 and so costs a frame of latency (what DLSS-G and FSR3 frame generation
-//! do). Plain CPU code for the evaluation only; it is not part of the plugin.
+//! do). Plain CPU code for the evaluation only; it is not part of the plugin. It fills no
+//! holes, so it bounds extrapolation only where a frame has the surface.
 //!
 //! It works in the plugin's demodulated space and remodulates with the target's own G-buffer,
 //! so it differs from the extrapolating warps only in what it knows. Each target pixel takes
