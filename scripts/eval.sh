@@ -27,4 +27,4 @@ target/release/patchex eval "${datasets_3x[@]}" --out out/eval_3x \
     --methods copy,motion-vector,occlusion-motion,gbuffer,gbuffer-shadows
 # PatchEX and its ablations on the test scenes, which the shipped networks never saw in training.
 target/release/patchex eval out/datasets/crossing_street out/datasets/fast_run --out out/eval_networks \
-    --methods copy,motion-vector,occlusion-motion,gbuffer,gbuffer-shadows,patchex,patchex-no-shadows,patchex-whole-frame,patchex-no-perceptual,interpolation
+    --methods copy,motion-vector,occlusion-motion,gbuffer,gbuffer-shadows,patchex,patchex-every-pixel,patchex-no-shadows,patchex-whole-frame,patchex-no-perceptual,interpolation
