@@ -8,7 +8,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
 cargo build --release -p patchex -p patchex-cli
-split() { sed -n "s/^$1 = \[\(.*\)\]/\1/p" scenes/generated/split.toml | tr -d '",'; }
+source scripts/lib/scenes.sh
 methods=copy,occlusion-motion,gbuffer,gbuffer-shadows,patchex,patchex-every-pixel,interpolation
 for which in validation test; do
     datasets=()

@@ -11,17 +11,12 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
 cargo build --release -p patchex -p patchex-cli
-split() { sed -n "s/^$1 = \[\(.*\)\]/\1/p" scenes/generated/split.toml | tr -d '",'; }
-render() {
-    if [ ! -f "$3/manifest.json" ]; then
-        target/release/patchex render "$1" --frames "$2" --size 640x360 --out "$3"
-    fi
-}
+source scripts/lib/scenes.sh
 methods=copy,occlusion-motion,gbuffer,gbuffer-nearest-fill
 for which in validation test; do
     datasets=()
     for scene in $(split "$which"); do
-        render "scenes/generated/$scene.toml" 13 "out/eval_generated/datasets/$scene"
+        render_once "scenes/generated/$scene.toml" 13 "out/eval_generated/datasets/$scene"
         datasets+=("out/eval_generated/datasets/$scene")
     done
     target/release/patchex eval "${datasets[@]}" --methods "$methods" --out "out/eval_holes/$which"
@@ -29,7 +24,7 @@ done
 datasets=()
 for scene in scenes/*.toml; do
     name=$(basename "$scene" .toml)
-    render "$scene" 17 "out/datasets/$name"
+    render_once "$scene" 17 "out/datasets/$name"
     datasets+=("out/datasets/$name")
 done
 target/release/patchex eval "${datasets[@]}" --methods "$methods" --out out/eval_holes/hand_written

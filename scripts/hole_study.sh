@@ -14,8 +14,7 @@ samples() { # dataset folder, sample folder, then the scenes
     if [ -f "$samples/done" ]; then return; fi
     rm -rf "$samples"
     for name in "$@"; do
-        [ -f "$datasets/$name/manifest.json" ] || target/release/patchex render \
-            "scenes/generated/$name.toml" --frames 33 --size 640x360 --out "$datasets/$name"
+        render_once "scenes/generated/$name.toml" 33 "$datasets/$name"
         target/release/patchex patches "$datasets/$name" --holes --out "$samples"
     done
     touch "$samples/done"

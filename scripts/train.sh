@@ -17,10 +17,7 @@ training=$(split training)
 validation=$(split validation)
 datasets=()
 for name in $training $validation; do
-    if [ ! -f "out/datasets_train/$name/manifest.json" ]; then
-        target/release/patchex render "scenes/generated/$name.toml" --frames 33 --size 640x360 \
-            --out "out/datasets_train/$name"
-    fi
+    render_once "scenes/generated/$name.toml" 33 "out/datasets_train/$name"
     datasets+=("out/datasets_train/$name")
 done
 if [ ! -f out/patches/done ]; then
