@@ -5,7 +5,10 @@
 // squares, so each texel contributes G = A^T A and h = A^T db (summed by the next two passes).
 // A small multiple of (I, d) is added so that a window without structure keeps its estimate
 // instead of falling to zero. The estimate is this level's flow, the coarser level's flow
-// scaled up (first iteration of a level), or zero (first iteration of the coarsest level).
+// scaled up (first iteration of a level), or at the coarsest level's first iteration the motion
+// the cameras give a static receiver: a shadow on the ground moves with the ground as the camera
+// pans, and only its drift across the ground (its caster's motion) is left for the flow to find.
+// Starting from zero, a fast pan's tens of pixels were beyond what the expansions resolve.
 // Writes (G11, G12, G22, h1) and h2 in two atlases.
 // #import flow
 
@@ -16,6 +19,16 @@ struct Params {
     prior_size: vec2u,
     has_prior: u32,
     regularization: f32,
+    // Frame t's size in pixels.
+    frame_extent: vec2u,
+    // Frame t's pixel (x, y) at linear depth z lies in frame t-1 at (w.y, w.z) / w.x, with
+    // w = camera_offset + z * (camera_at_origin + x camera_per_x + y camera_per_y), for a static
+    // surface (src/passes/shadow_flow.rs `CameraMotion`). camera_offset.w is 0 when frame t-1's
+    // camera is unknown; camera_at_origin.w is this level's frame pixels per texel.
+    camera_offset: vec4f,
+    camera_at_origin: vec4f,
+    camera_per_x: vec4f,
+    camera_per_y: vec4f,
 }
 var<immediate> params: Params;
 
@@ -26,6 +39,29 @@ var<immediate> params: Params;
 @group(0) @binding(4) var flow: texture_2d<f32>;
 @group(0) @binding(5) var equations: texture_storage_2d<rgba32float, write>;
 @group(0) @binding(6) var equations_h2: texture_storage_2d<r32float, write>;
+// Frame t's linear depth, as the G-buffer packing wrote it.
+@group(0) @binding(7) var source_depth: texture_2d<f32>;
+
+// Where static surfaces under level texel p moved from frame t to frame t-1, in texels of this
+// level; zero where that is unknown or not finite (sky at infinity).
+fn camera_motion(p: vec2u) -> vec2f {
+    let step = params.camera_at_origin.w;
+    if (params.camera_offset.w == 0.0) {
+        return vec2f(0.0);
+    }
+    let pixel = (vec2f(p) + 0.5) * step - 0.5;
+    let frame = vec2i(params.frame_extent);
+    let nearest = clamp(vec2i(floor(pixel + 0.5)), vec2i(0), frame - 1);
+    let depth = textureLoad(source_depth, nearest, 0).r;
+    let w = params.camera_offset.xyz + depth * (params.camera_at_origin.xyz
+        + pixel.x * params.camera_per_x.xyz + pixel.y * params.camera_per_y.xyz);
+    let motion = (w.yz / w.x - pixel) / step;
+    // NaN fails both comparisons.
+    if (!(w.x > 0.0) || !all(abs(motion) < vec2f(1e6))) {
+        return vec2f(0.0);
+    }
+    return motion;
+}
 
 @compute @workgroup_size(8, 8, 1)
 fn main(@builtin(global_invocation_id) id: vec3u) {
@@ -33,11 +69,13 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     if (any(p >= params.level_size)) {
         return;
     }
-    var d = vec2f(0.0);
+    var d: vec2f;
     if (params.has_prior != 0u) {
         let ratio = vec2f(params.level_size) / vec2f(params.prior_size);
         let pos = (vec2f(p) + 0.5) / ratio - 0.5;
         d = level_bilinear(flow, params.prior_offset, params.prior_size, pos).xy * ratio;
+    } else {
+        d = camera_motion(p);
     }
     let texel = vec2i(params.level_offset + p);
     let current = textureLoad(poly_current, texel, 0);

@@ -124,6 +124,7 @@ fn reference_run(
     alpha: f32,
     warp: &WarpSettings,
 ) -> reference::Extrapolation {
+    let previous_camera = Camera::from_abi(&previous.camera, "previous").unwrap();
     let source_camera = Camera::from_abi(&source.camera, "source").unwrap();
     let target_camera = Camera::from_abi(&target.camera, "target").unwrap();
     reference::extrapolate(
@@ -132,7 +133,7 @@ fn reference_run(
         Some(&ShadowInputs {
             color_without_dynamic_shadows: &source.color_without_dynamic_shadows,
             mask: &source.shadow_mask,
-            previous: Some((&previous.shadow_mask, &previous.stencil)),
+            previous: Some((&previous.shadow_mask, &previous.stencil, &previous_camera)),
             flow: FlowSettings::default(),
             // The rigs are made for the frames' own size.
             mask_step: mask_step(vk::Extent2D {
@@ -158,7 +159,18 @@ fn worst_error(got: f32, want: f32, absolute: f32, relative: f32) -> f32 {
 
 #[test]
 fn shadow_passes_match_their_references_on_rendered_frames() {
-    assert_shadow_passes_match_their_references(128, 72, &WarpSettings::default());
+    assert_shadow_passes_match_their_references(
+        "shadow_terrain.toml",
+        128,
+        72,
+        &WarpSettings::default(),
+    );
+}
+
+/// Under an orbiting camera, where the flow starts at the ground's motion between the cameras.
+#[test]
+fn shadow_passes_match_their_references_under_a_moving_camera() {
+    assert_shadow_passes_match_their_references("fast_run.toml", 128, 72, &WarpSettings::default());
 }
 
 /// With the motion-vector warp as the frame's, whose warp of the layer stores the shadow's
@@ -169,7 +181,7 @@ fn shadow_passes_match_their_references_with_the_motion_vector_warp() {
         kind: PATCHEX_WARP_MOTION_VECTOR,
         ..WarpSettings::default()
     };
-    assert_shadow_passes_match_their_references(128, 72, &warp);
+    assert_shadow_passes_match_their_references("shadow_terrain.toml", 128, 72, &warp);
 }
 
 /// A frame wider than 1280 pixels: the flow's finest level averages 4 x 4 pixels.
@@ -181,15 +193,21 @@ fn shadow_flow_of_a_large_frame_starts_coarser_as_the_reference_does() {
     };
     assert_eq!(mask_step(extent), 4);
     assert_shadow_passes_match_their_references(
+        "shadow_terrain.toml",
         extent.width,
         extent.height,
         &WarpSettings::default(),
     );
 }
 
-fn assert_shadow_passes_match_their_references(width: u32, height: u32, warp: &WarpSettings) {
+fn assert_shadow_passes_match_their_references(
+    scene: &str,
+    width: u32,
+    height: u32,
+    warp: &WarpSettings,
+) {
     // Frames 0 and 2 are rendered frames t-1 and t, frame 3 the instant halfway to t+1.
-    let sequence = support::rendered::render("shadow_terrain.toml", 4, width, height);
+    let sequence = support::rendered::render(scene, 4, width, height);
     let [previous, _, source, target] = &sequence.frames[..] else {
         unreachable!("four frames")
     };

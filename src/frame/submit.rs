@@ -81,6 +81,14 @@ impl Context {
             self.shadow_current = 1 - self.shadow_current;
         }
 
+        // Static receivers' motion into frame t-1, where the flow starts.
+        let reprojection = self.source.as_ref().filter(|_| track).map(|previous| {
+            inputs
+                .geometry
+                .camera
+                .reprojection_into(&previous.camera, inputs.extent)
+        });
+
         // Everything is validated and allocated: from here on the call cannot fail.
         let slot = self.ring.slot_of(serial);
         let mut owned: Vec<&mut OwnedImage> = self.images.submit_images().collect();
@@ -169,9 +177,11 @@ impl Context {
                         shadow_flow::FrameMask {
                             mask: separation.mask,
                             source_normal_id: &work[WorkImages::SOURCE_NORMAL_ID],
+                            source_depth: &work[WorkImages::SOURCE_DEPTH],
                         },
                     ),
                     track,
+                    reprojection.as_ref(),
                 )
             });
         }

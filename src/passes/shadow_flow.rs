@@ -17,6 +17,7 @@
 use ash::vk;
 
 use crate::abi::*;
+use crate::camera::PixelRays;
 use crate::error::{bail, Result};
 use crate::shaders;
 use crate::vk::image::{OwnedImage, Texture};
@@ -192,12 +193,29 @@ pub fn atlas_extent(extent: vk::Extent2D) -> vk::Extent2D {
     }
 }
 
-/// What the pyramid's finest level reads of frame t: the engine's shadow mask, and the packed
-/// object ids that tell dynamic pixels (taken as lit).
+/// What the flow reads of frame t: the engine's shadow mask, the packed object ids that tell
+/// dynamic pixels (taken as lit), and the packed linear depth, which with both cameras gives
+/// the flow's first estimate.
 #[derive(Clone, Copy)]
 pub struct FrameMask<'a> {
     pub mask: Texture,
     pub source_normal_id: &'a OwnedImage,
+    pub source_depth: &'a OwnedImage,
+}
+
+/// The matrices pass's camera constants: `reprojection` is `Camera::reprojection_into` from
+/// frame t's camera into frame t-1's, `None` when frame t-1's is unknown; `step` is the level's
+/// frame pixels per texel.
+fn camera_params(reprojection: Option<&PixelRays>, step: u32) -> [[f32; 4]; 4] {
+    match reprojection {
+        Some(r) => [
+            r.position.extend(1.0).into(),
+            r.at_origin.extend(step as f32).into(),
+            r.per_x.extend(0.0).into(),
+            r.per_y.extend(0.0).into(),
+        ],
+        None => [[0.0; 4], [0.0, 0.0, 0.0, step as f32], [0.0; 4], [0.0; 4]],
+    }
 }
 
 /// The images of the flow stage. `poly_*[current]` receive frame t's expansion; the other
@@ -236,7 +254,8 @@ fn extent_of(level: &Level) -> vk::Extent2D {
 }
 
 /// Records the mask pyramid and frame t's expansion; then, when `track` (frame t-1's expansion
-/// is there), the flow, or else a zero flow.
+/// is there), the flow, or else a zero flow. `reprojection` (`Camera::reprojection_into`, frame
+/// t into frame t-1) starts the flow at the motion of static receivers.
 pub fn record(
     rec: &mut Recorder,
     passes: &FlowPasses,
@@ -244,6 +263,7 @@ pub fn record(
     settings: &FlowSettings,
     images: &FlowImages,
     track: bool,
+    reprojection: Option<&PixelRays>,
 ) {
     use shaders::{shadow_flow_matrices as m, shadow_flow_rows as r, shadow_flow_solve as s};
     use shaders::{shadow_flow_upsample as u, shadow_poly as p, shadow_pyramid as y};
@@ -270,6 +290,7 @@ pub fn record(
             .image(m::binding::FLOW, images.flow_pyramid)
             .image(m::binding::EQUATIONS, images.equations)
             .image(m::binding::EQUATIONS_H2, images.equations_h2)
+            .image(m::binding::SOURCE_DEPTH, images.frame.source_depth)
     });
     let rows = rec.bind(passes.rows, |writes| {
         writes
@@ -327,6 +348,8 @@ pub fn record(
             } else {
                 levels.get(index + 1)
             };
+            let [camera_offset, camera_at_origin, camera_per_x, camera_per_y] =
+                camera_params(reprojection, images.mask_step << index);
             let params = m::Params {
                 level_offset: level.offset,
                 level_size: level.size,
@@ -334,6 +357,12 @@ pub fn record(
                 prior_size: prior.map_or([1, 1], |p| p.size),
                 has_prior: prior.is_some() as u32,
                 regularization: REGULARIZATION,
+                frame_extent: [extent.width, extent.height],
+                camera_offset,
+                camera_at_origin,
+                camera_per_x,
+                camera_per_y,
+                ..Default::default()
             };
             rec.dispatch(&matrices, &params, extent_of(level));
             let params = r::Params {

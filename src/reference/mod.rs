@@ -33,8 +33,8 @@ pub struct FrameInputs<'a> {
 pub struct ShadowInputs<'a> {
     pub color_without_dynamic_shadows: &'a Image,
     pub mask: &'a Image,
-    /// Frame t-1's mask and object ids (stencil).
-    pub previous: Option<(&'a Image, &'a Image)>,
+    /// Frame t-1's mask, object ids (stencil) and camera.
+    pub previous: Option<(&'a Image, &'a Image, &'a crate::camera::Camera)>,
     pub flow: crate::passes::shadow_flow::FlowSettings,
     /// Frame pixels per texel of the flow's finest level: `shadow_flow::mask_step` of the
     /// largest frame the context has seen.
@@ -151,13 +151,18 @@ pub fn extrapolate(
     );
     let shadows = shadow_inputs.zip(separated).map(|(shadow, separated)| {
         let flow = match shadow.previous {
-            Some((mask, object_ids)) => {
+            Some((mask, object_ids, camera)) => {
                 let previous_mask = separate_shadows::flow_mask(mask, object_ids);
+                let start = optical_flow::FlowStart {
+                    geometry: &source_packed.geometry,
+                    reprojection: source.camera.reprojection_into(camera, extent),
+                };
                 optical_flow::frame_flow(
                     &separated.mask,
                     &previous_mask,
                     &shadow.flow,
                     shadow.mask_step,
+                    Some(&start),
                 )
             }
             None => Image::new(extent.width as usize, extent.height as usize, 4),

@@ -6,6 +6,7 @@
 use glam::{Vec2, Vec4};
 
 use super::{round_to_f16, Image};
+use crate::camera::PixelRays;
 use crate::passes::shadow_flow::{FlowSettings, Level, REGULARIZATION};
 use crate::shaders::shadow_poly;
 
@@ -119,12 +120,39 @@ pub fn expand_pyramid(mask: &Image, settings: &FlowSettings, mask_step: u32) -> 
         .collect()
 }
 
+/// Where the flow starts: frame t's linear depth (channel 3 of the packed geometry) and
+/// `Camera::reprojection_into` from frame t's camera into frame t-1's.
+pub struct FlowStart<'a> {
+    pub geometry: &'a Image,
+    pub reprojection: PixelRays,
+}
+
+impl FlowStart<'_> {
+    /// `camera_motion` of shadow_flow_matrices.wgsl: where static surfaces under texel p of a
+    /// level of `step` frame pixels a texel moved into frame t-1, in that level's texels.
+    fn camera_motion(&self, p: Vec2, step: u32) -> Vec2 {
+        let step = step as f32;
+        let r = &self.reprojection;
+        let pixel = (p + 0.5) * step - 0.5;
+        let nearest = (pixel + 0.5).floor();
+        let depth = self.geometry.clamped(nearest.x as i32, nearest.y as i32)[3];
+        let w = r.position + depth * (r.at_origin + pixel.x * r.per_x + pixel.y * r.per_y);
+        let motion = (Vec2::new(w.y, w.z) / w.x - pixel) / step;
+        if !(w.x > 0.0) || !(motion.abs().cmplt(Vec2::splat(1e6)).all()) {
+            return Vec2::ZERO;
+        }
+        motion
+    }
+}
+
 /// One iteration's per-texel equations: (G11, G12, G22, h1) and h2. `prior` is the flow the
-/// estimate comes from (this level's or the coarser one), `None` for zero.
+/// estimate comes from (this level's or the coarser one); without one, the static receivers'
+/// motion from `start` (with the level's frame pixels per texel), or zero.
 pub fn equations(
     current: &Expansion,
     previous: &Expansion,
     prior: Option<&Image>,
+    start: Option<(&FlowStart, u32)>,
 ) -> (Image, Image) {
     let (w, h) = (current.coefficients.width, current.coefficients.height);
     let mut h2_image = Image::new(w, h, 1);
@@ -139,7 +167,7 @@ pub fn equations(
                 let v = bilinear(prior, pos);
                 Vec2::new(v.x, v.y) * ratio
             }
-            None => Vec2::ZERO,
+            None => start.map_or(Vec2::ZERO, |(start, step)| start.camera_motion(p, step)),
         };
         let c = texel(&current.coefficients, px as i32, py as i32);
         let c_xy = current.xy.at(px, py)[0];
@@ -205,14 +233,20 @@ pub fn solve(rows: &Image, rows_h2: &Image, radius: i32) -> Image {
 }
 
 /// The flow of the pyramid's finest level, coarse to fine, from frame t's and frame t-1's
-/// expansions.
-pub fn flow(current: &[Expansion], previous: &[Expansion], settings: &FlowSettings) -> Image {
+/// expansions, started at `start` (with the finest level's frame pixels per texel).
+pub fn flow(
+    current: &[Expansion],
+    previous: &[Expansion],
+    settings: &FlowSettings,
+    start: Option<(&FlowStart, u32)>,
+) -> Image {
     let radius = settings.window_radius as i32;
     let mut coarser: Option<Image> = None;
-    for (c, p) in current.iter().zip(previous).rev() {
+    for (index, (c, p)) in current.iter().zip(previous).enumerate().rev() {
         let mut estimate = coarser.take();
         for _ in 0..settings.iterations {
-            let (g, h2) = equations(c, p, estimate.as_ref());
+            let level_start = start.map(|(start, step)| (start, step << index));
+            let (g, h2) = equations(c, p, estimate.as_ref(), level_start);
             let (r, r_h2) = rows(&g, &h2, radius);
             estimate = Some(solve(&r, &r_h2, radius));
         }
@@ -235,17 +269,19 @@ pub fn upsample(flow: &Image, width: usize, height: usize) -> Image {
 
 /// Each pixel's displacement from frame t to frame t-1, from the two frames' masks as the flow
 /// sees them (`separate_shadows::flow_mask`), with the finest level at a `mask_step`-th of the
-/// frame's resolution.
+/// frame's resolution, started at `start`.
 pub fn frame_flow(
     current: &Image,
     previous: &Image,
     settings: &FlowSettings,
     mask_step: u32,
+    start: Option<&FlowStart>,
 ) -> Image {
     let finest = flow(
         &expand_pyramid(current, settings, mask_step),
         &expand_pyramid(previous, settings, mask_step),
         settings,
+        start.map(|start| (start, mask_step)),
     );
     upsample(&finest, current.width, current.height)
 }
