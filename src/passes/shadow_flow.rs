@@ -362,7 +362,6 @@ pub fn record(
                 camera_at_origin,
                 camera_per_x,
                 camera_per_y,
-                ..Default::default()
             };
             rec.dispatch(&matrices, &params, extent_of(level));
             let params = r::Params {

@@ -138,10 +138,13 @@ impl FlowStart<'_> {
         let depth = self.geometry.clamped(nearest.x as i32, nearest.y as i32)[3];
         let w = r.position + depth * (r.at_origin + pixel.x * r.per_x + pixel.y * r.per_y);
         let motion = (Vec2::new(w.y, w.z) / w.x - pixel) / step;
-        if !(w.x > 0.0) || !(motion.abs().cmplt(Vec2::splat(1e6)).all()) {
-            return Vec2::ZERO;
+        // NaN fails both comparisons.
+        let usable = w.x > 0.0 && motion.abs().cmplt(Vec2::splat(1e6)).all();
+        if usable {
+            motion
+        } else {
+            Vec2::ZERO
         }
-        motion
     }
 }
 
