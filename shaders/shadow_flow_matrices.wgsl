@@ -8,7 +8,7 @@
 // scaled up (first iteration of a level), or at the coarsest level's first iteration the motion
 // the cameras give a static receiver: a shadow on the ground moves with the ground as the camera
 // pans, and only its drift across the ground (its caster's motion) is left for the flow to find.
-// Starting from zero, a fast pan's tens of pixels were beyond what the expansions resolve.
+// Started at zero, a fast pan's 20 pixels a frame were found only to within about 2 pixels.
 // Writes (G11, G12, G22, h1) and h2 in two atlases.
 // #import flow
 
@@ -23,7 +23,7 @@ struct Params {
     frame_extent: vec2u,
     // Frame t's pixel (x, y) at linear depth z lies in frame t-1 at (w.y, w.z) / w.x, with
     // w = camera_offset + z * (camera_at_origin + x camera_per_x + y camera_per_y), for a static
-    // surface (src/passes/shadow_flow.rs `CameraMotion`). camera_offset.w is 0 when frame t-1's
+    // surface (`Camera::reprojection_into` in src/camera.rs). camera_offset.w is 0 when frame t-1's
     // camera is unknown; camera_at_origin.w is this level's frame pixels per texel.
     camera_offset: vec4f,
     camera_at_origin: vec4f,
