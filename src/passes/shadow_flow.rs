@@ -204,8 +204,8 @@ pub struct FrameMask<'a> {
 }
 
 /// The matrices pass's camera constants: `reprojection` is `Camera::reprojection_into` from
-/// frame t's camera into frame t-1's, `None` when frame t-1's is unknown; `step` is the level's
-/// frame pixels per texel.
+/// frame t's camera into frame t-1's, `None` when frame t-1's is unknown (all zero: the shader
+/// then starts at zero); `step` is the level's frame pixels per texel.
 fn camera_params(reprojection: Option<&PixelRays>, step: u32) -> [[f32; 4]; 4] {
     match reprojection {
         Some(r) => [
@@ -214,7 +214,7 @@ fn camera_params(reprojection: Option<&PixelRays>, step: u32) -> [[f32; 4]; 4] {
             r.per_x.extend(0.0).into(),
             r.per_y.extend(0.0).into(),
         ],
-        None => [[0.0; 4], [0.0, 0.0, 0.0, step as f32], [0.0; 4], [0.0; 4]],
+        None => [[0.0; 4]; 4],
     }
 }
 
@@ -341,15 +341,16 @@ pub fn record(
     }
     let radius = settings.window_radius as i32;
     for (index, level) in levels.iter().enumerate().rev() {
+        let [camera_offset, camera_at_origin, camera_per_x, camera_per_y] =
+            camera_params(reprojection, images.mask_step << index);
         for iteration in 0..settings.iterations {
-            // The first estimate comes from the coarser level, or is zero at the coarsest.
+            // The first estimate comes from the coarser level, or at the coarsest from the
+            // static receivers' motion between the cameras (zero without frame t-1's camera).
             let prior = if iteration > 0 {
                 Some(level)
             } else {
                 levels.get(index + 1)
             };
-            let [camera_offset, camera_at_origin, camera_per_x, camera_per_y] =
-                camera_params(reprojection, images.mask_step << index);
             let params = m::Params {
                 level_offset: level.offset,
                 level_size: level.size,

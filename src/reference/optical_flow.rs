@@ -247,8 +247,8 @@ pub fn flow(
     let mut coarser: Option<Image> = None;
     for (index, (c, p)) in current.iter().zip(previous).enumerate().rev() {
         let mut estimate = coarser.take();
+        let level_start = start.map(|(start, step)| (start, step << index));
         for _ in 0..settings.iterations {
-            let level_start = start.map(|(start, step)| (start, step << index));
             let (g, h2) = equations(c, p, estimate.as_ref(), level_start);
             let (r, r_h2) = rows(&g, &h2, radius);
             estimate = Some(solve(&r, &r_h2, radius));
