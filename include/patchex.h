@@ -815,7 +815,8 @@ typedef struct PatchexShadowDiagnostics {
 // Submit, with a PatchexShadowInput: mask pyramid, polynomial expansion and Farneback flow.
 #define PATCHEX_STAGE_SHADOW_FLOW 8
 
-// Extrapolation of a frame with a shadow input: the shadow layer's warp.
+// Extrapolation of a frame with a shadow input whose shadows were tracked
+// (PATCHEX_SHADOW_HISTORY_TRACKED): the shadow layer's warps.
 #define PATCHEX_STAGE_SHADOW_WARP 9
 
 // A networks preset (PATCHEX_PRESET_NETWORKS or FULL), a frame with dynamic objects: patch
@@ -850,7 +851,8 @@ typedef struct PatchexShadowDiagnostics {
 #define PATCHEX_SHADOW_HISTORY_NONE 0
 
 // The frame had a shadow input but frame t-1 did not (or a reset or gap came between, or the
-// frame size changed): its shadows' motion is unknown and taken as zero.
+// frame size changed): its shadows' drift is unknown, so they stay on their receivers and move
+// only as the frame's warp moves the surfaces (PATCHEX_STAGE_SHADOW_WARP does not run).
 #define PATCHEX_SHADOW_HISTORY_STARTED 1
 
 // Frame t-1 had a shadow input too: the shadows' motion was tracked.

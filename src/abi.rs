@@ -569,7 +569,8 @@ pub const PATCHEX_STAGE_LBP: PatchexStage = 6;
 pub const PATCHEX_STAGE_DIAGNOSTICS: PatchexStage = 7;
 /// Submit, with a PatchexShadowInput: mask pyramid, polynomial expansion and Farneback flow.
 pub const PATCHEX_STAGE_SHADOW_FLOW: PatchexStage = 8;
-/// Extrapolation of a frame with a shadow input: the shadow layer's warp.
+/// Extrapolation of a frame with a shadow input whose shadows were tracked
+/// (PATCHEX_SHADOW_HISTORY_TRACKED): the shadow layer's warps.
 pub const PATCHEX_STAGE_SHADOW_WARP: PatchexStage = 9;
 /// A networks preset (PATCHEX_PRESET_NETWORKS or FULL), a frame with dynamic objects: patch
 /// planning, the networks' input gathering and both networks.
@@ -729,7 +730,8 @@ pub type PatchexShadowHistory = u32;
 /// The frame came without a PatchexShadowInput: the shadow sub-task did not run.
 pub const PATCHEX_SHADOW_HISTORY_NONE: PatchexShadowHistory = 0;
 /// The frame had a shadow input but frame t-1 did not (or a reset or gap came between, or the
-/// frame size changed): its shadows' motion is unknown and taken as zero.
+/// frame size changed): its shadows' drift is unknown, so they stay on their receivers and move
+/// only as the frame's warp moves the surfaces (PATCHEX_STAGE_SHADOW_WARP does not run).
 pub const PATCHEX_SHADOW_HISTORY_STARTED: PatchexShadowHistory = 1;
 /// Frame t-1 had a shadow input too: the shadows' motion was tracked.
 pub const PATCHEX_SHADOW_HISTORY_TRACKED: PatchexShadowHistory = 2;

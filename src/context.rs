@@ -36,6 +36,8 @@ pub(crate) struct SourceFrame {
     pub camera: Camera,
     /// It came with a shadow input: its layer and flow are in the shadow images.
     pub has_shadows: bool,
+    /// Frame t-1 had one too, unbroken: the flow measured how its shadows drift.
+    pub shadows_tracked: bool,
 }
 
 pub struct Context {

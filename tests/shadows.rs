@@ -53,15 +53,17 @@ fn run_with_shadows(
     alpha: f32,
     with_shadows: bool,
 ) -> ShadowOutcome {
-    run_with_shadows_warped(rig, [previous, source, target], alpha, with_shadows, None)
+    let frames = [previous, source, target];
+    run_with_shadows_warped(rig, frames, alpha, [with_shadows; 2], None)
 }
 
-/// `run_with_shadows` with the extrapolation's warp settings `warp`.
+/// `run_with_shadows` with the extrapolation's warp settings `warp`, and a shadow input for
+/// each submitted frame where `with_shadows` says so.
 fn run_with_shadows_warped(
     rig: &Rig,
     [previous, source, target]: [&Frame; 3],
     alpha: f32,
-    with_shadows: bool,
+    with_shadows: [bool; 2],
     warp: Option<&WarpSettings>,
 ) -> ShadowOutcome {
     let engine = &rig.engine;
@@ -86,7 +88,7 @@ fn run_with_shadows_warped(
     let shadow_inputs = frames.each_ref().map(|frame| frame.shadow_input());
     for (index, frame) in frames.iter().enumerate() {
         let mut desc = frame.frame_desc(1 + index as u64, family);
-        if with_shadows {
+        if with_shadows[index] {
             desc.header.next = &shadow_inputs[index] as *const _ as *const c_void;
         }
         engine.run(|cmd| {
@@ -213,7 +215,7 @@ fn assert_shadow_passes_match_their_references(
     };
     let rig = shadows_rig(width, height);
     let frames = [previous, source, target];
-    let outcome = run_with_shadows_warped(&rig, frames, 0.5, true, Some(warp));
+    let outcome = run_with_shadows_warped(&rig, frames, 0.5, [true; 2], Some(warp));
     let messages = rig.engine.take_validation_messages();
     assert!(messages.is_empty(), "validation: {messages:?}");
     let expected = reference_run(previous, source, target, 0.5, warp);
@@ -265,6 +267,44 @@ fn assert_shadow_passes_match_their_references(
         outcome.stats.source_sanitized_pixels, shadows.separated.sanitized,
         "sanitised pixels of frame t"
     );
+}
+
+/// Frame t's shadows with no frame t-1 to measure their drift from stay on their receivers:
+/// under an orbiting camera the output is the one without a shadow input, the shadow's change
+/// is zero and the shadow warp does not run. (Moved by a zero flow instead, they would stay put
+/// on the screen while the ground turns under them.)
+#[test]
+fn untracked_shadows_stay_on_their_receivers_under_a_moving_camera() {
+    let (width, height) = (128, 72);
+    let sequence = support::rendered::render("fast_run.toml", 4, width, height);
+    let [previous, _, source, target] = &sequence.frames[..] else {
+        unreachable!("four frames")
+    };
+    let frames = [previous, source, target];
+    let [started, without] = [[false, true], [false; 2]].map(|with_shadows| {
+        let rig = shadows_rig(width, height);
+        let outcome = run_with_shadows_warped(&rig, frames, 0.5, with_shadows, None);
+        let messages = rig.engine.take_validation_messages();
+        assert!(messages.is_empty(), "validation: {messages:?}");
+        outcome
+    });
+
+    assert_eq!(started.stats.shadow_history, PATCHEX_SHADOW_HISTORY_STARTED);
+    let stages = started.stats.extrapolations[0].stages_run;
+    assert_eq!(stages & (1 << PATCHEX_STAGE_SHADOW_WARP), 0);
+    let changed = started.diagnostics.data.chunks(4).filter(|d| d[3] != 0.0);
+    assert_eq!(changed.count(), 0, "pixels with a shadow change");
+    let mut output_worst = 0.0f32;
+    for (g, w) in started.output.data.iter().zip(&without.output.data) {
+        output_worst = output_worst.max(worst_error(*g, *w, 1e-3, 2e-3));
+    }
+    eprintln!("worst / tolerance against the output without a shadow input: {output_worst:.3}");
+    assert!(output_worst <= 1.0, "the shadows moved");
+    // The case is real: the camera moves the ground by pixels, and it is in shadow.
+    let reach = started.stats.extrapolations[0].largest_motion;
+    assert!(reach > 2.0, "the fastest motion is {reach} px");
+    let shadowed = source.shadow_mask.data.iter().filter(|&&v| v < 0.5).count();
+    assert!(shadowed > 50, "only {shadowed} pixels in shadow");
 }
 
 /// The analytic scene with the sun behind the sphere, so its shadow falls towards the camera.
@@ -639,9 +679,10 @@ fn shadow_history_survives_resizes_resets_and_gaps() {
             "frame {index}"
         );
         let stages = stats.extrapolations[0].stages_run;
+        // Only tracked shadows have a drift to move them by.
         assert_eq!(
             ran(stages, PATCHEX_STAGE_SHADOW_WARP),
-            with_shadows,
+            history == TRACKED,
             "frame {index}"
         );
         // Without shadow layers to move, the warp remodulates as it writes.

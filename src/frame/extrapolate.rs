@@ -244,7 +244,14 @@ impl Context {
                 lists_holes.then_some((&work[WorkImages::HOLE_LIST], 0)),
             )
         });
-        if let Some(shadows) = shadows {
+        if let Some(shadows) = shadows.filter(|_| !source.shadows_tracked) {
+            // No frame t-1 to measure a drift from: the shadows stay on their receivers, where
+            // the frame's warp carried them, and change nothing. (Moved by a zero flow instead,
+            // they would stay put on the screen and slide across the ground under a moving
+            // camera.)
+            rec.clear(&shadows[ShadowImages::SHADOW_CHANGE]);
+        }
+        if let Some(shadows) = shadows.filter(|_| source.shadows_tracked) {
             // The shadow layer moved by the mask's flow scaled to the target instant; then
             // through the frame's own warp (where that warp put frame t's shadow), which turns
             // the moved layer into the shadow's change in place.

@@ -191,6 +191,7 @@ impl ShadowImages {
     pub const LAYER: usize = 0;
     /// The layer as its flow moved it, which the frame's warp of the layer then turns into the
     /// shadow's change at the target: moved less carried, where the flow found a receiver.
+    /// Cleared when there was no flow to move it by (frame t-1's shadows were not tracked).
     pub const SHADOW_CHANGE: usize = 1;
     pub const MASK_PYRAMID: usize = 2;
     /// Frame t's and frame t-1's expansions, alternating (`Context::shadow_current`).
@@ -206,7 +207,10 @@ impl ShadowImages {
     const SPECS: [ImageSpec; 13] = [
         // Shading, as the frame's: RGBA16F.
         frame_image("patchex shadow layer", vk::Format::R16G16B16A16_SFLOAT),
-        frame_image("patchex shadow change", vk::Format::R16G16B16A16_SFLOAT),
+        ImageSpec {
+            cleared: true,
+            ..frame_image("patchex shadow change", vk::Format::R16G16B16A16_SFLOAT)
+        },
         atlas_image("patchex shadow mask pyramid", vk::Format::R32_SFLOAT),
         atlas_image(
             "patchex shadow expansion A",

@@ -212,6 +212,7 @@ impl Context {
             extent: inputs.extent,
             camera: inputs.geometry.camera,
             has_shadows: shadow_inputs.is_some(),
+            shadows_tracked: shadow_history == PATCHEX_SHADOW_HISTORY_TRACKED,
         });
         Ok(())
     }

@@ -46,12 +46,10 @@ pub struct Shadows {
     pub separated: separate_shadows::Separated,
     /// Level 0 flow to frame t-1, (dx, dy, 0, 0); zero without frame t-1's mask.
     pub flow: Image,
-    /// The layer moved by the flow with the occlusion-motion-vector warp.
-    pub warped_layer: warp::Warped,
-    /// The layer carried by the frame's own warp, as the frame's shadows are.
-    pub surface_layer: warp::Warped,
-    /// What remodulation adds on static surfaces: moved less carried where the flow found a
-    /// receiver, rounded to f16 as stored (`include/warp.wgsl`, `shadow_delta`).
+    /// What remodulation adds on static surfaces: the layer moved by the flow (with the
+    /// occlusion-motion-vector warp) less the layer carried by the frame's own warp, where the
+    /// flow found a receiver, rounded to f16 as stored (`include/warp.wgsl`, `shadow_delta`).
+    /// Zero without frame t-1's mask: the shadows stay on their receivers.
     pub change: Image,
 }
 
@@ -150,25 +148,27 @@ pub fn extrapolate(
         &params,
     );
     let shadows = shadow_inputs.zip(separated).map(|(shadow, separated)| {
-        let flow = match shadow.previous {
-            Some((mask, object_ids, camera)) => {
-                let previous_mask = separate_shadows::flow_mask(mask, object_ids);
-                let start = optical_flow::FlowStart {
-                    geometry: &source_packed.geometry,
-                    reprojection: source.camera.reprojection_into(camera, extent),
-                };
-                optical_flow::frame_flow(
-                    &separated.mask,
-                    &previous_mask,
-                    &shadow.flow,
-                    shadow.mask_step,
-                    Some(&start),
-                )
-            }
-            None => Image::new(extent.width as usize, extent.height as usize, 4),
+        let Some((mask, object_ids, camera)) = shadow.previous else {
+            return Shadows {
+                separated,
+                flow: Image::new(extent.width as usize, extent.height as usize, 4),
+                change: Image::new(extent.width as usize, extent.height as usize, 4),
+            };
         };
+        let previous_mask = separate_shadows::flow_mask(mask, object_ids);
+        let start = optical_flow::FlowStart {
+            geometry: &source_packed.geometry,
+            reprojection: source.camera.reprojection_into(camera, extent),
+        };
+        let flow = optical_flow::frame_flow(
+            &separated.mask,
+            &previous_mask,
+            &shadow.flow,
+            shadow.mask_step,
+            Some(&start),
+        );
         let shadow_params = warp.shadow_params(extent, target.camera, alpha);
-        let warped_layer = warp::warp(
+        let moved = warp::warp(
             crate::abi::PATCHEX_WARP_OCCLUSION_MOTION_VECTOR,
             &warp::WarpSources {
                 shading: &separated.shadow_layer,
@@ -183,7 +183,7 @@ pub fn extrapolate(
             },
             &shadow_params,
         );
-        let surface_layer = warp::warp(
+        let carried = warp::warp(
             warp.kind,
             &warp::WarpSources {
                 shading: &separated.shadow_layer,
@@ -198,12 +198,10 @@ pub fn extrapolate(
             },
             &params,
         );
-        let change = shadow_change(&warped_layer.warped, &surface_layer.warped);
+        let change = shadow_change(&moved.warped, &carried.warped);
         Shadows {
             separated,
             flow,
-            warped_layer,
-            surface_layer,
             change,
         }
     });
