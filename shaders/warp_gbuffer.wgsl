@@ -13,8 +13,6 @@
 
 // The bilinear blend is kept when agreeing texels carry at least this share of its weight.
 const BILINEAR_ACCEPT: f32 = 0.5;
-// Below this total weight the kernel found nothing usable; take the nearest texel instead.
-const MIN_TOTAL_WEIGHT: f32 = 1e-6;
 const HOLE_FILL_BACKGROUND: u32 = 0u;
 
 // The holes this warp leaves to fill_holes.wgsl: each entry is a pixel, x | y << 16, at list
@@ -34,24 +32,10 @@ fn warp_pixel(p: vec2u, t: Surface, motion_vector: vec2f) -> WarpedPixel {
     let extent = vec2i(params.extent);
     let q = source_point(p, motion_vector);
 
-    // Bilinear footprint of q, each texel weighted by its agreement with the target.
-    let corner = vec2i(floor(q - 0.5));
-    let f = q - 0.5 - floor(q - 0.5);
-    var shading_sum = vec3f(0.0);
-    var weight_sum = 0.0;
-    var best_agreement = 0.0;
-    for (var i = 0; i < 4; i++) {
-        let offset = vec2i(i & 1, i >> 1u);
-        let s = clamp(corner + offset, vec2i(0), extent - 1);
-        let agreement = agreement_at(t, s);
-        let bilinear = select(1.0 - f, f, vec2<bool>(offset == vec2i(1)));
-        let footprint = bilinear.x * bilinear.y;
-        shading_sum += footprint * agreement * textureLoad(source_shading, s, 0).rgb;
-        weight_sum += footprint * agreement;
-        if (footprint > 0.0) {
-            best_agreement = max(best_agreement, agreement);
-        }
-    }
+    let footprint = agreeing_footprint(t, q);
+    var shading_sum = footprint.shading_sum;
+    var weight_sum = footprint.weight_sum;
+    var best_agreement = footprint.best_agreement;
 
     if (weight_sum < BILINEAR_ACCEPT) {
         // Joint bilateral gather around q.

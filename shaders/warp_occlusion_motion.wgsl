@@ -9,6 +9,18 @@
 // #import warp_entry
 // #import tallies
 
+// The bilinear fetch at q: plain, or weighted by agreement (`agreeing_bilinear`) where any
+// texel agrees.
+fn fetch(t: Surface, q: vec2f) -> vec3f {
+    if (params.agreeing_bilinear != 0u) {
+        let footprint = agreeing_footprint(t, q);
+        if (footprint.weight_sum > MIN_TOTAL_WEIGHT) {
+            return footprint.shading_sum / footprint.weight_sum;
+        }
+    }
+    return bilinear_shading(q);
+}
+
 fn warp_pixel(p: vec2u, t: Surface, motion_vector: vec2f) -> WarpedPixel {
     var q = source_point(p, motion_vector);
     var best_agreement = select(agreement_at(t, texel(q)), 0.0, is_offscreen(q));
@@ -31,5 +43,5 @@ fn warp_pixel(p: vec2u, t: Surface, motion_vector: vec2f) -> WarpedPixel {
         }
     }
     let offscreen = is_offscreen(q);
-    return WarpedPixel(bilinear_shading(q), offscreen || best_agreement < AGREEMENT_THRESHOLD, offscreen, false);
+    return WarpedPixel(fetch(t, q), offscreen || best_agreement < AGREEMENT_THRESHOLD, offscreen, false);
 }

@@ -6,6 +6,8 @@
 
 // A source texel agrees with the target when its geometry weight reaches this value.
 const AGREEMENT_THRESHOLD: f32 = 0.5;
+// Below this total weight a weighted fetch found nothing usable.
+const MIN_TOTAL_WEIGHT: f32 = 1e-6;
 // Grazing surfaces stretch a pixel's footprint by 1 / cos(angle), up to this cosine.
 const MIN_FACING: f32 = 0.25;
 
@@ -36,6 +38,10 @@ struct Params {
     // Not 0 for the shadow layer through the frame's warp: store the shadow's change instead
     // (`store_pixel`).
     shadow_delta: u32,
+    // Occlusion-motion-vector warp: not 0 to weigh each texel of the bilinear fetch by its
+    // agreement, as the G-buffer warp does. For the shadow layer, which is zero on dynamic
+    // objects: a plain blend beside one would thin the shadow on the ground at its feet.
+    agreeing_bilinear: u32,
 }
 var<immediate> params: Params;
 
@@ -186,6 +192,33 @@ fn bilinear_shading(q: vec2f) -> vec3f {
     let s01 = textureLoad(source_shading, clamp(corner + vec2i(0, 1), vec2i(0), last), 0).rgb;
     let s11 = textureLoad(source_shading, clamp(corner + vec2i(1, 1), vec2i(0), last), 0).rgb;
     return mix(mix(s00, s10, f.x), mix(s01, s11, f.x), f.y);
+}
+
+// q's bilinear footprint in frame t with each texel weighted by its agreement with the target:
+// the weighted shading and weight sums, and the best agreement of a texel with a share of it.
+struct AgreeingFootprint {
+    shading_sum: vec3f,
+    weight_sum: f32,
+    best_agreement: f32,
+}
+
+fn agreeing_footprint(t: Surface, q: vec2f) -> AgreeingFootprint {
+    let corner = vec2i(floor(q - 0.5));
+    let f = q - 0.5 - floor(q - 0.5);
+    var sums = AgreeingFootprint(vec3f(0.0), 0.0, 0.0);
+    for (var i = 0; i < 4; i++) {
+        let offset = vec2i(i & 1, i >> 1u);
+        let s = clamp(corner + offset, vec2i(0), vec2i(params.extent) - 1);
+        let agreement = agreement_at(t, s);
+        let bilinear = select(1.0 - f, f, vec2<bool>(offset == vec2i(1)));
+        let footprint = bilinear.x * bilinear.y;
+        sums.shading_sum += footprint * agreement * textureLoad(source_shading, s, 0).rgb;
+        sums.weight_sum += footprint * agreement;
+        if (footprint > 0.0) {
+            sums.best_agreement = max(sums.best_agreement, agreement);
+        }
+    }
+    return sums;
 }
 
 struct WarpedPixel {

@@ -161,10 +161,12 @@ impl WarpSettings {
     /// across its receiver, landing on other points of the same surface, so the agreement test
     /// measures world position only across the target's surface: a source agrees when it has
     /// the target's object id and normal and lies on its plane (a kerb's top is not the road),
-    /// and only then is the shadow added.
+    /// and only then is the shadow added. Its fetch weighs texels by that agreement: the layer
+    /// is zero on dynamic objects, which must not thin the shadow beside them.
     pub fn shadow_params(&self, extent: vk::Extent2D, camera: &Camera, alpha: f32) -> Params {
         Params {
             in_plane_weight: 0.0,
+            agreeing_bilinear: 1,
             ..self.params(extent, camera, [0.0, 0.0], [alpha, alpha])
         }
     }

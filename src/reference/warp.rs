@@ -189,10 +189,10 @@ impl PixelWarp<'_> {
         top.lerp(bottom, f.y)
     }
 
-    /// Mirror of `warp_gbuffer.wgsl`.
-    fn gbuffer_guided(&self) -> WarpedPixel {
-        let extent = self.extent();
-        let q = self.source_point(self.p);
+    /// q's bilinear footprint with each texel weighted by its agreement: the weighted shading
+    /// and weight sums, and the best agreement of a texel with a share of it
+    /// (`agreeing_footprint`).
+    fn agreeing_footprint(&self, q: Vec2) -> (Vec3, f32, f32) {
         // A huge motion vector saturates the conversion to i32: the neighbours' offsets wrap,
         // as WGSL's integer arithmetic does, and the clamp brings them back into the image.
         let corner = (q - 0.5).floor().as_ivec2();
@@ -202,7 +202,9 @@ impl PixelWarp<'_> {
         let mut best_agreement: f32 = 0.0;
         for i in 0..4 {
             let offset = IVec2::new(i & 1, i >> 1);
-            let s = corner.wrapping_add(offset).clamp(IVec2::ZERO, extent - 1);
+            let s = corner
+                .wrapping_add(offset)
+                .clamp(IVec2::ZERO, self.extent() - 1);
             let agreement = self.agreement_at(s);
             let bx = if offset.x == 1 { f.x } else { 1.0 - f.x };
             let by = if offset.y == 1 { f.y } else { 1.0 - f.y };
@@ -213,6 +215,14 @@ impl PixelWarp<'_> {
                 best_agreement = best_agreement.max(agreement);
             }
         }
+        (shading_sum, weight_sum, best_agreement)
+    }
+
+    /// Mirror of `warp_gbuffer.wgsl`.
+    fn gbuffer_guided(&self) -> WarpedPixel {
+        let extent = self.extent();
+        let q = self.source_point(self.p);
+        let (mut shading_sum, mut weight_sum, mut best_agreement) = self.agreeing_footprint(q);
         let bilinear_weight = weight_sum;
         if weight_sum < BILINEAR_ACCEPT {
             shading_sum = Vec3::ZERO;
@@ -289,8 +299,15 @@ impl PixelWarp<'_> {
                 }
             }
         }
+        let weighted = (self.params.agreeing_bilinear != 0)
+            .then(|| self.agreeing_footprint(q))
+            .filter(|&(_, weight_sum, _)| weight_sum > MIN_TOTAL_WEIGHT);
+        let shading = weighted.map_or_else(
+            || self.bilinear_shading(q),
+            |(shading_sum, weight_sum, _)| shading_sum / weight_sum,
+        );
         WarpedPixel {
-            shading: self.bilinear_shading(q),
+            shading,
             best_agreement,
             bilinear_weight: f32::NAN,
             offscreen: self.is_offscreen(q),
