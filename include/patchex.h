@@ -815,8 +815,8 @@ typedef struct PatchexShadowDiagnostics {
 // Submit, with a PatchexShadowInput: mask pyramid, polynomial expansion and Farneback flow.
 #define PATCHEX_STAGE_SHADOW_FLOW 8
 
-// Extrapolation of a frame with a shadow input whose shadows were tracked
-// (PATCHEX_SHADOW_HISTORY_TRACKED): the shadow layer's warps.
+// Extrapolation of a frame with a shadow input: the shadow layer's warps, or with
+// PATCHEX_SHADOW_HISTORY_STARTED only the clearing of the shadow's change.
 #define PATCHEX_STAGE_SHADOW_WARP 9
 
 // A networks preset (PATCHEX_PRESET_NETWORKS or FULL), a frame with dynamic objects: patch
@@ -852,7 +852,7 @@ typedef struct PatchexShadowDiagnostics {
 
 // The frame had a shadow input but frame t-1 did not (or a reset or gap came between, or the
 // frame size changed): its shadows' drift is unknown, so they stay on their receivers and move
-// only as the frame's warp moves the surfaces (PATCHEX_STAGE_SHADOW_WARP does not run).
+// only as the frame's warp moves the surfaces (the shadow layer is not warped).
 #define PATCHEX_SHADOW_HISTORY_STARTED 1
 
 // Frame t-1 had a shadow input too: the shadows' motion was tracked.

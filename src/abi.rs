@@ -569,8 +569,8 @@ pub const PATCHEX_STAGE_LBP: PatchexStage = 6;
 pub const PATCHEX_STAGE_DIAGNOSTICS: PatchexStage = 7;
 /// Submit, with a PatchexShadowInput: mask pyramid, polynomial expansion and Farneback flow.
 pub const PATCHEX_STAGE_SHADOW_FLOW: PatchexStage = 8;
-/// Extrapolation of a frame with a shadow input whose shadows were tracked
-/// (PATCHEX_SHADOW_HISTORY_TRACKED): the shadow layer's warps.
+/// Extrapolation of a frame with a shadow input: the shadow layer's warps, or with
+/// PATCHEX_SHADOW_HISTORY_STARTED only the clearing of the shadow's change.
 pub const PATCHEX_STAGE_SHADOW_WARP: PatchexStage = 9;
 /// A networks preset (PATCHEX_PRESET_NETWORKS or FULL), a frame with dynamic objects: patch
 /// planning, the networks' input gathering and both networks.
@@ -731,7 +731,7 @@ pub type PatchexShadowHistory = u32;
 pub const PATCHEX_SHADOW_HISTORY_NONE: PatchexShadowHistory = 0;
 /// The frame had a shadow input but frame t-1 did not (or a reset or gap came between, or the
 /// frame size changed): its shadows' drift is unknown, so they stay on their receivers and move
-/// only as the frame's warp moves the surfaces (PATCHEX_STAGE_SHADOW_WARP does not run).
+/// only as the frame's warp moves the surfaces (the shadow layer is not warped).
 pub const PATCHEX_SHADOW_HISTORY_STARTED: PatchexShadowHistory = 1;
 /// Frame t-1 had a shadow input too: the shadows' motion was tracked.
 pub const PATCHEX_SHADOW_HISTORY_TRACKED: PatchexShadowHistory = 2;

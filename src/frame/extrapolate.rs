@@ -244,22 +244,23 @@ impl Context {
                 lists_holes.then_some((&work[WorkImages::HOLE_LIST], 0)),
             )
         });
-        if let Some(shadows) = shadows.filter(|_| !source.shadows_tracked) {
-            // No frame t-1 to measure a drift from: the shadows stay on their receivers, where
-            // the frame's warp carried them, and change nothing. (Moved by a zero flow instead,
-            // they would stay put on the screen and slide across the ground under a moving
-            // camera.)
-            rec.clear(&shadows[ShadowImages::SHADOW_CHANGE]);
-        }
-        if let Some(shadows) = shadows.filter(|_| source.shadows_tracked) {
+        if let Some(shadows) = shadows {
             // The shadow layer moved by the mask's flow scaled to the target instant; then
             // through the frame's own warp (where that warp put frame t's shadow), which turns
             // the moved layer into the shadow's change in place.
             let params =
                 warp_settings.shadow_params(inputs.extent, &inputs.geometry.camera, inputs.alpha);
             let layer = &shadows[ShadowImages::LAYER];
-            let change: Texture = (&shadows[ShadowImages::SHADOW_CHANGE]).into();
+            let change = &shadows[ShadowImages::SHADOW_CHANGE];
             rec.stage(PATCHEX_STAGE_SHADOW_WARP, |rec| {
+                if !source.shadows_tracked {
+                    // No frame t-1 to measure a drift from: the shadows stay on their receivers,
+                    // where the frame's warp carried them, and change nothing. (Moved by a zero
+                    // flow instead, they would stay put on the screen and slide across the
+                    // ground under a moving camera.)
+                    rec.clear(change);
+                    return;
+                }
                 let flow_warp = PipelineId::WarpOcclusionMotion;
                 record_warp(
                     rec,
@@ -268,7 +269,7 @@ impl Context {
                     layer,
                     (&shadows[ShadowImages::FLOW]).into(),
                     warp::Store::Shading,
-                    change,
+                    change.into(),
                     counters::SHADOW_WARP,
                     None,
                 );
@@ -280,7 +281,7 @@ impl Context {
                     layer,
                     motion,
                     warp::Store::ShadowChange,
-                    change,
+                    change.into(),
                     counters::SURFACE_LAYER,
                     lists_holes.then_some((&work[WorkImages::HOLE_LIST], 1)),
                 );
