@@ -687,8 +687,9 @@ typedef struct PatchexDiagnostics {
 // intermediate results, written only when frame t came with a PatchexShadowInput.
 // R16G16B16A16_SFLOAT with STORAGE usage, the size of the output. RG = the shadow mask's flow at
 // this pixel of frame t (its displacement to frame t-1, in pixels); B = luminance of frame t's
-// demodulated shadow layer; A = luminance of the change the shadows make at the target instant
-// (the layer moved by its flow, less the layer as the frame's warp carried it).
+// shadow layer (the share of light the dynamic shadows take away, in [-1, 0]); A = luminance of
+// that share at the target instant (the layer moved by its flow where it found a receiver, as
+// the frame's warp carried it elsewhere).
 typedef struct PatchexShadowDiagnostics {
   // PATCHEX_STRUCT_TYPE_SHADOW_DIAGNOSTICS, sizeof(PatchexShadowDiagnostics), chain.
   struct PatchexStructHeader header;
@@ -816,7 +817,7 @@ typedef struct PatchexShadowDiagnostics {
 #define PATCHEX_STAGE_SHADOW_FLOW 8
 
 // Extrapolation of a frame with a shadow input: the shadow layer's warps, or with
-// PATCHEX_SHADOW_HISTORY_STARTED only the clearing of the shadow's change.
+// PATCHEX_SHADOW_HISTORY_STARTED only the clearing of the shadows' share.
 #define PATCHEX_STAGE_SHADOW_WARP 9
 
 // A networks preset (PATCHEX_PRESET_NETWORKS or FULL), a frame with dynamic objects: patch

@@ -1,16 +1,16 @@
 // Multiplies the extrapolated shading by the target instant's own modulation factor, in place in
 // the frame image (the engine's output, where the warp wrote its shading): texture detail comes
 // from the target's G-buffer, not from the warp.
-// With a shadow input, the shadow's change is added to the shading first.
+// With a shadow input, the shading (warped without the dynamic casters' shadows) first loses
+// the share of its light that those shadows take away at the target.
 // #import gbuffer
 // #import tallies
 
 struct Params {
     extent: vec2u,
     has_material: u32,
-    // With a shadow input: the shadow is moved first (see below).
+    // With a shadow input: the shadows are put back first (see below).
     has_shadow_change: u32,
-    has_stencil: u32,
 }
 var<immediate> params: Params;
 
@@ -18,11 +18,10 @@ var<immediate> params: Params;
 @group(0) @binding(1) var base_color: texture_2d<f32>;
 @group(0) @binding(2) var material: texture_2d<f32>;
 @group(0) @binding(4) var<storage, read_write> counters: SanitizeCounters;
-// The shadow layer as its flow moved it less as the frame's warp carried it, where the flow
-// found a receiver (include/warp.wgsl, `shadow_delta`).
+// The share of light the dynamic shadows take away at the target, in [-1, 0]: the shadow layer
+// as its flow moved it where that found a receiver, as the frame's warp carried it elsewhere
+// (include/warp.wgsl, `shadow_delta`).
 @group(0) @binding(5) var shadow_change: texture_2d<f32>;
-// The target's object ids (the engine's stencil): shadows are moved on static surfaces only.
-@group(0) @binding(7) var target_stencil: texture_2d<u32>;
 
 @compute @workgroup_size(8, 8, 1)
 fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_index) lane: u32) {
@@ -32,14 +31,11 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
         let m = pixel_modulation(base_color, material, p, params.has_material);
         // The product can exceed what RGBA16F holds; clamp it there and count the pixel.
         var shading_rgb = textureLoad(frame, p).rgb;
-        if (params.has_shadow_change != ABSENT && (params.has_stencil == ABSENT || textureLoad(target_stencil, p, 0).r == 0u)) {
-            // The frame's warp carried frame t's shadows with the surfaces. On static surfaces,
-            // the change takes them away and adds the layer as its flow moved it, where that
-            // found a receiver; elsewhere, such as ground that was under a character, it is
-            // zero and the warp's stays. Dynamic objects keep their shadows, which move with
-            // them. A shadow moved onto an already darker surface cannot take more light than
-            // is there.
-            shading_rgb = max(shading_rgb + textureLoad(shadow_change, p, 0).rgb, vec3f(0.0));
+        if (params.has_shadow_change != ABSENT) {
+            // A share, not an amount: a shadow moved onto an already darker surface takes away
+            // only the light that is there. Dynamic objects carry a zero layer and keep the
+            // shadows on them in their shading, which moves with them.
+            shading_rgb = shading_rgb * (1.0 + textureLoad(shadow_change, p, 0).rgb);
         }
         let color = sanitize_color(shading_rgb * m.factor);
         textureStore(frame, p, vec4f(to_half(color.value), 1.0));

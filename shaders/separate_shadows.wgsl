@@ -1,22 +1,32 @@
-// Shadow separation, run in place of demodulate.wgsl when the engine gives a shadow input: the
-// demodulated frame as usual, and the shadow layer, what the dynamic casters' shadows take
-// away, demodulated the same way:
-//   shading = F / m,   layer = (F - U) / m,
-// with F the colour, U the colour without dynamic shadows and m the modulation factor. Nothing
-// is divided by the mask, so fully shadowed pixels (mask 0) are as stable as lit ones.
-// Dynamic objects keep the shadows on them (mostly their own, which move with them, as the
-// warp moves them): there the layer is zero, and the flow's pyramid (shadow_pyramid.wgsl) takes
-// the mask as lit, so the flow follows the shadows on static receivers only. Each pixel with
-// any input sanitised, the mask included, is counted once. Runs after the G-buffer packing,
-// whose object ids it reads.
+// Shadow separation, run in place of demodulate.wgsl when the engine gives a shadow input. When
+// frame t-1's shadows were tracked, static pixels store the frame as lit without the dynamic
+// casters' shadows, demodulated, and the shadow layer, the share of that light those shadows
+// take away:
+//   shading = U / m,   layer = (min(F, U) - U) / U   (in [-1, 0]; 0 where U is black),
+// with F the colour, U the colour without dynamic shadows and m the modulation factor. The frame
+// is warped without those shadows, and remodulation puts back the layer where the shadows are
+// at the target, as a share of the light the receiver has there: a shadow moved onto ground
+// that static casters already shade takes away only the little light that is left. Nothing is
+// divided by the mask, so fully shadowed pixels (mask 0) are as stable as lit ones. Dynamic
+// objects keep the shadows on them (mostly their own, which move with them): there the shading
+// is F / m, the layer zero, and the flow's pyramid (shadow_pyramid.wgsl) takes the mask as lit,
+// so the flow follows the shadows on static receivers only. Untracked (no frame t-1 to measure
+// a drift from), every pixel is F / m and the layer zero: the shadows stay where the warp
+// carries them. Each pixel with any input sanitised, the mask included, is counted once. Runs
+// after the G-buffer packing, whose object ids it reads.
 // #import gbuffer
 // #import tallies
 
 struct Params {
     extent: vec2u,
     has_material: u32,
+    // Not 0 when frame t-1's shadows were tracked: their layer is moved at the target.
+    tracked: u32,
 }
 var<immediate> params: Params;
+
+// Below this unshadowed colour a receiver has no light to lose.
+const BLACK: f32 = 1e-6;
 
 @group(0) @binding(0) var color: texture_2d<f32>;
 @group(0) @binding(1) var color_without_dynamic_shadows: texture_2d<f32>;
@@ -28,6 +38,12 @@ var<immediate> params: Params;
 @group(0) @binding(8) var<storage, read_write> counters: SanitizeCounters;
 @group(0) @binding(9) var source_normal_id: texture_2d<u32>;
 
+// The share of the unshadowed light U that the dynamic shadows take away from F, per channel.
+fn shadow_share(lit: vec3f, unshadowed: vec3f) -> vec3f {
+    let lost = min(lit, unshadowed) - unshadowed;
+    return select(vec3f(0.0), lost / unshadowed, unshadowed > vec3f(BLACK));
+}
+
 @compute @workgroup_size(8, 8, 1)
 fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_index) lane: u32) {
     open_tallies(lane);
@@ -37,16 +53,16 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
         let lit = sanitize_color(textureLoad(color, p, 0).rgb);
         let unshadowed = sanitize_color(textureLoad(color_without_dynamic_shadows, p, 0).rgb);
         let visibility = sanitize_unit(vec3f(textureLoad(shadow_mask, p, 0).r, 0.0, 0.0));
-        let s = demodulated(lit.value, m.factor);
+        let separates = params.tracked != 0u
+            && object_id(textureLoad(source_normal_id, p, 0).r) == 0u;
+        let s = demodulated(select(lit.value, unshadowed.value, separates), m.factor);
         textureStore(shading, p, vec4f(s.value, 1.0));
-        var changed = m.changed || lit.changed || unshadowed.changed || visibility.changed || s.changed;
-        if (object_id(textureLoad(source_normal_id, p, 0).r) != 0u) {
-            textureStore(shadow_layer, p, vec4f(0.0, 0.0, 0.0, 1.0));
-        } else {
-            let layer = demodulated(lit.value - unshadowed.value, m.factor);
-            textureStore(shadow_layer, p, vec4f(layer.value, 1.0));
-            changed = changed || layer.changed;
+        var layer = vec3f(0.0);
+        if (separates) {
+            layer = shadow_share(lit.value, unshadowed.value);
         }
+        textureStore(shadow_layer, p, vec4f(layer, 1.0));
+        let changed = m.changed || lit.changed || unshadowed.changed || visibility.changed || s.changed;
         if (changed) {
             atomicAdd(&group_tallies[0u], 1u);
         }

@@ -1,7 +1,8 @@
 // Copies the shadow sub-task's intermediate results into the engine's shadow diagnostics image:
 // RG = the mask's flow at this pixel of frame t (displacement to frame t-1, pixels),
-// B = luminance of frame t's shadow layer, A = luminance of the shadow's change at the target
-// (the layer as its flow moved it, less as the frame's warp carried it).
+// B = luminance of frame t's shadow layer (the share of light the dynamic shadows take away),
+// A = luminance of that share at the target (the layer as its flow moved it where that found a
+// receiver, as the frame's warp carried it elsewhere).
 
 struct Params {
     extent: vec2u,

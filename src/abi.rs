@@ -538,8 +538,9 @@ pub struct PatchexDiagnostics {
 /// intermediate results, written only when frame t came with a PatchexShadowInput.
 /// R16G16B16A16_SFLOAT with STORAGE usage, the size of the output. RG = the shadow mask's flow at
 /// this pixel of frame t (its displacement to frame t-1, in pixels); B = luminance of frame t's
-/// demodulated shadow layer; A = luminance of the change the shadows make at the target instant
-/// (the layer moved by its flow, less the layer as the frame's warp carried it).
+/// shadow layer (the share of light the dynamic shadows take away, in [-1, 0]); A = luminance of
+/// that share at the target instant (the layer moved by its flow where it found a receiver, as
+/// the frame's warp carried it elsewhere).
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
 pub struct PatchexShadowDiagnostics {
@@ -570,7 +571,7 @@ pub const PATCHEX_STAGE_DIAGNOSTICS: PatchexStage = 7;
 /// Submit, with a PatchexShadowInput: mask pyramid, polynomial expansion and Farneback flow.
 pub const PATCHEX_STAGE_SHADOW_FLOW: PatchexStage = 8;
 /// Extrapolation of a frame with a shadow input: the shadow layer's warps, or with
-/// PATCHEX_SHADOW_HISTORY_STARTED only the clearing of the shadow's change.
+/// PATCHEX_SHADOW_HISTORY_STARTED only the clearing of the shadows' share.
 pub const PATCHEX_STAGE_SHADOW_WARP: PatchexStage = 9;
 /// A networks preset (PATCHEX_PRESET_NETWORKS or FULL), a frame with dynamic objects: patch
 /// planning, the networks' input gathering and both networks.

@@ -38,7 +38,8 @@ fn shadows_rig(max_width: u32, max_height: u32) -> Rig {
 /// What one run of three frames gave back.
 struct ShadowOutcome {
     output: Image,
-    /// RG flow, B layer luminance, A shadow change luminance (`PatchexShadowDiagnostics`).
+    /// RG flow, B layer luminance, A luminance of the shadows' share at the target
+    /// (`PatchexShadowDiagnostics`).
     diagnostics: Image,
     stats: PatchexFrameStats,
 }
@@ -270,7 +271,7 @@ fn assert_shadow_passes_match_their_references(
 }
 
 /// Frame t's shadows with no frame t-1 to measure their drift from stay on their receivers:
-/// under an orbiting camera the output is the one without a shadow input, the shadow's change
+/// under an orbiting camera the output is the one without a shadow input, the shadows' share
 /// is zero and the shadow warp stage only clears it, reading nothing. (Moved by a zero flow
 /// instead, they would stay put on the screen while the ground turns under them.)
 #[test]
@@ -293,13 +294,13 @@ fn untracked_shadows_stay_on_their_receivers_under_a_moving_camera() {
     let traffic = &started.stats.extrapolation_traffic[0];
     let stage = PATCHEX_STAGE_SHADOW_WARP as usize;
     assert_eq!(traffic.bytes_read[stage], 0, "the shadow warp stage read");
-    // The shadow's change, RGBA16F, cleared.
+    // The shadows' share, RGBA16F, cleared.
     assert_eq!(
         traffic.bytes_written[stage],
         8 * width as u64 * height as u64
     );
     let changed = started.diagnostics.data.chunks(4).filter(|d| d[3] != 0.0);
-    assert_eq!(changed.count(), 0, "pixels with a shadow change");
+    assert_eq!(changed.count(), 0, "pixels with a shadow share");
     let mut output_worst = 0.0f32;
     for (g, w) in started.output.data.iter().zip(&without.output.data) {
         output_worst = output_worst.max(worst_error(*g, *w, 1e-3, 2e-3));

@@ -35,7 +35,7 @@ struct Params {
     // work, without shadow layers), counting what was sanitised.
     remodulate: u32,
     has_material: u32,
-    // Not 0 for the shadow layer through the frame's warp: store the shadow's change instead
+    // Not 0 for the shadow layer through the frame's warp: store the shadows' share instead
     // (`store_pixel`).
     shadow_delta: u32,
     // Occlusion-motion-vector warp: not 0 to weigh each texel of the bilinear fetch by its
@@ -239,7 +239,7 @@ struct DeferredHoles {
 }
 
 // Writes pixel p's warped shading (alpha 0 for a hole), remodulated when the warp remodulates,
-// or the shadow's change when it carries the shadow layer.
+// or the shadows' share at the target when it carries the shadow layer.
 fn store_pixel(p: vec2u, shading: vec3f, hole: bool) {
     var color = vec4f(to_half(shading), select(1.0, 0.0, hole));
     if (params.remodulate != 0u) {
@@ -251,12 +251,11 @@ fn store_pixel(p: vec2u, shading: vec3f, hole: bool) {
         }
     }
     if (params.shadow_delta != 0u) {
-        // What remodulation adds on static surfaces: the layer as its flow moved it, less the
-        // shadow this warp carried with the surfaces (in half floats, as it was stored before),
-        // where the flow found a receiver (alpha 1); nothing elsewhere.
+        // The share of light the shadows take away at the target: the layer as its flow moved
+        // it where that found a receiver (alpha 1), as this warp carried it with the surfaces
+        // elsewhere.
         let moved = textureLoad(moved_layer, p, 0);
-        let change = clamp((moved.rgb - color.rgb) * moved.a, vec3f(-MAX_HALF), vec3f(MAX_HALF));
-        color = vec4f(to_half(change), moved.a);
+        color = vec4f(to_half(mix(color.rgb, moved.rgb, moved.a)), moved.a);
     }
     textureStore(warped, p, color);
 }

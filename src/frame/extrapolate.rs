@@ -247,7 +247,7 @@ impl Context {
         if let Some(shadows) = shadows {
             // The shadow layer moved by the mask's flow scaled to the target instant; then
             // through the frame's own warp (where that warp put frame t's shadow), which turns
-            // the moved layer into the shadow's change in place.
+            // the moved layer into the shadows' share at the target in place.
             let params =
                 warp_settings.shadow_params(inputs.extent, &inputs.geometry.camera, inputs.alpha);
             let layer = &shadows[ShadowImages::LAYER];
@@ -397,9 +397,7 @@ impl Context {
                         base_color,
                         material,
                         shadow_change: shadows.map(|s| (&s[ShadowImages::SHADOW_CHANGE]).into()),
-                        target_stencil: target_gbuffer.stencil,
                         placeholder,
-                        placeholder_uint,
                     },
                     frame,
                     &counters(counters::SANITIZE, SANITIZE_COUNTER_BYTES),

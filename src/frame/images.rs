@@ -190,7 +190,7 @@ pub type ShadowImages = ImageSet<13>;
 impl ShadowImages {
     pub const LAYER: usize = 0;
     /// The layer as its flow moved it, which the frame's warp of the layer then turns into the
-    /// shadow's change at the target: moved less carried, where the flow found a receiver.
+    /// shadows' share at the target: moved where the flow found a receiver, carried elsewhere.
     /// Cleared when there was no flow to move it by (frame t-1's shadows were not tracked).
     pub const SHADOW_CHANGE: usize = 1;
     pub const MASK_PYRAMID: usize = 2;

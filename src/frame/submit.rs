@@ -142,6 +142,7 @@ impl Context {
                         shadow_layer: &shadows[ShadowImages::LAYER],
                     },
                     &sanitize_counters,
+                    track,
                 ),
                 _ => demodulate::record(
                     rec,

@@ -20,7 +20,8 @@ pub fn frame_sources(warped: Texture, regions: &OwnedImage, lbp: &OwnedImage) ->
     [warped, regions.into(), lbp.into()]
 }
 
-/// What `write_shadow_diagnostics` reads: the flow, the shadow layer and the shadow's change.
+/// What `write_shadow_diagnostics` reads: the flow, the shadow layer and the shadows' share at
+/// the target.
 pub fn shadow_sources<'a>(
     flow: &'a OwnedImage,
     shadow_layer: &'a OwnedImage,

@@ -1,7 +1,8 @@
 //! Shadow separation (`shaders/separate_shadows.wgsl`), run in place of demodulation when the
 //! engine gives a shadow input, after the G-buffer packing (it reads the object ids): writes
-//! the demodulated frame and the shadow layer, and counts the pixels whose inputs it sanitised
-//! (the flow's pyramid reads the mask itself).
+//! the demodulated frame, without the dynamic casters' shadows on static receivers when they
+//! are tracked, and the shadow layer, the share of light those shadows take away; and counts
+//! the pixels whose inputs it sanitised (the flow's pyramid reads the mask itself).
 
 use ash::vk;
 
@@ -27,6 +28,8 @@ pub struct SeparationOutputs<'a> {
     pub shadow_layer: &'a OwnedImage,
 }
 
+/// `tracked`: frame t-1's shadows were tracked, so the extrapolation moves the layer; without,
+/// the frame keeps its shadows and the layer is zero.
 pub fn record(
     rec: &mut Recorder,
     pass: Pass,
@@ -34,6 +37,7 @@ pub fn record(
     inputs: &SeparationInputs,
     outputs: &SeparationOutputs,
     counters: &CounterRange,
+    tracked: bool,
 ) {
     let material = inputs.material.unwrap_or(inputs.placeholder);
     let unshadowed = inputs.color_without_dynamic_shadows;
@@ -52,7 +56,7 @@ pub fn record(
     let params = Params {
         extent: [extent.width, extent.height],
         has_material: inputs.material.is_some() as u32,
-        ..Default::default()
+        tracked: tracked as u32,
     };
     rec.dispatch(&bound, &params, extent);
 }

@@ -199,8 +199,8 @@ pub enum Store<'a> {
     /// The shading remodulated: the output, when nothing runs between the warp and it.
     Remodulated(&'a Remodulation),
     /// For the shadow layer through the frame's warp, into the image where the flow's warp left
-    /// the moved layer: the shadow's change, the moved layer less the carried one where the
-    /// flow found a receiver (`Params::shadow_delta`).
+    /// the moved layer: the shadows' share at the target, the moved layer where the flow found
+    /// a receiver and the carried one elsewhere (`Params::shadow_delta`).
     ShadowChange,
 }
 

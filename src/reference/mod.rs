@@ -46,10 +46,11 @@ pub struct Shadows {
     pub separated: separate_shadows::Separated,
     /// Level 0 flow to frame t-1, (dx, dy, 0, 0); zero without frame t-1's mask.
     pub flow: Image,
-    /// What remodulation adds on static surfaces: the layer moved by the flow (with the
-    /// occlusion-motion-vector warp) less the layer carried by the frame's own warp, where the
-    /// flow found a receiver, rounded to f16 as stored (`include/warp.wgsl`, `shadow_delta`).
-    /// Zero without frame t-1's mask: the shadows stay on their receivers.
+    /// The share of light the shadows take away at the target, which remodulation applies: the
+    /// layer moved by the flow (with the occlusion-motion-vector warp) where that found a
+    /// receiver, the layer carried by the frame's own warp elsewhere, rounded to f16 as stored
+    /// (`include/warp.wgsl`, `shadow_delta`). Zero without frame t-1's mask: the shadows stay
+    /// in the frame, on their receivers.
     pub change: Image,
 }
 
@@ -118,6 +119,7 @@ pub fn extrapolate(
             source.base_color,
             source.material,
             &source_packed.normal_id,
+            shadow.previous.is_some(),
         )
     });
     let (shading, source_sanitized) = match &separated {
@@ -225,7 +227,6 @@ pub fn extrapolate(
     let (output, target_sanitized) = remodulate::remodulate(
         inpainted.as_ref().map_or(&warped.warped, |i| &i.blended),
         shadows.as_ref().map(|s| &s.change),
-        &target_packed.normal_id,
         target.base_color,
         target.material,
     );
@@ -243,16 +244,13 @@ pub fn extrapolate(
     }
 }
 
-/// The shadow's change at the target: the `moved` layer less the `carried` one where the flow
-/// found a receiver (alpha 1), rounded to f16 as stored; alpha the moved layer's.
+/// The shadows' share at the target: the `moved` layer where the flow found a receiver (alpha
+/// 1), the `carried` one elsewhere, rounded to f16 as stored; alpha the moved layer's.
 fn shadow_change(moved: &Image, carried: &Image) -> Image {
     Image::from_fn(moved.width, moved.height, 4, |x, y| {
         let (moved, carried) = (moved.at(x, y), carried.at(x, y));
-        let change = |c: usize| {
-            let value = (moved[c] - carried[c]) * moved[3];
-            round_to_f16(value.clamp(-gbuffer::MAX_HALF, gbuffer::MAX_HALF))
-        };
-        vec![change(0), change(1), change(2), moved[3]]
+        let share = |c: usize| round_to_f16(carried[c] + (moved[c] - carried[c]) * moved[3]);
+        vec![share(0), share(1), share(2), moved[3]]
     })
 }
 

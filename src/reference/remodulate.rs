@@ -6,12 +6,11 @@ use super::gbuffer::{pixel_modulation, sanitize_color};
 use super::{round_to_f16, Image};
 
 /// The output image, and the number of pixels whose inputs or result were sanitised.
-/// `shadow_change` is, for a frame with a shadow input, the change its shadows make at the
-/// target (`Shadows::change`); `target_normal_id` the target's packed G-buffer (object ids).
+/// `shadow_share` is, for a frame with a shadow input, the share of light its shadows take
+/// away at the target (`Shadows::change`).
 pub fn remodulate(
     shading: &Image,
-    shadow_change: Option<&Image>,
-    target_normal_id: &Image,
+    shadow_share: Option<&Image>,
     base_color: &Image,
     material: Option<&Image>,
 ) -> (Image, u32) {
@@ -19,8 +18,8 @@ pub fn remodulate(
     let output = Image::from_fn(shading.width, shading.height, 4, |x, y| {
         let (factor, material_changed) = pixel_modulation(base_color, material, x, y);
         let mut shading = Vec3::from_slice(shading.at(x, y));
-        if let (Some(change), 0.0) = (shadow_change, target_normal_id.at(x, y)[3]) {
-            shading = (shading + Vec3::from_slice(change.at(x, y))).max(Vec3::ZERO);
+        if let Some(share) = shadow_share {
+            shading *= Vec3::ONE + Vec3::from_slice(share.at(x, y));
         }
         let (color, color_changed) = sanitize_color(shading * factor);
         sanitized += (material_changed || color_changed) as u32;

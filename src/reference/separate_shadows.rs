@@ -6,15 +6,18 @@ use super::gbuffer::{demodulated, pixel_modulation, sanitize, sanitize_color};
 use super::Image;
 
 pub struct Separated {
-    /// The demodulated frame, which the warps carry.
+    /// The demodulated frame, which the warps carry: without the dynamic casters' shadows on
+    /// static receivers when tracked.
     pub shading: Image,
+    /// The share of light those shadows take away, in [-1, 0]; zero untracked.
     pub shadow_layer: Image,
     /// Level 0 of the flow's pyramid.
     pub mask: Image,
     pub sanitized: u32,
 }
 
-/// `normal_id` is frame t's packed G-buffer, whose alpha is the object id.
+/// `normal_id` is frame t's packed G-buffer, whose alpha is the object id; `tracked`: frame
+/// t-1's shadows were tracked.
 pub fn separate(
     color: &Image,
     color_without_dynamic_shadows: &Image,
@@ -22,6 +25,7 @@ pub fn separate(
     base_color: &Image,
     material: Option<&Image>,
     normal_id: &Image,
+    tracked: bool,
 ) -> Separated {
     let (w, h) = (color.width, color.height);
     let mut separated = Separated {
@@ -38,13 +42,16 @@ pub fn separate(
                 sanitize_color(Vec3::from_slice(color_without_dynamic_shadows.at(x, y)));
             let (visibility, mask_changed) =
                 sanitize(Vec3::new(mask.at(x, y)[0], 0.0, 0.0), 0.0, 1.0);
-            let (shading, shading_changed) = demodulated(lit, factor);
-            let (layer, layer_changed, visibility) = if normal_id.at(x, y)[3] != 0.0 {
-                (Vec3::ZERO, false, 1.0)
+            let dynamic = normal_id.at(x, y)[3] != 0.0;
+            let separates = tracked && !dynamic;
+            let (shading, shading_changed) =
+                demodulated(if separates { unshadowed } else { lit }, factor);
+            let layer = if separates {
+                shadow_share(lit, unshadowed)
             } else {
-                let (layer, changed) = demodulated(lit - unshadowed, factor);
-                (layer, changed, visibility.x)
+                Vec3::ZERO
             };
+            let visibility = if dynamic { 1.0 } else { visibility.x };
             separated
                 .shading
                 .set(x, y, &[shading.x, shading.y, shading.z, 1.0]);
@@ -56,12 +63,25 @@ pub fn separate(
                 || lit_changed
                 || unshadowed_changed
                 || mask_changed
-                || shading_changed
-                || layer_changed) as u32;
+                || shading_changed) as u32;
         }
     }
     separated
 }
+
+/// The share of the unshadowed light that the dynamic shadows take away, per channel
+/// (`shadow_share`).
+fn shadow_share(lit: Vec3, unshadowed: Vec3) -> Vec3 {
+    let lost = lit.min(unshadowed) - unshadowed;
+    Vec3::select(
+        unshadowed.cmpgt(Vec3::splat(BLACK)),
+        lost / unshadowed,
+        Vec3::ZERO,
+    )
+}
+
+/// Below this unshadowed colour a receiver has no light to lose.
+const BLACK: f32 = 1e-6;
 
 /// The mask as the flow sees it, from an engine's mask and object ids (the stencil): sanitised,
 /// and lit on dynamic objects, as `separate` leaves it for the next frame.
