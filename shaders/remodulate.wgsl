@@ -10,7 +10,7 @@ struct Params {
     extent: vec2u,
     has_material: u32,
     // With a shadow input: the shadows are put back first (see below).
-    has_shadow_change: u32,
+    has_shadow_share: u32,
 }
 var<immediate> params: Params;
 
@@ -20,8 +20,8 @@ var<immediate> params: Params;
 @group(0) @binding(4) var<storage, read_write> counters: SanitizeCounters;
 // The share of light the dynamic shadows take away at the target, in [-1, 0]: the shadow layer
 // as its flow moved it where that found a receiver, as the frame's warp carried it elsewhere
-// (include/warp.wgsl, `shadow_delta`).
-@group(0) @binding(5) var shadow_change: texture_2d<f32>;
+// (include/warp.wgsl, `shadow_share`).
+@group(0) @binding(5) var shadow_share: texture_2d<f32>;
 
 @compute @workgroup_size(8, 8, 1)
 fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_index) lane: u32) {
@@ -31,11 +31,11 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
         let m = pixel_modulation(base_color, material, p, params.has_material);
         // The product can exceed what RGBA16F holds; clamp it there and count the pixel.
         var shading_rgb = textureLoad(frame, p).rgb;
-        if (params.has_shadow_change != ABSENT) {
+        if (params.has_shadow_share != ABSENT) {
             // A share, not an amount: a shadow moved onto an already darker surface takes away
             // only the light that is there. Dynamic objects carry a zero layer and keep the
             // shadows on them in their shading, which moves with them.
-            shading_rgb = shading_rgb * (1.0 + textureLoad(shadow_change, p, 0).rgb);
+            shading_rgb = shading_rgb * (1.0 + textureLoad(shadow_share, p, 0).rgb);
         }
         let color = sanitize_color(shading_rgb * m.factor);
         textureStore(frame, p, vec4f(to_half(color.value), 1.0));

@@ -11,7 +11,7 @@ var<immediate> params: Params;
 
 @group(0) @binding(0) var flow: texture_2d<f32>;
 @group(0) @binding(1) var shadow_layer: texture_2d<f32>;
-@group(0) @binding(2) var shadow_change: texture_2d<f32>;
+@group(0) @binding(2) var shadow_share: texture_2d<f32>;
 @group(0) @binding(3) var diagnostics: texture_storage_2d<rgba16float, write>;
 
 const LUMINANCE: vec3f = vec3f(0.2126, 0.7152, 0.0722);
@@ -23,6 +23,6 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
         return;
     }
     let layer = dot(textureLoad(shadow_layer, p, 0).rgb, LUMINANCE);
-    let change = dot(textureLoad(shadow_change, p, 0).rgb, LUMINANCE);
-    textureStore(diagnostics, p, vec4f(textureLoad(flow, p, 0).xy, layer, change));
+    let share = dot(textureLoad(shadow_share, p, 0).rgb, LUMINANCE);
+    textureStore(diagnostics, p, vec4f(textureLoad(flow, p, 0).xy, layer, share));
 }

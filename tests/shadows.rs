@@ -177,7 +177,7 @@ fn shadow_passes_match_their_references_under_a_moving_camera() {
 }
 
 /// With the motion-vector warp as the frame's, whose warp of the layer stores the shadow's
-/// change as the G-buffer warp's does.
+/// share as the G-buffer warp's does.
 #[test]
 fn shadow_passes_match_their_references_with_the_motion_vector_warp() {
     let warp = WarpSettings {
@@ -222,7 +222,7 @@ fn assert_shadow_passes_match_their_references(
     let expected = reference_run(previous, source, target, 0.5, warp);
     let shadows = expected.shadows.as_ref().expect("a shadow input was given");
 
-    let (mut flow_worst, mut layer_worst, mut change_worst, mut output_worst) =
+    let (mut flow_worst, mut layer_worst, mut share_worst, mut output_worst) =
         (0.0f32, 0.0f32, 0.0f32, 0.0f32);
     let mut moving = 0;
     for y in 0..height as usize {
@@ -236,8 +236,8 @@ fn assert_shadow_passes_match_their_references(
             moving += (Vec2::new(flow[0], flow[1]).length() > 0.5) as usize;
             let layer = round_to_f16(luminance(shadows.separated.shadow_layer.at(x, y)));
             layer_worst = layer_worst.max(worst_error(got[2], layer, 1e-4, 2e-3));
-            let change = round_to_f16(luminance(shadows.change.at(x, y)));
-            change_worst = change_worst.max(worst_error(got[3], change, 1e-3, 2e-3));
+            let share = round_to_f16(luminance(shadows.share.at(x, y)));
+            share_worst = share_worst.max(worst_error(got[3], share, 1e-3, 2e-3));
             for c in 0..3 {
                 let (g, w) = (outcome.output.at(x, y)[c], expected.output.at(x, y)[c]);
                 output_worst = output_worst.max(worst_error(g, w, 1e-3, 2e-3));
@@ -245,8 +245,8 @@ fn assert_shadow_passes_match_their_references(
         }
     }
     eprintln!(
-        "worst / tolerance: flow {flow_worst:.3}, layer {layer_worst:.3}, shadow change \
-         {change_worst:.3}, output {output_worst:.3}; {moving} pixels of flow over 0.5 px"
+        "worst / tolerance: flow {flow_worst:.3}, layer {layer_worst:.3}, shadow share \
+         {share_worst:.3}, output {output_worst:.3}; {moving} pixels of flow over 0.5 px"
     );
     assert!(flow_worst <= 1.0, "flow differs from the reference");
     assert!(
@@ -254,8 +254,8 @@ fn assert_shadow_passes_match_their_references(
         "shadow layer differs from the reference"
     );
     assert!(
-        change_worst <= 1.0,
-        "shadow change differs from the reference"
+        share_worst <= 1.0,
+        "shadow share differs from the reference"
     );
     assert!(output_worst <= 1.0, "output differs from the reference");
     // The case is real: the character's shadow moves and darkens the ground.

@@ -37,7 +37,7 @@ struct Params {
     has_material: u32,
     // Not 0 for the shadow layer through the frame's warp: store the shadows' share instead
     // (`store_pixel`).
-    shadow_delta: u32,
+    shadow_share: u32,
     // Occlusion-motion-vector warp: not 0 to weigh each texel of the bilinear fetch by its
     // agreement, as the G-buffer warp does. For the shadow layer, which is zero on dynamic
     // objects: a plain blend beside one would thin the shadow on the ground at its feet.
@@ -92,7 +92,7 @@ struct Cameras {
 @group(0) @binding(6) var warped: texture_storage_2d<rgba16float, write>;
 @group(0) @binding(7) var<storage, read_write> counters: WarpCounters;
 @group(0) @binding(8) var<uniform> cameras: Cameras;
-// With `shadow_delta`: the shadow layer as its flow moved it, which `warped` holds.
+// With `shadow_share`: the shadow layer as its flow moved it, which `warped` holds.
 @group(0) @binding(15) var moved_layer: texture_2d<f32>;
 
 // The target pixel's surface, unpacked, with the size of a pixel's footprint on it, which every
@@ -250,7 +250,7 @@ fn store_pixel(p: vec2u, shading: vec3f, hole: bool) {
             atomicAdd(&group_tallies[TALLY_SANITIZED], 1u);
         }
     }
-    if (params.shadow_delta != 0u) {
+    if (params.shadow_share != 0u) {
         // The share of light the shadows take away at the target: the layer as its flow moved
         // it where that found a receiver (alpha 1), as this warp carried it with the surfaces
         // elsewhere.

@@ -251,14 +251,14 @@ impl Context {
             let params =
                 warp_settings.shadow_params(inputs.extent, &inputs.geometry.camera, inputs.alpha);
             let layer = &shadows[ShadowImages::LAYER];
-            let change = &shadows[ShadowImages::SHADOW_CHANGE];
+            let share = &shadows[ShadowImages::SHADOW_SHARE];
             rec.stage(PATCHEX_STAGE_SHADOW_WARP, |rec| {
                 if !source.shadows_tracked {
                     // No frame t-1 to measure a drift from: the shadows stay on their receivers,
                     // where the frame's warp carried them, and change nothing. (Moved by a zero
                     // flow instead, they would stay put on the screen and slide across the
                     // ground under a moving camera.)
-                    rec.clear(change);
+                    rec.clear(share);
                     return;
                 }
                 let flow_warp = PipelineId::WarpOcclusionMotion;
@@ -269,7 +269,7 @@ impl Context {
                     layer,
                     (&shadows[ShadowImages::FLOW]).into(),
                     warp::Store::Shading,
-                    change.into(),
+                    share.into(),
                     counters::SHADOW_WARP,
                     None,
                 );
@@ -280,8 +280,8 @@ impl Context {
                     &warp_params,
                     layer,
                     motion,
-                    warp::Store::ShadowChange,
-                    change.into(),
+                    warp::Store::ShadowShare,
+                    share.into(),
                     counters::SURFACE_LAYER,
                     lists_holes.then_some((&work[WorkImages::HOLE_LIST], 1)),
                 );
@@ -380,7 +380,7 @@ impl Context {
                     let sources = diagnostics::shadow_sources(
                         &shadows[ShadowImages::FLOW],
                         &shadows[ShadowImages::LAYER],
-                        &shadows[ShadowImages::SHADOW_CHANGE],
+                        &shadows[ShadowImages::SHADOW_SHARE],
                     );
                     let pass = passes.get(PipelineId::WriteShadowDiagnostics);
                     diagnostics::record(rec, pass, inputs.extent, sources, image);
@@ -396,7 +396,7 @@ impl Context {
                     &remodulate::RemodulateInputs {
                         base_color,
                         material,
-                        shadow_change: shadows.map(|s| (&s[ShadowImages::SHADOW_CHANGE]).into()),
+                        shadow_share: shadows.map(|s| (&s[ShadowImages::SHADOW_SHARE]).into()),
                         placeholder,
                     },
                     frame,

@@ -192,7 +192,7 @@ impl ShadowImages {
     /// The layer as its flow moved it, which the frame's warp of the layer then turns into the
     /// shadows' share at the target: moved where the flow found a receiver, carried elsewhere.
     /// Cleared when there was no flow to move it by (frame t-1's shadows were not tracked).
-    pub const SHADOW_CHANGE: usize = 1;
+    pub const SHADOW_SHARE: usize = 1;
     pub const MASK_PYRAMID: usize = 2;
     /// Frame t's and frame t-1's expansions, alternating (`Context::shadow_current`).
     pub const POLY: [usize; 2] = [3, 4];
@@ -209,7 +209,7 @@ impl ShadowImages {
         frame_image("patchex shadow layer", vk::Format::R16G16B16A16_SFLOAT),
         ImageSpec {
             cleared: true,
-            ..frame_image("patchex shadow change", vk::Format::R16G16B16A16_SFLOAT)
+            ..frame_image("patchex shadow share", vk::Format::R16G16B16A16_SFLOAT)
         },
         atlas_image("patchex shadow mask pyramid", vk::Format::R32_SFLOAT),
         atlas_image(

@@ -25,14 +25,14 @@ pub fn frame_sources(warped: Texture, regions: &OwnedImage, lbp: &OwnedImage) ->
 pub fn shadow_sources<'a>(
     flow: &'a OwnedImage,
     shadow_layer: &'a OwnedImage,
-    shadow_change: &'a OwnedImage,
+    shadow_share: &'a OwnedImage,
 ) -> [Texture; 3] {
     use write_shadow_diagnostics::binding;
     debug_assert_eq!(
-        [binding::FLOW, binding::SHADOW_LAYER, binding::SHADOW_CHANGE],
+        [binding::FLOW, binding::SHADOW_LAYER, binding::SHADOW_SHARE],
         [0, 1, 2]
     );
-    [flow, shadow_layer, shadow_change].map(Texture::from)
+    [flow, shadow_layer, shadow_share].map(Texture::from)
 }
 
 /// Records either pass (`pass`) over `extent`.

@@ -12,9 +12,9 @@ use crate::vk::recorder::{Pass, Recorder};
 pub struct RemodulateInputs {
     pub base_color: Texture,
     pub material: Option<Texture>,
-    /// The share of light the shadows take away at the target (`warp::Store::ShadowChange`);
+    /// The share of light the shadows take away at the target (`warp::Store::ShadowShare`);
     /// `None` without a shadow input.
-    pub shadow_change: Option<Texture>,
+    pub shadow_share: Option<Texture>,
     pub placeholder: Texture,
 }
 
@@ -27,19 +27,19 @@ pub fn record(
     counters: &CounterRange,
 ) {
     let material = inputs.material.unwrap_or(inputs.placeholder);
-    let shadow_change = inputs.shadow_change.unwrap_or(inputs.placeholder);
+    let shadow_share = inputs.shadow_share.unwrap_or(inputs.placeholder);
     let bound = rec.bind(pass, |writes| {
         writes
             .image(binding::FRAME, frame)
             .image(binding::BASE_COLOR, inputs.base_color)
             .image(binding::MATERIAL, material)
-            .image(binding::SHADOW_CHANGE, shadow_change)
+            .image(binding::SHADOW_SHARE, shadow_share)
             .buffer(binding::COUNTERS, counters)
     });
     let params = Params {
         extent: [extent.width, extent.height],
         has_material: inputs.material.is_some() as u32,
-        has_shadow_change: inputs.shadow_change.is_some() as u32,
+        has_shadow_share: inputs.shadow_share.is_some() as u32,
     };
     rec.dispatch(&bound, &params, extent);
 }

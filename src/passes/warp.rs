@@ -200,8 +200,8 @@ pub enum Store<'a> {
     Remodulated(&'a Remodulation),
     /// For the shadow layer through the frame's warp, into the image where the flow's warp left
     /// the moved layer: the shadows' share at the target, the moved layer where the flow found
-    /// a receiver and the carried one elsewhere (`Params::shadow_delta`).
-    ShadowChange,
+    /// a receiver and the carried one elsewhere (`Params::shadow_share`).
+    ShadowShare,
 }
 
 /// The three warps' uniform block: both instants' pixel rays.
@@ -291,7 +291,7 @@ pub fn storing(params: &Params, store: Store) -> Params {
     Params {
         remodulate: remodulation.is_some() as u32,
         has_material: remodulation.is_some_and(|r| r.material.is_some()) as u32,
-        shadow_delta: matches!(store, Store::ShadowChange) as u32,
+        shadow_share: matches!(store, Store::ShadowShare) as u32,
         ..*params
     }
 }
@@ -310,7 +310,7 @@ pub fn bind_common<'p>(
         _ => (inputs.placeholder, inputs.placeholder),
     };
     let moved_layer = match store {
-        Store::ShadowChange => warped,
+        Store::ShadowShare => warped,
         _ => inputs.placeholder,
     };
     writes

@@ -49,9 +49,9 @@ pub struct Shadows {
     /// The share of light the shadows take away at the target, which remodulation applies: the
     /// layer moved by the flow (with the occlusion-motion-vector warp) where that found a
     /// receiver, the layer carried by the frame's own warp elsewhere, rounded to f16 as stored
-    /// (`include/warp.wgsl`, `shadow_delta`). Zero without frame t-1's mask: the shadows stay
+    /// (`include/warp.wgsl`, `shadow_share`). Zero without frame t-1's mask: the shadows stay
     /// in the frame, on their receivers.
-    pub change: Image,
+    pub share: Image,
 }
 
 /// Every intermediate result of one extrapolation.
@@ -154,7 +154,7 @@ pub fn extrapolate(
             return Shadows {
                 separated,
                 flow: Image::new(extent.width as usize, extent.height as usize, 4),
-                change: Image::new(extent.width as usize, extent.height as usize, 4),
+                share: Image::new(extent.width as usize, extent.height as usize, 4),
             };
         };
         let previous_mask = separate_shadows::flow_mask(mask, object_ids);
@@ -200,11 +200,11 @@ pub fn extrapolate(
             },
             &params,
         );
-        let change = shadow_change(&moved.warped, &carried.warped);
+        let share = shadow_share(&moved.warped, &carried.warped);
         Shadows {
             separated,
             flow,
-            change,
+            share,
         }
     });
     let segmented = segmentation::segment(
@@ -226,7 +226,7 @@ pub fn extrapolate(
     });
     let (output, target_sanitized) = remodulate::remodulate(
         inpainted.as_ref().map_or(&warped.warped, |i| &i.blended),
-        shadows.as_ref().map(|s| &s.change),
+        shadows.as_ref().map(|s| &s.share),
         target.base_color,
         target.material,
     );
@@ -246,7 +246,7 @@ pub fn extrapolate(
 
 /// The shadows' share at the target: the `moved` layer where the flow found a receiver (alpha
 /// 1), the `carried` one elsewhere, rounded to f16 as stored; alpha the moved layer's.
-fn shadow_change(moved: &Image, carried: &Image) -> Image {
+fn shadow_share(moved: &Image, carried: &Image) -> Image {
     Image::from_fn(moved.width, moved.height, 4, |x, y| {
         let (moved, carried) = (moved.at(x, y), carried.at(x, y));
         let share = |c: usize| round_to_f16(carried[c] + (moved[c] - carried[c]) * moved[3]);
