@@ -23,8 +23,8 @@ struct Params {
     frame_extent: vec2u,
     // Frame t's pixel (x, y) at linear depth z lies in frame t-1 at (w.y, w.z) / w.x, with
     // w = camera_offset + z * (camera_at_origin + x camera_per_x + y camera_per_y), for a static
-    // surface (`Camera::reprojection_into` in src/camera.rs). camera_offset.w is 0 when frame t-1's
-    // camera is unknown; camera_at_origin.w is this level's frame pixels per texel.
+    // surface (`Camera::reprojection_into` in src/camera.rs). camera_at_origin.w is this level's
+    // frame pixels per texel; the other w are padding.
     camera_offset: vec4f,
     camera_at_origin: vec4f,
     camera_per_x: vec4f,
@@ -43,12 +43,9 @@ var<immediate> params: Params;
 @group(0) @binding(7) var source_depth: texture_2d<f32>;
 
 // Where static surfaces under level texel p moved from frame t to frame t-1, in texels of this
-// level; zero where that is unknown or not finite (sky at infinity).
+// level; zero where that is not finite (sky at infinity).
 fn camera_motion(p: vec2u) -> vec2f {
     let step = params.camera_at_origin.w;
-    if (params.camera_offset.w == 0.0) {
-        return vec2f(0.0);
-    }
     let pixel = (vec2f(p) + 0.5) * step - 0.5;
     let frame = vec2i(params.frame_extent);
     let nearest = clamp(vec2i(floor(pixel + 0.5)), vec2i(0), frame - 1);

@@ -81,7 +81,7 @@ impl Context {
             self.shadow_current = 1 - self.shadow_current;
         }
 
-        // Static receivers' motion into frame t-1, where the flow starts.
+        // With frame t-1 to track from: static receivers' motion into it, where the flow starts.
         let reprojection = self.source.as_ref().filter(|_| track).map(|previous| {
             inputs
                 .geometry
@@ -181,7 +181,6 @@ impl Context {
                             source_depth: &work[WorkImages::SOURCE_DEPTH],
                         },
                     ),
-                    track,
                     reprojection.as_ref(),
                 )
             });

@@ -204,18 +204,14 @@ pub struct FrameMask<'a> {
 }
 
 /// The matrices pass's camera constants: `reprojection` is `Camera::reprojection_into` from
-/// frame t's camera into frame t-1's, `None` when frame t-1's is unknown (all zero: the shader
-/// then starts at zero); `step` is the level's frame pixels per texel.
-fn camera_params(reprojection: Option<&PixelRays>, step: u32) -> [[f32; 4]; 4] {
-    match reprojection {
-        Some(r) => [
-            r.position.extend(1.0).into(),
-            r.at_origin.extend(step as f32).into(),
-            r.per_x.extend(0.0).into(),
-            r.per_y.extend(0.0).into(),
-        ],
-        None => [[0.0; 4]; 4],
-    }
+/// frame t's camera into frame t-1's; `step` is the level's frame pixels per texel.
+fn camera_params(reprojection: &PixelRays, step: u32) -> [[f32; 4]; 4] {
+    [
+        reprojection.position.extend(0.0).into(),
+        reprojection.at_origin.extend(step as f32).into(),
+        reprojection.per_x.extend(0.0).into(),
+        reprojection.per_y.extend(0.0).into(),
+    ]
 }
 
 /// The images of the flow stage. `poly_*[current]` receive frame t's expansion; the other
@@ -253,17 +249,16 @@ fn extent_of(level: &Level) -> vk::Extent2D {
     }
 }
 
-/// Records the mask pyramid and frame t's expansion; then, when `track` (frame t-1's expansion
-/// is there), the flow, or else a zero flow. `reprojection` (`Camera::reprojection_into`, frame
-/// t into frame t-1) starts the flow at the motion of static receivers.
+/// Records the mask pyramid and frame t's expansion; then, when `tracked` (frame t-1's expansion
+/// is there), the flow, or else a zero flow. `tracked` holds `Camera::reprojection_into` from
+/// frame t's camera into frame t-1's, which starts the flow at the motion of static receivers.
 pub fn record(
     rec: &mut Recorder,
     passes: &FlowPasses,
     extent: vk::Extent2D,
     settings: &FlowSettings,
     images: &FlowImages,
-    track: bool,
-    reprojection: Option<&PixelRays>,
+    tracked: Option<&PixelRays>,
 ) {
     use shaders::{shadow_flow_matrices as m, shadow_flow_rows as r, shadow_flow_solve as s};
     use shaders::{shadow_flow_upsample as u, shadow_poly as p, shadow_pyramid as y};
@@ -334,18 +329,18 @@ pub fn record(
         .iter()
         .map(|level| (settings.poly_params(level), extent_of(level)));
     rec.dispatch_each(&poly, expansions);
-    if !track {
+    let Some(reprojection) = tracked else {
         // No frame t-1 to track from: the shadow stays where it is.
         rec.clear(images.flow);
         return;
-    }
+    };
     let radius = settings.window_radius as i32;
     for (index, level) in levels.iter().enumerate().rev() {
         let [camera_offset, camera_at_origin, camera_per_x, camera_per_y] =
             camera_params(reprojection, images.mask_step << index);
         for iteration in 0..settings.iterations {
             // The first estimate comes from the coarser level, or at the coarsest from the
-            // static receivers' motion between the cameras (zero without frame t-1's camera).
+            // static receivers' motion between the cameras.
             let prior = if iteration > 0 {
                 Some(level)
             } else {

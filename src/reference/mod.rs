@@ -167,7 +167,7 @@ pub fn extrapolate(
             &previous_mask,
             &shadow.flow,
             shadow.mask_step,
-            Some(&start),
+            &start,
         );
         let shadow_params = warp.shadow_params(extent, target.camera, alpha);
         let moved = warp::warp(

@@ -150,12 +150,12 @@ impl FlowStart<'_> {
 
 /// One iteration's per-texel equations: (G11, G12, G22, h1) and h2. `prior` is the flow the
 /// estimate comes from (this level's or the coarser one); without one, the static receivers'
-/// motion from `start` (with the level's frame pixels per texel), or zero.
+/// motion from `start` (with the level's frame pixels per texel).
 pub fn equations(
     current: &Expansion,
     previous: &Expansion,
     prior: Option<&Image>,
-    start: Option<(&FlowStart, u32)>,
+    (start, step): (&FlowStart, u32),
 ) -> (Image, Image) {
     let (w, h) = (current.coefficients.width, current.coefficients.height);
     let mut h2_image = Image::new(w, h, 1);
@@ -170,7 +170,7 @@ pub fn equations(
                 let v = bilinear(prior, pos);
                 Vec2::new(v.x, v.y) * ratio
             }
-            None => start.map_or(Vec2::ZERO, |(start, step)| start.camera_motion(p, step)),
+            None => start.camera_motion(p, step),
         };
         let c = texel(&current.coefficients, px as i32, py as i32);
         let c_xy = current.xy.at(px, py)[0];
@@ -241,15 +241,14 @@ pub fn flow(
     current: &[Expansion],
     previous: &[Expansion],
     settings: &FlowSettings,
-    start: Option<(&FlowStart, u32)>,
+    (start, step): (&FlowStart, u32),
 ) -> Image {
     let radius = settings.window_radius as i32;
     let mut coarser: Option<Image> = None;
     for (index, (c, p)) in current.iter().zip(previous).enumerate().rev() {
         let mut estimate = coarser.take();
-        let level_start = start.map(|(start, step)| (start, step << index));
         for _ in 0..settings.iterations {
-            let (g, h2) = equations(c, p, estimate.as_ref(), level_start);
+            let (g, h2) = equations(c, p, estimate.as_ref(), (start, step << index));
             let (r, r_h2) = rows(&g, &h2, radius);
             estimate = Some(solve(&r, &r_h2, radius));
         }
@@ -278,13 +277,13 @@ pub fn frame_flow(
     previous: &Image,
     settings: &FlowSettings,
     mask_step: u32,
-    start: Option<&FlowStart>,
+    start: &FlowStart,
 ) -> Image {
     let finest = flow(
         &expand_pyramid(current, settings, mask_step),
         &expand_pyramid(previous, settings, mask_step),
         settings,
-        start.map(|start| (start, mask_step)),
+        (start, mask_step),
     );
     upsample(&finest, current.width, current.height)
 }
