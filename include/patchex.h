@@ -800,7 +800,8 @@ typedef struct PatchexShadowDiagnostics {
 #define PATCHEX_STAGE_PACK_TARGET_GBUFFER 2
 
 // The frame's warp. With nothing between it and the output (no shadow input, networks or
-// diagnostics) it also remodulates, and PATCHEX_STAGE_REMODULATE does not run.
+// diagnostics) it also remodulates, and PATCHEX_STAGE_REMODULATE does not run. Its holes are
+// filled in PATCHEX_STAGE_FILL_HOLES.
 #define PATCHEX_STAGE_WARP 3
 
 #define PATCHEX_STAGE_REMODULATE 4
@@ -830,6 +831,11 @@ typedef struct PatchexShadowDiagnostics {
 // An output in a packed format (every output format but R16G16B16A16_SFLOAT): the frame
 // packed into the format's texels and copied into the output image.
 #define PATCHEX_STAGE_PACK_OUTPUT 12
+
+// The G-buffer-guided warp's hole fill (PATCHEX_HOLE_FILL_BACKGROUND): a pass over the holes
+// the frame's warp listed, remodulating them when the warp does. The shadow layer's own fill
+// is part of PATCHEX_STAGE_SHADOW_WARP.
+#define PATCHEX_STAGE_FILL_HOLES 13
 
 #define PATCHEX_RESET_NONE 0
 

@@ -560,7 +560,8 @@ pub const PATCHEX_STAGE_PACK_SOURCE_GBUFFER: PatchexStage = 1;
 /// No longer recorded (ABI 8): the warps read the target's G-buffer themselves.
 pub const PATCHEX_STAGE_PACK_TARGET_GBUFFER: PatchexStage = 2;
 /// The frame's warp. With nothing between it and the output (no shadow input, networks or
-/// diagnostics) it also remodulates, and PATCHEX_STAGE_REMODULATE does not run.
+/// diagnostics) it also remodulates, and PATCHEX_STAGE_REMODULATE does not run. Its holes are
+/// filled in PATCHEX_STAGE_FILL_HOLES.
 pub const PATCHEX_STAGE_WARP: PatchexStage = 3;
 pub const PATCHEX_STAGE_REMODULATE: PatchexStage = 4;
 /// Foveated segmentation: object bounds, grown rectangles, region masks.
@@ -581,6 +582,10 @@ pub const PATCHEX_STAGE_BLEND: PatchexStage = 11;
 /// An output in a packed format (every output format but R16G16B16A16_SFLOAT): the frame
 /// packed into the format's texels and copied into the output image.
 pub const PATCHEX_STAGE_PACK_OUTPUT: PatchexStage = 12;
+/// The G-buffer-guided warp's hole fill (PATCHEX_HOLE_FILL_BACKGROUND): a pass over the holes
+/// the frame's warp listed, remodulating them when the warp does. The shadow layer's own fill
+/// is part of PATCHEX_STAGE_SHADOW_WARP.
+pub const PATCHEX_STAGE_FILL_HOLES: PatchexStage = 13;
 /// Size of the `gpu_ms` arrays; stages added later take indices below it.
 pub const PATCHEX_STAGE_SLOTS: usize = 16;
 

@@ -241,12 +241,18 @@ fn several_extrapolations_from_one_frame_report_their_own_stats() {
         );
     }
     // The warp reads the target's G-buffer itself, and with nothing between it and the output
-    // it remodulates too: a warp-only extrapolation is the warp and the segmentation.
+    // it remodulates too: a warp-only extrapolation is the warp, its hole fill and the
+    // segmentation.
+    let warp_only = [
+        PATCHEX_STAGE_WARP,
+        PATCHEX_STAGE_FILL_HOLES,
+        PATCHEX_STAGE_SEGMENT,
+    ];
     assert_eq!(
         first.stages_run,
-        1 << PATCHEX_STAGE_WARP | 1 << PATCHEX_STAGE_SEGMENT
+        warp_only.iter().fold(0, |bits, stage| bits | 1 << stage)
     );
-    for stage in [PATCHEX_STAGE_WARP, PATCHEX_STAGE_SEGMENT] {
+    for stage in warp_only {
         assert!(
             first.gpu_ms[stage as usize] > 0.0,
             "extrapolation stage {stage} has a GPU time"

@@ -19,7 +19,7 @@ use crate::passes::{
 };
 use crate::vk::barriers::EngineImageAccess;
 use crate::vk::frame_ring::RegionRecord;
-use crate::vk::image::{ImageRole, ImportedImage, OwnedImage};
+use crate::vk::image::{ImageRole, ImportedImage};
 use crate::vk::recorder::Recorder;
 
 impl Context {
@@ -178,46 +178,25 @@ impl Context {
 
         // Every warp of this extrapolation reads frame t's packed G-buffer and the target's. The
         // G-buffer warp lists its holes in `hole_list`'s image with its count in
-        // `deferred_holes[n]`, and the fill's n-th set follows it.
+        // `deferred_holes[n]`, and the fill's n-th set fills them.
         let warp_pipeline = Pipelines::warp(warp_settings.kind);
-        let record_warp = |rec: &mut Recorder,
-                           (pipeline, nth): (PipelineId, usize),
-                           params: &warp::Params,
-                           source_shading: &OwnedImage,
-                           motion: Texture,
-                           store: warp::Store,
-                           output: Texture,
-                           counters_offset: u64,
-                           hole_list: Option<(&OwnedImage, usize)>| {
-            let inputs = warp::WarpInputs {
-                source_shading,
-                source_depth: &work[WorkImages::SOURCE_DEPTH],
-                source_normal_id: &work[WorkImages::SOURCE_NORMAL_ID],
-                target: &target_gbuffer,
-                motion,
-                cameras: &cameras,
-                placeholder,
-                placeholder_uint,
-            };
-            let counters = counters(counters_offset, warp::COUNTER_BYTES);
-            let holes = hole_list.map(|(list, n)| warp::HoleList {
-                list,
-                deferred: &deferred_holes[n],
-                fill: passes.nth(PipelineId::FillHoles, n),
-            });
-            warp::record(
-                rec,
-                passes.nth(pipeline, nth),
-                params,
-                &inputs,
-                store,
-                output,
-                &counters,
-                holes.as_ref(),
-            );
-            if let Some(holes) = &holes {
-                fill_holes::record(rec, params, &inputs, store, output, &counters, holes);
-            }
+        let lists_holes = warp_pipeline == PipelineId::WarpGbuffer;
+        // The nearest-texel fill is the warp's own; only the default defers its holes.
+        let fills_holes = lists_holes && warp_settings.hole_fill == PATCHEX_HOLE_FILL_BACKGROUND;
+        let warp_inputs = |source_shading, motion| warp::WarpInputs {
+            source_shading,
+            source_depth: &work[WorkImages::SOURCE_DEPTH],
+            source_normal_id: &work[WorkImages::SOURCE_NORMAL_ID],
+            target: &target_gbuffer,
+            motion,
+            cameras: &cameras,
+            placeholder,
+            placeholder_uint,
+        };
+        let hole_list = |n: usize| warp::HoleList {
+            list: &work[WorkImages::HOLE_LIST],
+            deferred: &deferred_holes[n],
+            fill: passes.nth(PipelineId::FillHoles, n),
         };
         // With nothing to run between the warp and the output (no shadow layers, networks or
         // diagnostics), the warp remodulates as it writes, and the frame is read and written once.
@@ -226,24 +205,39 @@ impl Context {
             base_color,
             material,
         };
-        let lists_holes = warp_pipeline == PipelineId::WarpGbuffer;
+        let frame_store = if remodulate_in_warp {
+            warp::Store::Remodulated(&remodulation)
+        } else {
+            warp::Store::Shading
+        };
+        let frame_inputs = warp_inputs(&work[WorkImages::SOURCE_SHADING], motion);
+        let frame_counters = counters(counters::WARP, warp::COUNTER_BYTES);
+        let frame_holes = lists_holes.then(|| hole_list(0));
         rec.stage(PATCHEX_STAGE_WARP, |rec| {
-            record_warp(
+            warp::record(
                 rec,
-                (warp_pipeline, 0),
+                passes.nth(warp_pipeline, 0),
                 &warp_params,
-                &work[WorkImages::SOURCE_SHADING],
-                motion,
-                if remodulate_in_warp {
-                    warp::Store::Remodulated(&remodulation)
-                } else {
-                    warp::Store::Shading
-                },
+                &frame_inputs,
+                frame_store,
                 frame,
-                counters::WARP,
-                lists_holes.then_some((&work[WorkImages::HOLE_LIST], 0)),
+                &frame_counters,
+                frame_holes.as_ref(),
             )
         });
+        if let Some(holes) = frame_holes.as_ref().filter(|_| fills_holes) {
+            rec.stage(PATCHEX_STAGE_FILL_HOLES, |rec| {
+                fill_holes::record(
+                    rec,
+                    &warp_params,
+                    &frame_inputs,
+                    frame_store,
+                    frame,
+                    &frame_counters,
+                    holes,
+                )
+            });
+        }
         if let Some(shadows) = shadows {
             // The shadow layer moved by the mask's flow scaled to the target instant; then
             // through the frame's own warp (where that warp put frame t's shadow), which turns
@@ -262,29 +256,41 @@ impl Context {
                     return;
                 }
                 let flow_warp = PipelineId::WarpOcclusionMotion;
-                record_warp(
+                warp::record(
                     rec,
-                    (flow_warp, if warp_pipeline == flow_warp { 2 } else { 0 }),
+                    passes.nth(flow_warp, if warp_pipeline == flow_warp { 2 } else { 0 }),
                     &params,
-                    layer,
-                    (&shadows[ShadowImages::FLOW]).into(),
+                    &warp_inputs(layer, (&shadows[ShadowImages::FLOW]).into()),
                     warp::Store::Shading,
                     share.into(),
-                    counters::SHADOW_WARP,
+                    &counters(counters::SHADOW_WARP, warp::COUNTER_BYTES),
                     None,
                 );
                 // The frame's fill has read its holes: the list's image takes the layer's.
-                record_warp(
+                let layer_inputs = warp_inputs(layer, motion);
+                let layer_counters = counters(counters::SURFACE_LAYER, warp::COUNTER_BYTES);
+                let layer_holes = lists_holes.then(|| hole_list(1));
+                warp::record(
                     rec,
-                    (warp_pipeline, 1),
+                    passes.nth(warp_pipeline, 1),
                     &warp_params,
-                    layer,
-                    motion,
+                    &layer_inputs,
                     warp::Store::ShadowShare,
                     share.into(),
-                    counters::SURFACE_LAYER,
-                    lists_holes.then_some((&work[WorkImages::HOLE_LIST], 1)),
+                    &layer_counters,
+                    layer_holes.as_ref(),
                 );
+                if let Some(holes) = layer_holes.as_ref().filter(|_| fills_holes) {
+                    fill_holes::record(
+                        rec,
+                        &warp_params,
+                        &layer_inputs,
+                        warp::Store::ShadowShare,
+                        share.into(),
+                        &layer_counters,
+                        holes,
+                    );
+                }
             });
         }
         rec.stage(PATCHEX_STAGE_SEGMENT, |rec| {

@@ -36,11 +36,12 @@ pub use crate::vk::image::Texture;
 pub const SANITIZE_COUNTER_BYTES: u64 = 4;
 
 /// Every stage a frame can run, in the order they run, with the name reports give it.
-pub const STAGE_NAMES: [(PatchexStage, &str); 12] = [
+pub const STAGE_NAMES: [(PatchexStage, &str); 13] = [
     (PATCHEX_STAGE_PACK_SOURCE_GBUFFER, "pack source"),
     (PATCHEX_STAGE_DEMODULATE, "demodulate"),
     (PATCHEX_STAGE_SHADOW_FLOW, "shadow flow"),
     (PATCHEX_STAGE_WARP, "warp"),
+    (PATCHEX_STAGE_FILL_HOLES, "fill holes"),
     (PATCHEX_STAGE_SHADOW_WARP, "shadow warp"),
     (PATCHEX_STAGE_SEGMENT, "segment"),
     (PATCHEX_STAGE_LBP, "lbp"),

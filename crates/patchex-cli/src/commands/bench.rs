@@ -169,7 +169,14 @@ pub struct BenchArgs {
 /// The paper's runtime table groups the stages so.
 const STAGE_GROUPS: [(&str, &[PatchexStage]); 5] = [
     ("G-buffer", &[PATCHEX_STAGE_PACK_SOURCE_GBUFFER]),
-    ("warping", &[PATCHEX_STAGE_WARP, PATCHEX_STAGE_SHADOW_WARP]),
+    (
+        "warping",
+        &[
+            PATCHEX_STAGE_WARP,
+            PATCHEX_STAGE_FILL_HOLES,
+            PATCHEX_STAGE_SHADOW_WARP,
+        ],
+    ),
     (
         "preprocessing",
         &[
@@ -426,6 +433,7 @@ fn report(args: &BenchArgs, configurations: &[Configuration], results: &[Vec<Mea
         100.0 * dynamic
     )
     .unwrap();
+    fill_share_table(&mut out, args, configurations, results);
     patch_ratio_table(&mut out, args, configurations, results);
     let labels: Vec<&str> = configurations.iter().map(|c| c.label()).collect();
     let costs: Vec<Vec<Costs>> = results
@@ -434,6 +442,41 @@ fn report(args: &BenchArgs, configurations: &[Configuration], results: &[Vec<Mea
         .collect();
     costs::report(&mut out, &args.sizes, &labels, &costs, args.sizes.len() - 1);
     out
+}
+
+/// What the hole fill adds to the default warp-only preset, per size: its stage's time over the
+/// rest of the preset's, in the same run.
+fn fill_share_table(
+    out: &mut String,
+    args: &BenchArgs,
+    configurations: &[Configuration],
+    results: &[Vec<Measured>],
+) {
+    let Some(warp_only) = configurations
+        .iter()
+        .position(|c| *c == Configuration::Gbuffer)
+    else {
+        return;
+    };
+    writeln!(
+        out,
+        "\nThe hole fill (its own stage) against the rest of the G-buffer-guided warp-only \
+         preset, GPU ms per target, measured in this run:\n\n\
+         | size | hole fill ms | rest of the preset ms | fill / rest |\n|---|---|---|---|"
+    )
+    .unwrap();
+    for (size, row) in args.sizes.iter().zip(results) {
+        let measured = &row[warp_only];
+        let fill = measured.costs.mean(PATCHEX_STAGE_FILL_HOLES).gpu_ms;
+        let rest = measured.mean_total_ms() - fill;
+        writeln!(
+            out,
+            "| {} | {fill:.1} | {rest:.1} | {:.1}% |",
+            size_label(*size),
+            100.0 * fill / rest
+        )
+        .unwrap();
+    }
 }
 
 /// Inference time of the networks over the whole frame against on their patches, per size:
