@@ -109,12 +109,11 @@
 
 #define PATCHEX_DEFAULT_OCCLUSION_SEARCH_RADIUS 8
 
-// The segmentation's default k_x and k_y, fitted by `patchex calibrate` on the generated
-// scene set's 12 training scenes at 640x360 (395 objects in frames): k_x 6.09 (r 0.90), k_y
-// 5.08 (r 0.81).
-#define PATCHEX_DEFAULT_GROWTH_X 6.1
+// The segmentation's default k_x and k_y, fitted by `patchex calibrate` on the project's seven
+// scenes at 640x360: k_x 1.92 (r 0.31), k_y 3.12 (r 0.50).
+#define PATCHEX_DEFAULT_GROWTH_X 1.9
 
-#define PATCHEX_DEFAULT_GROWTH_Y 5.1
+#define PATCHEX_DEFAULT_GROWTH_Y 3.1
 
 // Farneback optical-flow settings a context uses unless told otherwise: three pyramid levels
 // (motion up to about 4 * window_radius pixels), three iterations per level, a 15x15 window,

@@ -312,11 +312,10 @@ pub const PATCHEX_DEFAULT_SIGMA_DEPTH: f32 = 0.05;
 pub const PATCHEX_DEFAULT_SIGMA_NORMAL: f32 = 0.1;
 pub const PATCHEX_DEFAULT_SIGMA_POSITION: f32 = 1.5;
 pub const PATCHEX_DEFAULT_OCCLUSION_SEARCH_RADIUS: u32 = 8;
-/// The segmentation's default k_x and k_y, fitted by `patchex calibrate` on the generated
-/// scene set's 12 training scenes at 640x360 (395 objects in frames): k_x 6.09 (r 0.90), k_y
-/// 5.08 (r 0.81).
-pub const PATCHEX_DEFAULT_GROWTH_X: f32 = 6.1;
-pub const PATCHEX_DEFAULT_GROWTH_Y: f32 = 5.1;
+/// The segmentation's default k_x and k_y, fitted by `patchex calibrate` on the project's seven
+/// scenes at 640x360: k_x 1.92 (r 0.31), k_y 3.12 (r 0.50).
+pub const PATCHEX_DEFAULT_GROWTH_X: f32 = 1.9;
+pub const PATCHEX_DEFAULT_GROWTH_Y: f32 = 3.1;
 
 /// Chainable on PatchexCreateInfo (context default) or PatchexExtrapolateDesc (this call).
 #[repr(C)]
