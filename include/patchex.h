@@ -109,8 +109,9 @@
 
 #define PATCHEX_DEFAULT_OCCLUSION_SEARCH_RADIUS 8
 
-// The segmentation's default k_x and k_y, fitted by `patchex calibrate` on the project's seven
-// scenes at 640x360: k_x 1.92 (r 0.31), k_y 3.12 (r 0.50).
+// The segmentation's default k_x and k_y. `patchex calibrate` measures a mover's wake (the
+// high-variation background connected to it) at about a pixel on the generated training scenes,
+// which these grow past at their speeds; motion does not predict it well enough to fit k.
 #define PATCHEX_DEFAULT_GROWTH_X 1.9
 
 #define PATCHEX_DEFAULT_GROWTH_Y 3.1

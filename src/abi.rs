@@ -312,8 +312,9 @@ pub const PATCHEX_DEFAULT_SIGMA_DEPTH: f32 = 0.05;
 pub const PATCHEX_DEFAULT_SIGMA_NORMAL: f32 = 0.1;
 pub const PATCHEX_DEFAULT_SIGMA_POSITION: f32 = 1.5;
 pub const PATCHEX_DEFAULT_OCCLUSION_SEARCH_RADIUS: u32 = 8;
-/// The segmentation's default k_x and k_y, fitted by `patchex calibrate` on the project's seven
-/// scenes at 640x360: k_x 1.92 (r 0.31), k_y 3.12 (r 0.50).
+/// The segmentation's default k_x and k_y. `patchex calibrate` measures a mover's wake (the
+/// high-variation background connected to it) at about a pixel on the generated training scenes,
+/// which these grow past at their speeds; motion does not predict it well enough to fit k.
 pub const PATCHEX_DEFAULT_GROWTH_X: f32 = 1.9;
 pub const PATCHEX_DEFAULT_GROWTH_Y: f32 = 3.1;
 

@@ -23,7 +23,7 @@ pub struct SegmentationSettings {
 }
 
 impl Default for SegmentationSettings {
-    /// PATCHEX_DEFAULT_GROWTH_X and _Y, fitted by `patchex calibrate` (README, "Calibration").
+    /// PATCHEX_DEFAULT_GROWTH_X and _Y (README, "Calibration").
     fn default() -> Self {
         Self {
             growth: [PATCHEX_DEFAULT_GROWTH_X, PATCHEX_DEFAULT_GROWTH_Y],

@@ -8,10 +8,15 @@
 //!    following the vectors leaves what motion cannot explain: disocclusions, moving shadows,
 //!    the object's edges), as mean absolute change over the RGB channels of tone-mapped colour;
 //! 2. Otsu's threshold over the frame splits it into low and high variation;
-//! 3. the rectangle around the object's pixels and the high-variation background pixels within
-//!    a search window around them; its extension beyond the object's bounds, per axis and
-//!    averaged over the two sides, is one sample against the object's mean |motion| on that
-//!    axis.
+//! 3. the object's wake: the high-variation background pixels connected to the object through
+//!    high-variation background pixels, within a search window around it. The rectangle around
+//!    the object and its wake, its extension beyond the object's bounds per axis and averaged
+//!    over the two sides, is one sample against the object's mean |motion| on that axis.
+//!    Connected pixels only: with a moving camera, high variation is scattered over the whole
+//!    background (foliage, speculars, anti-aliased edges), and counting every such pixel in the
+//!    window measured the window instead of the object (the fitted k followed the window's
+//!    size). The fit reports how many samples reached the window, which bounds what it can
+//!    measure.
 //!
 //! k is the least-squares slope of extension against mean |motion| (the intercept takes the
 //! pixel or two that anti-aliased edges add at any motion); the Pearson correlation says how
@@ -29,8 +34,8 @@ use super::CommandResult;
 
 /// The search window reaches this many pixels, plus `WINDOW_PER_MOTION` times the mean motion,
 /// beyond the object's bounds: it bounds the k that can be measured.
-const WINDOW_PIXELS: f32 = 2.0;
-const WINDOW_PER_MOTION: f32 = 8.0;
+const WINDOW_PIXELS: f32 = 4.0;
+const WINDOW_PER_MOTION: f32 = 32.0;
 /// Objects smaller than this tell little about their surroundings.
 const MIN_OBJECT_PIXELS: usize = 16;
 /// Objects that move less than this (pixels per target interval) give no growth to measure.
@@ -54,6 +59,9 @@ pub struct CalibrateArgs {
 struct Sample {
     motion: [f32; 2],
     extension: [f32; 2],
+    /// Whether the wake reached the search window on this axis: the extension is then a lower
+    /// bound.
+    reached_window: [bool; 2],
 }
 
 pub fn run(args: CalibrateArgs) -> CommandResult {
@@ -84,9 +92,11 @@ pub fn run(args: CalibrateArgs) -> CommandResult {
             .map(|s| (s.motion[axis] as f64, s.extension[axis] as f64))
             .collect();
         let fit = fit_line(&points);
+        let bounded = samples.iter().filter(|s| s.reached_window[axis]).count();
         println!(
             "{name}: extension = {:.2} * mean|v_{name}| + {:.2} px; Pearson r = {:.3} over {} \
-             samples (mean|v_{name}| {:.2} px, mean extension {:.2} px)",
+             samples (mean|v_{name}| {:.2} px, mean extension {:.2} px; {bounded} reached the \
+             search window)",
             fit.slope,
             fit.intercept,
             fit.correlation,
@@ -98,18 +108,22 @@ pub fn run(args: CalibrateArgs) -> CommandResult {
     }
     let fitted = |fit: &Fit| fit.correlation >= MIN_CORRELATION;
     let k = match (fitted(&fits[0]), fitted(&fits[1])) {
-        (true, true) => [fits[0].slope, fits[1].slope],
-        (true, false) => [fits[0].slope; 2],
-        (false, true) => [fits[1].slope; 2],
-        (false, false) => {
-            return Err("motion does not predict the extension on either axis: no fit".into())
-        }
+        (true, true) => Some([fits[0].slope, fits[1].slope]),
+        (true, false) => Some([fits[0].slope; 2]),
+        (false, true) => Some([fits[1].slope; 2]),
+        (false, false) => None,
     };
-    println!("k_x = {:.2}, k_y = {:.2}", k[0], k[1]);
+    match k {
+        Some(k) => println!("k_x = {:.2}, k_y = {:.2}", k[0], k[1]),
+        None => println!(
+            "no fit: motion does not predict the extension on either axis (r below \
+             {MIN_CORRELATION}); keep k"
+        ),
+    }
     if let Some(path) = &args.json {
         let report = json!({
-            "k_x": k[0],
-            "k_y": k[1],
+            "k_x": k.map(|k| k[0]),
+            "k_y": k.map(|k| k[1]),
             "slope_x": fits[0].slope,
             "slope_y": fits[1].slope,
             "intercept_x": fits[0].intercept,
@@ -119,6 +133,7 @@ pub fn run(args: CalibrateArgs) -> CommandResult {
             "samples": samples.iter().map(|s| json!({
                 "mean_motion": s.motion,
                 "extension": s.extension,
+                "reached_window": s.reached_window,
             })).collect::<Vec<_>>(),
         });
         super::write_output(path, serde_json::to_string_pretty(&report)? + "\n")?;
@@ -216,9 +231,9 @@ fn frame_samples(
         }
     }
     objects
-        .values()
-        .filter(|(_, pixels, _)| *pixels >= MIN_OBJECT_PIXELS)
-        .filter_map(|&([left, top, right, bottom], pixels, sums)| {
+        .iter()
+        .filter(|(_, (_, pixels, _))| *pixels >= MIN_OBJECT_PIXELS)
+        .filter_map(|(&id, &([left, top, right, bottom], pixels, sums))| {
             let mean = [sums[0] / pixels as f32, sums[1] / pixels as f32];
             if mean[0].max(mean[1]) < MIN_MOTION {
                 return None;
@@ -230,19 +245,22 @@ fn frame_samples(
                 (right + reach(mean[0])).min(width - 1),
                 (bottom + reach(mean[1])).min(height - 1),
             ];
-            let mut grown = [left, top, right, bottom];
-            for y in window[1]..=window[3] {
-                for x in window[0]..=window[2] {
-                    if id_at(x, y) == 0 && change[y * width + x] > threshold {
-                        grown = [
-                            grown[0].min(x),
-                            grown[1].min(y),
-                            grown[2].max(x),
-                            grown[3].max(y),
-                        ];
-                    }
-                }
-            }
+            let wake = Wake {
+                window,
+                width,
+                in_wake: |x: usize, y: usize| id_at(x, y) == 0 && change[y * width + x] > threshold,
+            };
+            let object: Vec<(usize, usize)> = (top..=bottom)
+                .flat_map(|y| (left..=right).map(move |x| (x, y)))
+                .filter(|&(x, y)| id_at(x, y) == id)
+                .collect();
+            let grown = wake.bounds(&object, [left, top, right, bottom]);
+            let reached_window = [
+                grown[0] == window[0] && window[0] > 0
+                    || grown[2] == window[2] && window[2] < width - 1,
+                grown[1] == window[1] && window[1] > 0
+                    || grown[3] == window[3] && window[3] < height - 1,
+            ];
             // Sides the image edge cuts off measure the edge, not the object: average the others.
             let extension =
                 |low: usize, high: usize, grown_low: usize, grown_high: usize, limit: usize| {
@@ -261,9 +279,50 @@ fn frame_samples(
                     extension(left, right, grown[0], grown[2], width)?,
                     extension(top, bottom, grown[1], grown[3], height)?,
                 ],
+                reached_window,
             })
         })
         .collect()
+}
+
+/// The high-variation background connected to an object, within a window.
+struct Wake<F> {
+    /// Left, top, right, bottom, inclusive.
+    window: [usize; 4],
+    width: usize,
+    in_wake: F,
+}
+
+impl<F: Fn(usize, usize) -> bool> Wake<F> {
+    /// `bounds` grown to every wake pixel reachable from `object`'s pixels through 4-connected
+    /// wake pixels inside the window.
+    fn bounds(&self, object: &[(usize, usize)], mut bounds: [usize; 4]) -> [usize; 4] {
+        let [left, top, right, bottom] = self.window;
+        let mut seen = vec![false; self.width * (bottom + 1)];
+        let mut stack = object.to_vec();
+        while let Some((x, y)) = stack.pop() {
+            let neighbours = [
+                (x > left).then(|| (x - 1, y)),
+                (x < right).then(|| (x + 1, y)),
+                (y > top).then(|| (x, y - 1)),
+                (y < bottom).then(|| (x, y + 1)),
+            ];
+            for (nx, ny) in neighbours.into_iter().flatten() {
+                let visited = &mut seen[ny * self.width + nx];
+                if !*visited && (self.in_wake)(nx, ny) {
+                    *visited = true;
+                    bounds = [
+                        bounds[0].min(nx),
+                        bounds[1].min(ny),
+                        bounds[2].max(nx),
+                        bounds[3].max(ny),
+                    ];
+                    stack.push((nx, ny));
+                }
+            }
+        }
+        bounds
+    }
 }
 
 struct Fit {
@@ -316,6 +375,27 @@ mod tests {
             .collect();
         let threshold = otsu_threshold(&values);
         assert!(threshold > 0.09 && threshold < 0.8, "{threshold}");
+    }
+
+    #[test]
+    fn wake_holds_what_touches_the_object_and_stops_at_the_window() {
+        // A 12x6 frame: the object in columns 4-5, a high-variation strip two pixels wide to
+        // its left (what it uncovered), and high-variation pixels that touch neither, one of
+        // them inside the window.
+        let width = 12;
+        let high = |x: usize, y: usize| (x == 2 || x == 3) && y >= 1 || (x, y) == (8, 2);
+        let object: Vec<(usize, usize)> = (1..5).flat_map(|y| [(4, y), (5, y)]).collect();
+        let wake = Wake {
+            window: [0, 0, 9, 5],
+            width,
+            in_wake: |x: usize, y: usize| !(4..=5).contains(&x) && high(x, y),
+        };
+        assert_eq!(wake.bounds(&object, [4, 1, 5, 4]), [2, 1, 5, 5]);
+        let narrow = Wake {
+            window: [3, 0, 9, 5],
+            ..wake
+        };
+        assert_eq!(narrow.bounds(&object, [4, 1, 5, 4]), [3, 1, 5, 5]);
     }
 
     #[test]
