@@ -149,6 +149,14 @@ fn uncovered_side_fill_beats_the_nearest_texel_over_holes() {
         let outcome = run_plugin(&rig, source, target, 0.5, &chained);
         assert_matches_reference(source, target, &outcome, &chained);
         hole_psnrs.push(hole_psnr(&outcome, &target.color));
+        // Only the uncovered side's fill is a pass of its own; the nearest texel is the warp's.
+        let stats = &outcome.stats.extrapolations[0];
+        assert_eq!(
+            stats.stages_run & 1 << PATCHEX_STAGE_FILL_HOLES != 0,
+            hole_fill == PATCHEX_HOLE_FILL_BACKGROUND,
+            "fill {hole_fill}: stages {:#b}",
+            stats.stages_run
+        );
     }
     println!(
         "PSNR over holes: nearest texel {:.2} dB, uncovered side {:.2} dB",
