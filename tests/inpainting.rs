@@ -362,12 +362,13 @@ fn a_frame_without_dynamic_objects_runs_no_network_and_no_shadow_pass() {
 
 /// The networks preset at the extremes, on rendered frames: around the characters, colours at
 /// the largest half float, NaN and infinite colours, black and near-black albedo and full
-/// metals. With either tensor precision the output stays finite, the sanitised pixels are
-/// counted as the reference counts them, and every pixel outside the networks' regions matches
-/// the reference. Inside them the demodulated colours reach the half-float limit, far outside
-/// what the networks were trained on, and their sums cancel, so the driver's exp and order of
-/// summation decide the last digits: at most a tenth of the repaired pixels may differ from
-/// the reference by more than 10% (measured on lavapipe: FP16 4.7%, FP32 2.1%).
+/// metals. With either tensor precision the output stays finite and not negative, the
+/// sanitised pixels are counted as the reference counts them, and every pixel outside the
+/// networks' regions matches the reference. Inside them the demodulated colours reach the
+/// half-float limit, far outside what the networks were trained on, and their sums cancel, so
+/// the driver's exp and order of summation decide the last digits: at most one in a hundred
+/// repaired pixels may differ from the reference by more than 10% (measured on lavapipe: none
+/// of 877; before corrections stopped at zero, 4.7% with FP16 and 2.1% with FP32).
 #[test]
 fn networks_at_the_numerical_extremes() {
     let sequence = render("crossing_street.toml", 2, WIDTH, HEIGHT);
@@ -408,6 +409,9 @@ fn networks_at_the_numerical_extremes() {
         });
         let outcome = run_plugin(&rig, &source, &target, 0.5, &Chained::default());
         assert!(outcome.output.data.iter().all(|v| v.is_finite()));
+        // No input colour is below zero, so no output colour is: a correction stops at zero.
+        let negative = outcome.output.data.iter().filter(|&&v| v < 0.0).count();
+        assert_eq!(negative, 0, "{precision:?}: negative output channels");
         let with = expected(
             &source,
             &target,
@@ -442,7 +446,7 @@ fn networks_at_the_numerical_extremes() {
             }
         }
         println!("{precision:?}: of {repaired} repaired pixels {beyond:?} beyond 1% and 10%");
-        assert!(beyond[1] * 10 <= repaired, "{beyond:?}");
+        assert!(beyond[1] * 100 <= repaired, "{beyond:?}");
     }
 }
 

@@ -325,9 +325,9 @@ pub fn inpaint(
                 if region == *id && !patch.is_empty() && patch.contains(x, y) {
                     let c = corrected(correction, patch, x, y);
                     let w = warped.at(x, y);
-                    // Into the RGBA16F frame.
-                    let sum = [w[0] + c[0], w[1] + c[1], w[2] + c[2]]
-                        .map(|v| round_to_f16(v.clamp(-MAX_HALF, MAX_HALF)));
+                    // Into the RGBA16F frame, stopping at zero as blend_patches.wgsl does.
+                    let sum = [0, 1, 2]
+                        .map(|i| round_to_f16((w[i] + c[i]).clamp(w[i].min(0.0), MAX_HALF)));
                     blended.set(x, y, &[sum[0], sum[1], sum[2], w[3]]);
                 }
             }
