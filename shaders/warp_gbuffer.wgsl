@@ -42,7 +42,7 @@ fn warp_pixel(p: vec2u, t: Surface, motion_vector: vec2f) -> WarpedPixel {
         shading_sum = vec3f(0.0);
         weight_sum = 0.0;
         let centre = texel(q);
-        let r = params.kernel_radius;
+        let r = i32(unspecialised(u32(params.kernel_radius)));
         for (var dy = -r; dy <= r; dy++) {
             for (var dx = -r; dx <= r; dx++) {
                 let s = clamp(centre + vec2i(dx, dy), vec2i(0), extent - 1);
@@ -63,7 +63,7 @@ fn warp_pixel(p: vec2u, t: Surface, motion_vector: vec2f) -> WarpedPixel {
     }
     let offscreen = is_offscreen(q);
     let hole = offscreen || best_agreement < AGREEMENT_THRESHOLD;
-    let deferred = hole && params.hole_fill == HOLE_FILL_BACKGROUND;
+    let deferred = hole && unspecialised(params.hole_fill) == HOLE_FILL_BACKGROUND;
     if (deferred) {
         defer_hole(p);
     }

@@ -12,7 +12,7 @@
 // The bilinear fetch at q: plain, or weighted by agreement (`agreeing_bilinear`) where any
 // texel agrees.
 fn fetch(t: Surface, q: vec2f) -> vec3f {
-    if (params.agreeing_bilinear != 0u) {
+    if (unspecialised(params.agreeing_bilinear) != 0u) {
         let footprint = agreeing_footprint(t, q);
         if (footprint.weight_sum > MIN_TOTAL_WEIGHT) {
             return footprint.shading_sum / footprint.weight_sum;
@@ -25,7 +25,7 @@ fn warp_pixel(p: vec2u, t: Surface, motion_vector: vec2f) -> WarpedPixel {
     var q = source_point(p, motion_vector);
     var best_agreement = select(agreement_at(t, texel(q)), 0.0, is_offscreen(q));
     if (best_agreement < AGREEMENT_THRESHOLD) {
-        let r = params.occlusion_search_radius;
+        let r = i32(unspecialised(u32(params.occlusion_search_radius)));
         let last = vec2i(params.extent) - 1;
         for (var dy = -r; dy <= r; dy += 2) {
             for (var dx = -r; dx <= r; dx += 2) {

@@ -95,6 +95,16 @@ struct Cameras {
 // With `shadow_share`: the shadow layer as its flow moved it, which `warped` holds.
 @group(0) @binding(15) var moved_layer: texture_2d<f32>;
 
+// A setting as the warps branch on it. lavapipe (Mesa 22.3) specialises a shader on the push
+// constants and uniforms that a branch or loop bound depends on alone and, keeping no cache of
+// its specialisations, compiles it again at every dispatch: about 380 ms of LLVM a frame for the
+// G-buffer warp at 640x360, hidden only where Mesa's disk cache has seen those exact frames. Tied
+// to the source image's size, which the driver cannot inline, a setting no longer qualifies and
+// each warp compiles once. For any driver the select always yields `setting`.
+fn unspecialised(setting: u32) -> u32 {
+    return select(0u, setting, textureDimensions(source_shading).x != 0u);
+}
+
 // The target pixel's surface, unpacked, with the size of a pixel's footprint on it, which every
 // texel it is compared with needs.
 struct Surface {
@@ -110,13 +120,13 @@ struct Surface {
 fn target_surface(p: vec2u) -> Surface {
     let stored_depth = textureLoad(target_depth, p, 0).r;
     let depth = linear_depth(stored_depth, p, cameras.target_depth_curve, cameras.target_far,
-        cameras.target_depth_convention);
+        unspecialised(cameras.target_depth_convention));
     var id = 0u;
-    if (cameras.target_has_stencil != ABSENT) {
+    if (unspecialised(cameras.target_has_stencil) != ABSENT) {
         id = textureLoad(target_stencil, p, 0).r;
     }
     let stored_normal = textureLoad(target_normal, p, 0).xyz;
-    let normal = unit_normal(stored_normal, cameras.target_normal_encoding);
+    let normal = unit_normal(stored_normal, unspecialised(cameras.target_normal_encoding));
     let ray = cameras.target_at_origin + f32(p.x) * cameras.target_per_x
         + f32(p.y) * cameras.target_per_y;
     let position = cameras.target_position + depth * ray;
@@ -242,15 +252,15 @@ struct DeferredHoles {
 // or the shadows' share at the target when it carries the shadow layer.
 fn store_pixel(p: vec2u, shading: vec3f, hole: bool) {
     var color = vec4f(to_half(shading), select(1.0, 0.0, hole));
-    if (params.remodulate != 0u) {
-        let m = pixel_modulation(base_color, material, p, params.has_material);
+    if (unspecialised(params.remodulate) != 0u) {
+        let m = pixel_modulation(base_color, material, p, unspecialised(params.has_material));
         let remodulated = sanitize_color(color.rgb * m.factor);
         color = vec4f(to_half(remodulated.value), 1.0);
         if (m.changed || remodulated.changed) {
             atomicAdd(&group_tallies[TALLY_SANITIZED], 1u);
         }
     }
-    if (params.shadow_share != 0u) {
+    if (unspecialised(params.shadow_share) != 0u) {
         // The share of light the shadows take away at the target: the layer as its flow moved
         // it where that found a receiver (alpha 1), as this warp carried it with the surfaces
         // elsewhere.
