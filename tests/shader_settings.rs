@@ -240,15 +240,10 @@ impl<'a> Analysis<'a> {
             walk(&f.body, &mut |statement| match statement {
                 Statement::If { condition, .. } => conditions.push(("if", *condition)),
                 Statement::Switch { selector, .. } => conditions.push(("switch", *selector)),
-                Statement::Loop {
-                    body,
-                    break_if: Some(condition),
-                    ..
-                } => {
-                    conditions.push(("break if", *condition));
+                Statement::Loop { body, break_if, .. } => {
+                    conditions.extend(break_if.map(|condition| ("break if", condition)));
                     loop_exits(body, &mut conditions);
                 }
-                Statement::Loop { body, .. } => loop_exits(body, &mut conditions),
                 _ => {}
             });
             let name = f.name.clone().unwrap_or_default();
