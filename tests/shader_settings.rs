@@ -1,8 +1,8 @@
 //! Held against the shaders: the passes that run every frame never branch on a setting alone.
 //! lavapipe (Mesa 22.3), the driver of the tests and CI, specialises a shader on the push
-//! constants and uniforms that a branch or a loop bound depends on alone and, keeping no cache of
-//! its specialisations, compiles the shader again at every dispatch for as long as that pays off:
-//! the G-buffer warp took about 380 ms of LLVM a frame at 640x360 before it read its settings
+//! constants and uniforms that a branch or a loop bound depends on alone, keeps no cache of its
+//! specialisations and, unless its first try shrank the shader too little, compiles it again at
+//! every dispatch: the G-buffer warp took about 380 ms of LLVM a frame at 640x360 before it read its settings
 //! through `unspecialised` (shaders/include/warp.wgsl). This finds such branches in the warps and
 //! the hole fill; other passes run once or gain too little for the driver to keep specialising.
 
