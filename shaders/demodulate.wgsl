@@ -1,6 +1,7 @@
 // Divides frame t's colour by its modulation factor, leaving shading that varies smoothly across
 // textures and so warps and inpaints well: F' = F / (albedo + 0.08 * specular * (1 - metallic)).
-// Unusable inputs are sanitised first and counted (gbuffer.wgsl).
+// Black and emissive surfaces, and colours whose shading a half float cannot hold, keep their
+// colour (alpha 0; gbuffer.wgsl `demodulated`). Unusable inputs are sanitised first and counted.
 // #import gbuffer
 // #import tallies
 
@@ -22,10 +23,9 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
     let p = id.xy;
     if (all(p < params.extent)) {
         let m = pixel_modulation(base_color, material, p, params.has_material);
-        let color = sanitize_color(textureLoad(color, p, 0).rgb);
-        let s = demodulated(color.value, m.factor);
-        textureStore(shading, p, vec4f(s.value, 1.0));
-        if (m.changed || color.changed || s.changed) {
+        let color = sanitize_input_color(textureLoad(color, p, 0).rgb);
+        textureStore(shading, p, demodulated(color.value, m.factor));
+        if (m.changed || color.changed) {
             atomicAdd(&group_tallies[0u], 1u);
         }
     }

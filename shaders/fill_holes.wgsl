@@ -37,13 +37,13 @@ fn fill_cost(t: Surface, s: vec2i, offset: vec2i) -> f32 {
     return depth_term * depth_term + normal_term + distance_term + other_object;
 }
 
-fn fill_hole(q: vec2f, t: Surface) -> vec3f {
+fn fill_hole(q: vec2f, t: Surface) -> vec4f {
     let last = vec2i(params.extent) - 1;
     let centre = texel(q);
     // The weights are exp(least - cost), rescaled as a cheaper texel appears, so that no
     // window underflows however badly every texel matches.
     var least = 3.4e38;
-    var sum = vec3f(0.0);
+    var sum = vec4f(0.0);
     var total = 0.0;
     for (var dy = -FILL_RADIUS; dy <= FILL_RADIUS; dy += FILL_STEP) {
         for (var dx = -FILL_RADIUS; dx <= FILL_RADIUS; dx += FILL_STEP) {
@@ -57,7 +57,7 @@ fn fill_hole(q: vec2f, t: Surface) -> vec3f {
                 least = cost;
             }
             let w = exp(least - cost);
-            sum += w * textureLoad(source_shading, s, 0).rgb;
+            sum += w * textureLoad(source_shading, s, 0);
             total += w;
         }
     }

@@ -2,8 +2,8 @@
 // encoding, optional stencil) into the plugin's canonical form, which the warps read around each
 // target pixel: linear depth, and the world normal with the object id packed in 32 bits
 // (gbuffer.wgsl). The target's G-buffer is read by the warps themselves, through the same
-// functions. Pixels with a NaN or infinite depth or normal are counted: later passes treat them as
-// holes or static background, and the statistics say how many.
+// functions. Pixels whose depth is NaN or outside its convention's range, or whose normal is NaN
+// or infinite, are counted (gbuffer.wgsl `valid_geometry`): the statistics say how many.
 // #import gbuffer
 // #import tallies
 
@@ -40,7 +40,7 @@ fn pack_pixel(p: vec2u) -> bool {
     }
     let packed = pack_normal_id(unit_normal(stored_normal, params.normal_encoding), object_id);
     textureStore(normal_id, p, vec4u(packed, 0u, 0u, 0u));
-    return !is_finite(vec4f(stored_normal, stored_depth));
+    return !valid_geometry(stored_depth, stored_normal, params.depth_convention);
 }
 
 @compute @workgroup_size(8, 8, 1)

@@ -50,19 +50,18 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
     let p = id.xy;
     if (all(p < params.extent)) {
         let m = pixel_modulation(base_color, material, p, params.has_material);
-        let lit = sanitize_color(textureLoad(color, p, 0).rgb);
-        let unshadowed = sanitize_color(textureLoad(color_without_dynamic_shadows, p, 0).rgb);
+        let lit = sanitize_input_color(textureLoad(color, p, 0).rgb);
+        let unshadowed = sanitize_input_color(textureLoad(color_without_dynamic_shadows, p, 0).rgb);
         let visibility = sanitize_unit(vec3f(textureLoad(shadow_mask, p, 0).r, 0.0, 0.0));
         let separates = params.tracked != 0u
             && object_id(textureLoad(source_normal_id, p, 0).r) == 0u;
-        let s = demodulated(select(lit.value, unshadowed.value, separates), m.factor);
-        textureStore(shading, p, vec4f(s.value, 1.0));
+        textureStore(shading, p, demodulated(select(lit.value, unshadowed.value, separates), m.factor));
         var layer = vec3f(0.0);
         if (separates) {
             layer = shadow_share(lit.value, unshadowed.value);
         }
         textureStore(shadow_layer, p, vec4f(layer, 1.0));
-        let changed = m.changed || lit.changed || unshadowed.changed || visibility.changed || s.changed;
+        let changed = m.changed || lit.changed || unshadowed.changed || visibility.changed;
         if (changed) {
             atomicAdd(&group_tallies[0u], 1u);
         }

@@ -39,7 +39,7 @@ fn warp_pixel(p: vec2u, t: Surface, motion_vector: vec2f) -> WarpedPixel {
 
     if (weight_sum < BILINEAR_ACCEPT) {
         // Joint bilateral gather around q.
-        shading_sum = vec3f(0.0);
+        shading_sum = vec4f(0.0);
         weight_sum = 0.0;
         let centre = texel(q);
         let r = i32(unspecialised(u32(params.kernel_radius)));
@@ -49,17 +49,17 @@ fn warp_pixel(p: vec2u, t: Surface, motion_vector: vec2f) -> WarpedPixel {
                 let agreement = agreement_at(t, s);
                 let d = vec2f(s) + 0.5 - q;
                 let weight = exp(-dot(d, d) * params.inv_two_sigma_spatial_sq) * agreement;
-                shading_sum += weight * textureLoad(source_shading, s, 0).rgb;
+                shading_sum += weight * textureLoad(source_shading, s, 0);
                 weight_sum += weight;
                 best_agreement = max(best_agreement, agreement);
             }
         }
     }
-    var shading: vec3f;
+    var shading: vec4f;
     if (weight_sum > MIN_TOTAL_WEIGHT) {
         shading = shading_sum / weight_sum;
     } else {
-        shading = textureLoad(source_shading, texel(q), 0).rgb;
+        shading = textureLoad(source_shading, texel(q), 0);
     }
     let offscreen = is_offscreen(q);
     let hole = offscreen || best_agreement < AGREEMENT_THRESHOLD;

@@ -11,7 +11,7 @@
 
 // The bilinear fetch at q: plain, or weighted by agreement (`agreeing_bilinear`) where any
 // texel agrees.
-fn fetch(t: Surface, q: vec2f) -> vec3f {
+fn fetch(t: Surface, q: vec2f) -> vec4f {
     if (unspecialised(params.agreeing_bilinear) != 0u) {
         let footprint = agreeing_footprint(t, q);
         if (footprint.weight_sum > MIN_TOTAL_WEIGHT) {

@@ -2,7 +2,10 @@
 
 use glam::{DVec2, DVec3, DVec4, Mat4, Vec2, Vec3, Vec4Swizzles};
 
-use crate::abi::{PatchexCamera, PatchexDepthConvention, PATCHEX_DEPTH_HARDWARE_REVERSED};
+use crate::abi::{
+    PatchexCamera, PatchexDepthConvention, PATCHEX_DEPTH_HARDWARE_REVERSED,
+    PATCHEX_DEPTH_LINEAR_VIEW_Z,
+};
 use crate::error::{bail, Result};
 
 /// `Camera::pixel_rays`.
@@ -93,17 +96,48 @@ impl Camera {
                 "{name}.projection is not a perspective projection"
             );
         }
-        let determinant = (camera.projection * camera.view).determinant();
-        if !determinant.is_finite()
-            || determinant.abs() < 1e-30
-            || !camera.inverse_view_projection().is_finite()
-        {
+        // In f64, and each matrix on its own: a camera 1e7 units from the world's origin has a
+        // view-projection whose f32 inverse loses every digit.
+        for (matrix, what) in [(camera.view, "view"), (camera.projection, "projection")] {
+            let determinant = matrix.as_dmat4().determinant();
+            if !determinant.is_finite() || determinant.abs() < 1e-30 {
+                bail!(ErrorInvalidArgument, "{name}.{what} is not invertible");
+            }
+        }
+        camera.check_near_plane(name)?;
+        Ok(camera)
+    }
+
+    /// The near plane the projection puts hardware depth 0 (PATCHEX_DEPTH_HARDWARE) or 1
+    /// (PATCHEX_DEPTH_HARDWARE_REVERSED) at must be `near_plane`, within 1%: a mismatch means the
+    /// depth was written with another projection than the one given. Linear depth does not
+    /// depend on the projection's depth range, so it is not checked.
+    fn check_near_plane(&self, name: &str) -> Result<()> {
+        if self.depth_convention == PATCHEX_DEPTH_LINEAR_VIEW_Z {
+            return Ok(());
+        }
+        let near_depth = if self.depth_convention == PATCHEX_DEPTH_HARDWARE_REVERSED {
+            1.0
+        } else {
+            0.0
+        };
+        // Along the perspective axis, clip z = a * d + b and clip w = c * d at view depth d.
+        let axis = self.perspective_axis().as_dvec3().normalize();
+        let projection = self.projection.as_dmat4();
+        let clip = |d: f64| projection * (axis * d).extend(1.0);
+        let (at_zero, at_one) = (clip(0.0), clip(1.0));
+        let (a, b, c) = (at_one.z - at_zero.z, at_zero.z, at_one.w - at_zero.w);
+        // (a d + b) / (c d) = near_depth.
+        let near = b / (near_depth * c - a);
+        let given = self.near as f64;
+        if !(near.is_finite() && near > 0.0 && ((near - given) / given).abs() <= 0.01) {
             bail!(
                 ErrorInvalidArgument,
-                "{name}: projection * view is not invertible"
+                "{name}.near_plane {given} disagrees with the projection, which puts hardware \
+                 depth {near_depth} at {near:.6}"
             );
         }
-        Ok(camera)
+        Ok(())
     }
 
     /// The view-space axis along which clip w grows: -z for right-handed views, +z for
@@ -112,12 +146,9 @@ impl Camera {
         self.projection.row(3).xyz()
     }
 
-    pub fn inverse_view_projection(&self) -> Mat4 {
-        (self.projection * self.view).inverse()
-    }
-
-    pub fn position(&self) -> Vec3 {
-        self.view.inverse().w_axis.xyz()
+    /// The camera's position in the world, in f64.
+    pub fn position(&self) -> DVec3 {
+        self.view.as_dmat4().inverse().w_axis.truncate()
     }
 
     /// Radians one of `height` pixel rows spans at the image centre.
@@ -139,11 +170,12 @@ impl Camera {
     /// (`Cameras` in shaders/include/warp.wgsl): the surface at linear depth d seen through pixel
     /// (x, y) lies at position + d * (at_origin + x * per_x + y * per_y). Linear depth runs along
     /// the perspective axis, so the scaled ray is affine in the pixel, for any perspective
-    /// projection. Computed in f64 from the inverse projection, as the packing unprojects.
-    pub fn pixel_rays(&self, extent: ash::vk::Extent2D) -> PixelRays {
+    /// projection. Computed in f64 from the inverse projection; `position` is relative to
+    /// `origin`, so that positions near it keep their precision in f32.
+    pub fn pixel_rays(&self, extent: ash::vk::Extent2D, origin: DVec3) -> PixelRays {
         let rays = self.pixel_rays_f64(extent);
         PixelRays {
-            position: rays.position.as_vec3(),
+            position: (rays.position - origin).as_vec3(),
             at_origin: rays.at_origin.as_vec3(),
             per_x: rays.per_x.as_vec3(),
             per_y: rays.per_y.as_vec3(),
@@ -168,21 +200,23 @@ impl Camera {
     }
 
     fn pixel_rays_f64(&self, extent: ash::vk::Extent2D) -> PixelRaysF64 {
-        let inverse = (self.projection.as_dmat4() * self.view.as_dmat4()).inverse();
-        let position = self.view.as_dmat4().inverse().w_axis.truncate();
+        // Unprojected in view space, where the camera is the origin, then turned into the world:
+        // nothing subtracts two far-away positions.
+        let inverse_projection = self.projection.as_dmat4().inverse();
+        let view_inverse = self.view.as_dmat4().inverse();
         let forward = self.forward().as_dvec3();
         let size = DVec2::new(extent.width as f64, extent.height as f64);
         let ray = |x: f64, y: f64| {
             let ndc = (DVec2::new(x, y) + 0.5) / size * 2.0 - 1.0;
-            let on_ray = inverse * DVec4::new(ndc.x, ndc.y, 0.5, 1.0);
-            let direction = on_ray.truncate() / on_ray.w - position;
+            let on_ray = inverse_projection * DVec4::new(ndc.x, ndc.y, 0.5, 1.0);
+            let direction = view_inverse.transform_vector3(on_ray.truncate() / on_ray.w);
             direction / direction.dot(forward)
         };
         // Differences over the whole frame, for precision.
         let (last_x, last_y) = ((size.x - 1.0).max(1.0), (size.y - 1.0).max(1.0));
         let at_origin = ray(0.0, 0.0);
         PixelRaysF64 {
-            position,
+            position: view_inverse.w_axis.truncate(),
             at_origin,
             per_x: (ray(last_x, 0.0) - at_origin) / last_x,
             per_y: (ray(0.0, last_y) - at_origin) / last_y,
@@ -214,9 +248,11 @@ impl Camera {
     /// Unit world-space direction of increasing linear depth.
     pub fn forward(&self) -> Vec3 {
         self.view
+            .as_dmat4()
             .inverse()
-            .transform_vector3(self.perspective_axis())
+            .transform_vector3(self.perspective_axis().as_dvec3())
             .normalize()
+            .as_vec3()
     }
 }
 
@@ -267,7 +303,10 @@ mod tests {
         let now = camera(Vec3::new(0.3, 1.5, 5.0), 0.1);
         let then = camera(Vec3::new(0.0, 1.6, 5.4), 0.25);
         let reprojection = now.reprojection_into(&then, extent);
-        let (rays_now, rays_then) = (now.pixel_rays(extent), then.pixel_rays(extent));
+        let (rays_now, rays_then) = (
+            now.pixel_rays(extent, DVec3::ZERO),
+            then.pixel_rays(extent, DVec3::ZERO),
+        );
         for (x, y, depth) in [(10.0, 20.0, 3.0), (200.5, 90.0, 7.5), (319.0, 179.0, 40.0)] {
             let world = rays_now.surface(x, y, depth);
             let w = reprojection.position

@@ -375,7 +375,7 @@ fn black_and_metallic_surfaces_demodulate_and_remodulate_safely() {
 }
 
 /// What an engine may get wrong, in every channel the demodulation and remodulation read: NaN,
-/// infinities, colours beyond the largest half float, base colour and material outside [0, 1].
+/// infinities, negative colours, colours beyond the largest half float, base colour and material outside [0, 1].
 /// The output stays finite, matches the reference, and the statistics count every pixel that
 /// was sanitised.
 #[test]
@@ -409,9 +409,9 @@ fn unusable_inputs_are_sanitised_counted_and_never_reach_the_output() {
     let outcome = run_plugin(&rig, &source, &target, 0.5, &Chained::default());
     let (expected, _) = assert_matches_reference(&source, &target, &outcome, &Chained::default());
     assert!(outcome.output.data.iter().all(|v| v.is_finite()));
-    // Frame t: 5 of the 7 colours (-5 and 3 are usable, if odd, colours), all 7 base colours
-    // and all 7 metallic values. The target: 7 base colours and 7 specular values.
-    assert_eq!(expected.source_sanitized, 5 + 7 + 7);
+    // Frame t: 6 of the 7 colours (3 is a usable colour; -5 is negative light), all 7 base
+    // colours and all 7 metallic values. The target: 7 base colours and 7 specular values.
+    assert_eq!(expected.source_sanitized, 6 + 7 + 7);
     assert_eq!(expected.target_sanitized, 7 + 7);
 }
 

@@ -61,12 +61,13 @@ fn nan_and_infinite_geometry_never_reaches_the_output() {
     let outcome = run_plugin(&rig, &source, &target, 0.5, &Chained::default());
     assert_matches_reference(&source, &target, &outcome, &Chained::default());
     assert!(outcome.output.data.iter().all(|v| v.is_finite()));
-    // NaN, +inf and -inf are counted (1e30 is finite): frame t's depth and normal, and the
-    // target's as well as its two motion vectors.
-    assert_eq!(outcome.stats.source_invalid_geometry_pixels, 3 * 2);
+    // Hardware depth: every value is outside [0, 1], so all 5 depths count. Normals and motion
+    // vectors: NaN, +inf and -inf (1e30 is finite). Frame t's depth and normal, and the target's
+    // as well as its two motion vectors.
+    assert_eq!(outcome.stats.source_invalid_geometry_pixels, 5 + 3);
     assert_eq!(
         outcome.stats.extrapolations[0].invalid_geometry_pixels,
-        3 * 4
+        5 + 3 * 3
     );
 }
 

@@ -1,9 +1,13 @@
 // G-buffer conventions shared by every pass. src/reference/gbuffer.rs mirrors this file.
 
-// Floor of the modulation factor. Demodulating divides by it, so a black or near-black surface
-// would otherwise turn a little noise into a huge value; with the floor, demodulation followed by
-// remodulation with the same G-buffer gives the input back exactly.
+// Floor of the modulation factor, by which remodulation multiplies.
 const MIN_MODULATION: f32 = 0.01;
+
+// Below this modulation factor in its largest channel a surface is too dark to demodulate by:
+// black and emissive materials, whose colour is not their albedo times the light. Dividing by
+// it would turn their colour into a huge shading that a brighter surface at the target then
+// multiplies. Their colour itself is warped instead (`demodulated`).
+const MIN_DEMODULATION: f32 = 0.05;
 
 // Linear depth stored for pixels that hit no geometry (sky, far plane, infinite far).
 const SKY_DEPTH: f32 = 1e30;
@@ -71,6 +75,20 @@ fn linear_depth(stored: f32, p: vec2u, curve: vec4f, far: f32, convention: u32) 
     return 1.0 / inverse;
 }
 
+// Whether a stored depth lies in its convention's range: a positive linear depth (+infinity is
+// sky), or hardware depth in [0, 1]. NaN fails both.
+fn depth_in_range(stored: f32, convention: u32) -> bool {
+    if (convention == DEPTH_LINEAR_VIEW_Z) {
+        return stored > 0.0;
+    }
+    return stored >= 0.0 && stored <= 1.0;
+}
+
+// Whether an engine pixel's geometry can be used: its depth in range and its normal finite.
+fn valid_geometry(stored_depth: f32, stored_normal: vec3f, convention: u32) -> bool {
+    return depth_in_range(stored_depth, convention) && is_finite(vec4f(stored_normal, 0.0));
+}
+
 // An engine's stored normal as a unit vector; zero, NaN and infinite ones become no normal.
 fn unit_normal(stored: vec3f, encoding: u32) -> vec3f {
     var n = stored;
@@ -121,10 +139,10 @@ fn is_sky(linear_depth: f32) -> bool {
     return linear_depth >= 0.5 * SKY_DEPTH;
 }
 
-// Inputs an engine may get wrong: NaN, infinities, colours beyond what the output can hold,
-// material values outside [0, 1]. Each is replaced by the nearest usable value (NaN by 0) and
-// the pixel counted, so the output stays finite and the statistics say what was changed.
-// src/reference/gbuffer.rs mirrors these rules.
+// Inputs an engine may get wrong: NaN, infinities, negative colours, colours beyond what the
+// output can hold, material values outside [0, 1]. Each is replaced by the nearest usable value
+// (NaN by 0) and the pixel counted, so the output stays finite and the statistics say what was
+// changed. src/reference/gbuffer.rs mirrors these rules.
 struct Sanitized {
     value: vec3f,
     changed: bool,
@@ -137,8 +155,14 @@ fn sanitize(v: vec3f, low: f32, high: f32) -> Sanitized {
     return Sanitized(select(clamped, v, usable), !all(usable));
 }
 
+// A colour the pipeline computed, held to what the RGBA16F output can store.
 fn sanitize_color(v: vec3f) -> Sanitized {
     return sanitize(v, -MAX_HALF, MAX_HALF);
+}
+
+// An engine's colour input: light, so never negative, and within the half-float range.
+fn sanitize_input_color(v: vec3f) -> Sanitized {
+    return sanitize(v, 0.0, MAX_HALF);
 }
 
 fn sanitize_unit(v: vec3f) -> Sanitized {
@@ -154,11 +178,16 @@ fn to_half(v: vec3f) -> vec3f {
     return bitcast<vec3f>(rounded & vec3u(0xffffe000u));
 }
 
-// Shading (colour over modulation) as the RGBA16F working images hold it: a bright texel on a
-// near-black surface can exceed the half-float range, and is held at its edge and counted.
-fn demodulated(color: vec3f, factor: vec3f) -> Sanitized {
-    let s = sanitize_color(color / factor);
-    return Sanitized(to_half(s.value), s.changed);
+// A source pixel as the RGBA16F shading image holds it: its shading (colour over modulation),
+// alpha 1, or where the surface is too dark to demodulate by or the shading would not fit a
+// half float, its colour as it is, alpha 0. The warps carry alpha along with the colour, and
+// remodulation multiplies by the target's modulation only the share of shading
+// (warp.wgsl, `store_pixel`). `color` is a sanitised input, in [0, MAX_HALF].
+fn demodulated(color: vec3f, factor: vec3f) -> vec4f {
+    let shading = color / factor;
+    let demodulates = max(factor.r, max(factor.g, factor.b)) >= MIN_DEMODULATION
+        && all(shading <= vec3f(MAX_HALF));
+    return select(vec4f(to_half(color), 0.0), vec4f(to_half(shading), 1.0), demodulates);
 }
 
 // A pixel's modulation factor from its (sanitised) base colour and material.

@@ -34,6 +34,10 @@ struct Params {
     // Not 0: multiply by the target's modulation and write the output (remodulate.wgsl's
     // work, without shadow layers), counting what was sanitised.
     remodulate: u32,
+    // Not 0 for the frame's shading when remodulation follows later: colour that frame t kept
+    // as colour (alpha 0 in its shading) is divided by the target's modulation, so that
+    // remodulation gives it back (`store_pixel`).
+    target_terms: u32,
     has_material: u32,
     // Not 0 for the shadow layer through the frame's warp: store the shadows' share instead
     // (`store_pixel`).
@@ -53,7 +57,7 @@ struct WarpCounters {
     largest_motion_bits: atomic<u32>,
     // Target pixels whose depth, normal or motion vector is NaN or infinite.
     invalid_geometry_pixels: atomic<u32>,
-    // With `remodulate`: pixels whose material or result was sanitised.
+    // With `remodulate` or `target_terms`: pixels whose material or result was sanitised.
     sanitized_pixels: atomic<u32>,
 }
 
@@ -85,7 +89,7 @@ struct Cameras {
 @group(0) @binding(3) var target_depth: texture_2d<f32>;
 @group(0) @binding(4) var target_normal: texture_2d<f32>;
 @group(0) @binding(9) var target_stencil: texture_2d<u32>;
-// With `remodulate`: the target's material.
+// With `remodulate` or `target_terms`: the target's material.
 @group(0) @binding(10) var base_color: texture_2d<f32>;
 @group(0) @binding(11) var material: texture_2d<f32>;
 @group(0) @binding(5) var motion: texture_2d<f32>;
@@ -113,8 +117,8 @@ struct Surface {
     normal: vec3f,
     id: u32,
     footprint: f32,
-    // Its stored depth and normal are finite.
-    finite: bool,
+    // Its stored depth is in range and its normal finite (`valid_geometry`).
+    valid: bool,
 }
 
 fn target_surface(p: vec2u) -> Surface {
@@ -127,6 +131,11 @@ fn target_surface(p: vec2u) -> Surface {
     }
     let stored_normal = textureLoad(target_normal, p, 0).xyz;
     let normal = unit_normal(stored_normal, unspecialised(cameras.target_normal_encoding));
+    let valid = valid_geometry(stored_depth, stored_normal, unspecialised(cameras.target_depth_convention));
+    if (!valid) {
+        // Agrees with no source texel: a hole, as the header promises.
+        id = NO_OBJECT;
+    }
     let ray = cameras.target_at_origin + f32(p.x) * cameras.target_per_x
         + f32(p.y) * cameras.target_per_y;
     let position = cameras.target_position + depth * ray;
@@ -135,8 +144,7 @@ fn target_surface(p: vec2u) -> Surface {
     let view = normalize(cameras.target_position - position);
     let facing = max(abs(dot(normal, view)), MIN_FACING);
     let footprint = depth * params.pixel_angle / facing;
-    return Surface(position, depth, normal, id, footprint,
-        is_finite(vec4f(stored_normal, stored_depth)));
+    return Surface(position, depth, normal, id, footprint, valid);
 }
 
 fn source_position(s: vec2i, depth: f32) -> vec3f {
@@ -151,6 +159,10 @@ const TALLY_OFFSCREEN: u32 = 1u;
 const TALLY_LARGEST_MOTION: u32 = 2u;
 const TALLY_INVALID_GEOMETRY: u32 = 3u;
 const TALLY_SANITIZED: u32 = 4u;
+
+// An object id no 8-bit stencil holds: a target pixel whose geometry is unusable takes it, and
+// so agrees with no source texel.
+const NO_OBJECT: u32 = 0x100u;
 
 // Agreement of the target's surface with frame t's texel `s`. What is not needed (another
 // object's texel) is not unpacked.
@@ -192,22 +204,23 @@ fn texel(q: vec2f) -> vec2i {
 }
 
 
-// Frame t's shading at `q`, bilinear over the texels around it.
-fn bilinear_shading(q: vec2f) -> vec3f {
+// Frame t's shading at `q`, bilinear over the texels around it. Alpha is the share of shading
+// among colour kept as colour (gbuffer.wgsl `demodulated`), as in every fetch below.
+fn bilinear_shading(q: vec2f) -> vec4f {
     let corner = vec2i(floor(q - 0.5));
     let f = q - 0.5 - floor(q - 0.5);
     let last = vec2i(params.extent) - 1;
-    let s00 = textureLoad(source_shading, clamp(corner, vec2i(0), last), 0).rgb;
-    let s10 = textureLoad(source_shading, clamp(corner + vec2i(1, 0), vec2i(0), last), 0).rgb;
-    let s01 = textureLoad(source_shading, clamp(corner + vec2i(0, 1), vec2i(0), last), 0).rgb;
-    let s11 = textureLoad(source_shading, clamp(corner + vec2i(1, 1), vec2i(0), last), 0).rgb;
+    let s00 = textureLoad(source_shading, clamp(corner, vec2i(0), last), 0);
+    let s10 = textureLoad(source_shading, clamp(corner + vec2i(1, 0), vec2i(0), last), 0);
+    let s01 = textureLoad(source_shading, clamp(corner + vec2i(0, 1), vec2i(0), last), 0);
+    let s11 = textureLoad(source_shading, clamp(corner + vec2i(1, 1), vec2i(0), last), 0);
     return mix(mix(s00, s10, f.x), mix(s01, s11, f.x), f.y);
 }
 
 // q's bilinear footprint in frame t with each texel weighted by its agreement with the target:
 // the weighted shading and weight sums, and the best agreement of a texel with a share of it.
 struct AgreeingFootprint {
-    shading_sum: vec3f,
+    shading_sum: vec4f,
     weight_sum: f32,
     best_agreement: f32,
 }
@@ -215,14 +228,14 @@ struct AgreeingFootprint {
 fn agreeing_footprint(t: Surface, q: vec2f) -> AgreeingFootprint {
     let corner = vec2i(floor(q - 0.5));
     let f = q - 0.5 - floor(q - 0.5);
-    var sums = AgreeingFootprint(vec3f(0.0), 0.0, 0.0);
+    var sums = AgreeingFootprint(vec4f(0.0), 0.0, 0.0);
     for (var i = 0; i < 4; i++) {
         let offset = vec2i(i & 1, i >> 1u);
         let s = clamp(corner + offset, vec2i(0), vec2i(params.extent) - 1);
         let agreement = agreement_at(t, s);
         let bilinear = select(1.0 - f, f, vec2<bool>(offset == vec2i(1)));
         let footprint = bilinear.x * bilinear.y;
-        sums.shading_sum += footprint * agreement * textureLoad(source_shading, s, 0).rgb;
+        sums.shading_sum += footprint * agreement * textureLoad(source_shading, s, 0);
         sums.weight_sum += footprint * agreement;
         if (footprint > 0.0) {
             sums.best_agreement = max(sums.best_agreement, agreement);
@@ -232,7 +245,7 @@ fn agreeing_footprint(t: Surface, q: vec2f) -> AgreeingFootprint {
 }
 
 struct WarpedPixel {
-    shading: vec3f,
+    shading: vec4f,
     hole: bool,
     offscreen: bool,
     // Left to the hole fill (fill_holes.wgsl), which writes the pixel.
@@ -249,14 +262,25 @@ struct DeferredHoles {
 }
 
 // Writes pixel p's warped shading (alpha 0 for a hole), remodulated when the warp remodulates,
-// or the shadows' share at the target when it carries the shadow layer.
-fn store_pixel(p: vec2u, shading: vec3f, hole: bool) {
-    var color = vec4f(to_half(shading), select(1.0, 0.0, hole));
-    if (unspecialised(params.remodulate) != 0u) {
+// or the shadows' share at the target when it carries the shadow layer. `fetched.a` is the share
+// of shading in the warped value; the rest is colour kept as colour, which the target's
+// modulation does not multiply.
+fn store_pixel(p: vec2u, fetched: vec4f, hole: bool) {
+    var color = vec4f(to_half(fetched.rgb), select(1.0, 0.0, hole));
+    let remodulate = unspecialised(params.remodulate) != 0u;
+    if (remodulate || (unspecialised(params.target_terms) != 0u && fetched.a < 1.0)) {
         let m = pixel_modulation(base_color, material, p, unspecialised(params.has_material));
-        let remodulated = sanitize_color(color.rgb * m.factor);
-        color = vec4f(to_half(remodulated.value), 1.0);
-        if (m.changed || remodulated.changed) {
+        var stored: Sanitized;
+        if (remodulate) {
+            stored = sanitize_color(fetched.rgb * mix(vec3f(1.0), m.factor, fetched.a));
+            color = vec4f(to_half(stored.value), 1.0);
+            stored.changed = stored.changed || m.changed;
+        } else {
+            // Remodulation counts the material.
+            stored = sanitize_color(fetched.rgb * mix(1.0 / m.factor, vec3f(1.0), fetched.a));
+            color = vec4f(to_half(stored.value), color.a);
+        }
+        if (stored.changed) {
             atomicAdd(&group_tallies[TALLY_SANITIZED], 1u);
         }
     }

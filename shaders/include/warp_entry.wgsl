@@ -14,7 +14,7 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
         if (!result.deferred) {
             store_pixel(p, result.shading, result.hole);
         }
-        if (!t.finite || !is_finite(vec4f(motion_vector, 0.0, 0.0))) {
+        if (!t.valid || !is_finite(vec4f(motion_vector, 0.0, 0.0))) {
             atomicAdd(&group_tallies[TALLY_INVALID_GEOMETRY], 1u);
         }
         if (result.hole) {

@@ -185,7 +185,8 @@ pub struct WarpInputs<'a> {
     pub placeholder_uint: Texture,
 }
 
-/// The target's material, when the warp also remodulates (`Params::remodulate`).
+/// The target's material, which the frame's warp multiplies by (`Store::Remodulated`) or divides
+/// frame t's colour kept as colour by (`Store::Shading`).
 pub struct Remodulation {
     pub base_color: Texture,
     pub material: Option<Texture>,
@@ -194,8 +195,12 @@ pub struct Remodulation {
 /// What a warp stores for a pixel.
 #[derive(Clone, Copy)]
 pub enum Store<'a> {
-    /// The warped shading, alpha 0 in holes.
-    Shading,
+    /// The warped values as they are, alpha 0 in holes: the shadow layer as its flow moves it.
+    Layer,
+    /// The frame's warped shading in the target's terms, alpha 0 in holes: colour that frame t
+    /// kept as colour (black, emissive and very bright pixels) divided by the target's
+    /// modulation, which remodulation multiplies by (`Params::target_terms`).
+    Shading(&'a Remodulation),
     /// The shading remodulated: the output, when nothing runs between the warp and it.
     Remodulated(&'a Remodulation),
     /// For the shadow layer through the frame's warp, into the image where the flow's warp left
@@ -209,9 +214,14 @@ pub use crate::shaders::warp_gbuffer::Cameras;
 pub const CAMERAS_BYTES: u64 = size_of::<Cameras>() as u64;
 
 /// Frame t's and the target's cameras as the warps rebuild positions with them, and how the
-/// target's engine G-buffer reads.
+/// target's engine G-buffer reads. Positions are relative to the target's camera, so that they
+/// keep their precision however far from the world's origin the cameras are.
 pub fn cameras(source: &Camera, target: &EngineGbuffer, extent: vk::Extent2D) -> Cameras {
-    let (s, t) = (source.pixel_rays(extent), target.camera.pixel_rays(extent));
+    let origin = target.camera.position();
+    let (s, t) = (
+        source.pixel_rays(extent, origin),
+        target.camera.pixel_rays(extent, origin),
+    );
     Cameras {
         source_position: s.position.into(),
         source_at_origin: s.at_origin.into(),
@@ -285,11 +295,12 @@ pub fn record(
 /// The parameters with what the warp stores switched on.
 pub fn storing(params: &Params, store: Store) -> Params {
     let remodulation = match store {
-        Store::Remodulated(remodulation) => Some(remodulation),
+        Store::Remodulated(remodulation) | Store::Shading(remodulation) => Some(remodulation),
         _ => None,
     };
     Params {
-        remodulate: remodulation.is_some() as u32,
+        remodulate: matches!(store, Store::Remodulated(_)) as u32,
+        target_terms: matches!(store, Store::Shading(_)) as u32,
         has_material: remodulation.is_some_and(|r| r.material.is_some()) as u32,
         shadow_share: matches!(store, Store::ShadowShare) as u32,
         ..*params
@@ -306,7 +317,9 @@ pub fn bind_common<'p>(
 ) -> DescriptorWrites<'p> {
     let target = inputs.target;
     let (base_color, material) = match store {
-        Store::Remodulated(r) => (r.base_color, r.material.unwrap_or(inputs.placeholder)),
+        Store::Remodulated(r) | Store::Shading(r) => {
+            (r.base_color, r.material.unwrap_or(inputs.placeholder))
+        }
         _ => (inputs.placeholder, inputs.placeholder),
     };
     let moved_layer = match store {

@@ -1,10 +1,12 @@
 //! Mirror of `shaders/include/gbuffer.wgsl`.
 
-use glam::Vec3;
+use glam::{Vec3, Vec4};
 
-use super::Image;
+use super::{round_to_f16, Image};
+use crate::abi::{PatchexDepthConvention, PATCHEX_DEPTH_LINEAR_VIEW_Z};
 
 pub const MIN_MODULATION: f32 = 0.01;
+pub const MIN_DEMODULATION: f32 = 0.05;
 pub const SKY_DEPTH: f32 = 1e30;
 
 pub fn modulation(base_color: Vec3, metallic: f32, specular: f32) -> Vec3 {
@@ -47,15 +49,46 @@ pub fn sanitize_color(v: Vec3) -> (Vec3, bool) {
     sanitize(v, -MAX_HALF, MAX_HALF)
 }
 
-/// `pixel_modulation`: the modulation factor from sanitised base colour and material, and
-/// whether either was sanitised.
-/// Shading as the RGBA16F working images hold it (`demodulated` in gbuffer.wgsl): held to the
-/// half-float range (whether it was is returned) and rounded to f16.
-pub fn demodulated(color: Vec3, factor: Vec3) -> (Vec3, bool) {
-    let (shading, changed) = sanitize_color(color / factor);
-    (shading.to_array().map(super::round_to_f16).into(), changed)
+pub fn sanitize_input_color(v: Vec3) -> (Vec3, bool) {
+    sanitize(v, 0.0, MAX_HALF)
 }
 
+pub fn round_vec3_to_f16(v: Vec3) -> Vec3 {
+    v.to_array().map(round_to_f16).into()
+}
+
+/// `demodulated` in gbuffer.wgsl: (shading, 1), or (colour, 0) where the surface is too dark to
+/// demodulate by or the shading exceeds the half-float range; rounded to f16.
+pub fn demodulated(color: Vec3, factor: Vec3) -> Vec4 {
+    let shading = color / factor;
+    if factor.max_element() >= MIN_DEMODULATION && shading.cmple(Vec3::splat(MAX_HALF)).all() {
+        round_vec3_to_f16(shading).extend(1.0)
+    } else {
+        round_vec3_to_f16(color).extend(0.0)
+    }
+}
+
+/// `valid_geometry` in gbuffer.wgsl: the depth in its convention's range (a positive linear
+/// depth, +infinity included; hardware depth in [0, 1]) and the normal finite.
+pub fn valid_geometry(depth: f32, normal: Vec3, convention: PatchexDepthConvention) -> bool {
+    let depth_in_range = if convention == PATCHEX_DEPTH_LINEAR_VIEW_Z {
+        depth > 0.0
+    } else {
+        (0.0..=1.0).contains(&depth)
+    };
+    depth_in_range && normal.is_finite()
+}
+
+/// The modulation factor of every pixel (RGB), and 1 in alpha where its inputs were sanitised.
+pub fn modulation_image(base_color: &Image, material: Option<&Image>) -> Image {
+    Image::from_fn(base_color.width, base_color.height, 4, |x, y| {
+        let (factor, changed) = pixel_modulation(base_color, material, x, y);
+        factor.extend(changed as u32 as f32).to_array().to_vec()
+    })
+}
+
+/// `pixel_modulation`: the modulation factor from sanitised base colour and material, and
+/// whether either was sanitised.
 pub fn pixel_modulation(
     base_color: &Image,
     material: Option<&Image>,

@@ -90,14 +90,16 @@ pub fn extrapolate(
     // The target's G-buffer decodes as frame t's does (the warps read it through the packing's
     // functions), but its normals are used as they are, not coded; its motion vectors are
     // checked too, frame t's are not read.
-    let pack = |frame: &FrameInputs, motion: Option<&Image>, coded_normals: bool| {
+    // Positions relative to the target's camera, as the warps rebuild them.
+    let origin = target.camera.position();
+    let pack = |frame: &FrameInputs, motion: Option<&Image>, instant| {
         let params = pack_params(
             frame.camera,
             extent,
             frame.normal_encoding,
             frame.stencil.is_some(),
         );
-        let rays = frame.camera.pixel_rays(extent);
+        let rays = frame.camera.pixel_rays(extent, origin);
         pack_gbuffer::pack_gbuffer(
             frame.depth,
             frame.normal,
@@ -105,11 +107,13 @@ pub fn extrapolate(
             motion,
             &params,
             &rays,
-            coded_normals,
+            instant,
         )
     };
-    let (source_packed, target_packed) =
-        (pack(source, None, true), pack(target, target.motion, false));
+    let (source_packed, target_packed) = (
+        pack(source, None, pack_gbuffer::Instant::Source),
+        pack(target, target.motion, pack_gbuffer::Instant::Target),
+    );
     let color = source.color.expect("frame t has colour");
     let separated = shadow_inputs.map(|shadow| {
         separate_shadows::separate(
@@ -134,6 +138,7 @@ pub fn extrapolate(
         target.motion_vector_scale,
     );
     let motion = target.motion.expect("the target has motion vectors");
+    let target_modulation = gbuffer::modulation_image(target.base_color, target.material);
     let warped = warp::warp(
         warp.kind,
         &warp::WarpSources {
@@ -146,6 +151,8 @@ pub fn extrapolate(
             normal_id: &target_packed.normal_id,
             motion,
             camera_position: target_packed.camera_position,
+            valid: &target_packed.valid,
+            modulation: Some(&target_modulation),
         },
         &params,
     );
@@ -182,6 +189,8 @@ pub fn extrapolate(
                 normal_id: &target_packed.normal_id,
                 motion: &flow,
                 camera_position: target_packed.camera_position,
+                valid: &target_packed.valid,
+                modulation: None,
             },
             &shadow_params,
         );
@@ -197,6 +206,8 @@ pub fn extrapolate(
                 normal_id: &target_packed.normal_id,
                 motion,
                 camera_position: target_packed.camera_position,
+                valid: &target_packed.valid,
+                modulation: None,
             },
             &params,
         );
@@ -224,12 +235,18 @@ pub fn extrapolate(
             &segmented.rects,
         )
     });
-    let (output, target_sanitized) = remodulate::remodulate(
-        inpainted.as_ref().map_or(&warped.warped, |i| &i.blended),
-        shadows.as_ref().map(|s| &s.share),
-        target.base_color,
-        target.material,
-    );
+    // With nothing between the warp and the output, the warp remodulates what it fetched.
+    let (output, target_sanitized) = if shadows.is_none() && inpainted.is_none() {
+        remodulate::remodulate_fetched(&warped.fetched, &target_modulation)
+    } else {
+        let (output, sanitized) = remodulate::remodulate(
+            inpainted.as_ref().map_or(&warped.warped, |i| &i.blended),
+            shadows.as_ref().map(|s| &s.share),
+            target.base_color,
+            target.material,
+        );
+        (output, sanitized + warped.sanitized_pixels)
+    };
     Extrapolation {
         output,
         warped,

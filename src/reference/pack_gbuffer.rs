@@ -4,7 +4,7 @@
 
 use glam::{Vec2, Vec3, Vec4};
 
-use super::gbuffer::SKY_DEPTH;
+use super::gbuffer::{valid_geometry, SKY_DEPTH};
 use super::Image;
 use crate::abi::{
     PATCHEX_DEPTH_HARDWARE_REVERSED, PATCHEX_DEPTH_LINEAR_VIEW_Z, PATCHEX_NORMAL_UNORM,
@@ -17,7 +17,10 @@ pub struct Packed {
     pub geometry: Image,
     /// (unit world normal, object id), as the warps unpack them.
     pub normal_id: Image,
-    /// Pixels whose depth, normal or motion vector has a NaN or infinite component.
+    /// Per pixel, row by row: whether its depth and normal are usable (`valid_geometry`).
+    pub valid: Vec<bool>,
+    /// Pixels whose depth is NaN or out of range, or whose normal or motion vector has a NaN
+    /// or infinite component.
     pub invalid_pixels: u32,
     /// The camera the positions are rebuilt around, as the warps have it.
     pub camera_position: Vec3,
@@ -59,9 +62,16 @@ pub fn unit_normal(stored: Vec3, encoding: u32) -> Vec3 {
     }
 }
 
-/// `stencil` holds object ids as floats; `None` means all static. With `coded_normals` the
-/// normals go through their octahedral code, as frame t's do; the warps read the target's as
-/// they are. `motion` is only checked.
+/// Which instant a G-buffer belongs to, which decides how it is read.
+#[derive(Clone, Copy, PartialEq)]
+pub enum Instant {
+    /// Frame t: normals through the packed octahedral code, as the warps unpack them.
+    Source,
+    /// The target: normals as the engine stored them, which the warps read straight.
+    Target,
+}
+
+/// `stencil` holds object ids as floats; `None` means all static. `motion` is only checked.
 pub fn pack_gbuffer(
     depth: &Image,
     normal: &Image,
@@ -69,7 +79,7 @@ pub fn pack_gbuffer(
     motion: Option<&Image>,
     params: &Params,
     rays: &PixelRays,
-    coded_normals: bool,
+    instant: Instant,
 ) -> Packed {
     let (width, height) = (params.extent[0] as usize, params.extent[1] as usize);
     let geometry = Image::from_fn(width, height, 4, |x, y| {
@@ -79,30 +89,36 @@ pub fn pack_gbuffer(
             .to_array()
             .to_vec()
     });
+    let valid = |x: usize, y: usize| {
+        valid_geometry(
+            depth.at(x, y)[0],
+            Vec3::from_slice(normal.at(x, y)),
+            params.depth_convention,
+        )
+    };
     let normal_id = Image::from_fn(width, height, 4, |x, y| {
         let n = unit_normal(Vec3::from_slice(normal.at(x, y)), params.normal_encoding);
         let id = stencil.map_or(0.0, |s| s.at(x, y)[0]);
-        let n = if coded_normals {
-            unpack_normal(pack_normal(n))
-        } else {
-            n
+        let n = match instant {
+            Instant::Source => unpack_normal(pack_normal(n)),
+            Instant::Target => n,
         };
         vec![n.x, n.y, n.z, id]
     });
-    let finite = |image: &Image, x, y, channels: usize| {
-        image.at(x, y)[..channels].iter().all(|v| v.is_finite())
-    };
+    let valid: Vec<bool> = (0..height)
+        .flat_map(|y| (0..width).map(move |x| (x, y)))
+        .map(|(x, y)| valid(x, y))
+        .collect();
+    let finite_motion =
+        |x: usize, y: usize| motion.is_none_or(|m| m.at(x, y)[..2].iter().all(|v| v.is_finite()));
     let invalid_pixels = (0..height)
         .flat_map(|y| (0..width).map(move |x| (x, y)))
-        .filter(|&(x, y)| {
-            !(finite(depth, x, y, 1)
-                && finite(normal, x, y, 3)
-                && motion.is_none_or(|motion| finite(motion, x, y, 2)))
-        })
+        .filter(|&(x, y)| !(valid[x + y * width] && finite_motion(x, y)))
         .count() as u32;
     Packed {
         geometry,
         normal_id,
+        valid,
         invalid_pixels,
         camera_position: rays.position,
     }

@@ -2,7 +2,7 @@
 
 use glam::Vec3;
 
-use super::gbuffer::{demodulated, pixel_modulation, sanitize, sanitize_color};
+use super::gbuffer::{demodulated, pixel_modulation, sanitize, sanitize_input_color};
 use super::Image;
 
 pub struct Separated {
@@ -37,33 +37,27 @@ pub fn separate(
     for y in 0..h {
         for x in 0..w {
             let (factor, material_changed) = pixel_modulation(base_color, material, x, y);
-            let (lit, lit_changed) = sanitize_color(Vec3::from_slice(color.at(x, y)));
+            let (lit, lit_changed) = sanitize_input_color(Vec3::from_slice(color.at(x, y)));
             let (unshadowed, unshadowed_changed) =
-                sanitize_color(Vec3::from_slice(color_without_dynamic_shadows.at(x, y)));
+                sanitize_input_color(Vec3::from_slice(color_without_dynamic_shadows.at(x, y)));
             let (visibility, mask_changed) =
                 sanitize(Vec3::new(mask.at(x, y)[0], 0.0, 0.0), 0.0, 1.0);
             let dynamic = normal_id.at(x, y)[3] != 0.0;
             let separates = tracked && !dynamic;
-            let (shading, shading_changed) =
-                demodulated(if separates { unshadowed } else { lit }, factor);
+            let shading = demodulated(if separates { unshadowed } else { lit }, factor);
             let layer = if separates {
                 shadow_share(lit, unshadowed)
             } else {
                 Vec3::ZERO
             };
             let visibility = if dynamic { 1.0 } else { visibility.x };
-            separated
-                .shading
-                .set(x, y, &[shading.x, shading.y, shading.z, 1.0]);
+            separated.shading.set(x, y, &shading.to_array());
             separated
                 .shadow_layer
                 .set(x, y, &[layer.x, layer.y, layer.z, 1.0]);
             separated.mask.set(x, y, &[visibility]);
-            separated.sanitized += (material_changed
-                || lit_changed
-                || unshadowed_changed
-                || mask_changed
-                || shading_changed) as u32;
+            separated.sanitized +=
+                (material_changed || lit_changed || unshadowed_changed || mask_changed) as u32;
         }
     }
     separated

@@ -2,8 +2,8 @@
 
 use glam::{IVec2, Vec2, Vec3, Vec4};
 
-use super::gbuffer::is_sky;
-use super::{round_to_f16, Image};
+use super::gbuffer::{is_sky, round_vec3_to_f16, sanitize_color};
+use super::Image;
 use crate::abi::*;
 use crate::shaders::warp_gbuffer::Params;
 
@@ -17,10 +17,18 @@ const FILL_STEP: usize = 3;
 const FILL_SIGMA_NORMAL: f32 = 0.15;
 const FILL_SIGMA_DEPTH: f32 = 0.03;
 const FILL_OTHER_OBJECT: f32 = 20.0;
+/// The object id of a target pixel whose geometry is unusable: no 8-bit stencil holds it.
+const NO_OBJECT: f32 = 256.0;
 
 pub struct Warped {
-    /// (shading, 1 for valid or 0 for hole).
+    /// (shading, 1 for valid or 0 for hole), as the warp stores it: in the target's terms for the
+    /// frame's warp (`WarpTarget::modulation`).
     pub warped: Image,
+    /// What each pixel fetched from frame t, before storing: alpha is the share of shading in it,
+    /// the rest colour kept as colour (`demodulated`).
+    pub fetched: Image,
+    /// Pixels whose value in the target's terms exceeded the half-float range.
+    pub sanitized_pixels: u32,
     /// The best geometry agreement each pixel found: how close it came to the hole threshold.
     pub best_agreement: Vec<f32>,
     /// G-buffer-guided warp only: the agreeing share of each pixel's bilinear footprint, how
@@ -45,10 +53,16 @@ pub struct WarpTarget<'a> {
     pub normal_id: &'a Image,
     pub motion: &'a Image,
     pub camera_position: Vec3,
+    /// Per pixel, row by row: whether its geometry is usable (`Packed::valid`). A pixel whose
+    /// geometry is not agrees with no source texel (`NO_OBJECT` in warp.wgsl): a hole.
+    pub valid: &'a [bool],
+    /// For the frame's warp, the target's modulation (`gbuffer::modulation_image`): colour kept
+    /// as colour is stored in the target's terms (`target_terms` in warp.wgsl).
+    pub modulation: Option<&'a Image>,
 }
 
 struct WarpedPixel {
-    shading: Vec3,
+    shading: Vec4,
     best_agreement: f32,
     bilinear_weight: f32,
     offscreen: bool,
@@ -129,11 +143,11 @@ impl PixelWarp<'_> {
 
     /// Mirror of `fill_hole` in `fill_holes.wgsl`: the window's texels weighted by
     /// exp(least cost - cost), rescaled as a cheaper texel appears.
-    fn fill_hole(&self, q: Vec2) -> Vec3 {
+    fn fill_hole(&self, q: Vec2) -> Vec4 {
         let centre = self.texel_of(q);
         let r = FILL_RADIUS;
         let mut least = 3.4e38f32;
-        let (mut sum, mut total) = (Vec3::ZERO, 0.0f32);
+        let (mut sum, mut total) = (Vec4::ZERO, 0.0f32);
         for dy in (-r..=r).step_by(FILL_STEP) {
             for dx in (-r..=r).step_by(FILL_STEP) {
                 let offset = IVec2::new(dx, dy);
@@ -148,7 +162,7 @@ impl PixelWarp<'_> {
                     least = cost;
                 }
                 let w = (least - cost).exp();
-                sum += w * texel(self.source.shading, s).truncate();
+                sum += w * texel(self.source.shading, s);
                 total += w;
             }
         }
@@ -173,7 +187,7 @@ impl PixelWarp<'_> {
         depth_term * depth_term + normal_term + distance_term + other_object
     }
 
-    fn bilinear_shading(&self, q: Vec2) -> Vec3 {
+    fn bilinear_shading(&self, q: Vec2) -> Vec4 {
         let corner = (q - 0.5).floor().as_ivec2();
         let f = q - 0.5 - (q - 0.5).floor();
         let last = self.extent() - 1;
@@ -182,7 +196,6 @@ impl PixelWarp<'_> {
                 self.source.shading,
                 corner.wrapping_add(offset).clamp(IVec2::ZERO, last),
             )
-            .truncate()
         };
         let top = at(IVec2::new(0, 0)).lerp(at(IVec2::new(1, 0)), f.x);
         let bottom = at(IVec2::new(0, 1)).lerp(at(IVec2::new(1, 1)), f.x);
@@ -192,12 +205,12 @@ impl PixelWarp<'_> {
     /// q's bilinear footprint with each texel weighted by its agreement: the weighted shading
     /// and weight sums, and the best agreement of a texel with a share of it
     /// (`agreeing_footprint`).
-    fn agreeing_footprint(&self, q: Vec2) -> (Vec3, f32, f32) {
+    fn agreeing_footprint(&self, q: Vec2) -> (Vec4, f32, f32) {
         // A huge motion vector saturates the conversion to i32: the neighbours' offsets wrap,
         // as WGSL's integer arithmetic does, and the clamp brings them back into the image.
         let corner = (q - 0.5).floor().as_ivec2();
         let f = q - 0.5 - (q - 0.5).floor();
-        let mut shading_sum = Vec3::ZERO;
+        let mut shading_sum = Vec4::ZERO;
         let mut weight_sum = 0.0;
         let mut best_agreement: f32 = 0.0;
         for i in 0..4 {
@@ -209,7 +222,7 @@ impl PixelWarp<'_> {
             let bx = if offset.x == 1 { f.x } else { 1.0 - f.x };
             let by = if offset.y == 1 { f.y } else { 1.0 - f.y };
             let footprint = bx * by;
-            shading_sum += footprint * agreement * texel(self.source.shading, s).truncate();
+            shading_sum += footprint * agreement * texel(self.source.shading, s);
             weight_sum += footprint * agreement;
             if footprint > 0.0 {
                 best_agreement = best_agreement.max(agreement);
@@ -225,7 +238,7 @@ impl PixelWarp<'_> {
         let (mut shading_sum, mut weight_sum, mut best_agreement) = self.agreeing_footprint(q);
         let bilinear_weight = weight_sum;
         if weight_sum < BILINEAR_ACCEPT {
-            shading_sum = Vec3::ZERO;
+            shading_sum = Vec4::ZERO;
             weight_sum = 0.0;
             let centre = self.texel_of(q);
             let r = self.params.kernel_radius;
@@ -238,7 +251,7 @@ impl PixelWarp<'_> {
                     let d = s.as_vec2() + 0.5 - q;
                     let weight =
                         (-d.dot(d) * self.params.inv_two_sigma_spatial_sq).exp() * agreement;
-                    shading_sum += weight * texel(self.source.shading, s).truncate();
+                    shading_sum += weight * texel(self.source.shading, s);
                     weight_sum += weight;
                     best_agreement = best_agreement.max(agreement);
                 }
@@ -247,7 +260,7 @@ impl PixelWarp<'_> {
         let mut shading = if weight_sum > MIN_TOTAL_WEIGHT {
             shading_sum / weight_sum
         } else {
-            texel(self.source.shading, self.texel_of(q)).truncate()
+            texel(self.source.shading, self.texel_of(q))
         };
         let offscreen = self.is_offscreen(q);
         let hole = offscreen || best_agreement < AGREEMENT_THRESHOLD;
@@ -325,7 +338,8 @@ pub fn warp(
     let (width, height) = (params.extent[0] as usize, params.extent[1] as usize);
     let mut best_agreement = Vec::with_capacity(width * height);
     let mut bilinear_weight = Vec::with_capacity(width * height);
-    let (mut hole_pixels, mut offscreen_pixels) = (0, 0);
+    let (mut hole_pixels, mut offscreen_pixels, mut sanitized_pixels) = (0, 0, 0);
+    let mut fetched = Image::new(width, height, 4);
     let mut largest_motion = 0.0f32;
     let warped = Image::from_fn(width, height, 4, |x, y| {
         let pixel = PixelWarp {
@@ -334,7 +348,11 @@ pub fn warp(
             target,
             p: IVec2::new(x as i32, y as i32),
             target_geo: Vec4::from_slice(target.geometry.at(x, y)),
-            target_nid: Vec4::from_slice(target.normal_id.at(x, y)),
+            target_nid: if target.valid[x + y * width] {
+                Vec4::from_slice(target.normal_id.at(x, y))
+            } else {
+                Vec4::from_slice(target.normal_id.at(x, y)).with_w(NO_OBJECT)
+            },
         };
         let result = match kind {
             PATCHEX_WARP_MOTION_VECTOR => pixel.motion_vector(),
@@ -351,12 +369,29 @@ pub fn warp(
         if reach <= f32::MAX {
             largest_motion = largest_motion.max(reach);
         }
+        fetched.set(x, y, &result.shading.to_array());
         // Stored in an RGBA16F image (the frame, or a shadow layer).
-        let s = result.shading.to_array().map(round_to_f16);
-        vec![s[0], s[1], s[2], if hole { 0.0 } else { 1.0 }]
+        let value = result.shading.truncate();
+        let share = result.shading.w;
+        let stored = match target.modulation {
+            Some(modulation) if share < 1.0 => {
+                let factor = Vec4::from_slice(modulation.at(x, y)).truncate();
+                let (value, changed) =
+                    sanitize_color(value * (1.0 / factor).lerp(Vec3::ONE, share));
+                sanitized_pixels += changed as u32;
+                value
+            }
+            _ => value,
+        };
+        round_vec3_to_f16(stored)
+            .extend(if hole { 0.0 } else { 1.0 })
+            .to_array()
+            .to_vec()
     });
     Warped {
         warped,
+        fetched,
+        sanitized_pixels,
         best_agreement,
         bilinear_weight,
         hole_pixels,
