@@ -64,7 +64,7 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     let near_be_patch = patches[PATCH_NEAR_BE].value;
     let p = blend.origin + id.xy;
     let here = textureLoad(warped, p);
-    if (here.a != 0.0 && params.correct_valid_pixels == 0u) {
+    if (!is_hole(here.a) && params.correct_valid_pixels == 0u) {
         return;
     }
     let region = textureLoad(regions, p, 0).r;

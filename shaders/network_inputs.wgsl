@@ -31,9 +31,8 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
             let f = network_patch.origin + id.xy * d + vec2u(i, j);
             if (all(f < params.frame_extent)) {
                 let w = textureLoad(warped, f);
-                // The warp marks holes with alpha 0; their colour is its best guess. A dark texel
-                // under bright light demodulates past what RGBA16F holds: it is held to that range.
-                colour_hole += vec4f(sanitize_color(w.rgb).value, 1.0 - w.a);
+                // The warp marks holes in alpha (`frame_alpha`); their colour is its best guess.
+                colour_hole += vec4f(sanitize_color(w.rgb).value, select(0.0, 1.0, is_hole(w.a)));
                 let metallic_roughness = metallic_roughness(material, f, params.has_material);
                 surface += vec4f(metallic_roughness.y, metallic_roughness.x, textureLoad(lbp, f, 0).r, 0.0);
             }

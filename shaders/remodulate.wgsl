@@ -1,6 +1,7 @@
 // Multiplies the extrapolated shading by the target instant's own modulation factor, in place in
 // the frame image (the engine's output, where the warp wrote its shading): texture detail comes
-// from the target's G-buffer, not from the warp.
+// from the target's G-buffer, not from the warp. Colour that frame t kept as colour (black,
+// emissive and very bright surfaces; the share the frame's alpha gives) is not multiplied.
 // With a shadow input, the shading (warped without the dynamic casters' shadows) first loses
 // the share of its light that those shadows take away at the target.
 // #import gbuffer
@@ -30,14 +31,15 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
     if (all(p < params.extent)) {
         let m = pixel_modulation(base_color, material, p, params.has_material);
         // The product can exceed what RGBA16F holds; clamp it there and count the pixel.
-        var shading_rgb = textureLoad(frame, p).rgb;
+        let warped = textureLoad(frame, p);
+        var shading_rgb = warped.rgb;
         if (params.has_shadow_share != ABSENT) {
             // A share, not an amount: a shadow moved onto an already darker surface takes away
             // only the light that is there. Dynamic objects carry a zero layer and keep the
             // shadows on them in their shading, which moves with them.
             shading_rgb = shading_rgb * (1.0 + textureLoad(shadow_share, p, 0).rgb);
         }
-        let color = sanitize_color(shading_rgb * m.factor);
+        let color = sanitize_color(shading_rgb * mix(vec3f(1.0), m.factor, shading_share(warped.a)));
         textureStore(frame, p, vec4f(to_half(color.value), 1.0));
         if (m.changed || color.changed) {
             atomicAdd(&group_tallies[0u], 1u);

@@ -1,6 +1,7 @@
 // Copies the per-pixel intermediate results into the engine's diagnostics image, for debug views
 // and evaluation: R = hole (1) or valid (0), G = region (0 far-BE, 0.5 near-BE, 1 FI),
 // B = LBP code / 255, A = 1.
+// #import gbuffer
 
 struct Params {
     extent: vec2u,
@@ -18,7 +19,7 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     if (any(p >= params.extent)) {
         return;
     }
-    let hole = 1.0 - textureLoad(warped, p).a;
+    let hole = select(0.0, 1.0, is_hole(textureLoad(warped, p).a));
     let region = f32(textureLoad(regions, p, 0).r) * 0.5;
     textureStore(diagnostics, p, vec4f(hole, region, textureLoad(lbp, p, 0).r, 1.0));
 }

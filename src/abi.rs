@@ -159,8 +159,10 @@ pub struct PatchexCamera {
     pub projection: [f32; 16],
     /// Sub-pixel offset of the sample positions, in pixels (x right, y down).
     pub jitter: [f32; 2],
-    /// Distance to the near plane, in world units, > 0. Named `near_plane` because `<windows.h>`
-    /// defines `near` and `far` as empty macros.
+    /// Distance to the near plane, in world units, > 0. With hardware depth it must be where the
+    /// projection puts depth 0 (1 when reversed), within 1%; otherwise the call fails with
+    /// PATCHEX_RESULT_ERROR_INVALID_ARGUMENT. Named `near_plane` because `<windows.h>` defines
+    /// `near` and `far` as empty macros.
     pub near_plane: f32,
     /// Distance to the far plane, > near_plane; may be +infinity (infinite far plane).
     pub far_plane: f32,
@@ -269,9 +271,12 @@ pub struct PatchexFrameDesc {
     pub queue_family_index: u32,
     pub width: u32,
     pub height: u32,
-    /// Final linear HDR colour, before tone mapping and UI.
+    /// Final linear HDR colour, before tone mapping and UI; non-negative, up to 65504.
     pub color: PatchexImage,
-    /// Base colour (albedo) in RGB.
+    /// Base colour (albedo) in RGB. patchex divides the colour by it (plus the specular
+    /// reflectance) to warp lighting rather than texture; where that sum is below 0.05 in every
+    /// channel (black and emissive materials), or the quotient would exceed 65504, it warps the
+    /// colour itself.
     pub base_color: PatchexImage,
     /// Optional: R metallic, G specular, B roughness (Unreal's GBufferB). Absent means
     /// metallic 0, specular 0.5, roughness 0.5. Roughness is read by the inpainting networks
@@ -630,7 +635,10 @@ pub struct PatchexExtrapolationStats {
     pub offscreen_fraction: f32,
     /// Target pixels whose base colour or material had to be sanitised (as for
     /// `source_sanitized_pixels`), or whose result exceeded the largest half float and was
-    /// clamped to it.
+    /// clamped to it. With passes between the warp and the output (a shadow input, networks or
+    /// diagnostics) the frame is held as shading in an RGBA16F image: a colour that frame t kept
+    /// as colour (black, emissive or very bright surfaces) and that exceeds 65504 times the
+    /// target's modulation factor is clamped there, and counted here.
     pub sanitized_pixels: u32,
     /// Fraction of target pixels in the foreground-interaction region (dynamic objects).
     pub fi_fraction: f32,
@@ -655,9 +663,11 @@ pub struct PatchexExtrapolationStats {
     /// pixels of the networks that ran; 1 with PatchexNetworkSettings.whole_frame); 0 without
     /// networks or dynamic objects.
     pub repaired_fraction: f32,
-    /// Target pixels whose depth, normal or motion vector has a NaN or infinite component. The
-    /// passes are written so that these never reach the output: such a pixel's warp finds no
-    /// agreeing source (a hole) or falls off-screen, and the result stays finite.
+    /// Target pixels whose depth is NaN or outside its convention's range (linear depth <= 0,
+    /// hardware depth outside [0, 1]; +infinity is sky in linear depth), or whose normal or
+    /// motion vector has a NaN or infinite component. Each is a hole, counted in
+    /// `hole_fraction`: its warp finds no agreeing source or falls off-screen, and the hole
+    /// fill gives it a finite colour.
     pub invalid_geometry_pixels: u32,
     /// Frame pixels per network texel each network ran at, FI then near-BE: the requested
     /// `resolution_divisor`, or a multiple of it where the patch was larger than
@@ -694,12 +704,14 @@ pub struct PatchexFrameStats {
     /// GPU milliseconds of the submit stages (index PATCHEX_STAGE_*).
     pub submit_gpu_ms: [f32; PATCHEX_STAGE_SLOTS],
     /// Pixels of frame t with an input patchex had to sanitise: a colour (or, with a shadow
-    /// input, a colour without dynamic shadows) that is NaN, infinite or beyond the largest half
-    /// float (65504), or a base colour, metallic, specular or shadow-mask value that is NaN or
-    /// outside [0, 1]. NaN becomes 0, everything else the nearest usable value.
+    /// input, a colour without dynamic shadows) that is NaN, negative, infinite or beyond the
+    /// largest half float (65504), or a base colour, metallic, specular or shadow-mask value
+    /// that is NaN or outside [0, 1]. NaN becomes 0, everything else the nearest usable value.
+    /// Bright colour within the half-float range is never changed, whatever its base colour.
     pub source_sanitized_pixels: u32,
-    /// Pixels of frame t whose depth or normal has a NaN or infinite component (its motion
-    /// vectors are not read). The warp takes nothing from them that is not finite.
+    /// Pixels of frame t whose depth is NaN or outside its convention's range, or whose normal
+    /// has a NaN or infinite component (as for `invalid_geometry_pixels`; its motion vectors are
+    /// not read). The warp takes nothing from them that is not finite.
     pub source_invalid_geometry_pixels: u32,
     pub extrapolation_count: u32,
     pub extrapolations: [PatchexExtrapolationStats; PATCHEX_MAX_EXTRAPOLATIONS_PER_FRAME],

@@ -112,34 +112,51 @@ fn assert_same_stats(c: &PatchexFrameStats, rust: &PatchexFrameStats) {
     }
 }
 
-#[test]
-fn c11_engine_reaches_every_feature_and_matches_the_rust_path() {
-    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
-    let scratch = tempfile::tempdir().expect("a scratch directory");
-    let (prefix, data, out) = (
-        scratch.path().join("prefix"),
-        scratch.path().join("data"),
-        scratch.path().join("out"),
-    );
-    std::fs::create_dir_all(&data).unwrap();
-    std::fs::create_dir_all(&out).unwrap();
-    install(&root, &prefix);
-
-    // Built as a C engine builds against the installed library: flags from pkg-config, and an
-    // rpath so that it finds libpatchex.so.N outside the loader's paths.
+/// Installs the library into `scratch`/prefix and builds tests/c/`name`.c against it, as a C
+/// engine builds: strict C11, `near` and `far` defined away as <windows.h> does, flags from
+/// pkg-config, and an rpath so that it finds libpatchex.so.N outside the loader's paths.
+fn build_c_test(root: &Path, scratch: &Path, name: &str) -> PathBuf {
+    let prefix = scratch.join("prefix");
+    install(root, &prefix);
     let flags = pkg_config_flags(&prefix);
-    let program = scratch.path().join("abi_test");
+    let program = scratch.join(name);
     run(
         Command::new("cc")
             .args(["-std=c11", "-Wall", "-Wextra", "-pedantic", "-Werror"])
             .args(["-Dnear=", "-Dfar="])
-            .arg(root.join("tests/c/abi_test.c"))
+            .arg(root.join(format!("tests/c/{name}.c")))
             .arg("-o")
             .arg(&program)
             .args(flags.split_whitespace())
+            .arg("-lm")
             .arg(format!("-Wl,-rpath,{}", prefix.join("lib").display())),
         "cc (strict C11)",
     );
+    program
+}
+
+/// Values real frames hold, from C (tests/c/extremes_test.c): HDR colour over any albedo, black
+/// base colour in frame t, a camera 1e7 from the origin, infinite and out-of-range depth,
+/// negative colour and a near plane the projection disagrees with, each checked against what
+/// the header says.
+#[test]
+fn c11_engine_meets_the_values_real_frames_hold() {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let scratch = tempfile::tempdir().expect("a scratch directory");
+    let program = build_c_test(&root, scratch.path(), "extremes_test");
+    let printed = run(&mut Command::new(&program), "the C11 extremes test");
+    println!("{printed}");
+    assert!(printed.contains("ok (0 failures, 0 validation messages)"));
+}
+
+#[test]
+fn c11_engine_reaches_every_feature_and_matches_the_rust_path() {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let scratch = tempfile::tempdir().expect("a scratch directory");
+    let (data, out) = (scratch.path().join("data"), scratch.path().join("out"));
+    std::fs::create_dir_all(&data).unwrap();
+    std::fs::create_dir_all(&out).unwrap();
+    let program = build_c_test(&root, scratch.path(), "abi_test");
 
     // Frames t-1 and t (0 and 2) and the instants halfway to the next frame (1 and 3).
     let sequence = render("crossing_street.toml", 4, WIDTH, HEIGHT);

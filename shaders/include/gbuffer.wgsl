@@ -190,6 +190,22 @@ fn demodulated(color: vec3f, factor: vec3f) -> vec4f {
     return select(vec4f(to_half(color), 0.0), vec4f(to_half(shading), 1.0), demodulates);
 }
 
+// Between the warp and remodulation, the frame's alpha says whether a pixel is a hole and what
+// share of its value is shading (the rest is colour frame t kept as colour, which remodulation
+// does not multiply): the share, in [0, 1], where the warp found the pixel's source, and
+// -1 - share in a hole. The share keeps the half float's finest steps where it is stored.
+fn frame_alpha(share: f32, hole: bool) -> f32 {
+    return select(share, -1.0 - share, hole);
+}
+
+fn is_hole(frame_alpha: f32) -> bool {
+    return frame_alpha < -0.5;
+}
+
+fn shading_share(frame_alpha: f32) -> f32 {
+    return select(frame_alpha, -1.0 - frame_alpha, is_hole(frame_alpha));
+}
+
 // A pixel's modulation factor from its (sanitised) base colour and material.
 struct Modulation {
     factor: vec3f,

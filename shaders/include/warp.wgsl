@@ -34,10 +34,6 @@ struct Params {
     // Not 0: multiply by the target's modulation and write the output (remodulate.wgsl's
     // work, without shadow layers), counting what was sanitised.
     remodulate: u32,
-    // Not 0 for the frame's shading when remodulation follows later: colour that frame t kept
-    // as colour (alpha 0 in its shading) is divided by the target's modulation, so that
-    // remodulation gives it back (`store_pixel`).
-    target_terms: u32,
     has_material: u32,
     // Not 0 for the shadow layer through the frame's warp: store the shadows' share instead
     // (`store_pixel`).
@@ -57,7 +53,7 @@ struct WarpCounters {
     largest_motion_bits: atomic<u32>,
     // Target pixels whose depth, normal or motion vector is NaN or infinite.
     invalid_geometry_pixels: atomic<u32>,
-    // With `remodulate` or `target_terms`: pixels whose material or result was sanitised.
+    // With `remodulate`: pixels whose material or result was sanitised.
     sanitized_pixels: atomic<u32>,
 }
 
@@ -89,7 +85,7 @@ struct Cameras {
 @group(0) @binding(3) var target_depth: texture_2d<f32>;
 @group(0) @binding(4) var target_normal: texture_2d<f32>;
 @group(0) @binding(9) var target_stencil: texture_2d<u32>;
-// With `remodulate` or `target_terms`: the target's material.
+// With `remodulate`: the target's material.
 @group(0) @binding(10) var base_color: texture_2d<f32>;
 @group(0) @binding(11) var material: texture_2d<f32>;
 @group(0) @binding(5) var motion: texture_2d<f32>;
@@ -261,35 +257,28 @@ struct DeferredHoles {
     groups_z: u32,
 }
 
-// Writes pixel p's warped shading (alpha 0 for a hole), remodulated when the warp remodulates,
-// or the shadows' share at the target when it carries the shadow layer. `fetched.a` is the share
-// of shading in the warped value; the rest is colour kept as colour, which the target's
-// modulation does not multiply.
+// Writes pixel p's warped shading with its hole flag and share of shading (`frame_alpha`),
+// remodulated when the warp remodulates, or the shadows' share at the target when it carries the
+// shadow layer. `fetched.a` is the share of shading in what the warp fetched (gbuffer.wgsl
+// `demodulated`).
 fn store_pixel(p: vec2u, fetched: vec4f, hole: bool) {
-    var color = vec4f(to_half(fetched.rgb), select(1.0, 0.0, hole));
-    let remodulate = unspecialised(params.remodulate) != 0u;
-    if (remodulate || (unspecialised(params.target_terms) != 0u && fetched.a < 1.0)) {
+    // Rounded here, as the colour is: a share a hair under 1 must not truncate to 1 - 2^-11.
+    var color = vec4f(to_half(fetched.rgb), to_half(vec3f(frame_alpha(fetched.a, hole))).x);
+    if (unspecialised(params.remodulate) != 0u) {
         let m = pixel_modulation(base_color, material, p, unspecialised(params.has_material));
-        var stored: Sanitized;
-        if (remodulate) {
-            stored = sanitize_color(fetched.rgb * mix(vec3f(1.0), m.factor, fetched.a));
-            color = vec4f(to_half(stored.value), 1.0);
-            stored.changed = stored.changed || m.changed;
-        } else {
-            // Remodulation counts the material.
-            stored = sanitize_color(fetched.rgb * mix(1.0 / m.factor, vec3f(1.0), fetched.a));
-            color = vec4f(to_half(stored.value), color.a);
-        }
-        if (stored.changed) {
+        let remodulated = sanitize_color(fetched.rgb * mix(vec3f(1.0), m.factor, fetched.a));
+        color = vec4f(to_half(remodulated.value), 1.0);
+        if (m.changed || remodulated.changed) {
             atomicAdd(&group_tallies[TALLY_SANITIZED], 1u);
         }
     }
     if (unspecialised(params.shadow_share) != 0u) {
         // The share of light the shadows take away at the target: the layer as its flow moved
-        // it where that found a receiver (alpha 1), as this warp carried it with the surfaces
-        // elsewhere.
+        // it where that found a receiver (not a hole), as this warp carried it with the
+        // surfaces elsewhere.
         let moved = textureLoad(moved_layer, p, 0);
-        color = vec4f(to_half(mix(color.rgb, moved.rgb, moved.a)), moved.a);
+        let found = select(1.0, 0.0, is_hole(moved.a));
+        color = vec4f(to_half(mix(color.rgb, moved.rgb, found)), found);
     }
     textureStore(warped, p, color);
 }

@@ -208,7 +208,7 @@ impl Context {
         let frame_store = if remodulate_in_warp {
             warp::Store::Remodulated(&remodulation)
         } else {
-            warp::Store::Shading(&remodulation)
+            warp::Store::Shading
         };
         let frame_inputs = warp_inputs(&work[WorkImages::SOURCE_SHADING], motion);
         let frame_counters = counters(counters::WARP, warp::COUNTER_BYTES);
@@ -261,7 +261,7 @@ impl Context {
                     passes.nth(flow_warp, if warp_pipeline == flow_warp { 2 } else { 0 }),
                     &params,
                     &warp_inputs(layer, (&shadows[ShadowImages::FLOW]).into()),
-                    warp::Store::Layer,
+                    warp::Store::Shading,
                     share.into(),
                     &counters(counters::SHADOW_WARP, warp::COUNTER_BYTES),
                     None,

@@ -185,8 +185,7 @@ pub struct WarpInputs<'a> {
     pub placeholder_uint: Texture,
 }
 
-/// The target's material, which the frame's warp multiplies by (`Store::Remodulated`) or divides
-/// frame t's colour kept as colour by (`Store::Shading`).
+/// The target's material, when the warp also remodulates (`Params::remodulate`).
 pub struct Remodulation {
     pub base_color: Texture,
     pub material: Option<Texture>,
@@ -195,12 +194,10 @@ pub struct Remodulation {
 /// What a warp stores for a pixel.
 #[derive(Clone, Copy)]
 pub enum Store<'a> {
-    /// The warped values as they are, alpha 0 in holes: the shadow layer as its flow moves it.
-    Layer,
-    /// The frame's warped shading in the target's terms, alpha 0 in holes: colour that frame t
-    /// kept as colour (black, emissive and very bright pixels) divided by the target's
-    /// modulation, which remodulation multiplies by (`Params::target_terms`).
-    Shading(&'a Remodulation),
+    /// The warped shading, with its hole flag and share of shading in alpha (`frame_alpha` in
+    /// gbuffer.wgsl), for the passes between the warp and remodulation. Also the shadow layer
+    /// as its flow moves it.
+    Shading,
     /// The shading remodulated: the output, when nothing runs between the warp and it.
     Remodulated(&'a Remodulation),
     /// For the shadow layer through the frame's warp, into the image where the flow's warp left
@@ -295,12 +292,11 @@ pub fn record(
 /// The parameters with what the warp stores switched on.
 pub fn storing(params: &Params, store: Store) -> Params {
     let remodulation = match store {
-        Store::Remodulated(remodulation) | Store::Shading(remodulation) => Some(remodulation),
+        Store::Remodulated(remodulation) => Some(remodulation),
         _ => None,
     };
     Params {
-        remodulate: matches!(store, Store::Remodulated(_)) as u32,
-        target_terms: matches!(store, Store::Shading(_)) as u32,
+        remodulate: remodulation.is_some() as u32,
         has_material: remodulation.is_some_and(|r| r.material.is_some()) as u32,
         shadow_share: matches!(store, Store::ShadowShare) as u32,
         ..*params
@@ -317,9 +313,7 @@ pub fn bind_common<'p>(
 ) -> DescriptorWrites<'p> {
     let target = inputs.target;
     let (base_color, material) = match store {
-        Store::Remodulated(r) | Store::Shading(r) => {
-            (r.base_color, r.material.unwrap_or(inputs.placeholder))
-        }
+        Store::Remodulated(r) => (r.base_color, r.material.unwrap_or(inputs.placeholder)),
         _ => (inputs.placeholder, inputs.placeholder),
     };
     let moved_layer = match store {

@@ -79,14 +79,6 @@ pub fn valid_geometry(depth: f32, normal: Vec3, convention: PatchexDepthConventi
     depth_in_range && normal.is_finite()
 }
 
-/// The modulation factor of every pixel (RGB), and 1 in alpha where its inputs were sanitised.
-pub fn modulation_image(base_color: &Image, material: Option<&Image>) -> Image {
-    Image::from_fn(base_color.width, base_color.height, 4, |x, y| {
-        let (factor, changed) = pixel_modulation(base_color, material, x, y);
-        factor.extend(changed as u32 as f32).to_array().to_vec()
-    })
-}
-
 /// `pixel_modulation`: the modulation factor from sanitised base colour and material, and
 /// whether either was sanitised.
 pub fn pixel_modulation(

@@ -138,7 +138,6 @@ pub fn extrapolate(
         target.motion_vector_scale,
     );
     let motion = target.motion.expect("the target has motion vectors");
-    let target_modulation = gbuffer::modulation_image(target.base_color, target.material);
     let warped = warp::warp(
         warp.kind,
         &warp::WarpSources {
@@ -152,7 +151,6 @@ pub fn extrapolate(
             motion,
             camera_position: target_packed.camera_position,
             valid: &target_packed.valid,
-            modulation: Some(&target_modulation),
         },
         &params,
     );
@@ -190,7 +188,6 @@ pub fn extrapolate(
                 motion: &flow,
                 camera_position: target_packed.camera_position,
                 valid: &target_packed.valid,
-                modulation: None,
             },
             &shadow_params,
         );
@@ -207,7 +204,6 @@ pub fn extrapolate(
                 motion,
                 camera_position: target_packed.camera_position,
                 valid: &target_packed.valid,
-                modulation: None,
             },
             &params,
         );
@@ -235,18 +231,13 @@ pub fn extrapolate(
             &segmented.rects,
         )
     });
-    // With nothing between the warp and the output, the warp remodulates what it fetched.
-    let (output, target_sanitized) = if shadows.is_none() && inpainted.is_none() {
-        remodulate::remodulate_fetched(&warped.fetched, &target_modulation)
-    } else {
-        let (output, sanitized) = remodulate::remodulate(
-            inpainted.as_ref().map_or(&warped.warped, |i| &i.blended),
-            shadows.as_ref().map(|s| &s.share),
-            target.base_color,
-            target.material,
-        );
-        (output, sanitized + warped.sanitized_pixels)
-    };
+    let (output, target_sanitized) = remodulate::remodulate(
+        inpainted.as_ref().map_or(&warped.warped, |i| &i.blended),
+        &warped.shading_share,
+        shadows.as_ref().map(|s| &s.share),
+        target.base_color,
+        target.material,
+    );
     Extrapolation {
         output,
         warped,

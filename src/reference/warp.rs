@@ -2,8 +2,8 @@
 
 use glam::{IVec2, Vec2, Vec3, Vec4};
 
-use super::gbuffer::{is_sky, round_vec3_to_f16, sanitize_color};
-use super::Image;
+use super::gbuffer::{is_sky, round_vec3_to_f16};
+use super::{round_to_f16, Image};
 use crate::abi::*;
 use crate::shaders::warp_gbuffer::Params;
 
@@ -21,14 +21,12 @@ const FILL_OTHER_OBJECT: f32 = 20.0;
 const NO_OBJECT: f32 = 256.0;
 
 pub struct Warped {
-    /// (shading, 1 for valid or 0 for hole), as the warp stores it: in the target's terms for the
-    /// frame's warp (`WarpTarget::modulation`).
+    /// (shading, 1 for valid or 0 for hole).
     pub warped: Image,
-    /// What each pixel fetched from frame t, before storing: alpha is the share of shading in it,
-    /// the rest colour kept as colour (`demodulated`).
-    pub fetched: Image,
-    /// Pixels whose value in the target's terms exceeded the half-float range.
-    pub sanitized_pixels: u32,
+    /// Per pixel, row by row: the share of shading in its warped value, the rest colour that
+    /// frame t kept as colour (`demodulated`), which remodulation does not multiply. The GPU
+    /// holds it in the frame's alpha with the hole flag (`frame_alpha` in gbuffer.wgsl).
+    pub shading_share: Vec<f32>,
     /// The best geometry agreement each pixel found: how close it came to the hole threshold.
     pub best_agreement: Vec<f32>,
     /// G-buffer-guided warp only: the agreeing share of each pixel's bilinear footprint, how
@@ -56,9 +54,6 @@ pub struct WarpTarget<'a> {
     /// Per pixel, row by row: whether its geometry is usable (`Packed::valid`). A pixel whose
     /// geometry is not agrees with no source texel (`NO_OBJECT` in warp.wgsl): a hole.
     pub valid: &'a [bool],
-    /// For the frame's warp, the target's modulation (`gbuffer::modulation_image`): colour kept
-    /// as colour is stored in the target's terms (`target_terms` in warp.wgsl).
-    pub modulation: Option<&'a Image>,
 }
 
 struct WarpedPixel {
@@ -338,8 +333,8 @@ pub fn warp(
     let (width, height) = (params.extent[0] as usize, params.extent[1] as usize);
     let mut best_agreement = Vec::with_capacity(width * height);
     let mut bilinear_weight = Vec::with_capacity(width * height);
-    let (mut hole_pixels, mut offscreen_pixels, mut sanitized_pixels) = (0, 0, 0);
-    let mut fetched = Image::new(width, height, 4);
+    let (mut hole_pixels, mut offscreen_pixels) = (0, 0);
+    let mut shading_share = Vec::with_capacity(width * height);
     let mut largest_motion = 0.0f32;
     let warped = Image::from_fn(width, height, 4, |x, y| {
         let pixel = PixelWarp {
@@ -369,29 +364,22 @@ pub fn warp(
         if reach <= f32::MAX {
             largest_motion = largest_motion.max(reach);
         }
-        fetched.set(x, y, &result.shading.to_array());
-        // Stored in an RGBA16F image (the frame, or a shadow layer).
-        let value = result.shading.truncate();
+        // As the frame's alpha holds it (`frame_alpha` in gbuffer.wgsl).
         let share = result.shading.w;
-        let stored = match target.modulation {
-            Some(modulation) if share < 1.0 => {
-                let factor = Vec4::from_slice(modulation.at(x, y)).truncate();
-                let (value, changed) =
-                    sanitize_color(value * (1.0 / factor).lerp(Vec3::ONE, share));
-                sanitized_pixels += changed as u32;
-                value
-            }
-            _ => value,
-        };
-        round_vec3_to_f16(stored)
+        shading_share.push(if hole {
+            -1.0 - round_to_f16(-1.0 - share)
+        } else {
+            round_to_f16(share)
+        });
+        // Stored in an RGBA16F image (the frame, or a shadow layer).
+        round_vec3_to_f16(result.shading.truncate())
             .extend(if hole { 0.0 } else { 1.0 })
             .to_array()
             .to_vec()
     });
     Warped {
         warped,
-        fetched,
-        sanitized_pixels,
+        shading_share,
         best_agreement,
         bilinear_weight,
         hole_pixels,
