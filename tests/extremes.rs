@@ -2,7 +2,10 @@
 //! reference: broken geometry (NaN and infinite depth, normals and motion), depth exactly at the
 //! near and far planes in every convention, sub-pixel and far off-screen motion, frames of the
 //! largest width and height, a frame that is all foreground or has no dynamic object, alpha
-//! near 0 and exactly 1, and half-float inputs against float ones. (Colour and material
+//! near 0 and exactly 1, and half-float inputs against float ones. Then the values real frames
+//! hold: HDR colour over any albedo, black base colour in frame t, a camera far from the world's
+//! origin, infinite and out-of-range depth, negative colour, and a near plane the projection
+//! disagrees with (tests/c/extremes_test.c makes the same calls from C). (Colour and material
 //! extremes, black and metallic surfaces, 1x1 and odd sizes and a camera cut are in
 //! `tests/extrapolate.rs`.)
 
@@ -11,6 +14,7 @@ mod support;
 use glam::Vec2;
 use patchex::abi::*;
 use patchex::context::MAX_EXTENT;
+use patchex::error::PatchexResult;
 use patchex::reference::Image;
 use support::pipeline::{assert_matches_reference, psnr, run_plugin, run_plugin_on, Chained};
 use support::scene::{Frame, Scene};
@@ -214,4 +218,191 @@ fn half_float_inputs_match_the_reference_and_the_float_path() {
         agreement > 60.0,
         "half-float inputs stay within input rounding of the float path: {agreement:.1} dB"
     );
+}
+
+/// A still scene: frame t and the target are the same rendered instant.
+fn still_frame(scene: &mut Scene) -> Frame {
+    scene.sphere_speed = 0.0;
+    scene.camera_speed = 0.0;
+    scene.render(0.0, Vec2::ZERO, -FRAME_TIME)
+}
+
+fn colour_channels(image: &Image) -> impl Iterator<Item = f32> + '_ {
+    image
+        .data
+        .chunks(4)
+        .flat_map(|pixel| pixel[..3].iter().copied())
+}
+
+/// Bright HDR colour comes back unchanged over any base colour, black included, with nothing
+/// counted as sanitised: where the shading would not fit a half float, or the surface is too
+/// dark to divide by, the colour itself is warped.
+#[test]
+fn bright_colour_comes_back_unchanged_over_any_albedo() {
+    let mut scene = Scene::new(WIDTH, HEIGHT);
+    let mut frame = still_frame(&mut scene);
+    let (bases, colours) = ([0.0, 0.2, 0.5, 0.8, 1.0], [30000.0, 3000.0, 65504.0]);
+    for y in 0..HEIGHT {
+        for x in 0..WIDTH {
+            let base = bases[x * bases.len() / WIDTH];
+            let colour = colours[y * colours.len() / HEIGHT];
+            frame.base_color.set(x, y, &[base, base, base, 1.0]);
+            frame.color.set(x, y, &[colour, colour, colour, 1.0]);
+        }
+    }
+    let rig = Rig::new(WIDTH as u32, HEIGHT as u32);
+    let outcome = run_plugin(&rig, &frame, &frame, 0.5, &Chained::default());
+    assert_matches_reference(&frame, &frame, &outcome, &Chained::default());
+    for (got, want) in colour_channels(&outcome.output).zip(colour_channels(&frame.color)) {
+        assert!(
+            (got - want).abs() <= want / 1024.0,
+            "{got} for {want}: a half float's step at most"
+        );
+    }
+    assert_eq!(outcome.stats.source_sanitized_pixels, 0);
+    assert_eq!(outcome.stats.extrapolations[0].sanitized_pixels, 0);
+}
+
+/// A black, nearly black or NaN base colour in frame t under a lit one at the target: the colour
+/// itself is warped, so the output stays within the inputs' range instead of multiplying a
+/// colour divided by the floor of the modulation. The NaN base colours are counted.
+#[test]
+fn a_black_base_colour_in_frame_t_does_not_blow_up() {
+    let scene = Scene::new(WIDTH, HEIGHT);
+    let (mut source, target) = frames(&scene, 0.5);
+    let bands = [0.0, 1e-7, f32::NAN];
+    let mut nan_pixels = 0;
+    for y in 0..HEIGHT {
+        for x in 0..WIDTH {
+            let base = bands[x * bands.len() / WIDTH];
+            source.base_color.set(x, y, &[base, base, base, 1.0]);
+            nan_pixels += base.is_nan() as u32;
+        }
+    }
+    let rig = Rig::new(WIDTH as u32, HEIGHT as u32);
+    let outcome = run_plugin(&rig, &source, &target, 0.5, &Chained::default());
+    assert_matches_reference(&source, &target, &outcome, &Chained::default());
+    let brightest_input = colour_channels(&source.color)
+        .chain(colour_channels(&target.color))
+        .fold(0.0f32, f32::max);
+    let brightest_output = colour_channels(&outcome.output).fold(0.0f32, f32::max);
+    assert!(
+        brightest_output <= brightest_input * 1.001,
+        "output {brightest_output} from inputs of at most {brightest_input}"
+    );
+    assert_eq!(outcome.stats.source_sanitized_pixels, nan_pixels);
+}
+
+/// Cameras 1e7 units from the world's origin (an open world's far corner): accepted, and the
+/// extrapolation is the one the same scene gives at the origin. The camera stands still, so both
+/// instants' view matrices round alike in f32.
+#[test]
+fn a_camera_far_from_the_origin_extrapolates_as_at_the_origin() {
+    let mut scene = Scene::new(WIDTH, HEIGHT);
+    scene.camera_speed = 0.0;
+    let (source, target) = frames(&scene, 0.5);
+    let far = |frame: &Frame| {
+        let mut far = frame.clone();
+        far.camera.view[14] += 1e7;
+        far
+    };
+    let (far_source, far_target) = (far(&source), far(&target));
+    let run = |source, target| {
+        let rig = Rig::new(WIDTH as u32, HEIGHT as u32);
+        run_plugin(&rig, source, target, 0.5, &Chained::default())
+    };
+    let (at_origin, far_away) = (run(&source, &target), run(&far_source, &far_target));
+    assert_matches_reference(&far_source, &far_target, &far_away, &Chained::default());
+    let agreement = psnr(&far_away.output, &at_origin.output);
+    assert!(agreement > 60.0, "far from the origin: {agreement:.1} dB");
+}
+
+/// Depth no engine means: +infinity and values outside [0, 1] in hardware depth, a negative
+/// linear depth. Each pixel is counted as invalid geometry in both frames and is a hole, so an
+/// all-invalid frame asks to be rendered instead. +infinity in linear depth is sky: valid.
+#[test]
+fn infinite_and_out_of_range_depth_is_counted_and_a_hole() {
+    for (convention, depth, usable) in [
+        (PATCHEX_DEPTH_HARDWARE, f32::INFINITY, false),
+        (PATCHEX_DEPTH_HARDWARE, -0.5, false),
+        (PATCHEX_DEPTH_HARDWARE, 1.5, false),
+        (PATCHEX_DEPTH_HARDWARE_REVERSED, -0.5, false),
+        (PATCHEX_DEPTH_LINEAR_VIEW_Z, -5.0, false),
+        (PATCHEX_DEPTH_LINEAR_VIEW_Z, f32::INFINITY, true),
+    ] {
+        let mut scene = Scene::new(WIDTH, HEIGHT);
+        scene.depth_convention = convention;
+        let (mut source, mut target) = frames(&scene, 0.5);
+        for frame in [&mut source, &mut target] {
+            fill(&mut frame.depth, &[depth]);
+        }
+        let rig = Rig::new(WIDTH as u32, HEIGHT as u32);
+        let outcome = run_plugin(&rig, &source, &target, 0.5, &Chained::default());
+        assert_matches_reference(&source, &target, &outcome, &Chained::default());
+        let stats = &outcome.stats.extrapolations[0];
+        let invalid = if usable { 0 } else { (WIDTH * HEIGHT) as u32 };
+        let case = format!("depth {depth} in convention {convention}");
+        assert_eq!(
+            outcome.stats.source_invalid_geometry_pixels, invalid,
+            "{case}"
+        );
+        assert_eq!(stats.invalid_geometry_pixels, invalid, "{case}");
+        if !usable {
+            assert_eq!(stats.hole_fraction, 1.0, "{case}");
+            assert_ne!(
+                stats.render_instead_reasons & PATCHEX_RENDER_INSTEAD_DISOCCLUSION,
+                0,
+                "{case}"
+            );
+        }
+        assert!(outcome.output.data.iter().all(|v| v.is_finite()), "{case}");
+    }
+}
+
+/// Negative colour is not light: it becomes 0 and is counted, and no output is negative.
+#[test]
+fn negative_colour_is_counted_and_never_reaches_the_output() {
+    let scene = Scene::new(WIDTH, HEIGHT);
+    let (mut source, target) = frames(&scene, 0.5);
+    for x in 0..WIDTH {
+        let mut pixel = source.color.at(x, 5).to_vec();
+        pixel[0] = -1.0;
+        source.color.set(x, 5, &pixel);
+    }
+    let rig = Rig::new(WIDTH as u32, HEIGHT as u32);
+    let outcome = run_plugin(&rig, &source, &target, 0.5, &Chained::default());
+    assert_matches_reference(&source, &target, &outcome, &Chained::default());
+    assert_eq!(outcome.stats.source_sanitized_pixels, WIDTH as u32);
+    assert!(colour_channels(&outcome.output).all(|v| v >= 0.0));
+}
+
+/// A near plane other than the one a hardware-depth projection puts depth 0 (or 1, reversed)
+/// at is refused with a message that names it; within 1% it is accepted.
+#[test]
+fn a_near_plane_the_projection_disagrees_with_is_refused() {
+    for convention in [PATCHEX_DEPTH_HARDWARE, PATCHEX_DEPTH_HARDWARE_REVERSED] {
+        let mut scene = Scene::new(WIDTH, HEIGHT);
+        scene.depth_convention = convention;
+        let (mut source, _) = frames(&scene, 0.5);
+        let rig = Rig::new(WIDTH as u32, HEIGHT as u32);
+        let family = rig.engine.queue_family_index;
+        let true_near = source.camera.near_plane;
+        for (near, accepted) in [(true_near * 1.005, true), (true_near * 5.0, false)] {
+            source.camera.near_plane = near;
+            let gpu = GpuFrame::upload(&rig.engine, &source);
+            let mut result = PatchexResult::Success;
+            rig.engine
+                .run(|cmd| result = rig.submit(cmd, &gpu.frame_desc(1, family)));
+            if accepted {
+                assert_eq!(result, PatchexResult::Success, "{}", rig.last_error());
+            } else {
+                assert_eq!(result, PatchexResult::ErrorInvalidArgument);
+                assert!(
+                    rig.last_error().contains("near_plane"),
+                    "{}",
+                    rig.last_error()
+                );
+            }
+        }
+    }
 }

@@ -1,0 +1,237 @@
+//! Each statistic counts what the header says it counts. On a still scene (frame t and the target
+//! the same rendered instant, so a clean run counts nothing), one input is spoiled in a known set
+//! of pixels, and the statistic the header names for it must count exactly those pixels while
+//! every other counter stays at zero.
+
+mod support;
+
+use glam::Vec2;
+use patchex::abi::*;
+use support::pipeline::{assert_matches_reference, run_plugin, Chained};
+use support::scene::{Frame, Scene};
+use support::*;
+
+const WIDTH: usize = 48;
+const HEIGHT: usize = 32;
+
+/// The spoiled pixels: every fifth pixel of rows 4 to 11.
+fn spoiled() -> Vec<(usize, usize)> {
+    (4..12)
+        .flat_map(|y| (0..WIDTH).map(move |x| (x, y)))
+        .filter(|(x, y)| (x + y * WIDTH) % 5 == 0)
+        .collect()
+}
+
+/// Everything the header calls a count, for one frame and its one extrapolation.
+#[derive(Debug, Default, PartialEq)]
+struct Counts {
+    source_sanitized_pixels: u32,
+    source_invalid_geometry_pixels: u32,
+    sanitized_pixels: u32,
+    invalid_geometry_pixels: u32,
+    hole_pixels: u32,
+    offscreen_pixels: u32,
+}
+
+fn still_frame() -> Frame {
+    let mut scene = Scene::new(WIDTH, HEIGHT);
+    scene.sphere_speed = 0.0;
+    scene.camera_speed = 0.0;
+    scene.render(0.0, Vec2::ZERO, -1.0 / 30.0)
+}
+
+/// Runs frame t `source` and target `target`, checks them against the reference, and returns
+/// the counts and the extrapolation's statistics.
+fn run(source: &Frame, target: &Frame) -> (Counts, PatchexExtrapolationStats) {
+    let rig = Rig::new(WIDTH as u32, HEIGHT as u32);
+    let outcome = run_plugin(&rig, source, target, 0.5, &Chained::default());
+    assert_matches_reference(source, target, &outcome, &Chained::default());
+    let stats = outcome.stats.extrapolations[0];
+    let pixels = (WIDTH * HEIGHT) as f32;
+    let count = |fraction: f32| (fraction * pixels).round() as u32;
+    let counts = Counts {
+        source_sanitized_pixels: outcome.stats.source_sanitized_pixels,
+        source_invalid_geometry_pixels: outcome.stats.source_invalid_geometry_pixels,
+        sanitized_pixels: stats.sanitized_pixels,
+        invalid_geometry_pixels: stats.invalid_geometry_pixels,
+        hole_pixels: count(stats.hole_fraction),
+        offscreen_pixels: count(stats.offscreen_fraction),
+    };
+    (counts, stats)
+}
+
+/// Spoils channel `channel` of `image` at the spoiled pixels with `value`.
+fn spoil(image: &mut patchex::reference::Image, channel: usize, value: f32) {
+    for (x, y) in spoiled() {
+        let mut pixel = image.at(x, y).to_vec();
+        pixel[channel] = value;
+        image.set(x, y, &pixel);
+    }
+}
+
+#[test]
+fn a_clean_still_frame_counts_nothing() {
+    let frame = still_frame();
+    let (counts, stats) = run(&frame, &frame);
+    assert_eq!(counts, Counts::default());
+    assert_eq!(stats.render_instead_reasons, 0);
+    assert_eq!(stats.largest_motion, 0.0);
+}
+
+/// `source_sanitized_pixels`: frame t's colour NaN, infinite, negative or beyond 65504, or its
+/// base colour or material outside [0, 1].
+#[test]
+fn source_sanitized_pixels_counts_frame_ts_unusable_colour_and_material() {
+    let k = spoiled().len() as u32;
+    let cases: [(&str, fn(&mut Frame)); 6] = [
+        ("NaN colour", |f| spoil(&mut f.color, 0, f32::NAN)),
+        ("infinite colour", |f| spoil(&mut f.color, 1, f32::INFINITY)),
+        ("negative colour", |f| spoil(&mut f.color, 2, -0.25)),
+        ("colour beyond 65504", |f| spoil(&mut f.color, 0, 1e6)),
+        ("base colour above 1", |f| spoil(&mut f.base_color, 1, 1.5)),
+        ("metallic below 0", |f| spoil(&mut f.material, 0, -0.5)),
+    ];
+    for (case, spoil_frame) in cases {
+        let target = still_frame();
+        let mut source = target.clone();
+        spoil_frame(&mut source);
+        let (counts, _) = run(&source, &target);
+        let want = Counts {
+            source_sanitized_pixels: k,
+            ..Counts::default()
+        };
+        assert_eq!(counts, want, "{case}");
+    }
+}
+
+/// `sanitized_pixels`: the target's base colour or material outside [0, 1] or NaN.
+#[test]
+fn sanitized_pixels_counts_the_targets_unusable_material() {
+    let k = spoiled().len() as u32;
+    for (case, channel, value) in [("NaN", 0, f32::NAN), ("above 1", 2, 3.0)] {
+        let source = still_frame();
+        let mut target = source.clone();
+        spoil(&mut target.base_color, channel, value);
+        let (counts, _) = run(&source, &target);
+        let want = Counts {
+            sanitized_pixels: k,
+            ..Counts::default()
+        };
+        assert_eq!(counts, want, "base colour {case}");
+    }
+}
+
+/// `source_invalid_geometry_pixels`: frame t's depth NaN or out of range, or its normal not
+/// finite. The target's pixels that fetch from them find no agreeing source: holes.
+#[test]
+fn source_invalid_geometry_pixels_counts_frame_ts_unusable_depth_and_normals() {
+    let k = spoiled().len() as u32;
+    let cases: [(&str, fn(&mut Frame)); 3] = [
+        ("NaN depth", |f| spoil(&mut f.depth, 0, f32::NAN)),
+        ("depth above 1", |f| spoil(&mut f.depth, 0, 2.0)),
+        ("infinite normal", |f| {
+            spoil(&mut f.normal, 1, f32::INFINITY)
+        }),
+    ];
+    for (case, spoil_frame) in cases {
+        let target = still_frame();
+        let mut source = target.clone();
+        spoil_frame(&mut source);
+        let (counts, _) = run(&source, &target);
+        assert_eq!(counts.source_invalid_geometry_pixels, k, "{case}");
+        assert_eq!(
+            (
+                counts.source_sanitized_pixels,
+                counts.invalid_geometry_pixels
+            ),
+            (0, 0),
+            "{case}"
+        );
+    }
+}
+
+/// `invalid_geometry_pixels`: the target's depth NaN or out of range, or its normal or motion
+/// vector not finite; each is a hole, counted in `hole_fraction`.
+#[test]
+fn invalid_geometry_pixels_counts_the_targets_unusable_geometry_as_holes() {
+    let k = spoiled().len() as u32;
+    let cases: [(&str, fn(&mut Frame)); 4] = [
+        ("NaN depth", |f| spoil(&mut f.depth, 0, f32::NAN)),
+        ("negative depth", |f| spoil(&mut f.depth, 0, -0.5)),
+        ("NaN normal", |f| spoil(&mut f.normal, 2, f32::NAN)),
+        ("infinite motion", |f| {
+            spoil(&mut f.motion, 0, f32::INFINITY)
+        }),
+    ];
+    for (case, spoil_frame) in cases {
+        let source = still_frame();
+        let mut target = source.clone();
+        spoil_frame(&mut target);
+        let (counts, _) = run(&source, &target);
+        assert_eq!(counts.invalid_geometry_pixels, k, "{case}");
+        assert_eq!(counts.hole_pixels, k, "{case}: each is a hole");
+        assert_eq!(
+            (
+                counts.source_invalid_geometry_pixels,
+                counts.sanitized_pixels
+            ),
+            (0, 0),
+            "{case}"
+        );
+    }
+}
+
+/// `offscreen_fraction`: target pixels whose motion leads out of frame t, each a hole;
+/// `largest_motion`: the longest motion vector, in pixels.
+#[test]
+fn offscreen_fraction_and_largest_motion_measure_the_targets_motion() {
+    let k = spoiled().len() as u32;
+    let source = still_frame();
+    let mut target = source.clone();
+    spoil(&mut target.motion, 0, 1000.0);
+    let (counts, stats) = run(&source, &target);
+    let want = Counts {
+        offscreen_pixels: k,
+        hole_pixels: k,
+        ..Counts::default()
+    };
+    assert_eq!(counts, want);
+    assert_eq!(stats.largest_motion, 1000.0);
+
+    let mut target = source.clone();
+    target.motion.set(20, 16, &[-3.0, 4.0]);
+    let (_, stats) = run(&source, &target);
+    assert_eq!(stats.largest_motion, 5.0);
+}
+
+/// `object_count`, `fi_fraction` and each rectangle's `pixel_count` and mean motion: the
+/// target's dynamic objects, by stencil id.
+#[test]
+fn object_statistics_count_the_targets_stencil_ids() {
+    let source = still_frame();
+    let mut target = source.clone();
+    let mut pixels_of = [0u32; 3];
+    let mut motion_x_of = [0.0f32; 3];
+    for y in 0..HEIGHT {
+        for x in 0..WIDTH {
+            let id = [0, 1, 2][(x / 16 + y / 16) % 3];
+            target.stencil.set(x, y, &[id as f32]);
+            let motion = if id == 2 { 0.25 } else { 0.0 };
+            target.motion.set(x, y, &[motion, 0.0]);
+            pixels_of[id] += 1;
+            motion_x_of[id] += motion;
+        }
+    }
+    let (_, stats) = run(&source, &target);
+    assert_eq!(stats.object_count, 2);
+    let pixels = (WIDTH * HEIGHT) as f32;
+    assert_eq!(
+        stats.fi_fraction,
+        (pixels_of[1] + pixels_of[2]) as f32 / pixels
+    );
+    for (rect, id) in stats.rects[..2].iter().zip([1, 2]) {
+        assert_eq!(rect.object_id, id as u32);
+        assert_eq!(rect.pixel_count, pixels_of[id]);
+        assert!((rect.mean_motion_x - motion_x_of[id] / pixels_of[id] as f32).abs() < 1e-6);
+    }
+}
