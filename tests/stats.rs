@@ -60,6 +60,9 @@ fn run(source: &Frame, target: &Frame) -> (Counts, PatchexExtrapolationStats) {
     (counts, stats)
 }
 
+/// A case's name and how it spoils a frame.
+type Spoiling = (&'static str, fn(&mut Frame));
+
 /// Spoils channel `channel` of `image` at the spoiled pixels with `value`.
 fn spoil(image: &mut patchex::reference::Image, channel: usize, value: f32) {
     for (x, y) in spoiled() {
@@ -83,7 +86,7 @@ fn a_clean_still_frame_counts_nothing() {
 #[test]
 fn source_sanitized_pixels_counts_frame_ts_unusable_colour_and_material() {
     let k = spoiled().len() as u32;
-    let cases: [(&str, fn(&mut Frame)); 6] = [
+    let cases: [Spoiling; 6] = [
         ("NaN colour", |f| spoil(&mut f.color, 0, f32::NAN)),
         ("infinite colour", |f| spoil(&mut f.color, 1, f32::INFINITY)),
         ("negative colour", |f| spoil(&mut f.color, 2, -0.25)),
@@ -126,7 +129,7 @@ fn sanitized_pixels_counts_the_targets_unusable_material() {
 #[test]
 fn source_invalid_geometry_pixels_counts_frame_ts_unusable_depth_and_normals() {
     let k = spoiled().len() as u32;
-    let cases: [(&str, fn(&mut Frame)); 3] = [
+    let cases: [Spoiling; 3] = [
         ("NaN depth", |f| spoil(&mut f.depth, 0, f32::NAN)),
         ("depth above 1", |f| spoil(&mut f.depth, 0, 2.0)),
         ("infinite normal", |f| {
@@ -155,7 +158,7 @@ fn source_invalid_geometry_pixels_counts_frame_ts_unusable_depth_and_normals() {
 #[test]
 fn invalid_geometry_pixels_counts_the_targets_unusable_geometry_as_holes() {
     let k = spoiled().len() as u32;
-    let cases: [(&str, fn(&mut Frame)); 4] = [
+    let cases: [Spoiling; 4] = [
         ("NaN depth", |f| spoil(&mut f.depth, 0, f32::NAN)),
         ("negative depth", |f| spoil(&mut f.depth, 0, -0.5)),
         ("NaN normal", |f| spoil(&mut f.normal, 2, f32::NAN)),
