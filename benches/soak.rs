@@ -4,8 +4,8 @@
 //! memory its statistics report, the process's heap in use and its resident set. After the
 //! first pass through every size, none of them may grow: the run fails if one does.
 //!
-//! `cargo bench --bench soak [-- FRAMES] [--no-validation]`; writes out/soak/soak.md and
-//! soak.csv.
+//! `cargo bench --bench soak [-- FRAMES] [--no-validation]`; writes out/soak/soak.csv and the
+//! report, which it also publishes as docs/results/soak.md.
 
 #[path = "../tests/support/mod.rs"]
 mod support;
@@ -290,6 +290,8 @@ fn main() {
     std::fs::create_dir_all(&out).expect("out/soak");
     std::fs::write(out.join("soak.md"), &report).expect("soak.md");
     std::fs::write(out.join("soak.csv"), &csv).expect("soak.csv");
+    let results = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/results");
+    std::fs::write(results.join("soak.md"), &report).expect("docs/results/soak.md");
     println!("\n{report}");
     if !failures.is_empty() {
         std::process::exit(1);

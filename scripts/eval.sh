@@ -3,11 +3,13 @@
 # the segmentation's k_x and k_y on them, and scores every method against the ground truth.
 # Writes out/datasets/, out/calibration.json and out/eval/ (eval.md, eval.json, strips/); then
 # renders three scenes as 3x streams and scores both instants into out/eval_3x/; last, PatchEX
-# and its ablations on the two test scenes into out/eval_networks/.
+# and its ablations on the two test scenes into out/eval_networks/. Publishes the tables and
+# strips the quality guide shows into docs/results/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
 cargo build --release -p patchex -p patchex-cli
+source scripts/lib/results.sh
 datasets=()
 for scene in scenes/*.toml; do
     name=$(basename "$scene" .toml)
@@ -28,3 +30,10 @@ target/release/patchex eval "${datasets_3x[@]}" --out out/eval_3x \
 # PatchEX and its ablations on the test scenes, which the shipped networks never saw in training.
 target/release/patchex eval out/datasets/crossing_street out/datasets/fast_run --out out/eval_networks \
     --methods copy,motion-vector,occlusion-motion,gbuffer,gbuffer-shadows,patchex,patchex-every-pixel,patchex-no-shadows,patchex-whole-frame,patchex-no-perceptual,interpolation
+publish out/eval/eval.md eval.md
+publish out/eval/eval.json eval.json
+publish out/eval/strips/fast_run.png eval_strip.png
+publish out/eval/strips/fast_run_shadows.png shadow_strip.png
+publish out/eval_3x/eval.md eval_3x.md
+publish out/eval_networks/eval.md eval_networks.md
+publish out/eval_networks/eval.json eval_networks.json

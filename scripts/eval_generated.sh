@@ -2,13 +2,15 @@
 # The generated scene set's protocol (README, Evaluation on generated scenes): renders the
 # validation and test splits of scenes/generated/split.toml at 640x360 (13 frames: 6 targets
 # each) and scores the methods on each split apart: decisions are made on
-# out/eval_generated/validation, the README reports out/eval_generated/test. Arguments are passed
-# to both evals (e.g. --methods).
+# out/eval_generated/validation, the guides report out/eval_generated/test. Publishes both
+# tables and the test split's strip into docs/results/. Arguments are passed to both evals (e.g.
+# --methods).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
 cargo build --release -p patchex -p patchex-cli
 source scripts/lib/scenes.sh
+source scripts/lib/results.sh
 methods=copy,occlusion-motion,gbuffer,gbuffer-shadows,patchex,patchex-every-pixel,interpolation
 for which in validation test; do
     datasets=()
@@ -20,3 +22,7 @@ for which in validation test; do
     target/release/patchex eval "${datasets[@]}" --methods "$methods" \
         --out "out/eval_generated/$which" "$@"
 done
+publish out/eval_generated/validation/eval.md eval_generated_validation.md
+publish out/eval_generated/test/eval.md eval_generated_test.md
+publish out/eval_generated/test/eval.json eval_generated_test.json
+publish out/eval_generated/test/strips/desert_02.png eval_generated_strip.png

@@ -4,7 +4,8 @@
 # scene (training and validation into out/datasets_train, as scripts/train.sh does; test into
 # out/datasets_test), writes every target's whole frame with `patchex patches --holes` (about
 # 6 GB), and trains one network per input set with seed 1 on two CPU cores (about 10 minutes
-# each). Writes out/hole_study/results.{md,json}. Arguments are passed to hole_study.py.
+# each). Writes out/hole_study/results.{md,json} and publishes the table into docs/results/.
+# Arguments are passed to hole_study.py.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source scripts/lib/training.sh
@@ -23,3 +24,5 @@ samples out/datasets_train out/hole_samples $(split training) $(split validation
 samples out/datasets_test out/hole_samples_test $(split test)
 out/torchenv/bin/python training/hole_study.py --samples out/hole_samples \
     --test-samples out/hole_samples_test --seed 1 --out out/hole_study "$@"
+source scripts/lib/results.sh
+publish out/hole_study/results.md hole_study.md

@@ -157,7 +157,15 @@ fn run_on_gpu(
         height,
         sampled | vk::ImageUsageFlags::STORAGE,
     );
-    warped.upload(&engine, &frame.warped.data, general);
+    // As the warp stores it: the hole flag and the share of shading in alpha (`frame_alpha` in
+    // shaders/include/gbuffer.wgsl): all shading, 1 where valid and -2 in a hole.
+    let stored: Vec<f32> = frame
+        .warped
+        .data
+        .chunks(4)
+        .flat_map(|p| [p[0], p[1], p[2], if p[3] == 0.0 { -2.0 } else { 1.0 }])
+        .collect();
+    warped.upload(&engine, &stored, general);
     let material = image(&frame.material, vk::Format::R32G32B32A32_SFLOAT);
     let lbp = image(&frame.lbp, vk::Format::R32_SFLOAT);
     let texture = |image: &EngineImage| Texture {

@@ -3,7 +3,7 @@
     python training/hole_study.py --samples out/patches_holes --test-samples out/patches_holes_test \
         --seed 1 --out out/hole_study
 
-A study for issue 19, not a network the plugin runs: the plugin's networks see only the patches
+A study, not a network the plugin runs: the plugin's networks see only the patches
 around dynamic objects, and most holes lie outside them. It reads the whole-frame samples that
 `patchex patches --holes` writes and trains, with the same seed, data and steps, one network per
 input set:
