@@ -1,13 +1,14 @@
 #!/usr/bin/env bash
 # The speed guide's measurements: `patchex bench` over every configuration at 360p to 1080p on
-# the test scenes, then the networks' FP16 against FP32 tensors. Publishes the tables and the
-# quality-against-time plot into docs/results/. Arguments go to the first bench (e.g. --sizes).
+# the test scenes, with the G-buffer in a deferred renderer's formats, then the networks' FP16
+# against FP32 tensors. Publishes the tables and the quality-against-time plot into
+# docs/results/. Arguments go to the first bench (e.g. --sizes).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
 cargo build --release -p patchex -p patchex-cli
 source scripts/lib/results.sh
-target/release/patchex bench --out out/bench "$@"
+target/release/patchex bench --input-formats engine --out out/bench "$@"
 target/release/patchex bench --configurations patchex,patchex-fp32 --sizes 640x360,1280x720 \
     --out out/bench_precision
 publish out/bench/bench.md bench.md

@@ -635,10 +635,7 @@ pub struct PatchexExtrapolationStats {
     pub offscreen_fraction: f32,
     /// Target pixels whose base colour or material had to be sanitised (as for
     /// `source_sanitized_pixels`), or whose result exceeded the largest half float and was
-    /// clamped to it. With passes between the warp and the output (a shadow input, networks or
-    /// diagnostics) the frame is held as shading in an RGBA16F image: a colour that frame t kept
-    /// as colour (black, emissive or very bright surfaces) and that exceeds 65504 times the
-    /// target's modulation factor is clamped there, and counted here.
+    /// clamped to it.
     pub sanitized_pixels: u32,
     /// Fraction of target pixels in the foreground-interaction region (dynamic objects).
     pub fi_fraction: f32,

@@ -42,12 +42,12 @@ pub struct DemoArgs {
     validation: bool,
     /// Hand the plugin each frame's shadow input, so the shadows of moving characters are
     /// tracked and moved (the shadow sub-task). Off by default: on crossing_street, whose short
-    /// shadows creep and change shape, it costs more than it gains (README, Evaluation).
+    /// shadows creep and change shape, it costs more than it gains (docs/quality.md).
     #[arg(long)]
     shadows: bool,
     /// Run the inpainting networks on the FI and near-BE patches (with --shadows,
     /// PATCHEX_PRESET_FULL; the built-in weights). Off by default: the shipped weights barely change the frame yet
-    /// (README, Evaluation).
+    /// (docs/quality.md).
     #[arg(long)]
     networks: bool,
 }
