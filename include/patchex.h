@@ -311,9 +311,9 @@ typedef struct PatchexCamera {
   float projection[16];
   // Sub-pixel offset of the sample positions, in pixels (x right, y down).
   float jitter[2];
-  // Distance to the near plane, in world units, > 0. With hardware depth it must be where the
-  // projection puts depth 0 (1 when reversed), within 1%; otherwise the call fails with
-  // PATCHEX_RESULT_ERROR_INVALID_ARGUMENT. Named `near_plane` because `<windows.h>` defines
+  // Distance to the near plane, in world units, > 0. It must be where the projection puts
+  // depth 0 (1 when reversed; either with linear depth), within 1%; otherwise the call fails
+  // with PATCHEX_RESULT_ERROR_INVALID_ARGUMENT. Named `near_plane` because `<windows.h>` defines
   // `near` and `far` as empty macros.
   float near_plane;
   // Distance to the far plane, > near_plane; may be +infinity (infinite far plane).

@@ -108,33 +108,33 @@ impl Camera {
         Ok(camera)
     }
 
-    /// The near plane the projection puts hardware depth 0 (PATCHEX_DEPTH_HARDWARE) or 1
-    /// (PATCHEX_DEPTH_HARDWARE_REVERSED) at must be `near_plane`, within 1%: a mismatch means the
-    /// depth was written with another projection than the one given. Linear depth does not
-    /// depend on the projection's depth range, so it is not checked.
+    /// `near_plane` must be where the projection puts depth 0 (PATCHEX_DEPTH_HARDWARE) or 1
+    /// (PATCHEX_DEPTH_HARDWARE_REVERSED), within 1%: a mismatch means the depth was written with
+    /// another projection than the one given. With linear depth the projection may be either
+    /// kind, so either plane is taken.
     fn check_near_plane(&self, name: &str) -> Result<()> {
-        if self.depth_convention == PATCHEX_DEPTH_LINEAR_VIEW_Z {
-            return Ok(());
-        }
-        let near_depth = if self.depth_convention == PATCHEX_DEPTH_HARDWARE_REVERSED {
-            1.0
-        } else {
-            0.0
+        let near_depths: &[f64] = match self.depth_convention {
+            PATCHEX_DEPTH_HARDWARE_REVERSED => &[1.0],
+            PATCHEX_DEPTH_LINEAR_VIEW_Z => &[0.0, 1.0],
+            _ => &[0.0],
         };
-        // Along the perspective axis, clip z = a * d + b and clip w = c * d at view depth d.
+        // Along the perspective axis, clip z = a * d + b and clip w = c * d at view depth d, so
+        // depth z lies at d = b / (z * c - a).
         let axis = self.perspective_axis().as_dvec3().normalize();
         let projection = self.projection.as_dmat4();
         let clip = |d: f64| projection * (axis * d).extend(1.0);
         let (at_zero, at_one) = (clip(0.0), clip(1.0));
         let (a, b, c) = (at_one.z - at_zero.z, at_zero.z, at_one.w - at_zero.w);
-        // (a d + b) / (c d) = near_depth.
-        let near = b / (near_depth * c - a);
         let given = self.near as f64;
-        if !(near.is_finite() && near > 0.0 && ((near - given) / given).abs() <= 0.01) {
+        let planes = near_depths.iter().map(|&z| b / (z * c - a));
+        let agrees = |near: f64| near.is_finite() && ((near - given) / given).abs() <= 0.01;
+        if !planes.clone().any(agrees) {
+            let planes: Vec<String> = planes.map(|near| format!("{near:.6}")).collect();
             bail!(
                 ErrorInvalidArgument,
-                "{name}.near_plane {given} disagrees with the projection, which puts hardware \
-                 depth {near_depth} at {near:.6}"
+                "{name}.near_plane {given} disagrees with the projection, whose near plane \
+                 (depth {near_depths:?}) is at {}",
+                planes.join(" or ")
             );
         }
         Ok(())

@@ -376,11 +376,15 @@ fn negative_colour_is_counted_and_never_reaches_the_output() {
     assert!(colour_channels(&outcome.output).all(|v| v >= 0.0));
 }
 
-/// A near plane other than the one a hardware-depth projection puts depth 0 (or 1, reversed)
-/// at is refused with a message that names it; within 1% it is accepted.
+/// A near plane other than the one the projection puts depth 0 (or 1, reversed) at is refused
+/// with a message that names it, in every depth convention; within 1% it is accepted.
 #[test]
 fn a_near_plane_the_projection_disagrees_with_is_refused() {
-    for convention in [PATCHEX_DEPTH_HARDWARE, PATCHEX_DEPTH_HARDWARE_REVERSED] {
+    for convention in [
+        PATCHEX_DEPTH_HARDWARE,
+        PATCHEX_DEPTH_HARDWARE_REVERSED,
+        PATCHEX_DEPTH_LINEAR_VIEW_Z,
+    ] {
         let mut scene = Scene::new(WIDTH, HEIGHT);
         scene.depth_convention = convention;
         let (mut source, _) = frames(&scene, 0.5);
