@@ -24,6 +24,19 @@ const WIDTH: usize = 64;
 const HEIGHT: usize = 48;
 const FRAME_TIME: f32 = 1.0 / 30.0;
 
+const EVERY_DEPTH_CONVENTION: [PatchexDepthConvention; 3] = [
+    PATCHEX_DEPTH_HARDWARE,
+    PATCHEX_DEPTH_HARDWARE_REVERSED,
+    PATCHEX_DEPTH_LINEAR_VIEW_Z,
+];
+
+/// The test scene, its depth stored in `convention`.
+fn scene_in(convention: PatchexDepthConvention) -> Scene {
+    let mut scene = Scene::new(WIDTH, HEIGHT);
+    scene.depth_convention = convention;
+    scene
+}
+
 /// Frame t, and the target `alpha` of a frame time later.
 fn frames(scene: &Scene, alpha: f32) -> (Frame, Frame) {
     let source = scene.render(0.0, Vec2::new(0.25, -0.25), -FRAME_TIME);
@@ -77,13 +90,8 @@ fn nan_and_infinite_geometry_never_reaches_the_output() {
 
 #[test]
 fn depth_at_the_near_and_far_planes_in_every_convention() {
-    for convention in [
-        PATCHEX_DEPTH_HARDWARE,
-        PATCHEX_DEPTH_HARDWARE_REVERSED,
-        PATCHEX_DEPTH_LINEAR_VIEW_Z,
-    ] {
-        let mut scene = Scene::new(WIDTH, HEIGHT);
-        scene.depth_convention = convention;
+    for convention in EVERY_DEPTH_CONVENTION {
+        let scene = scene_in(convention);
         let (mut source, mut target) = frames(&scene, 0.5);
         let camera = source.camera;
         // (near plane, far plane): reversed depth has its far plane at infinity, 0.
@@ -330,9 +338,7 @@ fn infinite_and_out_of_range_depth_is_counted_and_a_hole() {
         (PATCHEX_DEPTH_LINEAR_VIEW_Z, -5.0, false),
         (PATCHEX_DEPTH_LINEAR_VIEW_Z, f32::INFINITY, true),
     ] {
-        let mut scene = Scene::new(WIDTH, HEIGHT);
-        scene.depth_convention = convention;
-        let (mut source, mut target) = frames(&scene, 0.5);
+        let (mut source, mut target) = frames(&scene_in(convention), 0.5);
         for frame in [&mut source, &mut target] {
             fill(&mut frame.depth, &[depth]);
         }
@@ -380,13 +386,8 @@ fn negative_colour_is_counted_and_never_reaches_the_output() {
 /// with a message that names it, in every depth convention; within 1% it is accepted.
 #[test]
 fn a_near_plane_the_projection_disagrees_with_is_refused() {
-    for convention in [
-        PATCHEX_DEPTH_HARDWARE,
-        PATCHEX_DEPTH_HARDWARE_REVERSED,
-        PATCHEX_DEPTH_LINEAR_VIEW_Z,
-    ] {
-        let mut scene = Scene::new(WIDTH, HEIGHT);
-        scene.depth_convention = convention;
+    for convention in EVERY_DEPTH_CONVENTION {
+        let scene = scene_in(convention);
         let (mut source, _) = frames(&scene, 0.5);
         let rig = Rig::new(WIDTH as u32, HEIGHT as u32);
         let family = rig.engine.queue_family_index;

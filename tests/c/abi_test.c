@@ -209,20 +209,7 @@ int main(int argc, char **argv) {
   warp.occlusion_search_radius = PATCHEX_DEFAULT_OCCLUSION_SEARCH_RADIUS;
   warp.hole_fill = PATCHEX_HOLE_FILL_BACKGROUND;
 
-  PatchexCreateInfo info;
-  memset(&info, 0, sizeof info);
-  info.header = header(PATCHEX_STRUCT_TYPE_CREATE_INFO, sizeof info, &warp);
-  info.instance = gpu.instance;
-  info.physical_device = gpu.physical_device;
-  info.device = gpu.device;
-  info.get_instance_proc_addr = vkGetInstanceProcAddr;
-  info.get_device_proc_addr = vkGetDeviceProcAddr;
-  info.queue_family_index = gpu.family;
-  info.max_width = width;
-  info.max_height = height;
-  info.frames_in_flight = 2;
-  info.preset = PATCHEX_PRESET_FULL;
-  info.log_callback = on_log;
+  PatchexCreateInfo info = create_info(PATCHEX_PRESET_FULL, 2, &warp);
 
   /* A failed create leaves *out_context as it was and says why on this thread. */
   PatchexContext *ctx = (PatchexContext *)&info;

@@ -362,4 +362,24 @@ static PatchexStructHeader header(PatchexStructType type, uint32_t size, const v
   return h;
 }
 
+/* A create info on this engine's device for frames up to width x height, with `chain`. */
+static PatchexCreateInfo create_info(PatchexPreset preset, uint32_t frames_in_flight,
+                                     const void *chain) {
+  PatchexCreateInfo info;
+  memset(&info, 0, sizeof info);
+  info.header = header(PATCHEX_STRUCT_TYPE_CREATE_INFO, sizeof info, chain);
+  info.instance = gpu.instance;
+  info.physical_device = gpu.physical_device;
+  info.device = gpu.device;
+  info.get_instance_proc_addr = vkGetInstanceProcAddr;
+  info.get_device_proc_addr = vkGetDeviceProcAddr;
+  info.queue_family_index = gpu.family;
+  info.max_width = width;
+  info.max_height = height;
+  info.frames_in_flight = frames_in_flight;
+  info.preset = preset;
+  info.log_callback = on_log;
+  return info;
+}
+
 #endif

@@ -115,20 +115,7 @@ static PatchexGeometry geometry_of(const Image *depth, const Image *normal, cons
    extrapolated from it (zero motion: the wall and the camera stand still). */
 static void run(const Instant *source, const Instant *target, Outcome *out) {
   memset(out, 0, sizeof *out);
-  PatchexCreateInfo info;
-  memset(&info, 0, sizeof info);
-  info.header = header(PATCHEX_STRUCT_TYPE_CREATE_INFO, sizeof info, NULL);
-  info.instance = gpu.instance;
-  info.physical_device = gpu.physical_device;
-  info.device = gpu.device;
-  info.get_instance_proc_addr = vkGetInstanceProcAddr;
-  info.get_device_proc_addr = vkGetDeviceProcAddr;
-  info.queue_family_index = gpu.family;
-  info.max_width = WIDTH;
-  info.max_height = HEIGHT;
-  info.frames_in_flight = 1;
-  info.preset = PATCHEX_PRESET_WARP_ONLY;
-  info.log_callback = on_log;
+  PatchexCreateInfo info = create_info(PATCHEX_PRESET_WARP_ONLY, 1, NULL);
   PatchexContext *ctx = NULL;
   if (patchex_create(&info, &ctx) != PATCHEX_RESULT_SUCCESS) {
     fprintf(stderr, "patchex_create: %s\n", patchex_last_error(NULL));
