@@ -47,11 +47,10 @@ fn repaired(input: texture_2d_array<f32>, output: texture_2d_array<f32>, rect: P
     let top = mix(correction_at(input, output, lo), correction_at(input, output, vec2u(hi.x, lo.y)), f.x);
     let bottom = mix(correction_at(input, output, vec2u(lo.x, hi.y)), correction_at(input, output, hi), f.x);
     let correction = mix(top, bottom, f.y);
-    // Shading is not negative, so a correction stops at zero (or at the warp's colour, where
-    // an engine's frame already was). The warp's hole flag (alpha) is kept: it says what was
-    // guessed. The frame is RGBA16F.
-    let low = min(here.rgb, vec3f(0.0));
-    return vec4f(to_half(clamp(here.rgb + correction, low, vec3f(MAX_HALF))), here.a);
+    // Light is not negative (patchex sanitises negative input colour to 0), so a correction
+    // stops at zero. The warp's alpha (`frame_alpha`) is kept: it says what was guessed, and
+    // what remodulation multiplies. The frame is RGBA16F.
+    return vec4f(to_half(clamp(here.rgb + correction, vec3f(0.0), vec3f(MAX_HALF))), here.a);
 }
 
 @compute @workgroup_size(8, 8, 1)
