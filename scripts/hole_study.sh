@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 19's hole study (training/hole_study.py): can a network repair the warp's holes anywhere
+# The hole study (training/hole_study.py): can a network repair the warp's holes anywhere
 # in the frame, and what must it read? Renders the generated set at 640x360 with 33 frames a
 # scene (training and validation into out/datasets_train, as scripts/train.sh does; test into
 # out/datasets_test), writes every target's whole frame with `patchex patches --holes` (about

@@ -49,7 +49,7 @@ fn repaired(input: texture_2d_array<f32>, output: texture_2d_array<f32>, rect: P
     let correction = mix(top, bottom, f.y);
     // Light is not negative (patchex sanitises negative input colour to 0), so a correction
     // stops at zero. The warp's alpha (`frame_alpha`) is kept: it says what was guessed, and
-    // what remodulation multiplies. The frame is RGBA16F.
+    // what remodulation reads. The frame is RGBA16F.
     return vec4f(to_half(clamp(here.rgb + correction, vec3f(0.0), vec3f(MAX_HALF))), here.a);
 }
 

@@ -1,7 +1,7 @@
 // Divides frame t's colour by its modulation factor, leaving shading that varies smoothly across
 // textures and so warps and inpaints well: F' = F / (albedo + 0.08 * specular * (1 - metallic)).
-// Black and emissive surfaces, and colours whose shading a half float cannot hold, keep their
-// colour (alpha 0; gbuffer.wgsl `demodulated`). Unusable inputs are sanitised first and counted.
+// Alpha holds what the colour was divided by (gbuffer.wgsl `demodulated`), which remodulation
+// reads. Unusable inputs are sanitised first and counted.
 // #import gbuffer
 // #import tallies
 

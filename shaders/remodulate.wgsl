@@ -1,7 +1,7 @@
 // Multiplies the extrapolated shading by the target instant's own modulation factor, in place in
 // the frame image (the engine's output, where the warp wrote its shading): texture detail comes
-// from the target's G-buffer, not from the warp. Colour that frame t kept as colour (black,
-// emissive and very bright surfaces; the share the frame's alpha gives) is not multiplied.
+// from the target's G-buffer, not from the warp. The frame's alpha holds the warped value's
+// divisor, which says where the shading cannot carry light (gbuffer.wgsl `remodulation`).
 // With a shadow input, the shading (warped without the dynamic casters' shadows) first loses
 // the share of its light that those shadows take away at the target.
 // #import gbuffer
@@ -39,7 +39,8 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
             // shadows on them in their shading, which moves with them.
             shading_rgb = shading_rgb * (1.0 + textureLoad(shadow_share, p, 0).rgb);
         }
-        let color = sanitize_color(shading_rgb * mix(vec3f(1.0), m.factor, shading_share(warped.a)));
+        let factor = remodulation(m.factor, warped.rgb, frame_divisor(warped.a));
+        let color = sanitize_color(shading_rgb * factor);
         textureStore(frame, p, vec4f(to_half(color.value), 1.0));
         if (m.changed || color.changed) {
             atomicAdd(&group_tallies[0u], 1u);

@@ -157,8 +157,8 @@ fn run_on_gpu(
         height,
         sampled | vk::ImageUsageFlags::STORAGE,
     );
-    // As the warp stores it: the hole flag and the share of shading in alpha (`frame_alpha` in
-    // shaders/include/gbuffer.wgsl): all shading, 1 where valid and -2 in a hole.
+    // As the warp stores it: the hole flag and the divisor in alpha (`frame_alpha` in
+    // shaders/include/gbuffer.wgsl), here 1: 1 where valid and -2 in a hole.
     let stored: Vec<f32> = frame
         .warped
         .data

@@ -3,17 +3,19 @@
 // Floor of the modulation factor, by which remodulation multiplies.
 const MIN_MODULATION: f32 = 0.01;
 
-// Below this modulation factor in its largest channel a surface is too dark to demodulate by:
-// black and emissive materials, whose colour is not their albedo times the light. Dividing by
-// it would turn their colour into a huge shading that a brighter surface at the target then
-// multiplies. Their colour itself is warped instead (`demodulated`).
-const MIN_DEMODULATION: f32 = 0.05;
+// Below this modulation factor in its largest channel a surface is too dark to trust its colour
+// as albedo times light (black and emissive materials): remodulation never makes what was
+// warped from it brighter than its colour (`remodulation`).
+const DARK_MODULATION: f32 = 0.05;
 
 // Linear depth stored for pixels that hit no geometry (sky, far plane, infinite far).
 const SKY_DEPTH: f32 = 1e30;
 
 // Largest value of the RGBA16F output, and so the largest colour worth keeping.
 const MAX_HALF: f32 = 65504.0;
+// Below this a value rounds to at most MAX_HALF when stored as a half float (to nearest), so it
+// is representable, not out of range.
+const HALF_ROUNDS_TO_MAX: f32 = 65519.0;
 
 // An instant's packed G-buffer is two R32 images: linear depth (R32F), and the unit normal with
 // the object id (R32UI): the normal octahedral in two 12-bit codes, the id in the low 8 bits
@@ -157,7 +159,7 @@ fn sanitize(v: vec3f, low: f32, high: f32) -> Sanitized {
 
 // A colour the pipeline computed, held to what the RGBA16F output can store.
 fn sanitize_color(v: vec3f) -> Sanitized {
-    return sanitize(v, -MAX_HALF, MAX_HALF);
+    return sanitize(v, -HALF_ROUNDS_TO_MAX, HALF_ROUNDS_TO_MAX);
 }
 
 // An engine's colour input: light, so never negative, and within the half-float range.
@@ -178,31 +180,62 @@ fn to_half(v: vec3f) -> vec3f {
     return bitcast<vec3f>(rounded & vec3u(0xffffe000u));
 }
 
-// A source pixel as the RGBA16F shading image holds it: its shading (colour over modulation),
-// alpha 1, or where the surface is too dark to demodulate by or the shading would not fit a
-// half float, its colour as it is, alpha 0. The warps carry alpha along with the colour, and
-// remodulation multiplies by the target's modulation only the share of shading
-// (warp.wgsl, `store_pixel`). `color` is a sanitised input, in [0, MAX_HALF].
+// A source pixel as the RGBA16F shading image holds it: its colour over its modulation factor
+// (the shading), and in alpha the largest channel of what it was divided by (its divisor).
+// Where the shading would pass FITTED_SHADING (bright HDR over a dark albedo), the factor is
+// scaled up until it fits, and the divisor with it. The warps carry alpha along with the
+// shading, and remodulation reads it (`remodulation`). `color` is a sanitised input, in
+// [0, MAX_HALF].
 fn demodulated(color: vec3f, factor: vec3f) -> vec4f {
     let shading = color / factor;
-    let demodulates = max(factor.r, max(factor.g, factor.b)) >= MIN_DEMODULATION
-        && all(shading <= vec3f(MAX_HALF));
-    return select(vec4f(to_half(color), 0.0), vec4f(to_half(shading), 1.0), demodulates);
+    let scale = max(1.0, max(shading.r, max(shading.g, shading.b)) / FITTED_SHADING);
+    let divisor = factor * scale;
+    return vec4f(to_half(min(color / divisor, vec3f(FITTED_SHADING))), max(divisor.r, max(divisor.g, divisor.b)));
 }
 
+// The largest shading stored: below the half-float limit by more than a half-float rounding of
+// the divisor can add back, so that remodulating scaled shading gives back at most 65504.
+const FITTED_SHADING: f32 = 64000.0;
+
+// What remodulation multiplies warped shading by: the target's modulation factor `target_factor`, so
+// that texture detail comes from the target's G-buffer, except where the warped value's divisor
+// (`divisor`, what frame t's colour was divided by, gathered as the shading was) says the
+// shading cannot be trusted to carry light:
+// - from a source too dark (DARK_MODULATION), the result is never brighter than the colour
+//   that source had: a black pixel in frame t under a lit one at the target is not brightened;
+// - from shading at FITTED_SHADING, whose divisor was scaled up to fit (see `demodulated`),
+//   the factor is scaled up as the divisor was, so bright HDR colour comes back unchanged. The
+//   scaling stops at the half-float limit: it rebuilds a colour that was within it, so what
+//   passes the limit is the divisor's own rounding, not light.
+fn remodulation(target_factor: vec3f, shading: vec3f, divisor: f32) -> vec3f {
+    var factor = target_factor;
+    if (divisor < DARK_MODULATION) {
+        factor = min(factor, vec3f(divisor));
+    }
+    let brightest = max(shading.r, max(shading.g, shading.b));
+    if (brightest >= SATURATED_SHADING) {
+        let target_max = max(target_factor.r, max(target_factor.g, target_factor.b));
+        let scale = min(divisor / target_max, MAX_HALF / (brightest * target_max));
+        factor = target_factor * max(1.0, scale);
+    }
+    return factor;
+}
+
+// Shading within a half-float step of FITTED_SHADING was scaled to fit (`demodulated`).
+const SATURATED_SHADING: f32 = 63968.0;
+
 // Between the warp and remodulation, the frame's alpha says whether a pixel is a hole and what
-// share of its value is shading (the rest is colour frame t kept as colour, which remodulation
-// does not multiply): the share, in [0, 1], where the warp found the pixel's source, and
-// -1 - share in a hole. The share keeps the half float's finest steps where it is stored.
-fn frame_alpha(share: f32, hole: bool) -> f32 {
-    return select(share, -1.0 - share, hole);
+// its value's divisor is (`demodulated`): the divisor (at least MIN_MODULATION) where the warp
+// found the pixel's source, and -1 - divisor in a hole.
+fn frame_alpha(divisor: f32, hole: bool) -> f32 {
+    return select(divisor, -1.0 - divisor, hole);
 }
 
 fn is_hole(frame_alpha: f32) -> bool {
     return frame_alpha < -0.5;
 }
 
-fn shading_share(frame_alpha: f32) -> f32 {
+fn frame_divisor(frame_alpha: f32) -> f32 {
     return select(frame_alpha, -1.0 - frame_alpha, is_hole(frame_alpha));
 }
 

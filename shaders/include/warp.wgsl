@@ -200,8 +200,8 @@ fn texel(q: vec2f) -> vec2i {
 }
 
 
-// Frame t's shading at `q`, bilinear over the texels around it. Alpha is the share of shading
-// among colour kept as colour (gbuffer.wgsl `demodulated`), as in every fetch below.
+// Frame t's shading at `q`, bilinear over the texels around it. Its alpha, as in every fetch
+// below, is the divisor of the fetched shading (gbuffer.wgsl `demodulated`).
 fn bilinear_shading(q: vec2f) -> vec4f {
     let corner = vec2i(floor(q - 0.5));
     let f = q - 0.5 - floor(q - 0.5);
@@ -257,16 +257,16 @@ struct DeferredHoles {
     groups_z: u32,
 }
 
-// Writes pixel p's warped shading with its hole flag and share of shading (`frame_alpha`),
-// remodulated when the warp remodulates, or the shadows' share at the target when it carries the
-// shadow layer. `fetched.a` is the share of shading in what the warp fetched (gbuffer.wgsl
-// `demodulated`).
+// Writes pixel p's warped shading with its hole flag and divisor (`frame_alpha`), remodulated
+// when the warp remodulates, or the shadows' share at the target when it carries the shadow
+// layer. `fetched.a` is the divisor of what the warp fetched (gbuffer.wgsl `demodulated`).
 fn store_pixel(p: vec2u, fetched: vec4f, hole: bool) {
-    // Rounded here, as the colour is: a share a hair under 1 must not truncate to 1 - 2^-11.
+    // Rounded here, as the colour is, whatever the driver's conversion does.
     var color = vec4f(to_half(fetched.rgb), to_half(vec3f(frame_alpha(fetched.a, hole))).x);
     if (unspecialised(params.remodulate) != 0u) {
         let m = pixel_modulation(base_color, material, p, unspecialised(params.has_material));
-        let remodulated = sanitize_color(fetched.rgb * mix(vec3f(1.0), m.factor, fetched.a));
+        let factor = remodulation(m.factor, fetched.rgb, fetched.a);
+        let remodulated = sanitize_color(fetched.rgb * factor);
         color = vec4f(to_half(remodulated.value), 1.0);
         if (m.changed || remodulated.changed) {
             atomicAdd(&group_tallies[TALLY_SANITIZED], 1u);

@@ -6,7 +6,9 @@ use super::{round_to_f16, Image};
 use crate::abi::{PatchexDepthConvention, PATCHEX_DEPTH_LINEAR_VIEW_Z};
 
 pub const MIN_MODULATION: f32 = 0.01;
-pub const MIN_DEMODULATION: f32 = 0.05;
+pub const DARK_MODULATION: f32 = 0.05;
+pub const FITTED_SHADING: f32 = 64000.0;
+pub const SATURATED_SHADING: f32 = 63968.0;
 pub const SKY_DEPTH: f32 = 1e30;
 
 pub fn modulation(base_color: Vec3, metallic: f32, specular: f32) -> Vec3 {
@@ -27,6 +29,8 @@ pub fn is_sky(linear_depth: f32) -> bool {
 
 /// Largest value of the RGBA16F output.
 pub const MAX_HALF: f32 = 65504.0;
+/// Below this a value rounds to at most MAX_HALF as a half float (`HALF_ROUNDS_TO_MAX`).
+pub const HALF_ROUNDS_TO_MAX: f32 = 65519.0;
 
 /// `sanitize` of `include/gbuffer.wgsl`: components outside [low, high] take the nearest bound,
 /// NaN takes 0; returns whether any changed.
@@ -46,7 +50,7 @@ pub fn sanitize(v: Vec3, low: f32, high: f32) -> (Vec3, bool) {
 }
 
 pub fn sanitize_color(v: Vec3) -> (Vec3, bool) {
-    sanitize(v, -MAX_HALF, MAX_HALF)
+    sanitize(v, -HALF_ROUNDS_TO_MAX, HALF_ROUNDS_TO_MAX)
 }
 
 pub fn sanitize_input_color(v: Vec3) -> (Vec3, bool) {
@@ -57,15 +61,30 @@ pub fn round_vec3_to_f16(v: Vec3) -> Vec3 {
     v.to_array().map(round_to_f16).into()
 }
 
-/// `demodulated` in gbuffer.wgsl: (shading, 1), or (colour, 0) where the surface is too dark to
-/// demodulate by or the shading exceeds the half-float range; rounded to f16.
+/// `demodulated` in gbuffer.wgsl: the shading, rounded to f16, and in alpha the largest channel
+/// of its divisor, the modulation factor scaled up where the shading would pass
+/// `FITTED_SHADING`.
 pub fn demodulated(color: Vec3, factor: Vec3) -> Vec4 {
-    let shading = color / factor;
-    if factor.max_element() >= MIN_DEMODULATION && shading.cmple(Vec3::splat(MAX_HALF)).all() {
-        round_vec3_to_f16(shading).extend(1.0)
-    } else {
-        round_vec3_to_f16(color).extend(0.0)
+    let scale = (color / factor).max_element().max(0.0) / FITTED_SHADING;
+    let divisor = factor * scale.max(1.0);
+    round_vec3_to_f16((color / divisor).min(Vec3::splat(FITTED_SHADING)))
+        .extend(divisor.max_element())
+}
+
+/// `remodulation` in gbuffer.wgsl: the factor warped shading is multiplied by, from the target's
+/// modulation factor, the shading and its divisor.
+pub fn remodulation(target: Vec3, shading: Vec3, divisor: f32) -> Vec3 {
+    let mut factor = target;
+    if divisor < DARK_MODULATION {
+        factor = factor.min(Vec3::splat(divisor));
     }
+    let brightest = shading.max_element();
+    if brightest >= SATURATED_SHADING {
+        let target_max = target.max_element();
+        let scale = (divisor / target_max).min(MAX_HALF / (brightest * target_max));
+        factor = target * scale.max(1.0);
+    }
+    factor
 }
 
 /// `valid_geometry` in gbuffer.wgsl: the depth in its convention's range (a positive linear

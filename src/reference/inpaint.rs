@@ -326,8 +326,7 @@ pub fn inpaint(
                     let c = corrected(correction, patch, x, y);
                     let w = warped.at(x, y);
                     // Into the RGBA16F frame, stopping at zero as blend_patches.wgsl does.
-                    let sum = [0, 1, 2]
-                        .map(|i| round_to_f16((w[i] + c[i]).clamp(0.0, MAX_HALF)));
+                    let sum = [0, 1, 2].map(|i| round_to_f16((w[i] + c[i]).clamp(0.0, MAX_HALF)));
                     blended.set(x, y, &[sum[0], sum[1], sum[2], w[3]]);
                 }
             }

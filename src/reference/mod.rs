@@ -233,7 +233,7 @@ pub fn extrapolate(
     });
     let (output, target_sanitized) = remodulate::remodulate(
         inpainted.as_ref().map_or(&warped.warped, |i| &i.blended),
-        &warped.shading_share,
+        &warped.divisor,
         shadows.as_ref().map(|s| &s.share),
         target.base_color,
         target.material,

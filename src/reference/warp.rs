@@ -23,10 +23,9 @@ const NO_OBJECT: f32 = 256.0;
 pub struct Warped {
     /// (shading, 1 for valid or 0 for hole).
     pub warped: Image,
-    /// Per pixel, row by row: the share of shading in its warped value, the rest colour that
-    /// frame t kept as colour (`demodulated`), which remodulation does not multiply. The GPU
-    /// holds it in the frame's alpha with the hole flag (`frame_alpha` in gbuffer.wgsl).
-    pub shading_share: Vec<f32>,
+    /// Per pixel, row by row: the divisor of its warped shading (`demodulated`), as the GPU holds
+    /// it in the frame's alpha with the hole flag (`frame_alpha` in gbuffer.wgsl).
+    pub divisor: Vec<f32>,
     /// The best geometry agreement each pixel found: how close it came to the hole threshold.
     pub best_agreement: Vec<f32>,
     /// G-buffer-guided warp only: the agreeing share of each pixel's bilinear footprint, how
@@ -334,7 +333,7 @@ pub fn warp(
     let mut best_agreement = Vec::with_capacity(width * height);
     let mut bilinear_weight = Vec::with_capacity(width * height);
     let (mut hole_pixels, mut offscreen_pixels) = (0, 0);
-    let mut shading_share = Vec::with_capacity(width * height);
+    let mut divisor = Vec::with_capacity(width * height);
     let mut largest_motion = 0.0f32;
     let warped = Image::from_fn(width, height, 4, |x, y| {
         let pixel = PixelWarp {
@@ -365,11 +364,11 @@ pub fn warp(
             largest_motion = largest_motion.max(reach);
         }
         // As the frame's alpha holds it (`frame_alpha` in gbuffer.wgsl).
-        let share = result.shading.w;
-        shading_share.push(if hole {
-            -1.0 - round_to_f16(-1.0 - share)
+        let fetched = result.shading.w;
+        divisor.push(if hole {
+            -1.0 - round_to_f16(-1.0 - fetched)
         } else {
-            round_to_f16(share)
+            round_to_f16(fetched)
         });
         // Stored in an RGBA16F image (the frame, or a shadow layer).
         round_vec3_to_f16(result.shading.truncate())
@@ -379,7 +378,7 @@ pub fn warp(
     });
     Warped {
         warped,
-        shading_share,
+        divisor,
         best_agreement,
         bilinear_weight,
         hole_pixels,
