@@ -274,9 +274,10 @@ pub struct PatchexFrameDesc {
     /// Final linear HDR colour, before tone mapping and UI; non-negative, up to 65504.
     pub color: PatchexImage,
     /// Base colour (albedo) in RGB. patchex divides the colour by it (plus the specular
-    /// reflectance) to warp lighting rather than texture; where that sum is below 0.05 in every
-    /// channel (black and emissive materials), or the quotient would exceed 65504, it warps the
-    /// colour itself.
+    /// reflectance) to warp lighting rather than texture, and multiplies by the target's. Where
+    /// that sum is below 0.05 in every channel (black and emissive materials) the result is
+    /// never brighter than the colour the surface had, and HDR colour up to 65504 comes back
+    /// unchanged over any base colour.
     pub base_color: PatchexImage,
     /// Optional: R metallic, G specular, B roughness (Unreal's GBufferB). Absent means
     /// metallic 0, specular 0.5, roughness 0.5. Roughness is read by the inpainting networks

@@ -333,8 +333,8 @@ fn growing_frames_retire_working_images_after_the_frames_in_flight() {
 }
 
 /// The demodulation rule where its denominator vanishes: black albedo, near-black albedo and
-/// black metal (whose specular term is 0 too) are too dark to divide by, so they keep their
-/// colour, and remodulating with the same G-buffer gives it back.
+/// black metal (whose specular term is 0 too) meet the floor of the modulation factor, and
+/// remodulating with the same G-buffer gives their colour back.
 #[test]
 fn black_and_metallic_surfaces_demodulate_and_remodulate_safely() {
     let mut scene = Scene::new(WIDTH, HEIGHT);

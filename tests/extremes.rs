@@ -243,8 +243,8 @@ fn colour_channels(image: &Image) -> impl Iterator<Item = f32> + '_ {
 }
 
 /// Bright HDR colour comes back unchanged over any base colour, black included, with nothing
-/// counted as sanitised: where the shading would not fit a half float, or the surface is too
-/// dark to divide by, the colour itself is warped.
+/// counted as sanitised: where the shading would not fit a half float, its divisor is scaled up
+/// and remodulation scales it back.
 #[test]
 fn bright_colour_comes_back_unchanged_over_any_albedo() {
     let mut scene = Scene::new(WIDTH, HEIGHT);
@@ -271,9 +271,10 @@ fn bright_colour_comes_back_unchanged_over_any_albedo() {
     assert_eq!(outcome.stats.extrapolations[0].sanitized_pixels, 0);
 }
 
-/// A black, nearly black or NaN base colour in frame t under a lit one at the target: the colour
-/// itself is warped, so the output stays within the inputs' range instead of multiplying a
-/// colour divided by the floor of the modulation. The NaN base colours are counted.
+/// A black, nearly black or NaN base colour in frame t under a lit one at the target: what is
+/// warped from the dark surface never comes back brighter than its colour, so the output stays
+/// within the inputs' range instead of multiplying a colour divided by the floor of the
+/// modulation. The NaN base colours are counted.
 #[test]
 fn a_black_base_colour_in_frame_t_does_not_blow_up() {
     let scene = Scene::new(WIDTH, HEIGHT);

@@ -194,7 +194,7 @@ pub struct Remodulation {
 /// What a warp stores for a pixel.
 #[derive(Clone, Copy)]
 pub enum Store<'a> {
-    /// The warped shading, with its hole flag and share of shading in alpha (`frame_alpha` in
+    /// The warped shading, with its hole flag and divisor in alpha (`frame_alpha` in
     /// gbuffer.wgsl), for the passes between the warp and remodulation. Also the shadow layer
     /// as its flow moves it.
     Shading,

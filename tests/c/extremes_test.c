@@ -230,8 +230,9 @@ static void bright_colour_passes_through(void) {
   printf("bright colour over albedo 0 to 1: checked\n");
 }
 
-/* A black (or nearly black, or NaN) base colour in frame t and a lit one at the target: the
-   colour itself is warped, so the output stays within the input's range. */
+/* A black (or nearly black, or NaN) base colour in frame t and a lit one at the target: what is
+   warped from the dark surface never comes back brighter than its colour, so the output stays
+   within the input's range. */
 static void black_source_does_not_blow_up(void) {
   const float bases[3] = {0.0f, 1e-7f, NAN};
   const float rgb[3] = {0.3f, 0.6f, 1.0f};
