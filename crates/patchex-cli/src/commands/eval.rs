@@ -39,8 +39,8 @@ pub enum Method {
     MotionVector,
     OcclusionMotion,
     Gbuffer,
-    /// The default warp with its holes filled by the nearest source texel (what it did before
-    /// the background fill), for comparison.
+    /// The default warp with its holes filled by the nearest source texel
+    /// (`PATCHEX_HOLE_FILL_NEAREST`), for comparison.
     GbufferNearestFill,
     /// The default warp with the shadow sub-task: shadows of dynamic objects separated, tracked
     /// by optical flow and moved.
