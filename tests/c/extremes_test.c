@@ -82,7 +82,6 @@ static float half_to_float(uint16_t h) {
   return sign * ldexpf((float)(mantissa | 0x400), exponent - 25);
 }
 
-
 /* The output image's RGBA, as floats. */
 static void read_output(Image *output, float *rgba) {
   static uint16_t halves[PIXELS * 4];
