@@ -188,9 +188,13 @@ fn to_half(v: vec3f) -> vec3f {
 // [0, MAX_HALF].
 fn demodulated(color: vec3f, factor: vec3f) -> vec4f {
     let shading = color / factor;
-    let scale = max(1.0, max(shading.r, max(shading.g, shading.b)) / FITTED_SHADING);
-    let divisor = factor * scale;
-    return vec4f(to_half(min(color / divisor, vec3f(FITTED_SHADING))), max(divisor.r, max(divisor.g, divisor.b)));
+    let scale = max(1.0, largest(shading) / FITTED_SHADING);
+    return vec4f(to_half(min(shading / scale, vec3f(FITTED_SHADING))), largest(factor) * scale);
+}
+
+// The largest of the three channels.
+fn largest(v: vec3f) -> f32 {
+    return max(v.r, max(v.g, v.b));
 }
 
 // The largest shading stored: below the half-float limit by more than a half-float rounding of
@@ -212,9 +216,9 @@ fn remodulation(target_factor: vec3f, shading: vec3f, divisor: f32) -> vec3f {
     if (divisor < DARK_MODULATION) {
         factor = min(factor, vec3f(divisor));
     }
-    let brightest = max(shading.r, max(shading.g, shading.b));
+    let brightest = largest(shading);
     if (brightest >= SATURATED_SHADING) {
-        let target_max = max(target_factor.r, max(target_factor.g, target_factor.b));
+        let target_max = largest(target_factor);
         let scale = min(divisor / target_max, MAX_HALF / (brightest * target_max));
         factor = target_factor * max(1.0, scale);
     }

@@ -65,10 +65,10 @@ pub fn round_vec3_to_f16(v: Vec3) -> Vec3 {
 /// of its divisor, the modulation factor scaled up where the shading would pass
 /// `FITTED_SHADING`.
 pub fn demodulated(color: Vec3, factor: Vec3) -> Vec4 {
-    let scale = (color / factor).max_element().max(0.0) / FITTED_SHADING;
-    let divisor = factor * scale.max(1.0);
-    round_vec3_to_f16((color / divisor).min(Vec3::splat(FITTED_SHADING)))
-        .extend(divisor.max_element())
+    let shading = color / factor;
+    let scale = (shading.max_element() / FITTED_SHADING).max(1.0);
+    round_vec3_to_f16((shading / scale).min(Vec3::splat(FITTED_SHADING)))
+        .extend(factor.max_element() * scale)
 }
 
 /// `remodulation` in gbuffer.wgsl: the factor warped shading is multiplied by, from the target's
