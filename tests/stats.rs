@@ -1,7 +1,7 @@
 //! Each statistic counts what the header says it counts. On a still scene (frame t and the target
-//! the same rendered instant, so a clean run counts nothing), one input is spoiled in a known set
-//! of pixels, and the statistic the header names for it must count exactly those pixels while
-//! every other counter stays at zero.
+//! the same rendered instant, so a clean run counts nothing), one input of one instant is spoiled
+//! in a known set of pixels, and the statistic the header names for it must count exactly those
+//! pixels while every other counter stays at zero.
 
 mod support;
 
@@ -40,9 +40,27 @@ fn still_frame() -> Frame {
     scene.render(0.0, Vec2::ZERO, -1.0 / 30.0)
 }
 
-/// Runs frame t `source` and target `target`, checks them against the reference, and returns
-/// the counts and the extrapolation's statistics.
-fn run(source: &Frame, target: &Frame) -> (Counts, PatchexExtrapolationStats) {
+/// Which instant a case spoils.
+#[derive(Clone, Copy)]
+enum Instant {
+    FrameT,
+    Target,
+}
+
+/// Extrapolates the still frame from itself with `spoil_frame` applied to `instant`'s copy,
+/// checks the run against the reference, and returns the counts and the extrapolation's
+/// statistics.
+fn run_spoiled(
+    instant: Instant,
+    spoil_frame: impl FnOnce(&mut Frame),
+) -> (Counts, PatchexExtrapolationStats) {
+    let clean = still_frame();
+    let mut spoiled = clean.clone();
+    spoil_frame(&mut spoiled);
+    let (source, target) = match instant {
+        Instant::FrameT => (&spoiled, &clean),
+        Instant::Target => (&clean, &spoiled),
+    };
     let rig = Rig::new(WIDTH as u32, HEIGHT as u32);
     let outcome = run_plugin(&rig, source, target, 0.5, &Chained::default());
     assert_matches_reference(source, target, &outcome, &Chained::default());
@@ -74,8 +92,7 @@ fn spoil(image: &mut patchex::reference::Image, channel: usize, value: f32) {
 
 #[test]
 fn a_clean_still_frame_counts_nothing() {
-    let frame = still_frame();
-    let (counts, stats) = run(&frame, &frame);
+    let (counts, stats) = run_spoiled(Instant::Target, |_| {});
     assert_eq!(counts, Counts::default());
     assert_eq!(stats.render_instead_reasons, 0);
     assert_eq!(stats.largest_motion, 0.0);
@@ -95,10 +112,7 @@ fn source_sanitized_pixels_counts_frame_ts_unusable_colour_and_material() {
         ("metallic below 0", |f| spoil(&mut f.material, 0, -0.5)),
     ];
     for (case, spoil_frame) in cases {
-        let target = still_frame();
-        let mut source = target.clone();
-        spoil_frame(&mut source);
-        let (counts, _) = run(&source, &target);
+        let (counts, _) = run_spoiled(Instant::FrameT, spoil_frame);
         let want = Counts {
             source_sanitized_pixels: k,
             ..Counts::default()
@@ -112,10 +126,9 @@ fn source_sanitized_pixels_counts_frame_ts_unusable_colour_and_material() {
 fn sanitized_pixels_counts_the_targets_unusable_material() {
     let k = spoiled().len() as u32;
     for (case, channel, value) in [("NaN", 0, f32::NAN), ("above 1", 2, 3.0)] {
-        let source = still_frame();
-        let mut target = source.clone();
-        spoil(&mut target.base_color, channel, value);
-        let (counts, _) = run(&source, &target);
+        let (counts, _) = run_spoiled(Instant::Target, |f| {
+            spoil(&mut f.base_color, channel, value)
+        });
         let want = Counts {
             sanitized_pixels: k,
             ..Counts::default()
@@ -137,10 +150,7 @@ fn source_invalid_geometry_pixels_counts_frame_ts_unusable_depth_and_normals() {
         }),
     ];
     for (case, spoil_frame) in cases {
-        let target = still_frame();
-        let mut source = target.clone();
-        spoil_frame(&mut source);
-        let (counts, _) = run(&source, &target);
+        let (counts, _) = run_spoiled(Instant::FrameT, spoil_frame);
         assert_eq!(counts.source_invalid_geometry_pixels, k, "{case}");
         assert_eq!(
             (
@@ -167,10 +177,7 @@ fn invalid_geometry_pixels_counts_the_targets_unusable_geometry_as_holes() {
         }),
     ];
     for (case, spoil_frame) in cases {
-        let source = still_frame();
-        let mut target = source.clone();
-        spoil_frame(&mut target);
-        let (counts, _) = run(&source, &target);
+        let (counts, _) = run_spoiled(Instant::Target, spoil_frame);
         assert_eq!(counts.invalid_geometry_pixels, k, "{case}");
         assert_eq!(counts.hole_pixels, k, "{case}: each is a hole");
         assert_eq!(
@@ -189,10 +196,7 @@ fn invalid_geometry_pixels_counts_the_targets_unusable_geometry_as_holes() {
 #[test]
 fn offscreen_fraction_and_largest_motion_measure_the_targets_motion() {
     let k = spoiled().len() as u32;
-    let source = still_frame();
-    let mut target = source.clone();
-    spoil(&mut target.motion, 0, 1000.0);
-    let (counts, stats) = run(&source, &target);
+    let (counts, stats) = run_spoiled(Instant::Target, |f| spoil(&mut f.motion, 0, 1000.0));
     let want = Counts {
         offscreen_pixels: k,
         hole_pixels: k,
@@ -201,9 +205,7 @@ fn offscreen_fraction_and_largest_motion_measure_the_targets_motion() {
     assert_eq!(counts, want);
     assert_eq!(stats.largest_motion, 1000.0);
 
-    let mut target = source.clone();
-    target.motion.set(20, 16, &[-3.0, 4.0]);
-    let (_, stats) = run(&source, &target);
+    let (_, stats) = run_spoiled(Instant::Target, |f| f.motion.set(20, 16, &[-3.0, 4.0]));
     assert_eq!(stats.largest_motion, 5.0);
 }
 
@@ -211,21 +213,20 @@ fn offscreen_fraction_and_largest_motion_measure_the_targets_motion() {
 /// target's dynamic objects, by stencil id.
 #[test]
 fn object_statistics_count_the_targets_stencil_ids() {
-    let source = still_frame();
-    let mut target = source.clone();
     let mut pixels_of = [0u32; 3];
     let mut motion_x_of = [0.0f32; 3];
-    for y in 0..HEIGHT {
-        for x in 0..WIDTH {
-            let id = [0, 1, 2][(x / 16 + y / 16) % 3];
-            target.stencil.set(x, y, &[id as f32]);
-            let motion = if id == 2 { 0.25 } else { 0.0 };
-            target.motion.set(x, y, &[motion, 0.0]);
-            pixels_of[id] += 1;
-            motion_x_of[id] += motion;
+    let (_, stats) = run_spoiled(Instant::Target, |target| {
+        for y in 0..HEIGHT {
+            for x in 0..WIDTH {
+                let id = [0, 1, 2][(x / 16 + y / 16) % 3];
+                target.stencil.set(x, y, &[id as f32]);
+                let motion = if id == 2 { 0.25 } else { 0.0 };
+                target.motion.set(x, y, &[motion, 0.0]);
+                pixels_of[id] += 1;
+                motion_x_of[id] += motion;
+            }
         }
-    }
-    let (_, stats) = run(&source, &target);
+    });
     assert_eq!(stats.object_count, 2);
     let pixels = (WIDTH * HEIGHT) as f32;
     assert_eq!(
