@@ -10,7 +10,7 @@ use patchex::passes::inpaint::{self, patch_bytes, NetworkPipelines, NetworkTenso
 use patchex::passes::Texture;
 use patchex::reference::network::{forward, Planes};
 use patchex::reference::{round_to_f16, Image};
-use patchex::vk::buffer::ReadbackBuffer;
+use patchex::vk::buffer::{Buffer, BufferRole, CounterRange};
 use patchex::vk::device::Gpu;
 use patchex::vk::pipeline::DescriptorPool;
 use patchex::vk::recorder::Recorder;
@@ -184,14 +184,29 @@ fn run_on_gpu(
     };
     let mut tensors =
         NetworkTensors::new(&gpu, &mut allocator, &pipelines, extent).expect("tensors");
-    let mut patch = ReadbackBuffer::new(&gpu, &mut allocator, "patch", PATCH_BYTES).expect("patch");
-    patch.write(0, &patch_bytes(network, origin, size));
+    let mut patch = Buffer::new(
+        &gpu,
+        &mut allocator,
+        "patch",
+        PATCH_BYTES,
+        BufferRole::Counters,
+    )
+    .expect("patch");
+    let record = patch_bytes(network, origin, size);
     engine.run(|cmd| {
         let mut images: Vec<&mut _> = std::iter::once(&mut tensors.input)
             .chain(tensors.layers.iter_mut())
             .collect();
         let mut rec = Recorder::new(&gpu.device, cmd);
         rec.initialize(&mut images);
+        rec.update_bytes(
+            &CounterRange {
+                buffer: patch.buffer,
+                offset: 0,
+                range: record.len() as u64,
+            },
+            &record,
+        );
         inpaint::record(
             &mut rec,
             &inpaint::FrameInputs {

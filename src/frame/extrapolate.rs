@@ -427,7 +427,11 @@ impl Context {
                 )
             });
         }
-        let stages = rec.finish(&access);
+        let stages = rec.finish(
+            &access,
+            &self.ring.region_counters(slot, region),
+            self.ring.readback.buffer,
+        );
 
         let record = self.ring.slots[slot]
             .record

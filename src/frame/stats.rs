@@ -7,7 +7,7 @@ use crate::error::{bail, PatchexResult, Result};
 use crate::frame::counters;
 use crate::passes::{inpaint, segmentation, warp};
 use crate::vk::access::StageRecord;
-use crate::vk::buffer::ReadbackBuffer;
+use crate::vk::buffer::Buffer;
 
 impl Context {
     /// Fills `out` for `frame_index`; `NotReady` while the GPU has not finished it.
@@ -56,7 +56,7 @@ impl Context {
             [PatchexStageTraffic::default(); PATCHEX_MAX_EXTRAPOLATIONS_PER_FRAME];
         for (region_record, traffic) in record.extrapolations.iter().zip(&mut extrapolation_traffic)
         {
-            *traffic = stage_traffic(&region_record.stages, &self.ring.counters);
+            *traffic = stage_traffic(&region_record.stages, &self.ring.readback);
         }
         let pixels = (record.extent.width * record.extent.height) as f32;
         for (index, (region_record, stats)) in record
@@ -71,24 +71,24 @@ impl Context {
             stats.alpha = region_record.alpha;
             stats.hole_fraction =
                 self.ring
-                    .counters
+                    .readback
                     .read_u32(counters + warp::HOLE_PIXELS_OFFSET) as f32
                     / pixels;
             stats.offscreen_fraction =
                 self.ring
-                    .counters
+                    .readback
                     .read_u32(counters + warp::OFFSCREEN_PIXELS_OFFSET) as f32
                     / pixels;
             let segmented =
-                segmentation::read_back(&self.ring.counters, counters + counters::OBJECT_TABLE);
+                segmentation::read_back(&self.ring.readback, counters + counters::OBJECT_TABLE);
             // Remodulation counts on its own, or in the warp when the warp remodulates.
-            let frame_warp = |offset| self.ring.counters.read_u32(counters + offset);
-            stats.sanitized_pixels = self.ring.counters.read_u32(counters + counters::SANITIZE)
+            let frame_warp = |offset| self.ring.readback.read_u32(counters + offset);
+            stats.sanitized_pixels = self.ring.readback.read_u32(counters + counters::SANITIZE)
                 + frame_warp(warp::SANITIZED_OFFSET);
             stats.invalid_geometry_pixels = frame_warp(warp::INVALID_GEOMETRY_OFFSET);
             stats.largest_motion = f32::from_bits(
                 self.ring
-                    .counters
+                    .readback
                     .read_u32(counters + warp::LARGEST_MOTION_OFFSET),
             );
             stats.stages_run = stage_bits(&region_record.stages);
@@ -96,7 +96,7 @@ impl Context {
             // The divisor each network ran at; 0 for one whose patch was empty.
             let divisors = [inpaint::PATCH_SLOT_FI, inpaint::PATCH_SLOT_NEAR_BE].map(|slot| {
                 let (extent, divisor) = inpaint::read_patch(
-                    &self.ring.counters,
+                    &self.ring.readback,
                     counters + counters::PATCHES + slot * inpaint::PATCH_SLOT_BYTES,
                 );
                 if extent.iter().all(|&side| side > 0) {
@@ -140,18 +140,18 @@ impl Context {
             submit_gpu_ms,
             source_sanitized_pixels: self
                 .ring
-                .counters
+                .readback
                 .read_u32(self.ring.counter_offset(slot, 0) + counters::SANITIZE),
             source_invalid_geometry_pixels: self
                 .ring
-                .counters
+                .readback
                 .read_u32(self.ring.counter_offset(slot, 0) + counters::GEOMETRY),
             extrapolation_count: record.extrapolations.len() as u32,
             extrapolations,
             device_memory_bytes: self.device_memory_bytes(),
             submit_stages_run: stage_bits(&record.submit.stages),
             shadow_history: record.shadow_history,
-            submit_traffic: stage_traffic(&record.submit.stages, &self.ring.counters),
+            submit_traffic: stage_traffic(&record.submit.stages, &self.ring.readback),
             extrapolation_traffic,
         };
         Ok(if ready {
@@ -165,6 +165,7 @@ impl Context {
         self.images.size_bytes()
             + self.ring.retired_bytes()
             + self.ring.counters.size_bytes()
+            + self.ring.readback.size_bytes()
             + self.inpainting.as_ref().map_or(0, |i| i.size_bytes())
     }
 }
@@ -177,7 +178,7 @@ fn stage_bits(stages: &[StageRecord]) -> u32 {
 }
 
 /// Each stage's traffic, listed dispatches counted for the lengths `counters` hold.
-fn stage_traffic(stages: &[StageRecord], counters: &ReadbackBuffer) -> PatchexStageTraffic {
+fn stage_traffic(stages: &[StageRecord], counters: &Buffer) -> PatchexStageTraffic {
     let mut out = PatchexStageTraffic::default();
     for StageRecord {
         stage,

@@ -185,7 +185,11 @@ impl Context {
                 )
             });
         }
-        let stages = rec.finish(&access);
+        let stages = rec.finish(
+            &access,
+            &self.ring.region_counters(slot, 0),
+            self.ring.readback.buffer,
+        );
 
         let shadow_history = match (&separation_inputs, track) {
             (None, _) => PATCHEX_SHADOW_HISTORY_NONE,

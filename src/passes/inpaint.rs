@@ -509,7 +509,7 @@ impl Inpainting {
 
 /// The extent and divisor `plan_patches` wrote into the patch record at `offset` of the
 /// counters.
-pub fn read_patch(counters: &crate::vk::buffer::ReadbackBuffer, offset: u64) -> ([u32; 2], u32) {
+pub fn read_patch(counters: &crate::vk::buffer::Buffer, offset: u64) -> ([u32; 2], u32) {
     (
         [
             counters.read_u32(offset + 8),

@@ -1,5 +1,5 @@
 //! Foveated segmentation (PatchEX section 4, Algorithm 1), three dispatches over one object table
-//! in the frame's host-visible counters (`shaders/include/segmentation.wgsl`):
+//! in the frame's counters (`shaders/include/segmentation.wgsl`):
 //! `object_bounds` accumulates each dynamic object's bounds and motion, `grow_regions` turns them
 //! into grown rectangles, `region_masks` labels every pixel FI, near-BE or far-BE.
 
@@ -9,7 +9,7 @@ use crate::abi::*;
 use crate::error::{bail, Result};
 use crate::passes::{CounterRange, Texture};
 use crate::shaders;
-use crate::vk::buffer::ReadbackBuffer;
+use crate::vk::buffer::Buffer;
 use crate::vk::image::OwnedImage;
 use crate::vk::recorder::{Pass, Recorder};
 
@@ -148,7 +148,7 @@ pub struct SegmentationResult {
     pub rects: Vec<PatchexRegionRect>,
 }
 
-pub fn read_back(counters: &ReadbackBuffer, offset: u64) -> SegmentationResult {
+pub fn read_back(counters: &Buffer, offset: u64) -> SegmentationResult {
     let word = |at: u64| counters.read_u32(offset + at);
     let count = (word(RECT_COUNT_OFFSET) as usize).min(MAX_OBJECTS);
     let mut rects: Vec<PatchexRegionRect> = (0..count as u64)

@@ -274,16 +274,17 @@ pub fn owned_for_copy(
     }
 }
 
-/// Makes compute writes to host-visible memory readable by the host after the engine's fence.
-pub fn compute_to_host(device: &ash::Device, cmd: vk::CommandBuffer) {
+/// Makes the copy of the counters into the readback buffer readable by the host after the
+/// engine's fence.
+pub fn transfer_to_host(device: &ash::Device, cmd: vk::CommandBuffer) {
     let memory = vk::MemoryBarrier::default()
-        .src_access_mask(vk::AccessFlags::SHADER_WRITE)
+        .src_access_mask(vk::AccessFlags::TRANSFER_WRITE)
         .dst_access_mask(vk::AccessFlags::HOST_READ);
     // SAFETY: cmd is recording.
     unsafe {
         device.cmd_pipeline_barrier(
             cmd,
-            vk::PipelineStageFlags::COMPUTE_SHADER,
+            vk::PipelineStageFlags::TRANSFER,
             vk::PipelineStageFlags::HOST,
             vk::DependencyFlags::empty(),
             &[memory],

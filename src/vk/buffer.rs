@@ -1,4 +1,9 @@
-//! A host-visible buffer the GPU writes and the host reads once the engine's fence has signalled.
+//! The frame ring's two buffers: the counters the passes write in device-local memory, and the
+//! host-visible copy the host reads once the engine's fence has signalled.
+//!
+//! The passes' atomics, uniform blocks, hole lists and indirect arguments stay in device memory:
+//! on a discrete GPU, host-visible memory sits across the bus, where every atomic of every
+//! workgroup would pay a round trip. Each call ends with one copy of its counters to the host.
 
 use ash::vk;
 use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme, Allocator};
@@ -7,24 +12,44 @@ use gpu_allocator::MemoryLocation;
 use crate::error::{bail, Error, Result};
 use crate::vk::device::Gpu;
 
-pub struct ReadbackBuffer {
+/// What a [`Buffer`] is for, which decides its memory and usage.
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub enum BufferRole {
+    /// Written and read by the passes: storage, uniform blocks, indirect arguments, fills.
+    Counters,
+    /// A copy of the counters the host reads.
+    Readback,
+}
+
+pub struct Buffer {
     pub buffer: vk::Buffer,
     pub size: u64,
     allocation: Option<Allocation>,
 }
 
-impl ReadbackBuffer {
-    pub fn new(gpu: &Gpu, allocator: &mut Allocator, name: &str, size: u64) -> Result<Self> {
+impl Buffer {
+    pub fn new(
+        gpu: &Gpu,
+        allocator: &mut Allocator,
+        name: &str,
+        size: u64,
+        role: BufferRole,
+    ) -> Result<Self> {
         let device = &gpu.device;
-        let info = vk::BufferCreateInfo::default()
-            .size(size)
-            // Indirect: the networks' patch records hold their dispatch sizes.
-            .usage(
+        let (usage, location) = match role {
+            BufferRole::Counters => (
                 vk::BufferUsageFlags::STORAGE_BUFFER
                     | vk::BufferUsageFlags::UNIFORM_BUFFER
+                    | vk::BufferUsageFlags::TRANSFER_SRC
                     | vk::BufferUsageFlags::TRANSFER_DST
                     | vk::BufferUsageFlags::INDIRECT_BUFFER,
-            )
+                MemoryLocation::GpuOnly,
+            ),
+            BufferRole::Readback => (vk::BufferUsageFlags::TRANSFER_DST, MemoryLocation::GpuToCpu),
+        };
+        let info = vk::BufferCreateInfo::default()
+            .size(size)
+            .usage(usage)
             .sharing_mode(vk::SharingMode::EXCLUSIVE);
         let during = |error: Error| error.during(format_args!("creating the {name} buffer"));
         // SAFETY: valid device; handles made here are destroyed on every error path.
@@ -35,7 +60,7 @@ impl ReadbackBuffer {
             let allocation = match allocator.allocate(&AllocationCreateDesc {
                 name,
                 requirements: device.get_buffer_memory_requirements(buffer),
-                location: MemoryLocation::GpuToCpu,
+                location,
                 linear: true,
                 allocation_scheme: AllocationScheme::GpuAllocatorManaged,
             }) {
@@ -45,14 +70,14 @@ impl ReadbackBuffer {
                     return Err(during(error.into()));
                 }
             };
-            let mut readback = Self {
+            let mut made = Self {
                 buffer,
                 size,
                 allocation: Some(allocation),
             };
-            let allocation = readback.allocation.as_ref().unwrap();
-            if allocation.mapped_ptr().is_none() {
-                readback.destroy(gpu, allocator);
+            let allocation = made.allocation.as_ref().unwrap();
+            if role == BufferRole::Readback && allocation.mapped_ptr().is_none() {
+                made.destroy(gpu, allocator);
                 bail!(
                     ErrorMissingDeviceFeature,
                     "{name}: no host-visible mappable memory"
@@ -61,32 +86,22 @@ impl ReadbackBuffer {
             if let Err(error) =
                 device.bind_buffer_memory(buffer, allocation.memory(), allocation.offset())
             {
-                readback.destroy(gpu, allocator);
+                made.destroy(gpu, allocator);
                 return Err(during(error.into()));
             }
-            Ok(readback)
+            Ok(made)
         }
     }
 
-    /// Reads a `u32` the GPU wrote at `offset` bytes.
+    /// Reads a `u32` the GPU copied to `offset` bytes of a readback buffer.
     pub fn read_u32(&self, offset: u64) -> u32 {
         let bytes = self
             .allocation
             .as_ref()
             .and_then(|a| a.mapped_slice())
-            .expect("mapped at creation");
+            .expect("readback buffers are mapped at creation");
         let at = offset as usize;
         u32::from_ne_bytes(bytes[at..at + 4].try_into().unwrap())
-    }
-
-    /// Writes `bytes` at `offset`, for the GPU to read once the command buffer is submitted.
-    pub fn write(&mut self, offset: u64, bytes: &[u8]) {
-        let mapped = self
-            .allocation
-            .as_mut()
-            .and_then(|a| a.mapped_slice_mut())
-            .expect("mapped at creation");
-        mapped[offset as usize..][..bytes.len()].copy_from_slice(bytes);
     }
 
     pub fn size_bytes(&self) -> u64 {
@@ -102,7 +117,7 @@ impl ReadbackBuffer {
     }
 }
 
-/// Where a pass's counters live in the frame's host-visible counter buffer.
+/// Where a pass's counters live in the frame ring's counter buffer.
 pub struct CounterRange {
     pub buffer: vk::Buffer,
     pub offset: u64,

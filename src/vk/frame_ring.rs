@@ -14,7 +14,7 @@ use crate::abi::{
 };
 use crate::error::Result;
 use crate::vk::access::StageRecord;
-use crate::vk::buffer::{CounterRange, ReadbackBuffer};
+use crate::vk::buffer::{Buffer, BufferRole, CounterRange};
 use crate::vk::device::Gpu;
 use crate::vk::image::OwnedImage;
 use crate::vk::pipeline::DescriptorPool;
@@ -57,7 +57,10 @@ pub struct FrameRing {
     sets_per_region: usize,
     pub slots: Vec<FrameSlot>,
     pub timer: Option<StageTimer>,
-    pub counters: ReadbackBuffer,
+    /// What the passes count and list, in device memory.
+    pub counters: Buffer,
+    /// Each call's counters, copied at its end for the host to read.
+    pub readback: Buffer,
     /// One region's counters.
     counter_bytes: u64,
     counter_stride: u64,
@@ -79,14 +82,34 @@ impl FrameRing {
         // Each region's counters start at an offset the device can bind.
         let counter_stride = counter_bytes.next_multiple_of(gpu.min_buffer_offset_alignment.max(1));
         let counters_size = counter_stride * (frames_in_flight * REGIONS_PER_SLOT) as u64;
-        let counters =
-            ReadbackBuffer::new(gpu, allocator, "patchex frame counters", counters_size)?;
+        let counters = Buffer::new(
+            gpu,
+            allocator,
+            "patchex frame counters",
+            counters_size,
+            BufferRole::Counters,
+        )?;
+        let readback = match Buffer::new(
+            gpu,
+            allocator,
+            "patchex frame counters readback",
+            counters_size,
+            BufferRole::Readback,
+        ) {
+            Ok(readback) => readback,
+            Err(error) => {
+                let mut counters = counters;
+                counters.destroy(gpu, allocator);
+                return Err(error);
+            }
+        };
         let mut ring = Self {
             descriptors: None,
             sets_per_region: set_layouts.len(),
             slots: Vec::new(),
             timer: None,
             counters,
+            readback,
             counter_bytes,
             counter_stride,
             retired: Vec::new(),
@@ -192,6 +215,7 @@ impl FrameRing {
             timer.destroy(&gpu.device);
         }
         self.counters.destroy(gpu, allocator);
+        self.readback.destroy(gpu, allocator);
         if let Some(mut descriptors) = self.descriptors.take() {
             descriptors.destroy(&gpu.device);
         }

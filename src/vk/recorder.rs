@@ -234,12 +234,16 @@ impl<'a> Recorder<'a> {
     /// Writes `contents` into `range` in the command stream (a uniform block of the call), after
     /// whatever the GPU still does with the range; a write from the host could race it.
     pub fn update<P: PushConstants>(&mut self, range: &CounterRange, contents: &P) {
-        let bytes = contents.as_bytes();
+        self.update_bytes(range, contents.as_bytes());
+    }
+
+    /// [`Self::update`] with the bytes themselves: a multiple of 4 under 65536, filling `range`.
+    pub fn update_bytes(&mut self, range: &CounterRange, bytes: &[u8]) {
         debug_assert_eq!(bytes.len() as u64, range.range);
         self.order(&[transfer_write(Resource::range(range))]);
         self.traffic.bytes_written += range.range;
         // SAFETY: cmd is recording; the range lies inside the buffer, which has TRANSFER_DST,
-        // and holds a multiple of 4 bytes under 65536, as every uniform block here does.
+        // and the bytes are a multiple of 4 under 65536, as every uniform block here is.
         unsafe {
             self.device
                 .cmd_update_buffer(self.cmd, range.buffer, range.offset, bytes)
@@ -303,10 +307,32 @@ impl<'a> Recorder<'a> {
         barriers::owned_for_copy(self.device, self.cmd, from, true);
     }
 
-    /// Ends the call: the counters become readable by the host after the engine's fence, and
-    /// the engine's images return to their layouts. Returns the stages recorded.
-    pub fn finish(self, engine: &EngineImageAccess) -> Vec<StageRecord> {
-        barriers::compute_to_host(self.device, self.cmd);
+    /// Ends the call: its `counters` are copied to the same offset of `readback`, which the
+    /// host reads after the engine's fence, and the engine's images return to their layouts.
+    /// Returns the stages recorded.
+    pub fn finish(
+        mut self,
+        engine: &EngineImageAccess,
+        counters: &CounterRange,
+        readback: vk::Buffer,
+    ) -> Vec<StageRecord> {
+        self.order(&[Access {
+            resource: Resource::range(counters),
+            write: false,
+            stage: vk::PipelineStageFlags::TRANSFER,
+        }]);
+        let region = vk::BufferCopy {
+            src_offset: counters.offset,
+            dst_offset: counters.offset,
+            size: counters.range,
+        };
+        // SAFETY: cmd is recording; both buffers are live and hold the range, the counters with
+        // TRANSFER_SRC and the readback with TRANSFER_DST usage.
+        unsafe {
+            self.device
+                .cmd_copy_buffer(self.cmd, counters.buffer, readback, &[region])
+        };
+        barriers::transfer_to_host(self.device, self.cmd);
         engine.release(self.device, self.cmd);
         self.stages
     }
