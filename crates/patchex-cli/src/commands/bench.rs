@@ -228,6 +228,7 @@ pub fn run(args: BenchArgs) -> CommandResult {
     let gpu = Arc::new(Gpu::new(GpuOptions { validation: false })?);
     // results[size][configuration]
     let mut results = vec![vec![Measured::default(); configurations.len()]; args.sizes.len()];
+    let mut device = String::new();
     for scene in &args.scenes {
         let world = World::load(scene, None)?;
         for (size_index, &(width, height)) in args.sizes.iter().enumerate() {
@@ -249,7 +250,7 @@ pub fn run(args: BenchArgs) -> CommandResult {
                 &mut |_, _| {},
             )?;
             eprintln!("measuring");
-            measure(
+            device = measure(
                 &dir,
                 args.input_formats,
                 Duration::from_millis(args.warm_up_ms),
@@ -259,11 +260,11 @@ pub fn run(args: BenchArgs) -> CommandResult {
             )?;
         }
     }
-    let markdown = report(&args, &configurations, &results);
+    let markdown = report(&args, &device, &configurations, &results);
     std::fs::write(args.out.join("bench.md"), &markdown)?;
     std::fs::write(
         args.out.join("bench.json"),
-        serde_json::to_string_pretty(&report_json(&args, &configurations, &results))? + "\n",
+        serde_json::to_string_pretty(&report_json(&args, &device, &configurations, &results))? + "\n",
     )?;
     // The tables are the measurement; a machine without the plot's font still gets them.
     if let Err(error) = plot(
@@ -288,7 +289,7 @@ fn measure(
     max_patch_side: Option<u32>,
     configurations: &[Configuration],
     results: &mut [Measured],
-) -> CommandResult {
+) -> Result<String, Box<dyn std::error::Error>> {
     let dataset = Dataset::open(dir)?;
     let manifest = &dataset.manifest;
     let targets: Vec<usize> = (3..manifest.frames.len()).step_by(2).collect();
@@ -345,14 +346,19 @@ fn measure(
                 (extrapolation.fi_fraction + extrapolation.near_be_fraction) as f64;
         }
     }
-    Ok(())
+    Ok(driver.engine.device_name.clone())
 }
 
 fn size_label(size: (u32, u32)) -> String {
     format!("{}p", size.1)
 }
 
-fn report(args: &BenchArgs, configurations: &[Configuration], results: &[Vec<Measured>]) -> String {
+fn report(
+    args: &BenchArgs,
+    device: &str,
+    configurations: &[Configuration],
+    results: &[Vec<Measured>],
+) -> String {
     let mut out = String::new();
     let scenes: Vec<String> = args
         .scenes
@@ -366,7 +372,7 @@ fn report(args: &BenchArgs, configurations: &[Configuration], results: &[Vec<Mea
         .collect();
     writeln!(
         out,
-        "Every configuration on the same targets of {} ({} frames each, targets from frame 3 \
+        "Every configuration on {device}, on the same targets of {} ({} frames each, targets from frame 3 \
          on, alpha 0.5, the G-buffer in {:?} formats, the networks' patches up to {} texels a \
          side, the whole-frame ablation's the whole frame), quality of the tone-mapped frame against the rendered \
          target; GPU ms per target from timestamp queries (submit plus extrapolation, each \
@@ -536,6 +542,7 @@ fn patch_ratio_table(
 
 fn report_json(
     args: &BenchArgs,
+    device: &str,
     configurations: &[Configuration],
     results: &[Vec<Measured>],
 ) -> serde_json::Value {
@@ -566,7 +573,7 @@ fn report_json(
             })
         })
         .collect();
-    json!({ "frames": args.frames, "rows": rows })
+    json!({ "device": device, "frames": args.frames, "warm_up_ms": args.warm_up_ms, "rows": rows })
 }
 
 /// PSNR against total GPU time; one line per configuration through the sizes, each point
