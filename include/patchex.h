@@ -92,7 +92,7 @@
 #include <vulkan/vulkan.h>
 
 // Version of this ABI, returned by `patchex_abi_version`; bumped on any incompatible change.
-#define PATCHEX_ABI_VERSION 10
+#define PATCHEX_ABI_VERSION 11
 
 // The warp settings a context uses unless told otherwise: a 3x3 gather; a texel keeps most of
 // its weight within ~5% relative depth, ~0.1 of (1 - cos) of normal angle (about 25 degrees),
@@ -480,8 +480,15 @@ typedef struct PatchexStageTraffic {
   uint64_t bytes_written[PATCHEX_STAGE_SLOTS];
   // Arithmetic operations: each shader's static count per invocation (every expression once,
   // per vector lane; every loop body and branch once) times the invocations dispatched. The
-  // networks' layers, dispatched by the GPU itself, count 0.
+  // networks' layers (inference) count their 3x3 convolutions over the patches the GPU
+  // planned, a multiply-add counting two.
   uint64_t arithmetic_operations[PATCHEX_STAGE_SLOTS];
+  // Compute dispatches recorded, direct and indirect. On a GPU each costs a few microseconds
+  // however little it does, which dominates a stage of small passes.
+  uint32_t dispatches[PATCHEX_STAGE_SLOTS];
+  // Pipeline barriers recorded, each before a command that waits for earlier ones: the GPU
+  // drains its work there.
+  uint32_t barriers[PATCHEX_STAGE_SLOTS];
 } PatchexStageTraffic;
 
 // Filled by `patchex_get_frame_stats`; the caller sets the header.

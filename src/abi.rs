@@ -26,7 +26,7 @@ pub type PFN_vkGetInstanceProcAddr = Option<vk::PFN_vkGetInstanceProcAddr>;
 pub type PFN_vkGetDeviceProcAddr = Option<vk::PFN_vkGetDeviceProcAddr>;
 
 /// Version of this ABI, returned by `patchex_abi_version`; bumped on any incompatible change.
-pub const PATCHEX_ABI_VERSION: u32 = 10;
+pub const PATCHEX_ABI_VERSION: u32 = 11;
 
 /// 0 or 1; any other value is rejected as an invalid argument.
 pub type PatchexBool = u32;
@@ -738,8 +738,15 @@ pub struct PatchexStageTraffic {
     pub bytes_written: [u64; PATCHEX_STAGE_SLOTS],
     /// Arithmetic operations: each shader's static count per invocation (every expression once,
     /// per vector lane; every loop body and branch once) times the invocations dispatched. The
-    /// networks' layers, dispatched by the GPU itself, count 0.
+    /// networks' layers (inference) count their 3x3 convolutions over the patches the GPU
+    /// planned, a multiply-add counting two.
     pub arithmetic_operations: [u64; PATCHEX_STAGE_SLOTS],
+    /// Compute dispatches recorded, direct and indirect. On a GPU each costs a few microseconds
+    /// however little it does, which dominates a stage of small passes.
+    pub dispatches: [u32; PATCHEX_STAGE_SLOTS],
+    /// Pipeline barriers recorded, each before a command that waits for earlier ones: the GPU
+    /// drains its work there.
+    pub barriers: [u32; PATCHEX_STAGE_SLOTS],
 }
 
 /// `PatchexFrameStats.shadow_history`.

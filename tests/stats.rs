@@ -1,12 +1,14 @@
 //! Each statistic counts what the header says it counts. On a still scene (frame t and the target
 //! the same rendered instant, so a clean run counts nothing), one input of one instant is spoiled
 //! in a known set of pixels, and the statistic the header names for it must count exactly those
-//! pixels while every other counter stays at zero.
+//! pixels while every other counter stays at zero. The stages' command counts match what the
+//! plugin recorded into the engine's command buffer.
 
 mod support;
 
 use glam::Vec2;
 use patchex::abi::*;
+use patchex::error::PatchexResult;
 use support::pipeline::{assert_matches_reference, run_plugin, Chained};
 use support::scene::{Frame, Scene};
 use support::*;
@@ -237,5 +239,65 @@ fn object_statistics_count_the_targets_stencil_ids() {
         assert_eq!(rect.object_id, id as u32);
         assert_eq!(rect.pixel_count, pixels_of[id]);
         assert!((rect.mean_motion_x - motion_x_of[id] / pixels_of[id] as f32).abs() < 1e-6);
+    }
+}
+
+#[test]
+fn stage_commands_count_every_dispatch_the_plugin_records() {
+    let (width, height) = (WIDTH as u32, HEIGHT as u32);
+    for preset in [PATCHEX_PRESET_WARP_ONLY, PATCHEX_PRESET_NETWORKS] {
+        let rig = Rig::intercepted_with_create_info(width, height, |info| info.preset = preset);
+        let intercept = rig.intercept.as_ref().expect("intercepted");
+        let (source, target) = frame_pair(&rig.engine, width, height, 1);
+        let output = output_image(&rig.engine, width, height);
+        let family = rig.engine.queue_family_index;
+        let mut recorded = None;
+        rig.engine.run(|cmd| {
+            intercept.take_recorded(cmd);
+            assert_eq!(
+                rig.submit(cmd, &source.frame_desc(1, family)),
+                PatchexResult::Success
+            );
+            let desc = target.extrapolate_desc(&output, 0.5, family);
+            assert_eq!(rig.extrapolate(cmd, &desc), PatchexResult::Success);
+            recorded = Some(intercept.take_recorded(cmd));
+        });
+        let recorded = recorded.expect("recorded");
+        let (result, stats) = rig.stats(1);
+        assert_eq!(result, PatchexResult::Success, "{}", rig.last_error());
+        rig.engine.assert_validation_clean();
+
+        let calls = [
+            (&stats.submit_traffic, stats.submit_stages_run),
+            (
+                &stats.extrapolation_traffic[0],
+                stats.extrapolations[0].stages_run,
+            ),
+        ];
+        let mut dispatches = 0;
+        let mut barriers = 0;
+        for (traffic, stages_run) in calls {
+            for stage in 0..PATCHEX_STAGE_SLOTS {
+                if stages_run & (1 << stage) != 0 {
+                    assert!(
+                        traffic.dispatches[stage] > 0,
+                        "preset {preset}: stage {stage} ran without a dispatch"
+                    );
+                }
+                dispatches += traffic.dispatches[stage];
+                barriers += traffic.barriers[stage];
+            }
+        }
+        assert_eq!(
+            dispatches, recorded.dispatches,
+            "preset {preset}: every dispatch is a stage's"
+        );
+        // The rest wait for the engine's work, hand its images back and make the counters
+        // readable: outside every stage.
+        assert!(
+            barriers > 0 && barriers < recorded.barriers,
+            "preset {preset}: {barriers} barriers in stages of {} recorded",
+            recorded.barriers
+        );
     }
 }

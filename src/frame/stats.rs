@@ -94,11 +94,13 @@ impl Context {
             stats.stages_run = stage_bits(&region_record.stages);
             // The networks' stages were recorded, but dispatch nothing on empty patches.
             // The divisor each network ran at; 0 for one whose patch was empty.
-            let divisors = [inpaint::PATCH_SLOT_FI, inpaint::PATCH_SLOT_NEAR_BE].map(|slot| {
-                let (extent, divisor) = inpaint::read_patch(
+            let patches = [inpaint::PATCH_SLOT_FI, inpaint::PATCH_SLOT_NEAR_BE].map(|slot| {
+                inpaint::read_patch(
                     &self.ring.readback,
                     counters + counters::PATCHES + slot * inpaint::PATCH_SLOT_BYTES,
-                );
+                )
+            });
+            let divisors = patches.map(|(extent, divisor)| {
                 if extent.iter().all(|&side| side > 0) {
                     divisor
                 } else {
@@ -106,6 +108,15 @@ impl Context {
                 }
             });
             stats.network_divisors = divisors;
+            // The layers run over the patches the GPU planned: their arithmetic is known now.
+            if let Some(inpainting) = &self.inpainting {
+                extrapolation_traffic[index].arithmetic_operations
+                    [PATCHEX_STAGE_INFERENCE as usize] += patches
+                    .iter()
+                    .zip(&inpainting.networks)
+                    .map(|((extent, _), (pipelines, _))| pipelines.network.operations(*extent))
+                    .sum::<u64>();
+            }
             let (fi_ran, near_be_ran) = (divisors[0] > 0, divisors[1] > 0);
             if !fi_ran && !near_be_ran {
                 stats.stages_run &= !(1 << PATCHEX_STAGE_INFERENCE | 1 << PATCHEX_STAGE_BLEND);
@@ -183,6 +194,7 @@ fn stage_traffic(stages: &[StageRecord], counters: &Buffer) -> PatchexStageTraff
     for StageRecord {
         stage,
         traffic,
+        commands,
         listed,
     } in stages
     {
@@ -194,6 +206,8 @@ fn stage_traffic(stages: &[StageRecord], counters: &Buffer) -> PatchexStageTraff
         out.bytes_read[stage] += total.bytes_read;
         out.bytes_written[stage] += total.bytes_written;
         out.arithmetic_operations[stage] += total.operations;
+        out.dispatches[stage] += commands.dispatches;
+        out.barriers[stage] += commands.barriers;
     }
     out
 }

@@ -37,6 +37,28 @@ pub struct Network {
 
 impl Network {
     /// Patches must be a multiple of this in both directions (one halving per level below 0).
+    /// Arithmetic operations of one run over a patch of `extent` texels: each layer's 3x3
+    /// convolutions at its level's resolution, a multiply-add counting two as peak figures
+    /// count them (activations and the input gather not counted). An empty patch costs none.
+    pub fn operations(&self, extent: [u32; 2]) -> u64 {
+        if extent.contains(&0) {
+            return 0;
+        }
+        self.layers
+            .iter()
+            .map(|layer| {
+                let texels = (extent[0] >> layer.level).max(1) as u64
+                    * (extent[1] >> layer.level).max(1) as u64;
+                let convolutions = match layer.kind {
+                    LayerKind::Gated { .. } => 2,
+                    LayerKind::Output { .. } => 1,
+                };
+                let weights = 9 * (layer.input_channels() * layer.output_channels()) as u64;
+                texels * convolutions * 2 * weights
+            })
+            .sum()
+    }
+
     pub fn multiple(&self) -> u32 {
         1 << (self.widths.len() - 1)
     }
@@ -197,4 +219,25 @@ fn read_tensor(
         );
     }
     Ok(values)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::network::SHIPPED_FI;
+
+    #[test]
+    fn operations_follow_the_patch_and_the_layers() {
+        let network = Network::from_safetensors(SHIPPED_FI, "built-in FI network").unwrap();
+        let side = 4 * network.multiple();
+        let small = network.operations([side, side]);
+        // Every level divides a multiple of the network's: texels, so operations, scale by 4.
+        assert_eq!(network.operations([2 * side, 2 * side]), 4 * small);
+        assert_eq!(network.operations([0, side]), 0);
+        // At full resolution a layer costs two operations per weight per texel (a gated one
+        // two convolutions); the first layer alone, over a patch's texels, is a lower bound.
+        let first = &network.layers[0];
+        let per_texel = 2 * 9 * (first.input_channels() * first.output_channels()) as u64;
+        assert!(small > per_texel * (side * side) as u64, "{small}");
+    }
 }

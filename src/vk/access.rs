@@ -75,12 +75,22 @@ impl std::ops::AddAssign for Traffic {
     }
 }
 
+/// The commands a stage recorded: what a GPU pays for besides bytes and arithmetic.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Commands {
+    /// Compute dispatches, direct and indirect.
+    pub dispatches: u32,
+    /// Pipeline barriers, each placed before a command that must wait for earlier ones.
+    pub barriers: u32,
+}
+
 /// A stage a recorder recorded, and what its commands move (commands outside stages, such as
 /// zeroing the counters, are not counted).
 #[derive(Clone, Debug)]
 pub struct StageRecord {
     pub stage: PatchexStage,
     pub traffic: Traffic,
+    pub commands: Commands,
     /// Dispatches over a list the GPU wrote, whose traffic follows the list's length.
     pub listed: Vec<ListedTraffic>,
 }

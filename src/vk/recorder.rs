@@ -11,7 +11,7 @@ use ash::vk;
 
 use crate::abi::PatchexStage;
 use crate::shaders::PushConstants;
-use crate::vk::access::{self, Access, ListedTraffic, Resource, StageRecord, Traffic};
+use crate::vk::access::{self, Access, Commands, ListedTraffic, Resource, StageRecord, Traffic};
 use crate::vk::barriers::{self, EngineImageAccess};
 use crate::vk::buffer::CounterRange;
 use crate::vk::frame_ring::FrameRing;
@@ -56,8 +56,9 @@ pub struct Recorder<'a> {
     pending: Vec<Access>,
     times: Option<StageTimes<'a>>,
     stages: Vec<StageRecord>,
-    /// What the stage being recorded has moved so far.
+    /// What the stage being recorded has moved and recorded so far.
     traffic: Traffic,
+    commands: Commands,
     listed: Vec<ListedTraffic>,
 }
 
@@ -76,6 +77,7 @@ impl<'a> Recorder<'a> {
             times: None,
             stages: Vec::new(),
             traffic: Traffic::default(),
+            commands: Commands::default(),
             listed: Vec::new(),
         }
     }
@@ -119,6 +121,7 @@ impl<'a> Recorder<'a> {
         self.stages.push(StageRecord {
             stage,
             traffic: std::mem::take(&mut self.traffic),
+            commands: std::mem::take(&mut self.commands),
             listed: std::mem::take(&mut self.listed),
         });
     }
@@ -162,6 +165,7 @@ impl<'a> Recorder<'a> {
             let invocations = extent.width.next_multiple_of(group_x) as u64
                 * extent.height.next_multiple_of(group_y) as u64;
             self.traffic.operations += invocations * pipeline.shader.arithmetic;
+            self.commands.dispatches += 1;
             pipeline.dispatch(self.device, self.cmd, set, &params, extent);
         }
     }
@@ -216,6 +220,7 @@ impl<'a> Recorder<'a> {
         });
         self.order(&accesses);
         self.traffic.bytes_read += args.range;
+        self.commands.dispatches += 1;
         let Pass { pipeline, set } = bound.pass;
         pipeline.dispatch_indirect(self.device, self.cmd, set, params, args.buffer, args.offset);
     }
@@ -275,6 +280,7 @@ impl<'a> Recorder<'a> {
         self.traffic.bytes_read += from.texel_bytes();
         self.traffic.bytes_written += to.bytes;
         barriers::owned_for_copy(self.device, self.cmd, from, false);
+        self.commands.barriers += 1;
         let layer = vk::ImageSubresourceLayers {
             aspect_mask: vk::ImageAspectFlags::COLOR,
             mip_level: 0,
@@ -305,6 +311,7 @@ impl<'a> Recorder<'a> {
             );
         }
         barriers::owned_for_copy(self.device, self.cmd, from, true);
+        self.commands.barriers += 1;
     }
 
     /// Ends the call: its `counters` are copied to the same offset of `readback`, which the
@@ -350,6 +357,7 @@ impl<'a> Recorder<'a> {
                 }
             }
             barriers::memory(self.device, self.cmd, stages, written, LATER_STAGES);
+            self.commands.barriers += 1;
         }
         self.pending.extend_from_slice(accesses);
     }

@@ -67,6 +67,17 @@ impl Rig {
         Self::on_engine(engine, Some(intercept), max_width, max_height)
     }
 
+    /// An intercepted rig whose create info the test edits first.
+    pub fn intercepted_with_create_info(
+        max_width: u32,
+        max_height: u32,
+        edit: impl FnOnce(&mut PatchexCreateInfo),
+    ) -> Self {
+        let engine = Engine::new(&EngineOptions::default()).expect("a Vulkan device");
+        let intercept = Intercept::install(&engine);
+        Self::on_engine_with(engine, Some(intercept), max_width, max_height, edit)
+    }
+
     /// A rig whose create info the test edits first (a preset, a chain).
     pub fn with_create_info(
         max_width: u32,

@@ -1,8 +1,9 @@
 //! A shim in the function table an engine hands to patchex: the plugin loads every Vulkan
 //! function through `get_instance_proc_addr`/`get_device_proc_addr`, so wrapping those two sees
-//! every object it creates and destroys. Tests and the soak use it to count the plugin's live
-//! objects and memory, to make a chosen creation call fail (allocation failure, injected), and
-//! to hide format features from it (a device that lacks them). Nothing in the library knows.
+//! every object it creates and destroys and every dispatch and barrier it records. Tests and the
+//! soak use it to count the plugin's live objects and memory, to make a chosen creation call fail
+//! (allocation failure, injected), to hide format features from it (a device that lacks them),
+//! and to count its commands. Nothing in the library knows.
 //!
 //! State is kept per `VkDevice` (per `VkPhysicalDevice` for format features), so tests running
 //! in parallel threads of one process do not see each other's objects.
@@ -110,6 +111,87 @@ wrapped_device_functions! {
     allocate_descriptor_sets: vk::PFN_vkAllocateDescriptorSets = c"vkAllocateDescriptorSets";
     create_query_pool: vk::PFN_vkCreateQueryPool = c"vkCreateQueryPool";
     destroy_query_pool: vk::PFN_vkDestroyQueryPool = c"vkDestroyQueryPool";
+    cmd_dispatch: vk::PFN_vkCmdDispatch = c"vkCmdDispatch";
+    cmd_dispatch_indirect: vk::PFN_vkCmdDispatchIndirect = c"vkCmdDispatchIndirect";
+    cmd_pipeline_barrier: vk::PFN_vkCmdPipelineBarrier = c"vkCmdPipelineBarrier";
+}
+
+/// The commands the plugin recorded into one command buffer.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct RecordedCommands {
+    /// vkCmdDispatch and vkCmdDispatchIndirect.
+    pub dispatches: u32,
+    pub barriers: u32,
+}
+
+/// What the plugin recorded, per command buffer.
+static RECORDED: Mutex<Option<HashMap<u64, RecordedCommands>>> = Mutex::new(None);
+
+/// Devices by their loader dispatch key.
+static DEVICES_BY_KEY: Mutex<Option<HashMap<usize, vk::Device>>> = Mutex::new(None);
+
+/// The key the loader gives a dispatchable handle: its first word points to the dispatch table,
+/// which a device shares with its command buffers (the loader and driver interface).
+///
+/// # Safety
+/// `handle` is a live dispatchable handle.
+unsafe fn dispatch_key(handle: u64) -> usize {
+    *(handle as *const usize)
+}
+
+/// Counts a command recorded into `cmd` and returns the real functions of its device.
+///
+/// # Safety
+/// `cmd` is a live command buffer of an intercepted device.
+unsafe fn count(cmd: vk::CommandBuffer, add: impl FnOnce(&mut RecordedCommands)) -> RealFunctions {
+    add(lock(&RECORDED)
+        .get_or_insert_with(HashMap::new)
+        .entry(cmd.as_raw())
+        .or_default());
+    let device = lock(&DEVICES_BY_KEY)
+        .as_ref()
+        .and_then(|devices| devices.get(&dispatch_key(cmd.as_raw())).copied())
+        .expect("a command buffer of an intercepted device");
+    real(device)
+}
+
+unsafe extern "system" fn cmd_dispatch(cmd: vk::CommandBuffer, x: u32, y: u32, z: u32) {
+    (count(cmd, |c| c.dispatches += 1).cmd_dispatch)(cmd, x, y, z)
+}
+
+unsafe extern "system" fn cmd_dispatch_indirect(
+    cmd: vk::CommandBuffer,
+    buffer: vk::Buffer,
+    offset: vk::DeviceSize,
+) {
+    (count(cmd, |c| c.dispatches += 1).cmd_dispatch_indirect)(cmd, buffer, offset)
+}
+
+#[allow(clippy::too_many_arguments)]
+unsafe extern "system" fn cmd_pipeline_barrier(
+    cmd: vk::CommandBuffer,
+    src_stages: vk::PipelineStageFlags,
+    dst_stages: vk::PipelineStageFlags,
+    dependency: vk::DependencyFlags,
+    memory_count: u32,
+    memory: *const vk::MemoryBarrier<'_>,
+    buffer_count: u32,
+    buffers: *const vk::BufferMemoryBarrier<'_>,
+    image_count: u32,
+    images: *const vk::ImageMemoryBarrier<'_>,
+) {
+    (count(cmd, |c| c.barriers += 1).cmd_pipeline_barrier)(
+        cmd,
+        src_stages,
+        dst_stages,
+        dependency,
+        memory_count,
+        memory,
+        buffer_count,
+        buffers,
+        image_count,
+        images,
+    )
 }
 
 #[derive(Default)]
@@ -431,6 +513,10 @@ impl Intercept {
         let device = engine.device.handle();
         // SAFETY: the engine's device is live; the loader's vkGetDeviceProcAddr serves it.
         let functions = unsafe { RealFunctions::load(globals.get_device_proc_addr, device) };
+        lock(&DEVICES_BY_KEY)
+            .get_or_insert_with(HashMap::new)
+            // SAFETY: the engine's device is a live dispatchable handle.
+            .insert(unsafe { dispatch_key(device.as_raw()) }, device);
         lock(&REAL)
             .get_or_insert_with(HashMap::new)
             .insert(device.as_raw(), functions);
@@ -482,6 +568,14 @@ impl Intercept {
     /// Destruction of objects that were not live, seen so far.
     pub fn take_errors(&self) -> Vec<String> {
         self.state(|state| std::mem::take(&mut state.errors))
+    }
+
+    /// The dispatches and barriers the plugin recorded into `cmd` since the last call for it.
+    pub fn take_recorded(&self, cmd: vk::CommandBuffer) -> RecordedCommands {
+        lock(&RECORDED)
+            .as_mut()
+            .and_then(|recorded| recorded.remove(&cmd.as_raw()))
+            .unwrap_or_default()
     }
 
     /// Makes the physical device report `format` without `features`, as a device that lacks
