@@ -8,9 +8,10 @@ cd "$(dirname "$0")/.."
 scripts/install-deps.sh
 cargo build --release -p patchex -p patchex-cli
 source scripts/lib/results.sh
-target/release/patchex bench --input-formats engine --out out/bench "$@"
+# A CPU driver has no idle clock to leave: no warm-up.
+target/release/patchex bench --input-formats engine --warm-up-ms 0 --out out/bench "$@"
 target/release/patchex bench --configurations patchex,patchex-fp32 --sizes 640x360,1280x720 \
-    --out out/bench_precision
+    --warm-up-ms 0 --out out/bench_precision
 publish out/bench/bench.md bench.md
 publish out/bench/bench.json bench.json
 publish out/bench/trade.png trade.png

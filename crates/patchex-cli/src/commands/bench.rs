@@ -6,10 +6,12 @@
 //!   preprocessing, inference, blending), and how the time grows with resolution;
 //! - trade.png: quality against GPU time, one line per configuration through the resolutions;
 //! - the costs of each stage: device memory per configuration, bytes read and written and
-//!   arithmetic per pixel, and a roofline lower bound on a named GPU (`costs`).
+//!   arithmetic per pixel, dispatches and barriers, and a lower bound on three GPUs (`costs`).
 //!
 //! GPU times come from the plugin's timestamp queries. Each configuration runs once on every
-//! size before it is measured, so no measurement pays for the driver's lazy compilation. Times
+//! size before it is measured, so no measurement pays for the driver's lazy compilation, and
+//! each measured call first repeats back to back (`--warm-up-ms`), so that a GPU runs it at its
+//! full clock. Times
 //! on a shared machine move between runs: compare the ratios of one run.
 
 use std::fmt::Write as _;
@@ -264,7 +266,8 @@ pub fn run(args: BenchArgs) -> CommandResult {
     std::fs::write(args.out.join("bench.md"), &markdown)?;
     std::fs::write(
         args.out.join("bench.json"),
-        serde_json::to_string_pretty(&report_json(&args, &device, &configurations, &results))? + "\n",
+        serde_json::to_string_pretty(&report_json(&args, &device, &configurations, &results))?
+            + "\n",
     )?;
     // The tables are the measurement; a machine without the plot's font still gets them.
     if let Err(error) = plot(

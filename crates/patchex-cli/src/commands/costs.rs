@@ -1,6 +1,7 @@
 //! What each stage costs in a hardware-independent form, for `patchex bench`: the bytes its
-//! passes declare they read and write (`PatchexStageTraffic`), its arithmetic, and from both a
-//! roofline lower bound on a named GPU; and the device memory a context holds.
+//! passes declare they read and write, its arithmetic and the dispatches and barriers it records
+//! (`PatchexStageTraffic`), and from them a lower bound on named GPUs; and the device memory a
+//! context holds.
 
 use std::fmt::Write as _;
 
@@ -16,14 +17,42 @@ pub struct PeakFigures {
     pub source: &'static str,
 }
 
-/// The roofline's GPU: a current high-end gaming card.
+/// A current high-end gaming card.
 pub const RTX_4090: PeakFigures = PeakFigures {
-    name: "NVIDIA GeForce RTX 4090",
+    name: "RTX 4090",
     bytes_per_second: 1008e9,
     operations_per_second: 82.6e12,
     source: "NVIDIA Ada GPU Architecture whitepaper (2022), appendix A: 1008 GB/s GDDR6X, \
              82.6 TFLOPS peak FP32",
 };
+
+/// The data-centre GPUs of the lent machines.
+pub const H100_SXM: PeakFigures = PeakFigures {
+    name: "H100 SXM",
+    bytes_per_second: 3.35e12,
+    operations_per_second: 67e12,
+    source: "NVIDIA H100 Tensor Core GPU datasheet (2023): 3.35 TB/s HBM3, 67 TFLOPS FP32",
+};
+
+pub const H200: PeakFigures = PeakFigures {
+    name: "H200",
+    bytes_per_second: 4.8e12,
+    operations_per_second: 67e12,
+    source: "NVIDIA H200 Tensor Core GPU datasheet (2024): 4.8 TB/s HBM3e, 67 TFLOPS FP32",
+};
+
+/// The GPUs the bench bounds each stage on.
+pub const BOUND_GPUS: [&PeakFigures; 3] = [&H200, &H100_SXM, &RTX_4090];
+
+/// What a GPU pays per command however little it does, added to the roofline: a dispatch
+/// starts its grid on the front end; a barrier drains the machine before the next command.
+/// An assumption: NVIDIA quotes about 3 µs for launching an empty CUDA kernel from the host
+/// (developer forums, "Too much time for kernel launch latency", 2022); a dispatch recorded in
+/// a command buffer skips the host's part. On the H200 at its idle clock, the shadow flow's 34
+/// dispatches and 31 barriers took 0.29 ms at 160x90 (`patchex bench --warm-up-ms 0`): at most
+/// 4.5 µs each there.
+pub const SECONDS_PER_DISPATCH: f64 = 1e-6;
+pub const SECONDS_PER_BARRIER: f64 = 1e-6;
 
 /// One stage's costs, summed over the targets measured.
 #[derive(Clone, Copy, Default)]
@@ -32,6 +61,8 @@ pub struct StageCost {
     pub bytes_read: f64,
     pub bytes_written: f64,
     pub operations: f64,
+    pub dispatches: f64,
+    pub barriers: f64,
 }
 
 /// Every stage's costs for one configuration at one size, per target.
@@ -55,6 +86,8 @@ impl Costs {
                 cost.bytes_read += region.bytes_read[stage] as f64;
                 cost.bytes_written += region.bytes_written[stage] as f64;
                 cost.operations += region.arithmetic_operations[stage] as f64;
+                cost.dispatches += region.dispatches[stage] as f64;
+                cost.barriers += region.barriers[stage] as f64;
             }
         }
         self.targets += 1;
@@ -70,19 +103,33 @@ impl Costs {
             bytes_read: cost.bytes_read / n,
             bytes_written: cost.bytes_written / n,
             operations: cost.operations / n,
+            dispatches: cost.dispatches / n,
+            barriers: cost.barriers / n,
         }
+    }
+
+    /// Every stage's costs together, per target.
+    pub fn total(&self) -> StageCost {
+        STAGE_NAMES.iter().map(|(stage, _)| self.mean(*stage)).fold(
+            StageCost::default(),
+            |sum, cost| StageCost {
+                gpu_ms: sum.gpu_ms + cost.gpu_ms,
+                bytes_read: sum.bytes_read + cost.bytes_read,
+                bytes_written: sum.bytes_written + cost.bytes_written,
+                operations: sum.operations + cost.operations,
+                dispatches: sum.dispatches + cost.dispatches,
+                barriers: sum.barriers + cost.barriers,
+            },
+        )
     }
 
     /// Bytes read and written per target over every stage.
     pub fn bytes(&self) -> f64 {
-        STAGE_NAMES
-            .iter()
-            .map(|(stage, _)| self.mean(*stage))
-            .map(|cost| cost.bytes_read + cost.bytes_written)
-            .sum()
+        let total = self.total();
+        total.bytes_read + total.bytes_written
     }
 
-    /// The roofline bound per target over every stage, in seconds.
+    /// The bound per target over every stage, in seconds.
     pub fn bound_seconds(&self, gpu: &PeakFigures) -> f64 {
         STAGE_NAMES
             .iter()
@@ -92,10 +139,13 @@ impl Costs {
 }
 
 impl StageCost {
-    /// No GPU runs the stage faster than it can move its bytes or do its arithmetic.
+    /// No GPU runs the stage faster than it can move its bytes or do its arithmetic, plus what
+    /// its commands cost however little they do.
     pub fn bound_seconds(&self, gpu: &PeakFigures) -> f64 {
         ((self.bytes_read + self.bytes_written) / gpu.bytes_per_second)
             .max(self.operations / gpu.operations_per_second)
+            + self.dispatches * SECONDS_PER_DISPATCH
+            + self.barriers * SECONDS_PER_BARRIER
     }
 }
 
@@ -110,7 +160,6 @@ pub fn report(
     costs: &[Vec<Costs>],
     detail_size: usize,
 ) {
-    let gpu = &RTX_4090;
     writeln!(
         out,
         "\nDevice memory each configuration's context holds (its preset's images, counters and \
@@ -138,17 +187,38 @@ pub fn report(
         out,
         "\nCost per stage at {width}x{height}, per target (submit plus one extrapolation): bytes \
          each stage's passes declare they read and write per pixel, counting the engine's \
-         inputs and output (PatchexStageTraffic), arithmetic operations per pixel (a static \
-         count), the time measured here, and the roofline lower bound on the {} ({}): the \
-         larger of bytes over bandwidth and operations over peak. The networks' stages \
-         (inference, blend) count their tensors whole, at the size the context holds them (the \
-         largest patch, PatchexNetworkMemory), and their layers' arithmetic not at all: for them the bytes bound the traffic \
-         from above and the roofline figure is no lower bound.\n\n\
-         | configuration | stage | read B/px | written B/px | ops/px | measured ms | {} bound \
-         µs |\n|---|---|---|---|---|---|---|",
-        gpu.name, gpu.source, gpu.name
+         inputs and output (PatchexStageTraffic), arithmetic operations per pixel (the \
+         shaders' static counts; for inference, the layers' convolutions over the patches \
+         run), the dispatches and barriers recorded, the time measured here, and a lower \
+         bound on three GPUs: the larger of bytes over bandwidth and operations over peak, \
+         plus {:.0} µs per dispatch and {:.0} µs per barrier (an assumption; see the speed \
+         guide). The networks' stages count their tensors whole, at the size the context \
+         holds them. Peak figures: {}.\n",
+        SECONDS_PER_DISPATCH * 1e6,
+        SECONDS_PER_BARRIER * 1e6,
+        BOUND_GPUS
+            .iter()
+            .map(|gpu| gpu.source)
+            .collect::<Vec<_>>()
+            .join("; ")
     )
     .unwrap();
+    write!(
+        out,
+        "| configuration | stage | read B/px | written B/px | ops/px | dispatches | barriers | \
+         measured ms |"
+    )
+    .unwrap();
+    for gpu in BOUND_GPUS {
+        write!(out, " {} bound µs |", gpu.name).unwrap();
+    }
+    writeln!(out, "\n|{}", "---|".repeat(8 + BOUND_GPUS.len())).unwrap();
+    let bounds = |bound: &dyn Fn(&PeakFigures) -> f64| {
+        BOUND_GPUS
+            .iter()
+            .map(|gpu| format!(" {:.1} |", 1e6 * bound(gpu)))
+            .collect::<String>()
+    };
     for (c, label) in labels.iter().enumerate() {
         let row = &costs[detail_size][c];
         if row.targets == 0 {
@@ -156,26 +226,31 @@ pub fn report(
         }
         for (stage, name) in STAGE_NAMES {
             let cost = row.mean(stage);
-            if cost.bytes_read + cost.bytes_written + cost.gpu_ms == 0.0 {
+            if cost.dispatches + cost.gpu_ms == 0.0 {
                 continue;
             }
             writeln!(
                 out,
-                "| {label} | {name} | {:.1} | {:.1} | {:.0} | {:.2} | {:.1} |",
+                "| {label} | {name} | {:.1} | {:.1} | {:.0} | {:.0} | {:.0} | {:.2} |{}",
                 cost.bytes_read / pixels,
                 cost.bytes_written / pixels,
                 cost.operations / pixels,
+                cost.dispatches,
+                cost.barriers,
                 cost.gpu_ms,
-                1e6 * cost.bound_seconds(gpu)
+                bounds(&|gpu| cost.bound_seconds(gpu))
             )
             .unwrap();
         }
-        let total_ms: f64 = STAGE_NAMES.iter().map(|(s, _)| row.mean(*s).gpu_ms).sum();
+        let total = row.total();
         writeln!(
             out,
-            "| {label} | **total** | | **{:.1} B/px moved** | | **{total_ms:.2}** | **{:.1}** |",
+            "| {label} | **total** | | **{:.1} B/px moved** | | **{:.0}** | **{:.0}** | **{:.2}** |{}",
             row.bytes() / pixels,
-            1e6 * row.bound_seconds(gpu)
+            total.dispatches,
+            total.barriers,
+            total.gpu_ms,
+            bounds(&|gpu| row.bound_seconds(gpu))
         )
         .unwrap();
     }
@@ -187,7 +262,7 @@ pub fn json(costs: &Costs, pixels: f64) -> serde_json::Value {
         .iter()
         .filter_map(|(stage, name)| {
             let cost = costs.mean(*stage);
-            (cost.bytes_read + cost.bytes_written + cost.gpu_ms > 0.0).then(|| {
+            (cost.dispatches + cost.gpu_ms > 0.0).then(|| {
                 (
                     name.to_string(),
                     serde_json::json!({
@@ -195,7 +270,9 @@ pub fn json(costs: &Costs, pixels: f64) -> serde_json::Value {
                         "bytes_read_per_pixel": cost.bytes_read / pixels,
                         "bytes_written_per_pixel": cost.bytes_written / pixels,
                         "operations_per_pixel": cost.operations / pixels,
-                        "rtx_4090_bound_us": 1e6 * cost.bound_seconds(&RTX_4090),
+                        "dispatches": cost.dispatches,
+                        "barriers": cost.barriers,
+                        "bound_us": bounds_json(&|gpu| cost.bound_seconds(gpu)),
                     }),
                 )
             })
@@ -204,7 +281,18 @@ pub fn json(costs: &Costs, pixels: f64) -> serde_json::Value {
     serde_json::json!({
         "device_memory_bytes": costs.device_memory_bytes,
         "bytes_per_pixel": costs.bytes() / pixels,
-        "rtx_4090_bound_us": 1e6 * costs.bound_seconds(&RTX_4090),
+        "dispatches": costs.total().dispatches,
+        "barriers": costs.total().barriers,
+        "bound_us": bounds_json(&|gpu| costs.bound_seconds(gpu)),
         "stages": stages,
     })
+}
+
+/// Each bound GPU's figure in µs, by name.
+fn bounds_json(bound: &dyn Fn(&PeakFigures) -> f64) -> serde_json::Value {
+    BOUND_GPUS
+        .iter()
+        .map(|gpu| (gpu.name.to_string(), serde_json::json!(1e6 * bound(gpu))))
+        .collect::<serde_json::Map<_, _>>()
+        .into()
 }
