@@ -8,12 +8,9 @@
 mod support;
 
 use glam::Vec2;
-use patchex::abi::{
-    PatchexStage, PATCHEX_PRESET_WARP_AND_SHADOWS, PATCHEX_STAGE_DIAGNOSTICS,
-    PATCHEX_STAGE_PACK_OUTPUT,
-};
+use patchex::abi::{PatchexStage, PATCHEX_PRESET_WARP_AND_SHADOWS};
 use patchex::error::PatchexResult;
-use patchex::passes::STAGE_NAMES;
+use patchex::passes::{RuntimeGroup, STAGES};
 use patchex_harness::EngineOptions;
 use support::scene::Scene;
 use support::*;
@@ -87,11 +84,10 @@ fn measure(width: usize, height: usize, shadows: bool) -> (Vec<f32>, f32, String
 /// Every stage the benchmark's frames run: all but the diagnostics copy, which it does not ask
 /// for, and the packing of an output format other than its RGBA16F.
 fn timed_stages() -> Vec<(PatchexStage, &'static str)> {
-    STAGE_NAMES
+    STAGES
         .into_iter()
-        .filter(|(stage, _)| {
-            *stage != PATCHEX_STAGE_DIAGNOSTICS && *stage != PATCHEX_STAGE_PACK_OUTPUT
-        })
+        .filter(|stage| stage.group != RuntimeGroup::Output)
+        .map(|stage| (stage.id, stage.name))
         .collect()
 }
 

@@ -124,6 +124,7 @@ fn networks_repair_their_regions_as_the_reference_does() {
             ..Networks::default()
         },
     );
+    support::pipeline::assert_stages_agree(&with, &outcome.stats);
     let without = expected(source, target, Networks::default());
     let change = assert_matches(&outcome, &with, &without, false);
     println!("the networks change repaired pixels by {change} on average");

@@ -220,6 +220,7 @@ fn assert_shadow_passes_match_their_references(
     let messages = rig.engine.take_validation_messages();
     assert!(messages.is_empty(), "validation: {messages:?}");
     let expected = reference_run(previous, source, target, 0.5, warp);
+    support::pipeline::assert_stages_agree(&expected, &outcome.stats);
     let shadows = expected.shadows.as_ref().expect("a shadow input was given");
 
     let (mut flow_worst, mut layer_worst, mut share_worst, mut output_worst) =

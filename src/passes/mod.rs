@@ -35,22 +35,83 @@ pub use crate::vk::image::Texture;
 /// Byte size of `SanitizeCounters` in `shaders/include/gbuffer.wgsl`.
 pub const SANITIZE_COUNTER_BYTES: u64 = 4;
 
-/// Every stage a frame can run, in the order they run, with the name reports give it.
-pub const STAGE_NAMES: [(PatchexStage, &str); 13] = [
-    (PATCHEX_STAGE_PACK_SOURCE_GBUFFER, "pack source"),
-    (PATCHEX_STAGE_DEMODULATE, "demodulate"),
-    (PATCHEX_STAGE_SHADOW_FLOW, "shadow flow"),
-    (PATCHEX_STAGE_WARP, "warp"),
-    (PATCHEX_STAGE_FILL_HOLES, "fill holes"),
-    (PATCHEX_STAGE_SHADOW_WARP, "shadow warp"),
-    (PATCHEX_STAGE_SEGMENT, "segment"),
-    (PATCHEX_STAGE_LBP, "lbp"),
-    (PATCHEX_STAGE_INFERENCE, "inference"),
-    (PATCHEX_STAGE_BLEND, "blend"),
-    (PATCHEX_STAGE_DIAGNOSTICS, "diagnostics"),
-    (PATCHEX_STAGE_REMODULATE, "remodulate"),
-    (PATCHEX_STAGE_PACK_OUTPUT, "pack output"),
-];
+/// Where a stage's time goes in the PatchEX paper's runtime table, which the reports follow.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RuntimeGroup {
+    Gbuffer,
+    Warping,
+    Preprocessing,
+    Inference,
+    Blending,
+    /// Copies an engine asks for (diagnostics, an output format the passes cannot store):
+    /// outside the method and the runtime table.
+    Output,
+}
+
+impl RuntimeGroup {
+    /// The groups of the runtime table, in its order.
+    pub const TABLE: [RuntimeGroup; 5] = [
+        Self::Gbuffer,
+        Self::Warping,
+        Self::Preprocessing,
+        Self::Inference,
+        Self::Blending,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Gbuffer => "G-buffer",
+            Self::Warping => "warping",
+            Self::Preprocessing => "preprocessing",
+            Self::Inference => "inference",
+            Self::Blending => "blending",
+            Self::Output => "output",
+        }
+    }
+}
+
+/// One stage of the pipeline: its id in the ABI (`PATCHEX_STAGE_*`, which times and traffic
+/// are reported by), the name reports give it, and its group in the runtime table.
+#[derive(Clone, Copy, Debug)]
+pub struct Stage {
+    pub id: PatchexStage,
+    pub name: &'static str,
+    pub group: RuntimeGroup,
+}
+
+const fn stage(id: PatchexStage, name: &'static str, group: RuntimeGroup) -> Stage {
+    Stage { id, name, group }
+}
+
+/// Every stage a frame can run, in the order they are recorded: the submit's, then each
+/// extrapolation's. The recorder holds every call to this order (`Recorder::stage`) and the
+/// reference follows it (`reference::extrapolate`).
+pub const STAGES: [Stage; 13] = {
+    use RuntimeGroup::*;
+    [
+        stage(PATCHEX_STAGE_PACK_SOURCE_GBUFFER, "pack source", Gbuffer),
+        stage(PATCHEX_STAGE_DEMODULATE, "demodulate", Preprocessing),
+        stage(PATCHEX_STAGE_SHADOW_FLOW, "shadow flow", Preprocessing),
+        stage(PATCHEX_STAGE_WARP, "warp", Warping),
+        stage(PATCHEX_STAGE_FILL_HOLES, "fill holes", Warping),
+        stage(PATCHEX_STAGE_SHADOW_WARP, "shadow warp", Warping),
+        stage(PATCHEX_STAGE_SEGMENT, "segment", Preprocessing),
+        stage(PATCHEX_STAGE_LBP, "lbp", Preprocessing),
+        stage(PATCHEX_STAGE_INFERENCE, "inference", Inference),
+        stage(PATCHEX_STAGE_BLEND, "blend", Blending),
+        stage(PATCHEX_STAGE_DIAGNOSTICS, "diagnostics", Output),
+        stage(PATCHEX_STAGE_REMODULATE, "remodulate", Blending),
+        stage(PATCHEX_STAGE_PACK_OUTPUT, "pack output", Output),
+    ]
+};
+
+/// `stage`'s position in [`STAGES`].
+pub fn stage_position(stage: PatchexStage) -> usize {
+    STAGES
+        .iter()
+        .position(|s| s.id == stage)
+        .expect("every recorded stage is in STAGES")
+}
 
 /// Every pipeline the passes record with, each on one line: its shader, and how many
 /// descriptor sets one region (a submit or an extrapolation) can use it with. A pipeline

@@ -70,9 +70,12 @@ pub struct Extrapolation {
     /// Pixels of frame t and of the target with NaN or infinite geometry.
     pub source_invalid_geometry: u32,
     pub target_invalid_geometry: u32,
+    /// The stages computed, in order: the plugin's stages (`passes::STAGES`) for the same work.
+    pub stages: Vec<crate::abi::PatchexStage>,
 }
 
-/// The whole extrapolation, pass by pass, as the plugin records it.
+/// The whole extrapolation, stage by stage in the order of `passes::STAGES`, as the plugin
+/// records it.
 pub fn extrapolate(
     source: &FrameInputs,
     target: &FrameInputs,
@@ -82,7 +85,9 @@ pub fn extrapolate(
     segmentation: &crate::passes::segmentation::SegmentationSettings,
     networks: inpaint::Networks,
 ) -> Extrapolation {
+    use crate::abi::*;
     use crate::passes::pack_gbuffer::params as pack_params;
+    let mut stages = vec![PATCHEX_STAGE_PACK_SOURCE_GBUFFER];
     let extent = ash::vk::Extent2D {
         width: source.base_color.width as u32,
         height: source.base_color.height as u32,
@@ -130,6 +135,26 @@ pub fn extrapolate(
         Some(separated) => (separated.shading.clone(), separated.sanitized),
         None => demodulate::demodulate(color, source.base_color, source.material),
     };
+    stages.push(PATCHEX_STAGE_DEMODULATE);
+    // The shadows' flow to frame t-1, in frame t's submit: zero without frame t-1's mask.
+    let flow = shadow_inputs
+        .zip(separated.as_ref())
+        .map(|(shadow, separated)| {
+            let (mask, object_ids, camera) = shadow.previous?;
+            stages.push(PATCHEX_STAGE_SHADOW_FLOW);
+            let previous_mask = separate_shadows::flow_mask(mask, object_ids);
+            let start = optical_flow::FlowStart {
+                geometry: &source_packed.geometry,
+                reprojection: source.camera.reprojection_into(camera, extent),
+            };
+            Some(optical_flow::frame_flow(
+                &separated.mask,
+                &previous_mask,
+                &shadow.flow,
+                shadow.mask_step,
+                &start,
+            ))
+        });
     let jitter_delta = (target.camera.jitter - source.camera.jitter).into();
     let params = warp.params(
         extent,
@@ -154,29 +179,24 @@ pub fn extrapolate(
         },
         &params,
     );
-    let shadows = shadow_inputs.zip(separated).map(|(shadow, separated)| {
-        let Some((mask, object_ids, camera)) = shadow.previous else {
+    stages.push(PATCHEX_STAGE_WARP);
+    // The G-buffer warp's background fill is a stage of its own in the plugin; here the warp
+    // fills as it goes.
+    if warp.kind == PATCHEX_WARP_GBUFFER_GUIDED && warp.hole_fill == PATCHEX_HOLE_FILL_BACKGROUND {
+        stages.push(PATCHEX_STAGE_FILL_HOLES);
+    }
+    let shadows = separated.zip(flow).map(|(separated, flow)| {
+        let Some(flow) = flow else {
             return Shadows {
                 separated,
                 flow: Image::new(extent.width as usize, extent.height as usize, 4),
                 share: Image::new(extent.width as usize, extent.height as usize, 4),
             };
         };
-        let previous_mask = separate_shadows::flow_mask(mask, object_ids);
-        let start = optical_flow::FlowStart {
-            geometry: &source_packed.geometry,
-            reprojection: source.camera.reprojection_into(camera, extent),
-        };
-        let flow = optical_flow::frame_flow(
-            &separated.mask,
-            &previous_mask,
-            &shadow.flow,
-            shadow.mask_step,
-            &start,
-        );
+        stages.push(PATCHEX_STAGE_SHADOW_WARP);
         let shadow_params = warp.shadow_params(extent, target.camera, alpha);
         let moved = warp::warp(
-            crate::abi::PATCHEX_WARP_OCCLUSION_MOTION_VECTOR,
+            PATCHEX_WARP_OCCLUSION_MOTION_VECTOR,
             &warp::WarpSources {
                 shading: &separated.shadow_layer,
                 geometry: &source_packed.geometry,
@@ -220,8 +240,15 @@ pub fn extrapolate(
         target.motion_vector_scale,
         segmentation.growth,
     );
+    stages.push(PATCHEX_STAGE_SEGMENT);
+    // Computed always, for the tests of the diagnostics; the plugin's stage when networks read it.
     let lbp = lbp::lbp(&warped.warped);
     let inpainted = networks.any().then(|| {
+        stages.extend([
+            PATCHEX_STAGE_LBP,
+            PATCHEX_STAGE_INFERENCE,
+            PATCHEX_STAGE_BLEND,
+        ]);
         inpaint::inpaint(
             networks,
             &warped.warped,
@@ -238,6 +265,7 @@ pub fn extrapolate(
         target.base_color,
         target.material,
     );
+    stages.push(PATCHEX_STAGE_REMODULATE);
     Extrapolation {
         output,
         warped,
@@ -249,6 +277,7 @@ pub fn extrapolate(
         target_sanitized,
         source_invalid_geometry: source_packed.invalid_pixels,
         target_invalid_geometry: target_packed.invalid_pixels,
+        stages,
     }
 }
 

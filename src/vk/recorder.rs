@@ -10,6 +10,7 @@
 use ash::vk;
 
 use crate::abi::PatchexStage;
+use crate::passes::stage_position;
 use crate::shaders::PushConstants;
 use crate::vk::access::{self, Access, Commands, ListedTraffic, Resource, StageRecord, Traffic};
 use crate::vk::barriers::{self, EngineImageAccess};
@@ -103,8 +104,16 @@ impl<'a> Recorder<'a> {
         engine.acquire(self.device, self.cmd);
     }
 
-    /// Records the commands of `stage`, with a timestamp before and after.
+    /// Records the commands of `stage`, with a timestamp before and after. Stages come in the
+    /// order of `passes::STAGES`, each once a call.
     pub fn stage(&mut self, stage: PatchexStage, record: impl FnOnce(&mut Self)) {
+        if let Some(last) = self.stages.last() {
+            assert!(
+                stage_position(last.stage) < stage_position(stage),
+                "stage {stage} recorded after stage {}, against passes::STAGES",
+                last.stage
+            );
+        }
         let query = self.times.as_ref().and_then(|t| {
             Some((
                 t.ring.timer.as_ref()?,

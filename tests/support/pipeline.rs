@@ -19,6 +19,7 @@ use patchex::camera::Camera;
 use patchex::context::NetworkSwitches;
 use patchex::error::PatchexResult;
 use patchex::passes::segmentation::SegmentationSettings;
+use patchex::passes::stage_position;
 use patchex::passes::warp::WarpSettings;
 use patchex::reference::lbp::{luminance, NEIGHBOURS};
 use patchex::reference::warp::{AGREEMENT_THRESHOLD, BILINEAR_ACCEPT};
@@ -200,6 +201,26 @@ pub fn run_plugin_into(
     }
 }
 
+/// The reference computed its stages in the order of the stage table, and each is a stage the
+/// plugin ran (whose recorder holds its own calls to that order).
+pub fn assert_stages_agree(expected: &Extrapolation, stats: &PatchexFrameStats) {
+    let ran = stats.submit_stages_run | stats.extrapolations[0].stages_run;
+    for pair in expected.stages.windows(2) {
+        assert!(
+            stage_position(pair[0]) < stage_position(pair[1]),
+            "the reference computed stage {} before stage {}, against passes::STAGES",
+            pair[0],
+            pair[1]
+        );
+    }
+    for &stage in &expected.stages {
+        assert!(
+            ran & (1 << stage) != 0,
+            "the reference computed stage {stage}, which the plugin did not run ({ran:#b})"
+        );
+    }
+}
+
 /// Compares every result of the plugin with the reference; returns the reference's results and
 /// the number of pixels excused as lying at a threshold.
 pub fn assert_matches_reference(
@@ -220,6 +241,7 @@ pub fn assert_matches_reference(
         &chained.segmentation.unwrap_or_default(),
         Default::default(),
     );
+    assert_stages_agree(&expected, &outcome.stats);
     let warped = &expected.warped;
     let at_threshold = |x: usize, y: usize| {
         let i = y * width + x;

@@ -22,6 +22,7 @@ use std::time::Duration;
 use clap::{Args, ValueEnum};
 use patchex::abi::*;
 use patchex::passes::warp::WarpSettings;
+use patchex::passes::{RuntimeGroup, STAGES};
 use patchex_scene::dataset::{render_sequence, Dataset, FrameLayers, SequenceOptions, FINAL_IMAGE};
 use patchex_scene::{Gpu, GpuOptions, World};
 use plotters::prelude::*;
@@ -174,30 +175,6 @@ pub struct BenchArgs {
     font: PathBuf,
 }
 
-/// The paper's runtime table groups the stages so.
-const STAGE_GROUPS: [(&str, &[PatchexStage]); 5] = [
-    ("G-buffer", &[PATCHEX_STAGE_PACK_SOURCE_GBUFFER]),
-    (
-        "warping",
-        &[
-            PATCHEX_STAGE_WARP,
-            PATCHEX_STAGE_FILL_HOLES,
-            PATCHEX_STAGE_SHADOW_WARP,
-        ],
-    ),
-    (
-        "preprocessing",
-        &[
-            PATCHEX_STAGE_DEMODULATE,
-            PATCHEX_STAGE_SHADOW_FLOW,
-            PATCHEX_STAGE_SEGMENT,
-            PATCHEX_STAGE_LBP,
-        ],
-    ),
-    ("inference", &[PATCHEX_STAGE_INFERENCE]),
-    ("blending", &[PATCHEX_STAGE_BLEND, PATCHEX_STAGE_REMODULATE]),
-];
-
 /// One configuration at one size, over every scene's targets.
 #[derive(Clone, Default)]
 struct Measured {
@@ -209,16 +186,19 @@ struct Measured {
 }
 
 impl Measured {
-    fn mean_group_ms(&self, group: usize) -> f64 {
-        STAGE_GROUPS[group]
-            .1
+    fn mean_group_ms(&self, group: RuntimeGroup) -> f64 {
+        STAGES
             .iter()
-            .map(|&stage| self.costs.mean(stage).gpu_ms)
+            .filter(|stage| stage.group == group)
+            .map(|stage| self.costs.mean(stage.id).gpu_ms)
             .sum()
     }
 
     fn mean_total_ms(&self) -> f64 {
-        (0..STAGE_GROUPS.len()).map(|g| self.mean_group_ms(g)).sum()
+        RuntimeGroup::TABLE
+            .iter()
+            .map(|&group| self.mean_group_ms(group))
+            .sum()
     }
 }
 
@@ -389,13 +369,13 @@ fn report(
     )
     .unwrap();
     write!(out, "| size | configuration | PSNR dB | SSIM | FLIP |").unwrap();
-    for (name, _) in STAGE_GROUPS {
-        write!(out, " {name} ms |").unwrap();
+    for group in RuntimeGroup::TABLE {
+        write!(out, " {} ms |", group.name()).unwrap();
     }
     writeln!(
         out,
         " total ms |\n|{}",
-        "---|".repeat(6 + STAGE_GROUPS.len())
+        "---|".repeat(6 + RuntimeGroup::TABLE.len())
     )
     .unwrap();
     for (size, row) in args.sizes.iter().zip(results) {
@@ -413,7 +393,7 @@ fn report(
                 scores.flip
             )
             .unwrap();
-            for group in 0..STAGE_GROUPS.len() {
+            for group in RuntimeGroup::TABLE {
                 write!(out, " {:.1} |", measured.mean_group_ms(group)).unwrap();
             }
             writeln!(out, " {:.1} |", measured.mean_total_ms()).unwrap();
@@ -517,10 +497,7 @@ fn patch_ratio_table(
     ) else {
         return;
     };
-    let inference = STAGE_GROUPS
-        .iter()
-        .position(|(name, _)| *name == "inference")
-        .expect("an inference group");
+    let inference = RuntimeGroup::Inference;
     writeln!(
         out,
         "\nNetwork inference on the patches against the same networks over the whole frame, \
@@ -554,26 +531,28 @@ fn report_json(
         .iter()
         .zip(results)
         .flat_map(|(size, row)| {
-            configurations.iter().zip(row).map(move |(configuration, measured)| {
-                let scores = measured.quality.scores();
-                json!({
-                    "width": size.0,
-                    "height": size.1,
-                    "configuration": format!("{configuration:?}"),
-                    "label": configuration.label(),
-                    "psnr": scores.map(|s| s.psnr),
-                    "ssim": scores.map(|s| s.ssim),
-                    "flip": scores.map(|s| s.flip),
-                    "targets": measured.costs.targets,
-                    "gpu_ms": STAGE_GROUPS
-                        .iter()
-                        .enumerate()
-                        .map(|(g, (name, _))| (name.to_string(), json!(measured.mean_group_ms(g))))
-                        .collect::<serde_json::Map<_, _>>(),
-                    "total_gpu_ms": measured.mean_total_ms(),
-                    "costs": costs::json(&measured.costs, (size.0 * size.1) as f64),
+            configurations
+                .iter()
+                .zip(row)
+                .map(move |(configuration, measured)| {
+                    let scores = measured.quality.scores();
+                    json!({
+                        "width": size.0,
+                        "height": size.1,
+                        "configuration": format!("{configuration:?}"),
+                        "label": configuration.label(),
+                        "psnr": scores.map(|s| s.psnr),
+                        "ssim": scores.map(|s| s.ssim),
+                        "flip": scores.map(|s| s.flip),
+                        "targets": measured.costs.targets,
+                        "gpu_ms": RuntimeGroup::TABLE
+                            .iter()
+                            .map(|&g| (g.name().to_string(), json!(measured.mean_group_ms(g))))
+                            .collect::<serde_json::Map<_, _>>(),
+                        "total_gpu_ms": measured.mean_total_ms(),
+                        "costs": costs::json(&measured.costs, (size.0 * size.1) as f64),
+                    })
                 })
-            })
         })
         .collect();
     json!({ "device": device, "frames": args.frames, "warm_up_ms": args.warm_up_ms, "rows": rows })

@@ -6,7 +6,7 @@
 use std::fmt::Write as _;
 
 use patchex::abi::*;
-use patchex::passes::STAGE_NAMES;
+use patchex::passes::STAGES;
 
 /// A GPU's published peak figures.
 pub struct PeakFigures {
@@ -110,17 +110,17 @@ impl Costs {
 
     /// Every stage's costs together, per target.
     pub fn total(&self) -> StageCost {
-        STAGE_NAMES.iter().map(|(stage, _)| self.mean(*stage)).fold(
-            StageCost::default(),
-            |sum, cost| StageCost {
+        STAGES
+            .iter()
+            .map(|stage| self.mean(stage.id))
+            .fold(StageCost::default(), |sum, cost| StageCost {
                 gpu_ms: sum.gpu_ms + cost.gpu_ms,
                 bytes_read: sum.bytes_read + cost.bytes_read,
                 bytes_written: sum.bytes_written + cost.bytes_written,
                 operations: sum.operations + cost.operations,
                 dispatches: sum.dispatches + cost.dispatches,
                 barriers: sum.barriers + cost.barriers,
-            },
-        )
+            })
     }
 
     /// Bytes read and written per target over every stage.
@@ -131,9 +131,9 @@ impl Costs {
 
     /// The bound per target over every stage, in seconds.
     pub fn bound_seconds(&self, gpu: &PeakFigures) -> f64 {
-        STAGE_NAMES
+        STAGES
             .iter()
-            .map(|(stage, _)| self.mean(*stage).bound_seconds(gpu))
+            .map(|stage| self.mean(stage.id).bound_seconds(gpu))
             .sum()
     }
 }
@@ -224,8 +224,8 @@ pub fn report(
         if row.targets == 0 {
             continue;
         }
-        for (stage, name) in STAGE_NAMES {
-            let cost = row.mean(stage);
+        for stage in STAGES {
+            let (cost, name) = (row.mean(stage.id), stage.name);
             if cost.dispatches + cost.gpu_ms == 0.0 {
                 continue;
             }
@@ -258,10 +258,10 @@ pub fn report(
 
 /// The same figures for bench.json.
 pub fn json(costs: &Costs, pixels: f64) -> serde_json::Value {
-    let stages: serde_json::Map<_, _> = STAGE_NAMES
+    let stages: serde_json::Map<_, _> = STAGES
         .iter()
-        .filter_map(|(stage, name)| {
-            let cost = costs.mean(*stage);
+        .filter_map(|stage| {
+            let (cost, name) = (costs.mean(stage.id), stage.name);
             (cost.dispatches + cost.gpu_ms > 0.0).then(|| {
                 (
                     name.to_string(),

@@ -10,7 +10,7 @@ use std::sync::Arc;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use patchex::abi::*;
-use patchex::passes::STAGE_NAMES;
+use patchex::passes::STAGES;
 use patchex_scene::dataset::{render_sequence, Dataset, FrameRole, SequenceOptions, FINAL_IMAGE};
 use patchex_scene::{Gpu, GpuOptions, World};
 
@@ -204,9 +204,10 @@ fn merged_stage_times(stats: &PatchexFrameStats) -> [f32; PATCHEX_STAGE_SLOTS] {
 
 /// The stages some target ran, in pipeline order.
 fn stages_that_ran(rows: &[Row]) -> Vec<(PatchexStage, &'static str)> {
-    STAGE_NAMES
+    STAGES
         .into_iter()
-        .filter(|(stage, _)| rows.iter().any(|r| r.gpu_ms[*stage as usize] > 0.0))
+        .filter(|stage| rows.iter().any(|r| r.gpu_ms[stage.id as usize] > 0.0))
+        .map(|stage| (stage.id, stage.name))
         .collect()
 }
 

@@ -20,7 +20,7 @@ use nv_flip::{magma_lut, FlipImageFloat};
 use patchex::abi::*;
 use patchex::passes::segmentation::{REGION_FI, REGION_NEAR_BE};
 use patchex::passes::warp::WarpSettings;
-use patchex::passes::STAGE_NAMES;
+use patchex::passes::{RuntimeGroup, STAGES};
 use patchex_scene::dataset::{
     write_exr, Dataset, FrameLayers, FrameRole, LayerImage, FINAL_IMAGE, SHADOW_MASK,
 };
@@ -269,9 +269,10 @@ impl MethodResult {
 /// The stages an engine runs, in pipeline order: all but the diagnostics copy, and the output's
 /// packing, which eval's RGBA16F output never needs.
 fn timed_stages() -> impl Iterator<Item = (PatchexStage, &'static str)> {
-    STAGE_NAMES.into_iter().filter(|(stage, _)| {
-        *stage != PATCHEX_STAGE_DIAGNOSTICS && *stage != PATCHEX_STAGE_PACK_OUTPUT
-    })
+    STAGES
+        .into_iter()
+        .filter(|stage| stage.group != RuntimeGroup::Output)
+        .map(|stage| (stage.id, stage.name))
 }
 
 struct DatasetResult {
