@@ -1,11 +1,15 @@
 #!/usr/bin/env bash
 # Installs the patchex library for C and C++ engines: the shared library, the header, a
-# pkg-config file and a CMake package config.
-#   scripts/install.sh PREFIX             builds a release library with cargo, then installs it
-#   scripts/install.sh PREFIX LIBRARY     installs an already built libpatchex.so (no cargo)
+# pkg-config file and a CMake package config; and the patchex tool (selftest, bench, demo) with
+# the scenes and assets its defaults name.
+#   scripts/install.sh PREFIX                  builds the release library and tool with cargo,
+#                                              then installs them
+#   scripts/install.sh PREFIX LIBRARY [TOOL]   installs an already built libpatchex.so (and
+#                                              patchex tool) without cargo
 # PREFIX then holds
 #   lib/libpatchex.so.N (N: the ABI version, its SONAME)  lib/libpatchex.so -> libpatchex.so.N
 #   include/patchex.h  lib/pkgconfig/patchex.pc  lib/cmake/patchex/
+#   bin/patchex  share/patchex/scenes/  share/patchex/assets/ (with their licences)
 # Use it with PKG_CONFIG_PATH=PREFIX/lib/pkgconfig or CMAKE_PREFIX_PATH=PREFIX. A program linked
 # through pkg-config finds the library at run time only where the dynamic loader looks: link
 # with -Wl,-rpath,PREFIX/lib (pkg-config --variable=libdir patchex) or set LD_LIBRARY_PATH.
@@ -14,9 +18,11 @@ set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 prefix="${1:?usage: scripts/install.sh PREFIX [LIBRARY]}"
 library="${2:-}"
+tool="${3:-}"
 if [ -z "$library" ]; then
-    (cd "$root" && cargo build --release -p patchex)
+    (cd "$root" && cargo build --release -p patchex -p patchex-cli)
     library="$root/target/release/libpatchex.so"
+    tool="$root/target/release/patchex"
 fi
 soname="$(readelf -d "$library" | sed -n 's/.*(SONAME).*\[\(.*\)\]/\1/p')"
 case "$soname" in
@@ -42,4 +48,11 @@ else()
   set(PACKAGE_VERSION_COMPATIBLE TRUE)
 endif()
 VERSION
-echo "installed patchex $version ($soname) into $prefix"
+if [ -n "$tool" ]; then
+    install -Dm755 "$tool" "$prefix/bin/patchex"
+    mkdir -p "$prefix/share/patchex/scenes"
+    install -m644 "$root"/scenes/*.toml "$prefix/share/patchex/scenes/"
+    rm -rf "$prefix/share/patchex/assets"
+    cp -r "$root/assets" "$prefix/share/patchex/assets"
+fi
+echo "installed patchex $version ($soname${tool:+ and the patchex tool}) into $prefix"

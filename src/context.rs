@@ -15,7 +15,7 @@ use crate::frame::counters;
 use crate::frame::images::FrameImages;
 use crate::frame::settings::{Defaults, Preset};
 use crate::passes::inpaint::Inpainting;
-use crate::passes::Pipelines;
+use crate::passes::{Pipelines, STAGES};
 use crate::vk::device::Gpu;
 use crate::vk::frame_ring::FrameRing;
 
@@ -54,6 +54,29 @@ pub struct Context {
     pub(crate) preset: Preset,
     pub(crate) defaults: Defaults,
     pub(crate) source: Option<SourceFrame>,
+    /// A stage left out of every call (`PATCHEX_TEST_FAULT`), to prove that a check catches a
+    /// broken pass.
+    pub(crate) test_fault: Option<PatchexStage>,
+}
+
+/// The environment variable naming a stage (`passes::STAGES`, spaces or underscores) whose
+/// commands every call leaves out. For testing checks such as `patchex selftest` only.
+pub const TEST_FAULT_VARIABLE: &str = "PATCHEX_TEST_FAULT";
+
+/// The stage `PATCHEX_TEST_FAULT` names, if it is set; an unknown name is refused.
+fn test_fault() -> Result<Option<PatchexStage>> {
+    let Ok(name) = std::env::var(TEST_FAULT_VARIABLE) else {
+        return Ok(None);
+    };
+    let name = name.replace('_', " ");
+    match STAGES.iter().find(|stage| stage.name == name) {
+        Some(stage) => Ok(Some(stage.id)),
+        None => bail!(
+            ErrorInvalidArgument,
+            "{TEST_FAULT_VARIABLE}={name:?} names no stage (one of: {})",
+            STAGES.map(|stage| stage.name).join(", ")
+        ),
+    }
 }
 
 impl Context {
@@ -61,6 +84,7 @@ impl Context {
     /// The handles in `info` must be live objects of one Vulkan instance.
     pub unsafe fn new(info: &PatchexCreateInfo, defaults: Extensions) -> Result<Self> {
         let preset = Preset::new(info.preset, &defaults)?;
+        let test_fault = test_fault()?;
         let networks = if preset.networks {
             Some(
                 defaults
@@ -157,6 +181,7 @@ impl Context {
             preset,
             defaults: Defaults::new(&defaults),
             source: None,
+            test_fault,
         })
     }
 

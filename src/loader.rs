@@ -58,15 +58,17 @@ impl PatchexLibrary {
         })
     }
 
-    /// The library built next to the running executable: `target/<profile>/libpatchex.so` for a
-    /// test in `target/<profile>/deps/` or a tool in `target/<profile>/`.
+    /// The library next to the running executable: `target/<profile>/libpatchex.so` for a test
+    /// in `target/<profile>/deps/` or a tool in `target/<profile>/`, and `PREFIX/lib/` for a
+    /// tool installed in `PREFIX/bin/`.
     pub fn beside_current_exe() -> Result<PathBuf, String> {
         let exe = std::env::current_exe().map_err(|e| e.to_string())?;
         let name = libloading::library_filename("patchex");
-        exe.ancestors()
-            .skip(1)
-            .take(2)
+        let folders = exe.ancestors().skip(1).take(2);
+        folders
+            .clone()
             .map(|dir| dir.join(&name))
+            .chain(folders.skip(1).map(|prefix| prefix.join("lib").join(&name)))
             .find(|candidate| candidate.exists())
             .ok_or_else(|| format!("no {} beside {}", name.to_string_lossy(), exe.display()))
     }

@@ -124,7 +124,7 @@ impl Context {
 
         // Everything is validated and allocated: from here on the call cannot fail.
         let region = 1 + done;
-        let mut rec = Recorder::new(&self.gpu.device, cmd);
+        let mut rec = Recorder::new(&self.gpu.device, cmd).skipping(self.test_fault);
         let staging = match self.images.output_staging.as_mut() {
             Some(staging) if inputs.output.written_by_copy => {
                 let [frame, packed] = &mut staging.images;

@@ -95,7 +95,7 @@ impl Context {
         if let Some(inpainting) = self.inpainting.as_mut() {
             owned.extend(inpainting.images());
         }
-        let mut rec = Recorder::new(&self.gpu.device, cmd);
+        let mut rec = Recorder::new(&self.gpu.device, cmd).skipping(self.test_fault);
         rec.initialize(&mut owned);
         rec.acquire(&access);
         rec.fill_zero(&self.ring.region_counters(slot, 0));

@@ -21,6 +21,9 @@ enum Command {
     /// Measure the speed-against-accuracy trade: every configuration on the test scenes at
     /// 360p to 1080p; writes a table of quality against GPU time per stage and a plot.
     Bench(commands::bench::BenchArgs),
+    /// Check this machine's GPU and driver: every configuration against the plain-Rust
+    /// reference on frames it renders, under validation where installed; exit code 0 on pass.
+    Selftest(commands::selftest::SelftestArgs),
     /// Fit k_x and k_y of the near-background growth (Algorithm 1) from temporal-variation
     /// analysis of datasets, and print the correlation of extension with motion.
     Calibrate(commands::calibrate::CalibrateArgs),
@@ -45,6 +48,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Demo(args) => commands::demo::run(args),
         Command::Bench(args) => commands::bench::run(args),
+        Command::Selftest(args) => commands::selftest::run(args),
         Command::Calibrate(args) => commands::calibrate::run(args),
         Command::Eval(args) => commands::eval::run(args),
         Command::Patches(args) => commands::patches::run(args),

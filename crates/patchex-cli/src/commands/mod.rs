@@ -9,21 +9,31 @@ pub mod metrics;
 pub mod patches;
 pub mod picture;
 pub mod plugin_driver;
+pub mod reference_frames;
 pub mod render;
 pub mod scenes;
+pub mod selftest;
 pub mod sheet;
 
 /// Errors of any subcommand, shown to the user as one line.
 pub type CommandResult = Result<(), Box<dyn std::error::Error>>;
 
-/// A file of this repository (a default scene or weights), whatever the working directory.
+/// A file patchex ships (a default scene, its assets, weights), whatever the working directory:
+/// beside an installed tool, in PREFIX/share/patchex/ as `scripts/install.sh` lays it out, else
+/// in the repository the tool was built from.
 pub fn repository_path(relative: &str) -> std::path::PathBuf {
-    let crate_dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-    let repository = crate_dir
-        .ancestors()
-        .nth(2)
-        .expect("crates/patchex-cli is two deep");
-    repository.join(relative)
+    let installed = std::env::current_exe().ok().and_then(|exe| {
+        let share = exe.parent()?.parent()?.join("share").join("patchex");
+        share.is_dir().then_some(share)
+    });
+    let root = installed.unwrap_or_else(|| {
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .ancestors()
+            .nth(2)
+            .expect("crates/patchex-cli is two deep")
+            .to_path_buf()
+    });
+    root.join(relative)
 }
 
 /// Makes the folders above a file a command is about to write; an error names the path.

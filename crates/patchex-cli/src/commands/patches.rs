@@ -17,21 +17,16 @@ use std::collections::HashMap;
 use std::path::PathBuf;
 
 use clap::Args;
-use patchex::abi::{PatchexCamera, PATCHEX_DEPTH_LINEAR_VIEW_Z, PATCHEX_NORMAL_SIGNED};
-use patchex::camera::Camera;
 use patchex::passes::segmentation::{SegmentationSettings, REGION_FI, REGION_NEAR_BE};
 use patchex::passes::warp::WarpSettings;
 use patchex::reference::gbuffer::pixel_modulation;
 use patchex::reference::inpaint::{gather_inputs, plan_patches, Patch};
 use patchex::reference::network::Planes;
-use patchex::reference::{self, demodulate::demodulate, FrameInputs, Image};
-use patchex_scene::dataset::{
-    Dataset, BASE_COLOR, CUSTOM_STENCIL, FINAL_IMAGE, METALLIC, MOTION_VECTOR, ROUGHNESS,
-    SCENE_DEPTH, SPECULAR, WORLD_NORMAL,
-};
-use patchex_scene::FrameLayers;
+use patchex::reference::{self, demodulate::demodulate, Image};
+use patchex_scene::dataset::Dataset;
 use safetensors::tensor::{Dtype, TensorView};
 
+use super::reference_frames::{frame, inputs, Frame};
 use super::CommandResult;
 
 /// Levels of the FI and near-BE networks (`FI_WIDTHS`, `NEAR_BE_WIDTHS` in
@@ -56,72 +51,6 @@ pub struct PatchesArgs {
     /// warp's best agreement, the remodulation factor rgb): data for a hole network.
     #[arg(long)]
     holes: bool,
-}
-
-/// One instant's layers as the reference's images.
-struct Frame {
-    color: Image,
-    base_color: Image,
-    material: Image,
-    depth: Image,
-    normal: Image,
-    stencil: Image,
-    motion: Image,
-    camera: Camera,
-}
-
-fn gather(layers: &FrameLayers, names: &[(&str, usize)]) -> Image {
-    Image::from_fn(layers.width, layers.height, names.len(), |x, y| {
-        names
-            .iter()
-            .map(|(name, channel)| layers.layer(name).value(x, y, *channel))
-            .collect()
-    })
-}
-
-fn rgb1(layers: &FrameLayers, name: &str) -> Image {
-    Image::from_fn(layers.width, layers.height, 4, |x, y| {
-        let p = layers.layer(name).pixel(x, y);
-        vec![p[0], p[1], p[2], 1.0]
-    })
-}
-
-fn frame(dataset: &Dataset, index: usize) -> Result<Frame, Box<dyn std::error::Error>> {
-    let layers = dataset.read_frame(index)?;
-    let info = &dataset.manifest.frames[index];
-    let camera = PatchexCamera {
-        view: info.view,
-        projection: info.proj,
-        jitter: [0.0, 0.0],
-        near_plane: dataset.manifest.near,
-        far_plane: dataset.manifest.far,
-        depth_convention: PATCHEX_DEPTH_LINEAR_VIEW_Z,
-    };
-    Ok(Frame {
-        color: rgb1(&layers, FINAL_IMAGE),
-        base_color: rgb1(&layers, BASE_COLOR),
-        material: gather(&layers, &[(METALLIC, 0), (SPECULAR, 0), (ROUGHNESS, 0)]),
-        depth: gather(&layers, &[(SCENE_DEPTH, 0)]),
-        normal: rgb1(&layers, WORLD_NORMAL),
-        stencil: gather(&layers, &[(CUSTOM_STENCIL, 0)]),
-        motion: gather(&layers, &[(MOTION_VECTOR, 0), (MOTION_VECTOR, 1)]),
-        camera: Camera::from_abi(&camera, "dataset camera")?,
-    })
-}
-
-fn inputs(frame: &Frame) -> FrameInputs<'_> {
-    FrameInputs {
-        color: Some(&frame.color),
-        base_color: &frame.base_color,
-        material: Some(&frame.material),
-        depth: &frame.depth,
-        normal: &frame.normal,
-        stencil: Some(&frame.stencil),
-        motion: Some(&frame.motion),
-        camera: &frame.camera,
-        normal_encoding: PATCHEX_NORMAL_SIGNED,
-        motion_vector_scale: [1.0, 1.0],
-    }
 }
 
 /// `channels` planes of `image` over `patch`, zero past the frame.

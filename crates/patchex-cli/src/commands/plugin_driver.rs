@@ -146,9 +146,20 @@ pub struct Extrapolated {
 
 impl PluginDriver {
     pub fn new(manifest: &Manifest, validation: bool) -> Result<Self, String> {
+        Self::on_device(manifest, validation, None)
+    }
+
+    /// As [`Self::new`], on the first device whose name contains `device` (case-insensitive);
+    /// without one, as the engine picks (`PATCHEX_DEVICE`, else the first GPU).
+    pub fn on_device(
+        manifest: &Manifest,
+        validation: bool,
+        device: Option<&str>,
+    ) -> Result<Self, String> {
+        let defaults = EngineOptions::default();
         let engine = Engine::new(&EngineOptions {
             validation,
-            ..Default::default()
+            device_name: device.map(str::to_owned).or(defaults.device_name),
         })?;
         let path = PatchexLibrary::beside_current_exe()?;
         // SAFETY: the library is built from this workspace.

@@ -1,0 +1,281 @@
+//! `patchex selftest`: does patchex compute what it should on this machine's GPU and driver?
+//!
+//! Renders a few frames of a bundled scene, runs every configuration through the C ABI on the
+//! named device (with the Khronos validation layers and synchronization validation where they
+//! are installed), runs the plain-Rust reference on the same frames, and prints one line per
+//! configuration: the share of pixels whose colour is off the reference by more than the
+//! tolerance, against the share allowed, the holes against the reference's, and the validation
+//! messages. The exit code is 0 only when every line passes.
+
+use std::path::PathBuf;
+
+use clap::Args;
+use patchex::abi::*;
+use patchex::network::{Network, SHIPPED_FI, SHIPPED_NEAR_BE};
+use patchex::passes::shadow_flow::{mask_step, FlowSettings};
+use patchex::passes::warp::WarpSettings;
+use patchex::reference::{self, inpaint::Networks, ShadowInputs};
+use patchex_scene::dataset::{render_sequence, Dataset, SequenceOptions};
+use patchex_scene::{Gpu, GpuOptions, World};
+
+use super::plugin_driver::{NetworkChoice, PluginDriver};
+use super::reference_frames::{frame, inputs, Frame};
+use super::render::parse_size;
+use super::{repository_path, CommandResult};
+
+#[derive(Args)]
+pub struct SelftestArgs {
+    /// Run on the first Vulkan device whose name contains this (case-insensitive); by default
+    /// the first discrete or integrated GPU, else a CPU driver.
+    #[arg(long)]
+    device: Option<String>,
+    /// The scene to render (TOML).
+    #[arg(long, default_value_os_t = repository_path("scenes/shadow_terrain.toml"))]
+    scene: PathBuf,
+    /// Frame size, WIDTHxHEIGHT.
+    #[arg(long, value_parser = parse_size, default_value = "192x108")]
+    size: (u32, u32),
+    /// Folder for the rendered frames; a temporary one, removed after, by default.
+    #[arg(long)]
+    work: Option<PathBuf>,
+}
+
+/// A colour matches where every channel is within `RELATIVE * |reference| + ABSOLUTE` of the
+/// reference's: f16 storage, the networks' half-float tensors and transcendental functions on
+/// the GPU stay inside it.
+const RELATIVE: f32 = 1e-2;
+const ABSOLUTE: f32 = 2e-3;
+/// Pixels allowed beyond that: a pixel whose warp decision sits at a threshold (an agreement
+/// or a bilinear weight within rounding of its bound) may go the other way on a GPU.
+const ALLOWED_SHARE: f64 = 0.005;
+
+struct Configuration {
+    name: &'static str,
+    warp: PatchexWarpKind,
+    shadows: bool,
+    networks: bool,
+}
+
+const CONFIGURATIONS: [Configuration; 6] = [
+    Configuration {
+        name: "G-buffer-guided warp (WARP_ONLY)",
+        warp: PATCHEX_WARP_GBUFFER_GUIDED,
+        shadows: false,
+        networks: false,
+    },
+    Configuration {
+        name: "motion-vector warp",
+        warp: PATCHEX_WARP_MOTION_VECTOR,
+        shadows: false,
+        networks: false,
+    },
+    Configuration {
+        name: "occlusion-motion-vector warp",
+        warp: PATCHEX_WARP_OCCLUSION_MOTION_VECTOR,
+        shadows: false,
+        networks: false,
+    },
+    Configuration {
+        name: "warp + shadows (WARP_AND_SHADOWS)",
+        warp: PATCHEX_WARP_GBUFFER_GUIDED,
+        shadows: true,
+        networks: false,
+    },
+    Configuration {
+        name: "warp + networks (NETWORKS)",
+        warp: PATCHEX_WARP_GBUFFER_GUIDED,
+        shadows: false,
+        networks: true,
+    },
+    Configuration {
+        name: "PatchEX (FULL)",
+        warp: PATCHEX_WARP_GBUFFER_GUIDED,
+        shadows: true,
+        networks: true,
+    },
+];
+
+/// The target the configurations extrapolate: frame 3 from frame 2, frame 0 its shadows'
+/// frame t-1 (the first target with one).
+const TARGET: usize = 3;
+
+pub fn run(args: SelftestArgs) -> CommandResult {
+    let (width, height) = args.size;
+    let temporary = args.work.is_none();
+    let work = args.work.clone().unwrap_or_else(|| {
+        std::env::temp_dir().join(format!("patchex-selftest-{}", std::process::id()))
+    });
+    let world = World::load(&args.scene, None)?;
+    let renderer = std::sync::Arc::new(Gpu::new(GpuOptions { validation: false })?);
+    render_sequence(
+        &renderer,
+        &world,
+        &SequenceOptions {
+            targets_between: 1,
+            frames: TARGET + 1,
+            width,
+            height,
+            out_dir: work.clone(),
+        },
+        &mut |_, _| {},
+    )?;
+    drop(renderer);
+    let verdict = check(&args, &work);
+    if temporary {
+        let _ = std::fs::remove_dir_all(&work);
+    }
+    if verdict? {
+        println!("selftest: PASS");
+        Ok(())
+    } else {
+        println!("selftest: FAIL");
+        std::process::exit(1);
+    }
+}
+
+/// Runs every configuration on the rendered frames; true when all pass.
+fn check(args: &SelftestArgs, work: &std::path::Path) -> Result<bool, Box<dyn std::error::Error>> {
+    let dataset = Dataset::open(work)?;
+    let manifest = &dataset.manifest;
+    let device = args.device.as_deref();
+    // Validation where the layers are installed; without them the checks still run.
+    let (driver, validated) = match PluginDriver::on_device(manifest, true, device) {
+        Ok(driver) => (driver, true),
+        Err(with_layers) => match PluginDriver::on_device(manifest, false, device) {
+            Ok(driver) => (driver, false),
+            Err(_) => return Err(with_layers.into()),
+        },
+    };
+    println!(
+        "patchex selftest on {} ({}x{}, {}): colour within {RELATIVE} x |reference| + \
+         {ABSOLUTE} on all but {:.1}% of the pixels",
+        driver.engine.device_name,
+        manifest.width,
+        manifest.height,
+        if validated {
+            "validation and synchronization validation on"
+        } else {
+            "validation layers not installed: unvalidated"
+        },
+        100.0 * ALLOWED_SHARE
+    );
+
+    let (source_index, alpha) = manifest.source_of(TARGET);
+    let earlier_index = source_index - 2;
+    let read = |index: usize| dataset.read_frame(index);
+    let layers = [read(earlier_index)?, read(source_index)?, read(TARGET)?];
+    let frames = [
+        frame(&dataset, earlier_index)?,
+        frame(&dataset, source_index)?,
+        frame(&dataset, TARGET)?,
+    ];
+    let shipped = [
+        Network::from_safetensors(SHIPPED_FI, "built-in FI network")?,
+        Network::from_safetensors(SHIPPED_NEAR_BE, "built-in near-BE network")?,
+    ];
+    let mut all_pass = true;
+    for (n, configuration) in CONFIGURATIONS.iter().enumerate() {
+        let warp = WarpSettings {
+            kind: configuration.warp,
+            ..WarpSettings::default()
+        };
+        let networks = configuration.networks.then(NetworkChoice::default);
+        let got = driver.extrapolate(
+            4 * (n as u64 + 1),
+            (&layers[1], &manifest.frames[source_index]),
+            (&layers[2], &manifest.frames[TARGET]),
+            alpha,
+            Some(warp),
+            networks.as_ref(),
+            false,
+            configuration
+                .shadows
+                .then_some(Some((&layers[0], &manifest.frames[earlier_index]))),
+        )?;
+        let want = expected(&frames, configuration, alpha, &warp, &shipped);
+        let messages = driver.validation_messages();
+
+        let pixels = (manifest.width * manifest.height) as f64;
+        let beyond = got
+            .color
+            .chunks_exact(4)
+            .zip(want.output.data.chunks_exact(4))
+            .filter(|(got, want)| {
+                (0..3).any(|c| (got[c] - want[c]).abs() > RELATIVE * want[c].abs() + ABSOLUTE)
+            })
+            .count() as f64;
+        let holes = (got.stats.extrapolations[0].hole_fraction as f64 * pixels).round();
+        let hole_difference = (holes - want.warped.hole_pixels as f64).abs();
+        // A configuration only checks its sub-tasks if they ran on these frames.
+        let stats = &got.stats;
+        let ran = |stage: PatchexStage| stats.extrapolations[0].stages_run & (1 << stage) != 0;
+        let exercised = (!configuration.shadows
+            || stats.shadow_history == PATCHEX_SHADOW_HISTORY_TRACKED
+                && ran(PATCHEX_STAGE_SHADOW_WARP))
+            && (!configuration.networks || ran(PATCHEX_STAGE_INFERENCE));
+        let pass = exercised
+            && beyond <= ALLOWED_SHARE * pixels
+            && hole_difference <= ALLOWED_SHARE * pixels
+            && messages.is_empty();
+        all_pass &= pass;
+        println!(
+            "{} {:<36} colour off on {:.2}% of pixels (allowed {:.1}%), holes {} against {}, \
+             {} validation messages",
+            if pass { "PASS" } else { "FAIL" },
+            configuration.name,
+            100.0 * beyond / pixels,
+            100.0 * ALLOWED_SHARE,
+            holes,
+            want.warped.hole_pixels,
+            messages.len()
+        );
+        if !exercised {
+            println!("     its shadow or network stages did not run on these frames");
+        }
+        for message in messages.iter().take(3) {
+            println!("     {message}");
+        }
+    }
+    Ok(all_pass)
+}
+
+/// The reference's extrapolation of `frames` (frame t-1, frame t, the target) in
+/// `configuration`.
+fn expected(
+    frames: &[Frame; 3],
+    configuration: &Configuration,
+    alpha: f32,
+    warp: &WarpSettings,
+    shipped: &[Network; 2],
+) -> reference::Extrapolation {
+    let [earlier, source, target] = frames;
+    let extent = ash::vk::Extent2D {
+        width: source.color.width as u32,
+        height: source.color.height as u32,
+    };
+    let shadows = ShadowInputs {
+        color_without_dynamic_shadows: &source.color_without_dynamic_shadows,
+        mask: &source.shadow_mask,
+        previous: Some((&earlier.shadow_mask, &earlier.stencil, &earlier.camera)),
+        flow: FlowSettings::default(),
+        mask_step: mask_step(extent),
+    };
+    let networks = if configuration.networks {
+        Networks {
+            fi: Some(&shipped[0]),
+            near_be: Some(&shipped[1]),
+            ..Networks::default()
+        }
+    } else {
+        Networks::default()
+    };
+    reference::extrapolate(
+        &inputs(source),
+        &inputs(target),
+        configuration.shadows.then_some(&shadows),
+        alpha,
+        warp,
+        &Default::default(),
+        networks,
+    )
+}
