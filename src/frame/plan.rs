@@ -1,0 +1,423 @@
+//! One extrapolation's stages, in the order of `passes::STAGES`. `Context::extrapolate` checks
+//! the call and allocates what it needs into an [`ExtrapolationPlan`]; [`record`] lists the
+//! stages; each stage is one function that records its passes from the plan, and leaves out
+//! what the plan says it does not run.
+
+use ash::vk;
+
+use crate::abi::*;
+use crate::frame::counters;
+use crate::frame::images::{AnalysisImages, OutputStaging, ShadowImages, WorkImages};
+use crate::frame::settings::NetworkSwitches;
+use crate::passes::inpaint::{self, Inpainting};
+use crate::passes::pack_gbuffer::EngineGbuffer;
+use crate::passes::segmentation::{self, SegmentationSettings};
+use crate::passes::warp::{self, Remodulation, Store, WarpSettings};
+use crate::passes::{
+    diagnostics, fill_holes, lbp, pack_output, remodulate, CounterRange, PipelineId, Pipelines,
+    RegionPasses, Texture, SANITIZE_COUNTER_BYTES,
+};
+use crate::vk::frame_ring::FrameRing;
+use crate::vk::image::ImportedImage;
+use crate::vk::recorder::Recorder;
+
+/// Everything one extrapolation records with: its inputs, images and settings, resolved.
+pub struct ExtrapolationPlan<'a> {
+    pub extent: vk::Extent2D,
+    pub passes: RegionPasses<'a>,
+    pub work: &'a WorkImages,
+    /// The shadow sub-task's images, when frame t came with a shadow input.
+    pub shadows: Option<&'a ShadowImages>,
+    /// Frame t-1 came with one too: the flow measured how the shadows drift.
+    pub shadows_tracked: bool,
+    /// The regions and LBP map, for the networks and the diagnostics.
+    pub analysis: Option<&'a AnalysisImages>,
+    /// The networks, when the preset has them.
+    pub inpainting: Option<&'a Inpainting>,
+    pub networks: NetworkSwitches,
+    /// Where the warp writes its shading and the later passes refine it: the engine's output,
+    /// or the staging image an output format the passes cannot store needs.
+    pub frame: Texture,
+    pub staging: Option<&'a OutputStaging>,
+    pub output: &'a ImportedImage,
+    pub target: &'a EngineGbuffer,
+    pub motion: Texture,
+    pub motion_scale: [f32; 2],
+    pub remodulation: Remodulation,
+    /// Bound where a pass reads nothing: a float and an integer image.
+    pub placeholders: (Texture, Texture),
+    pub warp: WarpSettings,
+    pub warp_params: warp::Params,
+    /// How the shadow layer moves to the target instant.
+    pub shadow_params: warp::Params,
+    pub segmentation: SegmentationSettings,
+    /// Both instants' cameras, written into the counters before the first stage.
+    pub cameras: CounterRange,
+    /// The holes the G-buffer warp leaves to the fill: the frame's, then the shadow layer's.
+    pub deferred_holes: [CounterRange; 2],
+    pub diagnostics: Option<Texture>,
+    pub shadow_diagnostics: Option<Texture>,
+}
+
+/// Records the extrapolation's stages in order.
+pub fn record(rec: &mut Recorder, plan: &ExtrapolationPlan) {
+    warp_frame(rec, plan);
+    fill_holes(rec, plan);
+    warp_shadows(rec, plan);
+    segment(rec, plan);
+    lbp(rec, plan);
+    inference_and_blend(rec, plan);
+    diagnostics(rec, plan);
+    remodulate(rec, plan);
+    pack_output(rec, plan);
+}
+
+/// Zeroes the extrapolation's counters and writes what its passes read there: both instants'
+/// `cameras`, and no deferred holes yet. Returns those ranges.
+pub fn start_counters(
+    rec: &mut Recorder,
+    ring: &FrameRing,
+    slot: usize,
+    region: usize,
+    cameras: &warp::Cameras,
+) -> (CounterRange, [CounterRange; 2]) {
+    rec.fill_zero(&ring.region_counters(slot, region));
+    let range = |offset, bytes| ring.counter_range(slot, region, offset, bytes);
+    let camera_range = range(counters::CAMERAS, warp::CAMERAS_BYTES);
+    rec.update(&camera_range, cameras);
+    let deferred_holes =
+        [counters::DEFERRED_HOLES, counters::SURFACE_DEFERRED_HOLES].map(|offset| {
+            let holes = range(offset, warp::DEFERRED_HOLES_BYTES);
+            rec.update(&holes, &warp::NO_DEFERRED_HOLES);
+            holes
+        });
+    (camera_range, deferred_holes)
+}
+
+impl<'a> ExtrapolationPlan<'a> {
+    /// `bytes` of this extrapolation's counters at `offset` (`frame::counters`).
+    fn counters(&self, offset: u64, bytes: u64) -> CounterRange {
+        let passes = &self.passes;
+        passes
+            .ring
+            .counter_range(passes.slot, passes.region, offset, bytes)
+    }
+
+    fn warp_pipeline(&self) -> PipelineId {
+        Pipelines::warp(self.warp.kind)
+    }
+
+    /// The G-buffer warp lists its holes for the fill; the other warps fill their own.
+    fn lists_holes(&self) -> bool {
+        self.warp_pipeline() == PipelineId::WarpGbuffer
+    }
+
+    /// The nearest-texel fill is the warp's own; only the default defers its holes.
+    fn fills_holes(&self) -> bool {
+        self.lists_holes() && self.warp.hole_fill == PATCHEX_HOLE_FILL_BACKGROUND
+    }
+
+    /// With nothing to run between the warp and the output (no shadow layers, networks or
+    /// diagnostics), the warp remodulates as it writes, and the frame is read and written once.
+    fn remodulates_in_warp(&self) -> bool {
+        self.shadows.is_none() && self.analysis.is_none()
+    }
+
+    fn frame_store(&self) -> Store<'_> {
+        if self.remodulates_in_warp() {
+            Store::Remodulated(&self.remodulation)
+        } else {
+            Store::Shading
+        }
+    }
+
+    /// What every warp reads: `source_shading` of frame t moved by `motion` to the target.
+    fn warp_inputs(
+        &'a self,
+        source_shading: &'a crate::vk::image::OwnedImage,
+        motion: Texture,
+    ) -> warp::WarpInputs<'a> {
+        warp::WarpInputs {
+            source_shading,
+            source_depth: &self.work[WorkImages::SOURCE_DEPTH],
+            source_normal_id: &self.work[WorkImages::SOURCE_NORMAL_ID],
+            target: self.target,
+            motion,
+            cameras: &self.cameras,
+            placeholder: self.placeholders.0,
+            placeholder_uint: self.placeholders.1,
+        }
+    }
+
+    fn frame_inputs(&'a self) -> warp::WarpInputs<'a> {
+        self.warp_inputs(&self.work[WorkImages::SOURCE_SHADING], self.motion)
+    }
+
+    /// The hole list of the n-th G-buffer warp (0: the frame's, 1: the shadow layer's), which
+    /// the fill's n-th set fills.
+    fn hole_list(&'a self, n: usize) -> warp::HoleList<'a> {
+        warp::HoleList {
+            list: &self.work[WorkImages::HOLE_LIST],
+            deferred: &self.deferred_holes[n],
+            fill: self.passes.nth(PipelineId::FillHoles, n),
+        }
+    }
+}
+
+fn warp_frame(rec: &mut Recorder, plan: &ExtrapolationPlan) {
+    let holes = plan.lists_holes().then(|| plan.hole_list(0));
+    rec.stage(PATCHEX_STAGE_WARP, |rec| {
+        warp::record(
+            rec,
+            plan.passes.nth(plan.warp_pipeline(), 0),
+            &plan.warp_params,
+            &plan.frame_inputs(),
+            plan.frame_store(),
+            plan.frame,
+            &plan.counters(counters::WARP, warp::COUNTER_BYTES),
+            holes.as_ref(),
+        )
+    });
+}
+
+fn fill_holes(rec: &mut Recorder, plan: &ExtrapolationPlan) {
+    if !plan.fills_holes() {
+        return;
+    }
+    rec.stage(PATCHEX_STAGE_FILL_HOLES, |rec| {
+        fill_holes::record(
+            rec,
+            &plan.warp_params,
+            &plan.frame_inputs(),
+            plan.frame_store(),
+            plan.frame,
+            &plan.counters(counters::WARP, warp::COUNTER_BYTES),
+            &plan.hole_list(0),
+        )
+    });
+}
+
+/// The shadow layer moved by the mask's flow scaled to the target instant; then through the
+/// frame's own warp (where that warp put frame t's shadow), which turns the moved layer into
+/// the shadows' share at the target in place.
+fn warp_shadows(rec: &mut Recorder, plan: &ExtrapolationPlan) {
+    let Some(shadows) = plan.shadows else {
+        return;
+    };
+    let layer = &shadows[ShadowImages::LAYER];
+    let share = &shadows[ShadowImages::SHADOW_SHARE];
+    rec.stage(PATCHEX_STAGE_SHADOW_WARP, |rec| {
+        if !plan.shadows_tracked {
+            // No frame t-1 to measure a drift from: the shadows stay on their receivers, where
+            // the frame's warp carried them, and change nothing. (Moved by a zero flow instead,
+            // they would stay put on the screen and slide across the ground under a moving
+            // camera.)
+            rec.clear(share);
+            return;
+        }
+        // The occlusion-motion warp's sets: the frame's own warp uses the first when it is
+        // that warp, and the shadow layer's through the frame's warp the second.
+        let flow_warp = PipelineId::WarpOcclusionMotion;
+        let flow_set = if plan.warp_pipeline() == flow_warp {
+            2
+        } else {
+            0
+        };
+        warp::record(
+            rec,
+            plan.passes.nth(flow_warp, flow_set),
+            &plan.shadow_params,
+            &plan.warp_inputs(layer, (&shadows[ShadowImages::FLOW]).into()),
+            Store::Shading,
+            share.into(),
+            &plan.counters(counters::SHADOW_WARP, warp::COUNTER_BYTES),
+            None,
+        );
+        // The frame's fill has read its holes: the list's image takes the layer's.
+        let inputs = plan.warp_inputs(layer, plan.motion);
+        let layer_counters = plan.counters(counters::SURFACE_LAYER, warp::COUNTER_BYTES);
+        let holes = plan.lists_holes().then(|| plan.hole_list(1));
+        warp::record(
+            rec,
+            plan.passes.nth(plan.warp_pipeline(), 1),
+            &plan.warp_params,
+            &inputs,
+            Store::ShadowShare,
+            share.into(),
+            &layer_counters,
+            holes.as_ref(),
+        );
+        if let Some(holes) = holes.as_ref().filter(|_| plan.fills_holes()) {
+            fill_holes::record(
+                rec,
+                &plan.warp_params,
+                &inputs,
+                Store::ShadowShare,
+                share.into(),
+                &layer_counters,
+                holes,
+            );
+        }
+    });
+}
+
+fn segment(rec: &mut Recorder, plan: &ExtrapolationPlan) {
+    rec.stage(PATCHEX_STAGE_SEGMENT, |rec| {
+        segmentation::record(
+            rec,
+            &segmentation::SegmentationPasses {
+                object_bounds: plan.passes.get(PipelineId::ObjectBounds),
+                grow_regions: plan.passes.get(PipelineId::GrowRegions),
+                region_masks: plan.passes.get(PipelineId::RegionMasks),
+            },
+            plan.extent,
+            &plan.segmentation,
+            &segmentation::SegmentationInputs {
+                target_stencil: plan.target.stencil,
+                motion: plan.motion,
+                motion_scale: plan.motion_scale,
+                placeholder_uint: plan.placeholders.1,
+            },
+            &plan.counters(counters::OBJECT_TABLE, segmentation::TABLE_BYTES),
+            plan.analysis.map(|a| &a[AnalysisImages::REGIONS]),
+        )
+    });
+}
+
+fn lbp(rec: &mut Recorder, plan: &ExtrapolationPlan) {
+    let Some(analysis) = plan.analysis else {
+        return;
+    };
+    rec.stage(PATCHEX_STAGE_LBP, |rec| {
+        lbp::record(
+            rec,
+            plan.passes.get(PipelineId::Lbp),
+            plan.extent,
+            plan.frame,
+            &analysis[AnalysisImages::LBP],
+        )
+    });
+}
+
+/// The networks on the patches `plan_patches` finds around the regions, then their blend.
+fn inference_and_blend(rec: &mut Recorder, plan: &ExtrapolationPlan) {
+    let Some((inpainting, analysis)) = plan.inpainting.zip(plan.analysis) else {
+        return;
+    };
+    let patches = plan.counters(counters::PATCHES, inpaint::PATCH_SLOTS_BYTES);
+    let networks = &plan.networks;
+    rec.stage(PATCHEX_STAGE_INFERENCE, |rec| {
+        inpaint::record_plan(
+            rec,
+            plan.passes.get(PipelineId::PlanPatches),
+            plan.extent,
+            &inpaint::PatchPlan {
+                levels: inpainting.levels(networks.running()),
+                whole_frame: networks.whole_frame,
+                divisor: networks.divisor,
+                max_patch_side: inpainting.max_patch_side,
+            },
+            &plan.counters(counters::OBJECT_TABLE, segmentation::TABLE_BYTES),
+            &patches,
+        );
+        inpaint::record(
+            rec,
+            &inpaint::FrameInputs {
+                warped: plan.frame,
+                material: plan.remodulation.material,
+                lbp: (&analysis[AnalysisImages::LBP]).into(),
+                placeholder: plan.placeholders.0,
+                frame_extent: plan.extent,
+            },
+            &inpainting.runs(&plan.passes, &patches),
+        );
+    });
+    rec.stage(PATCHEX_STAGE_BLEND, |rec| {
+        inpaint::record_blend(
+            rec,
+            plan.passes.get(PipelineId::BlendPatches),
+            &inpaint::BlendInputs {
+                regions: &analysis[AnalysisImages::REGIONS],
+                networks: inpainting.tensors(),
+                whole_frame: networks.whole_frame,
+                correct_valid_pixels: networks.correct_valid_pixels,
+            },
+            &patches,
+            plan.frame,
+        )
+    });
+}
+
+/// Before remodulation, which turns the frame's warped shading into the output.
+fn diagnostics(rec: &mut Recorder, plan: &ExtrapolationPlan) {
+    let shadow_diagnostics = plan.shadow_diagnostics.zip(plan.shadows);
+    if plan.diagnostics.is_none() && shadow_diagnostics.is_none() {
+        return;
+    }
+    rec.stage(PATCHEX_STAGE_DIAGNOSTICS, |rec| {
+        if let Some(image) = plan.diagnostics {
+            let analysis = plan.analysis.expect("made for the diagnostics");
+            let sources = diagnostics::frame_sources(
+                plan.frame,
+                &analysis[AnalysisImages::REGIONS],
+                &analysis[AnalysisImages::LBP],
+            );
+            let pass = plan.passes.get(PipelineId::WriteDiagnostics);
+            diagnostics::record(rec, pass, plan.extent, sources, image);
+        }
+        if let Some((image, shadows)) = shadow_diagnostics {
+            let sources = diagnostics::shadow_sources(
+                &shadows[ShadowImages::FLOW],
+                &shadows[ShadowImages::LAYER],
+                &shadows[ShadowImages::SHADOW_SHARE],
+            );
+            let pass = plan.passes.get(PipelineId::WriteShadowDiagnostics);
+            diagnostics::record(rec, pass, plan.extent, sources, image);
+        }
+    });
+}
+
+fn remodulate(rec: &mut Recorder, plan: &ExtrapolationPlan) {
+    if plan.remodulates_in_warp() {
+        return;
+    }
+    rec.stage(PATCHEX_STAGE_REMODULATE, |rec| {
+        remodulate::record(
+            rec,
+            plan.passes.get(PipelineId::Remodulate),
+            plan.extent,
+            &remodulate::RemodulateInputs {
+                base_color: plan.remodulation.base_color,
+                material: plan.remodulation.material,
+                shadow_share: plan
+                    .shadows
+                    .map(|s| (&s[ShadowImages::SHADOW_SHARE]).into()),
+                placeholder: plan.placeholders.0,
+            },
+            plan.frame,
+            &plan.counters(counters::SANITIZE, SANITIZE_COUNTER_BYTES),
+        )
+    });
+}
+
+/// Into an output format the passes cannot store, from the staging image.
+fn pack_output(rec: &mut Recorder, plan: &ExtrapolationPlan) {
+    let Some(staging) = plan.staging else {
+        return;
+    };
+    let encoding = pack_output::encoding(plan.output.format)
+        .expect("every copied output format has an encoding");
+    rec.stage(PATCHEX_STAGE_PACK_OUTPUT, |rec| {
+        pack_output::record(
+            rec,
+            plan.passes.get(PipelineId::PackOutput),
+            plan.extent,
+            &pack_output::Packing {
+                encoding,
+                frame: &staging[OutputStaging::FRAME],
+                packed: &staging[OutputStaging::PACKED],
+                output: plan.output,
+            },
+        )
+    });
+}
