@@ -1,6 +1,6 @@
-//! What each call records, read top to bottom: `submit` (frame t), `extrapolate` (one target
-//! instant: its checks and allocation, then `plan`, its stages in order) and `stats` (what they
-//! measured). The images, counters and settings they share sit beside them.
+//! What each call records, read top to bottom: `submit` (frame t) and `extrapolate` (one
+//! target instant) check and allocate, then record the stages `plan` lists; `stats` reads what
+//! they measured. The images, counters and settings they share sit beside them.
 
 pub mod counters;
 pub mod extrapolate;

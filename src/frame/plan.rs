@@ -1,25 +1,138 @@
-//! One extrapolation's stages, in the order of `passes::STAGES`. `Context::extrapolate` checks
-//! the call and allocates what it needs into an [`ExtrapolationPlan`]; [`record`] lists the
-//! stages; each stage is one function that records its passes from the plan, and leaves out
-//! what the plan says it does not run.
+//! Each call's stages, in the order of `passes::STAGES`. `Context::submit` and
+//! `Context::extrapolate` check the call and allocate what it needs into a plan
+//! ([`SubmitPlan`], [`ExtrapolationPlan`]); [`record_submit`] and [`record`] list the stages;
+//! each stage is one function that records its passes from the plan, and leaves out what the
+//! plan says it does not run.
 
 use ash::vk;
 
 use crate::abi::*;
+use crate::camera::PixelRays;
 use crate::frame::counters;
 use crate::frame::images::{AnalysisImages, OutputStaging, ShadowImages, WorkImages};
 use crate::frame::settings::NetworkSwitches;
 use crate::passes::inpaint::{self, Inpainting};
 use crate::passes::pack_gbuffer::EngineGbuffer;
 use crate::passes::segmentation::{self, SegmentationSettings};
+use crate::passes::shadow_flow::{self, FlowSettings};
 use crate::passes::warp::{self, Remodulation, Store, WarpSettings};
 use crate::passes::{
-    diagnostics, fill_holes, lbp, pack_output, remodulate, CounterRange, PipelineId, Pipelines,
-    RegionPasses, Texture, SANITIZE_COUNTER_BYTES,
+    demodulate, diagnostics, fill_holes, lbp, pack_gbuffer, pack_output, remodulate,
+    separate_shadows, CounterRange, PipelineId, Pipelines, RegionPasses, Texture,
+    SANITIZE_COUNTER_BYTES,
 };
 use crate::vk::frame_ring::FrameRing;
 use crate::vk::image::ImportedImage;
 use crate::vk::recorder::Recorder;
+
+/// Everything frame t's submit records with: its inputs, images and settings, resolved.
+pub struct SubmitPlan<'a> {
+    pub extent: vk::Extent2D,
+    pub passes: RegionPasses<'a>,
+    pub work: &'a WorkImages,
+    pub gbuffer: &'a EngineGbuffer,
+    pub demodulation: demodulate::DemodulateInputs,
+    /// With a shadow input: what the separation reads, and the shadow images.
+    pub separation: Option<(&'a separate_shadows::SeparationInputs, &'a ShadowImages)>,
+    /// Which of the alternating flow images is frame t's.
+    pub shadow_current: usize,
+    pub flow: FlowSettings,
+    /// With frame t-1 to track from: static receivers' motion into it, where the flow starts.
+    pub reprojection: Option<PixelRays>,
+    pub placeholder_uint: Texture,
+}
+
+/// Records frame t's stages in order.
+pub fn record_submit(rec: &mut Recorder, plan: &SubmitPlan) {
+    pack_source(rec, plan);
+    demodulate(rec, plan);
+    shadow_flow(rec, plan);
+}
+
+fn submit_counters(plan: &SubmitPlan, offset: u64, bytes: u64) -> CounterRange {
+    let passes = &plan.passes;
+    passes
+        .ring
+        .counter_range(passes.slot, passes.region, offset, bytes)
+}
+
+fn pack_source(rec: &mut Recorder, plan: &SubmitPlan) {
+    rec.stage(PATCHEX_STAGE_PACK_SOURCE_GBUFFER, |rec| {
+        pack_gbuffer::record(
+            rec,
+            plan.passes.get(PipelineId::PackGbuffer),
+            plan.extent,
+            plan.gbuffer,
+            plan.placeholder_uint,
+            &pack_gbuffer::PackOutputs {
+                depth: &plan.work[WorkImages::SOURCE_DEPTH],
+                normal_id: &plan.work[WorkImages::SOURCE_NORMAL_ID],
+                counters: submit_counters(plan, counters::GEOMETRY, pack_gbuffer::COUNTER_BYTES),
+            },
+        )
+    });
+}
+
+/// Frame t's colour over its modulation; with a shadow input, also the shadow layer apart.
+fn demodulate(rec: &mut Recorder, plan: &SubmitPlan) {
+    let sanitized = submit_counters(plan, counters::SANITIZE, SANITIZE_COUNTER_BYTES);
+    let shading = &plan.work[WorkImages::SOURCE_SHADING];
+    rec.stage(PATCHEX_STAGE_DEMODULATE, |rec| match plan.separation {
+        Some((separation, shadows)) => separate_shadows::record(
+            rec,
+            plan.passes.get(PipelineId::SeparateShadows),
+            plan.extent,
+            separation,
+            &separate_shadows::SeparationOutputs {
+                source_normal_id: &plan.work[WorkImages::SOURCE_NORMAL_ID],
+                shading,
+                shadow_layer: &shadows[ShadowImages::LAYER],
+            },
+            &sanitized,
+            plan.reprojection.is_some(),
+        ),
+        None => demodulate::record(
+            rec,
+            plan.passes.get(PipelineId::Demodulate),
+            plan.extent,
+            &plan.demodulation,
+            shading,
+            &sanitized,
+        ),
+    });
+}
+
+/// How the shadow mask moved from frame t-1 to frame t.
+fn shadow_flow(rec: &mut Recorder, plan: &SubmitPlan) {
+    let Some((separation, shadows)) = plan.separation else {
+        return;
+    };
+    let passes = &plan.passes;
+    rec.stage(PATCHEX_STAGE_SHADOW_FLOW, |rec| {
+        shadow_flow::record(
+            rec,
+            &shadow_flow::FlowPasses {
+                pyramid: passes.get(PipelineId::ShadowPyramid),
+                poly: passes.get(PipelineId::ShadowPoly),
+                matrices: passes.get(PipelineId::ShadowFlowMatrices),
+                rows: passes.get(PipelineId::ShadowFlowRows),
+                solve: passes.get(PipelineId::ShadowFlowSolve),
+                upsample: passes.get(PipelineId::ShadowFlowUpsample),
+            },
+            plan.extent,
+            &plan.flow,
+            &shadows.flow_images(
+                plan.shadow_current,
+                shadow_flow::FrameMask {
+                    mask: separation.mask,
+                    source_normal_id: &plan.work[WorkImages::SOURCE_NORMAL_ID],
+                    source_depth: &plan.work[WorkImages::SOURCE_DEPTH],
+                },
+            ),
+            plan.reprojection.as_ref(),
+        )
+    });
+}
 
 /// Everything one extrapolation records with: its inputs, images and settings, resolved.
 pub struct ExtrapolationPlan<'a> {

@@ -6,14 +6,11 @@ use ash::vk;
 use crate::abi::*;
 use crate::context::{Context, SourceFrame};
 use crate::error::{bail, Result};
-use crate::frame::counters;
-use crate::frame::images::{Growth, ShadowImages, WorkImages};
+use crate::frame::images::Growth;
+use crate::frame::plan::{self, SubmitPlan};
 use crate::frame::settings::{Extensions, NEEDS_SHADOW_PRESET};
 use crate::inputs::{self, GeometryInputs, SourceInputs};
-use crate::passes::{
-    demodulate, pack_gbuffer, separate_shadows, shadow_flow, PipelineId, RegionPasses,
-    SANITIZE_COUNTER_BYTES,
-};
+use crate::passes::{demodulate, pack_gbuffer, separate_shadows, RegionPasses};
 use crate::vk::barriers::EngineImageAccess;
 use crate::vk::frame_ring::{FrameRecord, RegionRecord};
 use crate::vk::image::OwnedImage;
@@ -100,91 +97,33 @@ impl Context {
         rec.acquire(&access);
         rec.fill_zero(&self.ring.region_counters(slot, 0));
         let mut rec = rec.timed(&self.ring, slot, 0);
-        let passes = RegionPasses {
-            pipelines: &self.pipelines,
-            ring: &self.ring,
-            slot,
-            region: 0,
-        };
-        let counters = |offset, bytes| self.ring.counter_range(slot, 0, offset, bytes);
-        let sanitize_counters = counters(counters::SANITIZE, SANITIZE_COUNTER_BYTES);
         let work = self.images.work.as_ref().expect("allocated above");
-        let shadows = self
-            .images
-            .shadows
-            .as_ref()
-            .filter(|_| separation_inputs.is_some());
-
-        rec.stage(PATCHEX_STAGE_PACK_SOURCE_GBUFFER, |rec| {
-            pack_gbuffer::record(
-                rec,
-                passes.get(PipelineId::PackGbuffer),
-                inputs.extent,
-                &gbuffer,
-                placeholder_uint,
-                &pack_gbuffer::PackOutputs {
-                    depth: &work[WorkImages::SOURCE_DEPTH],
-                    normal_id: &work[WorkImages::SOURCE_NORMAL_ID],
-                    counters: counters(counters::GEOMETRY, pack_gbuffer::COUNTER_BYTES),
+        let shadows = self.images.shadows.as_ref();
+        plan::record_submit(
+            &mut rec,
+            &SubmitPlan {
+                extent: inputs.extent,
+                passes: RegionPasses {
+                    pipelines: &self.pipelines,
+                    ring: &self.ring,
+                    slot,
+                    region: 0,
                 },
-            )
-        });
-        rec.stage(PATCHEX_STAGE_DEMODULATE, |rec| {
-            match (&separation_inputs, shadows) {
-                (Some(separation), Some(shadows)) => separate_shadows::record(
-                    rec,
-                    passes.get(PipelineId::SeparateShadows),
-                    inputs.extent,
-                    separation,
-                    &separate_shadows::SeparationOutputs {
-                        source_normal_id: &work[WorkImages::SOURCE_NORMAL_ID],
-                        shading: &work[WorkImages::SOURCE_SHADING],
-                        shadow_layer: &shadows[ShadowImages::LAYER],
-                    },
-                    &sanitize_counters,
-                    track,
-                ),
-                _ => demodulate::record(
-                    rec,
-                    passes.get(PipelineId::Demodulate),
-                    inputs.extent,
-                    &demodulate::DemodulateInputs {
-                        color,
-                        base_color,
-                        material,
-                        placeholder,
-                    },
-                    &work[WorkImages::SOURCE_SHADING],
-                    &sanitize_counters,
-                ),
-            }
-        });
-        if let Some((shadows, separation)) = shadows.zip(separation_inputs.as_ref()) {
-            rec.stage(PATCHEX_STAGE_SHADOW_FLOW, |rec| {
-                shadow_flow::record(
-                    rec,
-                    &shadow_flow::FlowPasses {
-                        pyramid: passes.get(PipelineId::ShadowPyramid),
-                        poly: passes.get(PipelineId::ShadowPoly),
-                        matrices: passes.get(PipelineId::ShadowFlowMatrices),
-                        rows: passes.get(PipelineId::ShadowFlowRows),
-                        solve: passes.get(PipelineId::ShadowFlowSolve),
-                        upsample: passes.get(PipelineId::ShadowFlowUpsample),
-                    },
-                    inputs.extent,
-                    &flow_settings,
-                    &shadows.flow_images(
-                        self.shadow_current,
-                        shadow_flow::FrameMask {
-                            mask: separation.mask,
-                            source_normal_id: &work[WorkImages::SOURCE_NORMAL_ID],
-                            source_depth: &work[WorkImages::SOURCE_DEPTH],
-                        },
-                    ),
-                    reprojection.as_ref(),
-                )
-            });
-        }
+                work,
+                gbuffer: &gbuffer,
+                demodulation: demodulate::DemodulateInputs {
+                    color,
+                    base_color,
+                    material,
+                    placeholder,
+                },
+                separation: separation_inputs.as_ref().zip(shadows),
+                shadow_current: self.shadow_current,
+                flow: flow_settings,
+                reprojection,
+                placeholder_uint,
+            },
+        );
         let stages = rec.finish(
             &access,
             &self.ring.region_counters(slot, 0),
