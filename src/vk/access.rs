@@ -84,8 +84,9 @@ pub struct Commands {
     pub barriers: u32,
 }
 
-/// A stage a recorder recorded, and what its commands move (commands outside stages, such as
-/// zeroing the counters, are not counted).
+/// A stage a recorder recorded, and what its commands move and cost. What the call records
+/// before its first stage (zeroing its counters, writing its cameras) counts in that stage, so
+/// that the stages add up to the call.
 #[derive(Clone, Debug)]
 pub struct StageRecord {
     pub stage: PatchexStage,
