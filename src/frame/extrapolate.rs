@@ -62,18 +62,18 @@ impl Context {
         // The warp writes its shading here; the later passes refine it in place.
         let frame: Texture = staging.map_or(engine.output, |s| (&s[OutputStaging::FRAME]).into());
         rec.acquire(&engine.access);
+        let passes = RegionPasses {
+            pipelines: &self.pipelines,
+            ring: &self.ring,
+            slot,
+            region,
+        };
         let cameras = warp::cameras(&source.camera, &engine.target_gbuffer, inputs.extent);
-        let (cameras, deferred_holes) =
-            plan::start_counters(&mut rec, &self.ring, slot, region, &cameras);
+        let (cameras, deferred_holes) = plan::start_counters(&mut rec, &passes, &cameras);
         let mut rec = rec.timed(&self.ring, slot, region);
         let plan = ExtrapolationPlan {
             extent: inputs.extent,
-            passes: RegionPasses {
-                pipelines: &self.pipelines,
-                ring: &self.ring,
-                slot,
-                region,
-            },
+            passes,
             work: self
                 .images
                 .work
@@ -114,7 +114,7 @@ impl Context {
         plan::record(&mut rec, &plan);
         let stages = rec.finish(
             &engine.access,
-            &self.ring.region_counters(slot, region),
+            &plan.passes.all_counters(),
             self.ring.readback.buffer,
         );
 

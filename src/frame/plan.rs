@@ -21,7 +21,6 @@ use crate::passes::{
     separate_shadows, CounterRange, PipelineId, Pipelines, RegionPasses, Texture,
     SANITIZE_COUNTER_BYTES,
 };
-use crate::vk::frame_ring::FrameRing;
 use crate::vk::image::ImportedImage;
 use crate::vk::recorder::Recorder;
 
@@ -49,13 +48,6 @@ pub fn record_submit(rec: &mut Recorder, plan: &SubmitPlan) {
     shadow_flow(rec, plan);
 }
 
-fn submit_counters(plan: &SubmitPlan, offset: u64, bytes: u64) -> CounterRange {
-    let passes = &plan.passes;
-    passes
-        .ring
-        .counter_range(passes.slot, passes.region, offset, bytes)
-}
-
 fn pack_source(rec: &mut Recorder, plan: &SubmitPlan) {
     rec.stage(PATCHEX_STAGE_PACK_SOURCE_GBUFFER, |rec| {
         pack_gbuffer::record(
@@ -67,7 +59,9 @@ fn pack_source(rec: &mut Recorder, plan: &SubmitPlan) {
             &pack_gbuffer::PackOutputs {
                 depth: &plan.work[WorkImages::SOURCE_DEPTH],
                 normal_id: &plan.work[WorkImages::SOURCE_NORMAL_ID],
-                counters: submit_counters(plan, counters::GEOMETRY, pack_gbuffer::COUNTER_BYTES),
+                counters: plan
+                    .passes
+                    .counters(counters::GEOMETRY, pack_gbuffer::COUNTER_BYTES),
             },
         )
     });
@@ -75,7 +69,9 @@ fn pack_source(rec: &mut Recorder, plan: &SubmitPlan) {
 
 /// Frame t's colour over its modulation; with a shadow input, also the shadow layer apart.
 fn demodulate(rec: &mut Recorder, plan: &SubmitPlan) {
-    let sanitized = submit_counters(plan, counters::SANITIZE, SANITIZE_COUNTER_BYTES);
+    let sanitized = plan
+        .passes
+        .counters(counters::SANITIZE, SANITIZE_COUNTER_BYTES);
     let shading = &plan.work[WorkImages::SOURCE_SHADING];
     rec.stage(PATCHEX_STAGE_DEMODULATE, |rec| match plan.separation {
         Some((separation, shadows)) => separate_shadows::record(
@@ -189,18 +185,15 @@ pub fn record(rec: &mut Recorder, plan: &ExtrapolationPlan) {
 /// `cameras`, and no deferred holes yet. Returns those ranges.
 pub fn start_counters(
     rec: &mut Recorder,
-    ring: &FrameRing,
-    slot: usize,
-    region: usize,
+    passes: &RegionPasses,
     cameras: &warp::Cameras,
 ) -> (CounterRange, [CounterRange; 2]) {
-    rec.fill_zero(&ring.region_counters(slot, region));
-    let range = |offset, bytes| ring.counter_range(slot, region, offset, bytes);
-    let camera_range = range(counters::CAMERAS, warp::CAMERAS_BYTES);
+    rec.fill_zero(&passes.all_counters());
+    let camera_range = passes.counters(counters::CAMERAS, warp::CAMERAS_BYTES);
     rec.update(&camera_range, cameras);
     let deferred_holes =
         [counters::DEFERRED_HOLES, counters::SURFACE_DEFERRED_HOLES].map(|offset| {
-            let holes = range(offset, warp::DEFERRED_HOLES_BYTES);
+            let holes = passes.counters(offset, warp::DEFERRED_HOLES_BYTES);
             rec.update(&holes, &warp::NO_DEFERRED_HOLES);
             holes
         });
@@ -208,14 +201,6 @@ pub fn start_counters(
 }
 
 impl<'a> ExtrapolationPlan<'a> {
-    /// `bytes` of this extrapolation's counters at `offset` (`frame::counters`).
-    fn counters(&self, offset: u64, bytes: u64) -> CounterRange {
-        let passes = &self.passes;
-        passes
-            .ring
-            .counter_range(passes.slot, passes.region, offset, bytes)
-    }
-
     fn warp_pipeline(&self) -> PipelineId {
         Pipelines::warp(self.warp.kind)
     }
@@ -287,7 +272,7 @@ fn warp_frame(rec: &mut Recorder, plan: &ExtrapolationPlan) {
             &plan.frame_inputs(),
             plan.frame_store(),
             plan.frame,
-            &plan.counters(counters::WARP, warp::COUNTER_BYTES),
+            &plan.passes.counters(counters::WARP, warp::COUNTER_BYTES),
             holes.as_ref(),
         )
     });
@@ -304,7 +289,7 @@ fn fill_holes(rec: &mut Recorder, plan: &ExtrapolationPlan) {
             &plan.frame_inputs(),
             plan.frame_store(),
             plan.frame,
-            &plan.counters(counters::WARP, warp::COUNTER_BYTES),
+            &plan.passes.counters(counters::WARP, warp::COUNTER_BYTES),
             &plan.hole_list(0),
         )
     });
@@ -343,12 +328,16 @@ fn warp_shadows(rec: &mut Recorder, plan: &ExtrapolationPlan) {
             &plan.warp_inputs(layer, (&shadows[ShadowImages::FLOW]).into()),
             Store::Shading,
             share.into(),
-            &plan.counters(counters::SHADOW_WARP, warp::COUNTER_BYTES),
+            &plan
+                .passes
+                .counters(counters::SHADOW_WARP, warp::COUNTER_BYTES),
             None,
         );
         // The frame's fill has read its holes: the list's image takes the layer's.
         let inputs = plan.warp_inputs(layer, plan.motion);
-        let layer_counters = plan.counters(counters::SURFACE_LAYER, warp::COUNTER_BYTES);
+        let layer_counters = plan
+            .passes
+            .counters(counters::SURFACE_LAYER, warp::COUNTER_BYTES);
         let holes = plan.lists_holes().then(|| plan.hole_list(1));
         warp::record(
             rec,
@@ -391,7 +380,9 @@ fn segment(rec: &mut Recorder, plan: &ExtrapolationPlan) {
                 motion_scale: plan.motion_scale,
                 placeholder_uint: plan.placeholders.1,
             },
-            &plan.counters(counters::OBJECT_TABLE, segmentation::TABLE_BYTES),
+            &plan
+                .passes
+                .counters(counters::OBJECT_TABLE, segmentation::TABLE_BYTES),
             plan.analysis.map(|a| &a[AnalysisImages::REGIONS]),
         )
     });
@@ -417,7 +408,9 @@ fn inference_and_blend(rec: &mut Recorder, plan: &ExtrapolationPlan) {
     let Some((inpainting, analysis)) = plan.inpainting.zip(plan.analysis) else {
         return;
     };
-    let patches = plan.counters(counters::PATCHES, inpaint::PATCH_SLOTS_BYTES);
+    let patches = plan
+        .passes
+        .counters(counters::PATCHES, inpaint::PATCH_SLOTS_BYTES);
     let networks = &plan.networks;
     rec.stage(PATCHEX_STAGE_INFERENCE, |rec| {
         inpaint::record_plan(
@@ -430,7 +423,9 @@ fn inference_and_blend(rec: &mut Recorder, plan: &ExtrapolationPlan) {
                 divisor: networks.divisor,
                 max_patch_side: inpainting.max_patch_side,
             },
-            &plan.counters(counters::OBJECT_TABLE, segmentation::TABLE_BYTES),
+            &plan
+                .passes
+                .counters(counters::OBJECT_TABLE, segmentation::TABLE_BYTES),
             &patches,
         );
         inpaint::record(
@@ -508,7 +503,9 @@ fn remodulate(rec: &mut Recorder, plan: &ExtrapolationPlan) {
                 placeholder: plan.placeholders.0,
             },
             plan.frame,
-            &plan.counters(counters::SANITIZE, SANITIZE_COUNTER_BYTES),
+            &plan
+                .passes
+                .counters(counters::SANITIZE, SANITIZE_COUNTER_BYTES),
         )
     });
 }

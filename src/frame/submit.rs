@@ -95,38 +95,35 @@ impl Context {
         let mut rec = Recorder::new(&self.gpu.device, cmd).skipping(self.test_fault);
         rec.initialize(&mut owned);
         rec.acquire(&access);
-        rec.fill_zero(&self.ring.region_counters(slot, 0));
+        let passes = RegionPasses {
+            pipelines: &self.pipelines,
+            ring: &self.ring,
+            slot,
+            region: 0,
+        };
+        rec.fill_zero(&passes.all_counters());
         let mut rec = rec.timed(&self.ring, slot, 0);
-        let work = self.images.work.as_ref().expect("allocated above");
-        let shadows = self.images.shadows.as_ref();
-        plan::record_submit(
-            &mut rec,
-            &SubmitPlan {
-                extent: inputs.extent,
-                passes: RegionPasses {
-                    pipelines: &self.pipelines,
-                    ring: &self.ring,
-                    slot,
-                    region: 0,
-                },
-                work,
-                gbuffer: &gbuffer,
-                demodulation: demodulate::DemodulateInputs {
-                    color,
-                    base_color,
-                    material,
-                    placeholder,
-                },
-                separation: separation_inputs.as_ref().zip(shadows),
-                shadow_current: self.shadow_current,
-                flow: flow_settings,
-                reprojection,
-                placeholder_uint,
+        let plan = SubmitPlan {
+            extent: inputs.extent,
+            passes,
+            work: self.images.work.as_ref().expect("allocated above"),
+            gbuffer: &gbuffer,
+            demodulation: demodulate::DemodulateInputs {
+                color,
+                base_color,
+                material,
+                placeholder,
             },
-        );
+            separation: separation_inputs.as_ref().zip(self.images.shadows.as_ref()),
+            shadow_current: self.shadow_current,
+            flow: flow_settings,
+            reprojection,
+            placeholder_uint,
+        };
+        plan::record_submit(&mut rec, &plan);
         let stages = rec.finish(
             &access,
-            &self.ring.region_counters(slot, 0),
+            &plan.passes.all_counters(),
             self.ring.readback.buffer,
         );
 

@@ -285,6 +285,17 @@ impl<'a> RegionPasses<'a> {
         self.ring.descriptor_set(self.slot, self.region, set)
     }
 
+    /// `bytes` of the region's counters at `offset` (`frame::counters`).
+    pub fn counters(&self, offset: u64, bytes: u64) -> CounterRange {
+        self.ring
+            .counter_range(self.slot, self.region, offset, bytes)
+    }
+
+    /// All of the region's counters, zeroed at the start of its call.
+    pub fn all_counters(&self) -> CounterRange {
+        self.ring.region_counters(self.slot, self.region)
+    }
+
     /// `id` with its `n`th set, for its `n`th dispatch with other resources in the region.
     pub fn nth(&self, id: PipelineId, n: usize) -> Pass<'a> {
         Pass {

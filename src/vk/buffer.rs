@@ -23,7 +23,6 @@ pub enum BufferRole {
 
 pub struct Buffer {
     pub buffer: vk::Buffer,
-    pub size: u64,
     allocation: Option<Allocation>,
 }
 
@@ -72,7 +71,6 @@ impl Buffer {
             };
             let mut made = Self {
                 buffer,
-                size,
                 allocation: Some(allocation),
             };
             let allocation = made.allocation.as_ref().unwrap();
