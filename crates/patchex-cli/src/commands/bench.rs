@@ -128,7 +128,7 @@ pub struct BenchArgs {
         long,
         value_delimiter = ',',
         default_values_os_t = ["scenes/crossing_street.toml", "scenes/fast_run.toml"]
-            .map(super::repository_path)
+            .map(super::shipped_path)
     )]
     scenes: Vec<PathBuf>,
     /// Resolutions, WIDTHxHEIGHT.

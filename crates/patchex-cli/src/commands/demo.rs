@@ -22,7 +22,7 @@ use super::CommandResult;
 #[derive(Args)]
 pub struct DemoArgs {
     /// Scene file (TOML); by default the repository's crossing_street.
-    #[arg(default_value_os_t = super::repository_path("scenes/crossing_street.toml"))]
+    #[arg(default_value_os_t = super::shipped_path("scenes/crossing_street.toml"))]
     scene: PathBuf,
     /// Frames of the doubled stream to render; every odd frame is extrapolated.
     #[arg(long, default_value_t = 16)]

@@ -30,7 +30,7 @@ use super::interpolate::interpolate;
 use super::metrics::{error_maps, ErrorMaps, Pooled};
 use super::picture::{to_rgb8, tone_map, write_grid};
 use super::plugin_driver::{NetworkChoice, PluginDriver};
-use super::{repository_path, CommandResult};
+use super::{shipped_path, CommandResult};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, ValueEnum)]
 pub enum Method {
@@ -168,7 +168,7 @@ pub struct EvalArgs {
     validation: bool,
     /// Weights of the ablation without the perceptual term (fi.safetensors, near_be.safetensors);
     /// by default the repository's, wherever the tool runs from.
-    #[arg(long, default_value_os_t = repository_path("assets/networks/ablations/no_perceptual"))]
+    #[arg(long, default_value_os_t = shipped_path("assets/networks/ablations/no_perceptual"))]
     no_perceptual_weights: PathBuf,
     /// Network texels a patch may span per axis (`PatchexNetworkMemory.max_patch_side`) for the
     /// methods on patches; the library's default without it.

@@ -21,7 +21,7 @@ pub type CommandResult = Result<(), Box<dyn std::error::Error>>;
 /// A file patchex ships (a default scene, its assets, weights), whatever the working directory:
 /// beside an installed tool, in PREFIX/share/patchex/ as `scripts/install.sh` lays it out, else
 /// in the repository the tool was built from.
-pub fn repository_path(relative: &str) -> std::path::PathBuf {
+pub fn shipped_path(relative: &str) -> std::path::PathBuf {
     let installed = std::env::current_exe().ok().and_then(|exe| {
         let share = exe.parent()?.parent()?.join("share").join("patchex");
         share.is_dir().then_some(share)

@@ -42,8 +42,17 @@ fn rgb1(layers: &FrameLayers, name: &str) -> Image {
     })
 }
 
+/// Frame `index` of `dataset`, read from its file.
 pub fn frame(dataset: &Dataset, index: usize) -> Result<Frame, Box<dyn std::error::Error>> {
-    let layers = dataset.read_frame(index)?;
+    from_layers(&dataset.read_frame(index)?, dataset, index)
+}
+
+/// Frame `index` of `dataset` from its `layers`, already read.
+pub fn from_layers(
+    layers: &FrameLayers,
+    dataset: &Dataset,
+    index: usize,
+) -> Result<Frame, Box<dyn std::error::Error>> {
     let info = &dataset.manifest.frames[index];
     let camera = PatchexCamera {
         view: info.view,
@@ -54,16 +63,16 @@ pub fn frame(dataset: &Dataset, index: usize) -> Result<Frame, Box<dyn std::erro
         depth_convention: PATCHEX_DEPTH_LINEAR_VIEW_Z,
     };
     Ok(Frame {
-        color: rgb1(&layers, FINAL_IMAGE),
-        base_color: rgb1(&layers, BASE_COLOR),
-        material: gather(&layers, &[(METALLIC, 0), (SPECULAR, 0), (ROUGHNESS, 0)]),
-        depth: gather(&layers, &[(SCENE_DEPTH, 0)]),
-        normal: rgb1(&layers, WORLD_NORMAL),
-        stencil: gather(&layers, &[(CUSTOM_STENCIL, 0)]),
-        motion: gather(&layers, &[(MOTION_VECTOR, 0), (MOTION_VECTOR, 1)]),
+        color: rgb1(layers, FINAL_IMAGE),
+        base_color: rgb1(layers, BASE_COLOR),
+        material: gather(layers, &[(METALLIC, 0), (SPECULAR, 0), (ROUGHNESS, 0)]),
+        depth: gather(layers, &[(SCENE_DEPTH, 0)]),
+        normal: rgb1(layers, WORLD_NORMAL),
+        stencil: gather(layers, &[(CUSTOM_STENCIL, 0)]),
+        motion: gather(layers, &[(MOTION_VECTOR, 0), (MOTION_VECTOR, 1)]),
         camera: Camera::from_abi(&camera, "dataset camera")?,
-        shadow_mask: gather(&layers, &[(SHADOW_MASK, 0)]),
-        color_without_dynamic_shadows: rgb1(&layers, FINAL_IMAGE_NO_DYNAMIC_SHADOWS),
+        shadow_mask: gather(layers, &[(SHADOW_MASK, 0)]),
+        color_without_dynamic_shadows: rgb1(layers, FINAL_IMAGE_NO_DYNAMIC_SHADOWS),
     })
 }
 

@@ -19,9 +19,9 @@ use patchex_scene::dataset::{render_sequence, Dataset, SequenceOptions};
 use patchex_scene::{Gpu, GpuOptions, World};
 
 use super::plugin_driver::{NetworkChoice, PluginDriver};
-use super::reference_frames::{frame, inputs, Frame};
+use super::reference_frames::{from_layers, inputs, Frame};
 use super::render::parse_size;
-use super::{repository_path, CommandResult};
+use super::{shipped_path, CommandResult};
 
 #[derive(Args)]
 pub struct SelftestArgs {
@@ -30,7 +30,7 @@ pub struct SelftestArgs {
     #[arg(long)]
     device: Option<String>,
     /// The scene to render (TOML).
-    #[arg(long, default_value_os_t = repository_path("scenes/shadow_terrain.toml"))]
+    #[arg(long, default_value_os_t = shipped_path("scenes/shadow_terrain.toml"))]
     scene: PathBuf,
     /// Frame size, WIDTHxHEIGHT.
     #[arg(long, value_parser = parse_size, default_value = "192x108")]
@@ -162,12 +162,15 @@ fn check(args: &SelftestArgs, work: &std::path::Path) -> Result<bool, Box<dyn st
 
     let (source_index, alpha) = manifest.source_of(TARGET);
     let earlier_index = source_index - 2;
-    let read = |index: usize| dataset.read_frame(index);
-    let layers = [read(earlier_index)?, read(source_index)?, read(TARGET)?];
+    let layers = [
+        dataset.read_frame(earlier_index)?,
+        dataset.read_frame(source_index)?,
+        dataset.read_frame(TARGET)?,
+    ];
     let frames = [
-        frame(&dataset, earlier_index)?,
-        frame(&dataset, source_index)?,
-        frame(&dataset, TARGET)?,
+        from_layers(&layers[0], &dataset, earlier_index)?,
+        from_layers(&layers[1], &dataset, source_index)?,
+        from_layers(&layers[2], &dataset, TARGET)?,
     ];
     let shipped = [
         Network::from_safetensors(SHIPPED_FI, "built-in FI network")?,
