@@ -87,6 +87,13 @@ fn contexts_on_several_threads_of_one_device_match_a_single_threaded_run() {
         })
         .collect();
 
+    // Pipelines are shared among the contexts alive at once; this one outlives the threads',
+    // so a thread done before another starts cannot take them with it.
+    let keeper = create(
+        &library,
+        &Rig::create_info_through(&engine, &intercept, WIDTH as u32, HEIGHT as u32),
+    )
+    .unwrap_or_else(|(_, message)| panic!("{message}"));
     std::thread::scope(|scope| {
         for thread_outputs in &outputs {
             let (engine, library, intercept, frames) = (&engine, &library, &intercept, &frames);
@@ -122,6 +129,9 @@ fn contexts_on_several_threads_of_one_device_match_a_single_threaded_run() {
             });
         }
     });
+
+    // SAFETY: the keeper recorded nothing.
+    unsafe { (library.destroy)(keeper) };
 
     for (thread, thread_outputs) in outputs.iter().enumerate() {
         for (frame, output) in thread_outputs.iter().enumerate() {
