@@ -149,10 +149,29 @@ pub struct GroundDescription {
     pub base_color: [f32; 3],
     #[serde(default = "default_ground_roughness")]
     pub roughness: f32,
+    /// Paves the square with tiles; plain without.
+    pub tiles: Option<TilesDescription>,
 }
 
 fn default_ground_roughness() -> f32 {
     0.9
+}
+
+/// Square tiles with bevelled grooves, each a shade of its own, their faces lightly pitted: fine
+/// normal-mapped detail, near and magnified or far and minified, which a glossy finish turns
+/// into highlights.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TilesDescription {
+    /// Side of one tile, in metres.
+    pub size: f32,
+    /// How much the tiles' shades differ, 0 to 1.
+    #[serde(default = "default_tile_variation")]
+    pub variation: f32,
+}
+
+fn default_tile_variation() -> f32 {
+    0.25
 }
 
 #[derive(Clone, Debug, Deserialize)]

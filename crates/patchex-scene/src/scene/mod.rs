@@ -18,7 +18,7 @@ pub use batch::{Draw, MeshBatch, Vertex};
 pub use camera::CameraState;
 pub use description::{
     CameraDescription, CameraRig, CharacterDescription, GroundDescription, PropDescription,
-    ScatterDescription, SceneDescription, ShakeDescription, SunDescription,
+    ScatterDescription, SceneDescription, ShakeDescription, SunDescription, TilesDescription,
 };
 pub use ground::GroundSurface;
 pub use path::PathMotion;

@@ -391,13 +391,31 @@ fn character(
     .expect("writing to a String");
 }
 
-fn ground(text: &mut String, height: f32, color: [f32; 3]) {
+/// Paving for a family's ground: the side of a tile in metres and the tiles' roughness. Fixed
+/// per family, so it draws nothing from the scene's random sequence.
+struct Paving {
+    tile_size: f32,
+    roughness: f32,
+}
+
+fn ground(text: &mut String, height: f32, color: [f32; 3], paving: Option<Paving>) {
     writeln!(
         text,
         "\n[ground]\nsize = 90.0\nheight = {height}\nbase_color = {}",
         point(color)
     )
     .expect("writing to a String");
+    if let Some(Paving {
+        tile_size,
+        roughness,
+    }) = paving
+    {
+        writeln!(
+            text,
+            "roughness = {roughness}\ntiles = {{ size = {tile_size} }}"
+        )
+        .expect("writing to a String");
+    }
 }
 
 fn prop(text: &mut String, asset: &str, position: [f32; 3], yaw: f32, scale: f32) {
@@ -440,7 +458,15 @@ fn scatter(
 
 /// A crossing of the street kit with lights and signs at its corners.
 fn street(rng: &mut SplitMix64, text: &mut String, _: f32) {
-    ground(text, -0.12, [0.35, 0.42, 0.28]);
+    ground(
+        text,
+        -0.12,
+        [0.35, 0.42, 0.28],
+        Some(Paving {
+            tile_size: 0.5,
+            roughness: 0.35,
+        }),
+    );
     let centre = pick(rng, &["Street_4Way", "Street_3Way"]);
     let kit = |piece: &str| format!("quaternius_street/{piece}.glb");
     prop(text, &kit(centre), [0.0, 0.0, 0.0], 0.0, 4.0);
@@ -484,7 +510,7 @@ fn street(rng: &mut SplitMix64, text: &mut String, _: f32) {
 /// Thin geometry: trees around (beyond the cameras, which stand at most 8.5 m out), grass and
 /// flowers underfoot.
 fn forest(rng: &mut SplitMix64, text: &mut String, _: f32) {
-    ground(text, 0.0, [0.3, 0.42, 0.2]);
+    ground(text, 0.0, [0.3, 0.42, 0.2], None);
     let trees = [
         "CommonTree_1",
         "CommonTree_2",
@@ -507,7 +533,15 @@ fn forest(rng: &mut SplitMix64, text: &mut String, _: f32) {
 
 /// Validation's wood: autumn trees, willows, logs and mossy rocks.
 fn autumn(rng: &mut SplitMix64, text: &mut String, _: f32) {
-    ground(text, 0.0, [0.42, 0.33, 0.18]);
+    ground(
+        text,
+        0.0,
+        [0.42, 0.33, 0.18],
+        Some(Paving {
+            tile_size: 0.8,
+            roughness: 0.45,
+        }),
+    );
     let trees = [
         "CommonTree_Autumn_1",
         "CommonTree_Autumn_2",
@@ -531,7 +565,15 @@ fn autumn(rng: &mut SplitMix64, text: &mut String, _: f32) {
 
 /// Test's desert: cacti, palms and bare rocks, wide and bright.
 fn desert(rng: &mut SplitMix64, text: &mut String, _: f32) {
-    ground(text, 0.0, [0.72, 0.6, 0.4]);
+    ground(
+        text,
+        0.0,
+        [0.72, 0.6, 0.4],
+        Some(Paving {
+            tile_size: 0.6,
+            roughness: 0.55,
+        }),
+    );
     let tall = [
         "Cactus_1",
         "Cactus_2",
@@ -549,7 +591,15 @@ fn desert(rng: &mut SplitMix64, text: &mut String, _: f32) {
 /// Test's city block: the Littlest Tokyo diorama (dense and textured, its own animation not
 /// played: environments are static) behind the action, with street furniture in front.
 fn tokyo(rng: &mut SplitMix64, text: &mut String, camera_bearing: f32) {
-    ground(text, 0.0, [0.4, 0.4, 0.42]);
+    ground(
+        text,
+        0.0,
+        [0.4, 0.4, 0.42],
+        Some(Paving {
+            tile_size: 0.4,
+            roughness: 0.25,
+        }),
+    );
     // The diorama's lowest point is 2.1 m below its origin at this scale.
     // Behind the action as the camera sees it.
     let yaw = range(rng, 0.0, 360.0);
