@@ -92,7 +92,7 @@
 #include <vulkan/vulkan.h>
 
 // Version of this ABI, returned by `patchex_abi_version`; bumped on any incompatible change.
-#define PATCHEX_ABI_VERSION 11
+#define PATCHEX_ABI_VERSION 12
 
 // The warp settings a context uses unless told otherwise: a 3x3 gather; a texel keeps most of
 // its weight within ~5% relative depth, ~0.1 of (1 - cos) of normal angle (about 25 degrees),
@@ -530,6 +530,9 @@ typedef struct PatchexFrameStats {
 // Which backward warp carries frame t to the target instant.
 typedef uint32_t PatchexWarpKind;
 
+// `PatchexWarpSettings.resample`.
+typedef uint32_t PatchexResample;
+
 // `PatchexWarpSettings.hole_fill`.
 typedef uint32_t PatchexHoleFill;
 
@@ -562,6 +565,9 @@ typedef struct PatchexWarpSettings {
   // G-buffer-guided warp: how a hole (a pixel whose own motion finds no agreeing surface in
   // frame t) is filled. PATCHEX_HOLE_FILL_BACKGROUND, 0, is the default.
   PatchexHoleFill hole_fill;
+  // G-buffer-guided warp: how frame t is resampled on static surfaces.
+  // PATCHEX_RESAMPLE_CATMULL_ROM, 0, is the default.
+  PatchexResample resample;
 } PatchexWarpSettings;
 
 // Chainable on PatchexCreateInfo (context default) or PatchexExtrapolateDesc (this call).
@@ -789,6 +795,15 @@ typedef struct PatchexShadowDiagnostics {
 #define PATCHEX_LOG_WARNING 1
 
 #define PATCHEX_LOG_INFO 2
+
+// Catmull-Rom over the 16 texels around the source point, held within the range of the four
+// nearest, where all 16 show the pixel's static surface; bilinear elsewhere and on moving
+// objects. Keeps the finest detail, which bilinear halves at a half-texel shift: lower FLIP,
+// for more texel reads in the warp.
+#define PATCHEX_RESAMPLE_CATMULL_ROM 0
+
+// The four nearest texels, weighted by position: the cheaper fetch.
+#define PATCHEX_RESAMPLE_BILINEAR 1
 
 // From the side the disocclusion uncovers: a mean of frame t's texels within 12 pixels of the
 // pixel's own source point, each weighted by how closely its normal, depth and object id match

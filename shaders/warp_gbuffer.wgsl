@@ -2,7 +2,9 @@
 // motion vector to a point q in frame t. Where the source texels around q show the same surface
 // as the target pixel (same object id, close normals, and for static surfaces the same world
 // position, for moving ones the same relative depth), it takes their bilinear blend, weighted by
-// that agreement, so zero motion returns frame t exactly. Where they do not (disocclusions,
+// that agreement, so zero motion returns frame t exactly; on a static surface whose 4x4 texels
+// around q all show it, a sharper Catmull-Rom fetch (PATCHEX_RESAMPLE_CATMULL_ROM, the default).
+// Where they do not (disocclusions,
 // silhouettes, motion-vector errors), it gathers from a (2r+1)^2 window with a joint bilateral
 // kernel instead. A pixel whose source leaves the screen or finds no agreeing texel is a hole;
 // a hole on screen is filled from the side the disocclusion uncovers, by fill_holes.wgsl.
@@ -14,6 +16,7 @@
 // The bilinear blend is kept when agreeing texels carry at least this share of its weight.
 const BILINEAR_ACCEPT: f32 = 0.5;
 const HOLE_FILL_BACKGROUND: u32 = 0u;
+const RESAMPLE_CATMULL_ROM: u32 = 0u;
 
 // The holes this warp leaves to fill_holes.wgsl: each entry is a pixel, x | y << 16, at list
 // index i = x + y * width.
@@ -56,7 +59,13 @@ fn warp_pixel(p: vec2u, t: Surface, motion_vector: vec2f) -> WarpedPixel {
         }
     }
     var shading: vec4f;
-    if (weight_sum > MIN_TOTAL_WEIGHT) {
+    // Sharper on static surfaces only: a skinned object's motion vectors are less exact, and
+    // a sharper fetch of a misplaced point is further off (measured on the validation scenes).
+    let sharp = unspecialised(params.resample) == RESAMPLE_CATMULL_ROM && t.id == 0u
+        && footprint.least_agreement >= AGREEMENT_THRESHOLD && surface_around(t, q);
+    if (sharp) {
+        shading = catmull_rom_shading(q);
+    } else if (weight_sum > MIN_TOTAL_WEIGHT) {
         shading = shading_sum / weight_sum;
     } else {
         shading = textureLoad(source_shading, texel(q), 0);

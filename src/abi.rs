@@ -26,7 +26,7 @@ pub type PFN_vkGetInstanceProcAddr = Option<vk::PFN_vkGetInstanceProcAddr>;
 pub type PFN_vkGetDeviceProcAddr = Option<vk::PFN_vkGetDeviceProcAddr>;
 
 /// Version of this ABI, returned by `patchex_abi_version`; bumped on any incompatible change.
-pub const PATCHEX_ABI_VERSION: u32 = 11;
+pub const PATCHEX_ABI_VERSION: u32 = 12;
 
 /// 0 or 1; any other value is rejected as an invalid argument.
 pub type PatchexBool = u32;
@@ -348,7 +348,20 @@ pub struct PatchexWarpSettings {
     /// G-buffer-guided warp: how a hole (a pixel whose own motion finds no agreeing surface in
     /// frame t) is filled. PATCHEX_HOLE_FILL_BACKGROUND, 0, is the default.
     pub hole_fill: PatchexHoleFill,
+    /// G-buffer-guided warp: how frame t is resampled on static surfaces.
+    /// PATCHEX_RESAMPLE_CATMULL_ROM, 0, is the default.
+    pub resample: PatchexResample,
 }
+
+/// `PatchexWarpSettings.resample`.
+pub type PatchexResample = u32;
+/// Catmull-Rom over the 16 texels around the source point, held within the range of the four
+/// nearest, where all 16 show the pixel's static surface; bilinear elsewhere and on moving
+/// objects. Keeps the finest detail, which bilinear halves at a half-texel shift: lower FLIP,
+/// for more texel reads in the warp.
+pub const PATCHEX_RESAMPLE_CATMULL_ROM: PatchexResample = 0;
+/// The four nearest texels, weighted by position: the cheaper fetch.
+pub const PATCHEX_RESAMPLE_BILINEAR: PatchexResample = 1;
 
 /// `PatchexWarpSettings.hole_fill`.
 pub type PatchexHoleFill = u32;

@@ -321,6 +321,7 @@ fn extrapolate_with_invalid_warp_settings() {
         sigma_position: 0.02,
         occlusion_search_radius: 8,
         hole_fill: PATCHEX_HOLE_FILL_BACKGROUND,
+        resample: PATCHEX_RESAMPLE_CATMULL_ROM,
     };
     rejected_extrapolate(PatchexResult::ErrorInvalidArgument, |d| {
         d.header.next = &settings as *const PatchexWarpSettings as *const c_void
@@ -347,6 +348,11 @@ fn extrapolate_with_invalid_warp_settings() {
         PatchexWarpSettings {
             kernel_radius: 1,
             hole_fill: 2,
+            ..settings
+        },
+        PatchexWarpSettings {
+            kernel_radius: 1,
+            resample: 2,
             ..settings
         },
     ] {

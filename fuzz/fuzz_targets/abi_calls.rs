@@ -404,6 +404,7 @@ fn chain(u: &mut Unstructured, world: &World) -> Result<(Vec<Link>, *const c_voi
                 sigma_position: u.arbitrary()?,
                 occlusion_search_radius: u.int_in_range(0..=17)?,
                 hole_fill: u.int_in_range(0..=2)?,
+                resample: u.int_in_range(0..=2)?,
             })),
             1 => Link::Segmentation(Box::new(PatchexSegmentationSettings {
                 header: header(

@@ -42,6 +42,8 @@ struct Params {
     // agreement, as the G-buffer warp does. For the shadow layer, which is zero on dynamic
     // objects: a plain blend beside one would thin the shadow on the ground at its feet.
     agreeing_bilinear: u32,
+    // G-buffer-guided warp: PATCHEX_RESAMPLE_* (0 Catmull-Rom, 1 bilinear).
+    resample: u32,
 }
 var<immediate> params: Params;
 
@@ -185,6 +187,19 @@ fn agreement_at(t: Surface, s: vec2i) -> f32 {
     return exp(-(normal_term + e * e));
 }
 
+// Whether frame t's texel `s` shows the static target surface `t` wherever on it: its object,
+// its normal and its plane, as `agreement_at` measures them without the distance along it.
+fn on_static_surface(t: Surface, s: vec2i) -> bool {
+    let packed = textureLoad(source_normal_id, s, 0).r;
+    let depth = textureLoad(source_depth, s, 0).r;
+    if (object_id(packed) != t.id || is_sky(t.depth) || is_sky(depth)) {
+        return false;
+    }
+    let normal_term = (1.0 - dot(t.normal, unpack_normal(packed))) * params.inv_sigma_normal;
+    let across = dot(t.normal, source_position(s, depth) - t.position) / t.footprint * params.inv_sigma_position;
+    return exp(-(normal_term + across * across)) >= AGREEMENT_THRESHOLD;
+}
+
 // Where target pixel `p` lands in frame t when it follows `motion` (raw engine units).
 fn source_point(p: vec2u, motion: vec2f) -> vec2f {
     return vec2f(p) + 0.5 + motion * params.motion_scale + params.jitter_delta;
@@ -219,12 +234,15 @@ struct AgreeingFootprint {
     shading_sum: vec4f,
     weight_sum: f32,
     best_agreement: f32,
+    // The least agreement among the four texels: all of them show the target's surface when it
+    // reaches AGREEMENT_THRESHOLD.
+    least_agreement: f32,
 }
 
 fn agreeing_footprint(t: Surface, q: vec2f) -> AgreeingFootprint {
     let corner = vec2i(floor(q - 0.5));
     let f = q - 0.5 - floor(q - 0.5);
-    var sums = AgreeingFootprint(vec4f(0.0), 0.0, 0.0);
+    var sums = AgreeingFootprint(vec4f(0.0), 0.0, 0.0, 1.0);
     for (var i = 0; i < 4; i++) {
         let offset = vec2i(i & 1, i >> 1u);
         let s = clamp(corner + offset, vec2i(0), vec2i(params.extent) - 1);
@@ -236,8 +254,61 @@ fn agreeing_footprint(t: Surface, q: vec2f) -> AgreeingFootprint {
         if (footprint > 0.0) {
             sums.best_agreement = max(sums.best_agreement, agreement);
         }
+        sums.least_agreement = min(sums.least_agreement, agreement);
     }
     return sums;
+}
+
+// The Catmull-Rom weights of four texels in a row, for a point at `f` between the middle two.
+fn catmull_rom_weights(f: f32) -> vec4f {
+    let f2 = f * f;
+    let f3 = f2 * f;
+    return vec4f(
+        -0.5 * f3 + f2 - 0.5 * f,
+        1.5 * f3 - 2.5 * f2 + 1.0,
+        -1.5 * f3 + 2.0 * f2 + 0.5 * f,
+        0.5 * f3 - 0.5 * f2);
+}
+
+// Whether the texels around `q` beyond its four nearest, the 12 that Catmull-Rom adds, show the
+// static target surface `t` somewhere on it: same object, normal and plane.
+fn surface_around(t: Surface, q: vec2f) -> bool {
+    let corner = vec2i(floor(q - 0.5));
+    let last = vec2i(params.extent) - 1;
+    for (var j = -1; j <= 2; j++) {
+        for (var i = -1; i <= 2; i++) {
+            let nearest = (i == 0 || i == 1) && (j == 0 || j == 1);
+            if (!nearest && !on_static_surface(t, clamp(corner + vec2i(i, j), vec2i(0), last))) {
+                return false;
+            }
+        }
+    }
+    return true;
+}
+
+// Frame t's shading at `q`, Catmull-Rom over the 4x4 texels around it, held within the range of
+// the four nearest so that it cannot ring. Bilinear blurs: a half-texel shift halves detail at
+// the finest scale, and a moving camera shifts every frame.
+fn catmull_rom_shading(q: vec2f) -> vec4f {
+    let corner = vec2i(floor(q - 0.5));
+    let f = q - 0.5 - floor(q - 0.5);
+    let wx = catmull_rom_weights(f.x);
+    let wy = catmull_rom_weights(f.y);
+    let last = vec2i(params.extent) - 1;
+    var sum = vec4f(0.0);
+    var low = vec4f(3.4e38);
+    var high = vec4f(-3.4e38);
+    for (var j = 0; j < 4; j++) {
+        for (var i = 0; i < 4; i++) {
+            let s = textureLoad(source_shading, clamp(corner + vec2i(i - 1, j - 1), vec2i(0), last), 0);
+            sum += wx[i] * wy[j] * s;
+            if ((i == 1 || i == 2) && (j == 1 || j == 2)) {
+                low = min(low, s);
+                high = max(high, s);
+            }
+        }
+    }
+    return clamp(sum, low, high);
 }
 
 struct WarpedPixel {

@@ -39,6 +39,7 @@ pub struct WarpSettings {
     pub sigma_normal: f32,
     pub sigma_position: f32,
     pub hole_fill: PatchexHoleFill,
+    pub resample: PatchexResample,
 }
 
 impl Default for WarpSettings {
@@ -53,6 +54,7 @@ impl Default for WarpSettings {
             sigma_normal: PATCHEX_DEFAULT_SIGMA_NORMAL,
             sigma_position: PATCHEX_DEFAULT_SIGMA_POSITION,
             hole_fill: PATCHEX_HOLE_FILL_BACKGROUND,
+            resample: PATCHEX_RESAMPLE_CATMULL_ROM,
         }
     }
 }
@@ -71,6 +73,13 @@ impl WarpSettings {
                 ErrorInvalidArgument,
                 "PatchexWarpSettings.occlusion_search_radius {} exceeds {MAX_OCCLUSION_SEARCH_RADIUS}",
                 settings.occlusion_search_radius
+            );
+        }
+        if settings.resample > PATCHEX_RESAMPLE_BILINEAR {
+            bail!(
+                ErrorInvalidArgument,
+                "PatchexWarpSettings.resample {} is not a PATCHEX_RESAMPLE_* value",
+                settings.resample
             );
         }
         if settings.hole_fill > PATCHEX_HOLE_FILL_NEAREST {
@@ -109,6 +118,7 @@ impl WarpSettings {
             sigma_normal: settings.sigma_normal,
             sigma_position: settings.sigma_position,
             hole_fill: settings.hole_fill,
+            resample: settings.resample,
         })
     }
 
@@ -126,6 +136,7 @@ impl WarpSettings {
             sigma_position: self.sigma_position,
             occlusion_search_radius: self.occlusion_search_radius,
             hole_fill: self.hole_fill,
+            resample: self.resample,
         }
     }
 
@@ -150,6 +161,7 @@ impl WarpSettings {
             in_plane_weight: 1.0,
             pixel_angle: camera.pixel_angle(extent.height),
             hole_fill: self.hole_fill,
+            resample: self.resample,
             ..Default::default()
         }
     }

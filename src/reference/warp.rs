@@ -72,6 +72,17 @@ struct PixelWarp<'a> {
     target_nid: Vec4,
 }
 
+/// The Catmull-Rom weights of four texels in a row, for a point at `f` between the middle two.
+fn catmull_rom_weights(f: f32) -> [f32; 4] {
+    let (f2, f3) = (f * f, f * f * f);
+    [
+        -0.5 * f3 + f2 - 0.5 * f,
+        1.5 * f3 - 2.5 * f2 + 1.0,
+        -1.5 * f3 + 2.0 * f2 + 0.5 * f,
+        0.5 * f3 - 0.5 * f2,
+    ]
+}
+
 fn texel(image: &Image, s: IVec2) -> Vec4 {
     Vec4::from_slice(image.clamped(s.x, s.y))
 }
@@ -98,7 +109,9 @@ impl PixelWarp<'_> {
         q.floor().as_ivec2().clamp(IVec2::ZERO, self.extent() - 1)
     }
 
-    fn geometry_weight(&self, source_geo: Vec4, source_nid: Vec4) -> f32 {
+    /// Agreement of the target's surface with a source texel; `in_plane_weight` as
+    /// `Params::in_plane_weight`.
+    fn geometry_weight(&self, source_geo: Vec4, source_nid: Vec4, in_plane_weight: f32) -> f32 {
         let (target_geo, target_nid, params) = (self.target_geo, self.target_nid, self.params);
         if target_nid.w != source_nid.w {
             return 0.0;
@@ -119,7 +132,7 @@ impl PixelWarp<'_> {
             let normal = target_nid.truncate();
             let offset = source_geo.truncate() - target_geo.truncate();
             let across = normal.dot(offset) * normal;
-            (across + params.in_plane_weight * (offset - across)).length() / footprint
+            (across + in_plane_weight * (offset - across)).length() / footprint
                 * params.inv_sigma_position
         } else {
             (target_geo.w - source_geo.w).abs() / target_geo.w.max(source_geo.w)
@@ -132,7 +145,37 @@ impl PixelWarp<'_> {
         self.geometry_weight(
             texel(self.source.geometry, s),
             texel(self.source.normal_id, s),
+            self.params.in_plane_weight,
         )
+    }
+
+    /// Mirror of `on_static_surface`: texel `s` shows the static target surface somewhere on
+    /// it.
+    fn on_static_surface(&self, s: IVec2) -> bool {
+        let (geometry, normal_id) = (
+            texel(self.source.geometry, s),
+            texel(self.source.normal_id, s),
+        );
+        !is_sky(self.target_geo.w)
+            && !is_sky(geometry.w)
+            && self.geometry_weight(geometry, normal_id, 0.0) >= AGREEMENT_THRESHOLD
+    }
+
+    /// Mirror of `surface_around`: the 12 texels Catmull-Rom adds around q's four nearest show
+    /// the static target surface.
+    fn surface_around(&self, q: Vec2) -> bool {
+        let corner = (q - 0.5).floor().as_ivec2();
+        (-1..=2).all(|j| {
+            (-1..=2).all(|i| {
+                let nearest = (0..=1).contains(&i) && (0..=1).contains(&j);
+                nearest
+                    || self.on_static_surface(
+                        corner
+                            .wrapping_add(IVec2::new(i, j))
+                            .clamp(IVec2::ZERO, self.extent() - 1),
+                    )
+            })
+        })
     }
 
     /// Mirror of `fill_hole` in `fill_holes.wgsl`: the window's texels weighted by
@@ -197,9 +240,9 @@ impl PixelWarp<'_> {
     }
 
     /// q's bilinear footprint with each texel weighted by its agreement: the weighted shading
-    /// and weight sums, and the best agreement of a texel with a share of it
-    /// (`agreeing_footprint`).
-    fn agreeing_footprint(&self, q: Vec2) -> (Vec4, f32, f32) {
+    /// and weight sums, the best agreement of a texel with a share of it and the least of the
+    /// four (`agreeing_footprint`).
+    fn agreeing_footprint(&self, q: Vec2) -> (Vec4, f32, f32, f32) {
         // A huge motion vector saturates the conversion to i32: the neighbours' offsets wrap,
         // as WGSL's integer arithmetic does, and the clamp brings them back into the image.
         let corner = (q - 0.5).floor().as_ivec2();
@@ -207,6 +250,7 @@ impl PixelWarp<'_> {
         let mut shading_sum = Vec4::ZERO;
         let mut weight_sum = 0.0;
         let mut best_agreement: f32 = 0.0;
+        let mut least_agreement: f32 = 1.0;
         for i in 0..4 {
             let offset = IVec2::new(i & 1, i >> 1);
             let s = corner
@@ -221,15 +265,42 @@ impl PixelWarp<'_> {
             if footprint > 0.0 {
                 best_agreement = best_agreement.max(agreement);
             }
+            least_agreement = least_agreement.min(agreement);
         }
-        (shading_sum, weight_sum, best_agreement)
+        (shading_sum, weight_sum, best_agreement, least_agreement)
+    }
+
+    /// Mirror of `catmull_rom_shading`: Catmull-Rom over the 4x4 texels around q, held within
+    /// the range of the four nearest.
+    fn catmull_rom_shading(&self, q: Vec2) -> Vec4 {
+        let corner = (q - 0.5).floor().as_ivec2();
+        let f = q - 0.5 - (q - 0.5).floor();
+        let (wx, wy) = (catmull_rom_weights(f.x), catmull_rom_weights(f.y));
+        let mut sum = Vec4::ZERO;
+        let mut low = Vec4::splat(f32::MAX);
+        let mut high = Vec4::splat(f32::MIN);
+        for j in 0..4 {
+            for i in 0..4 {
+                let s = corner
+                    .wrapping_add(IVec2::new(i - 1, j - 1))
+                    .clamp(IVec2::ZERO, self.extent() - 1);
+                let shading = texel(self.source.shading, s);
+                sum += wx[i as usize] * wy[j as usize] * shading;
+                if (1..=2).contains(&i) && (1..=2).contains(&j) {
+                    low = low.min(shading);
+                    high = high.max(shading);
+                }
+            }
+        }
+        sum.clamp(low, high)
     }
 
     /// Mirror of `warp_gbuffer.wgsl`.
     fn gbuffer_guided(&self) -> WarpedPixel {
         let extent = self.extent();
         let q = self.source_point(self.p);
-        let (mut shading_sum, mut weight_sum, mut best_agreement) = self.agreeing_footprint(q);
+        let (mut shading_sum, mut weight_sum, mut best_agreement, least_agreement) =
+            self.agreeing_footprint(q);
         let bilinear_weight = weight_sum;
         if weight_sum < BILINEAR_ACCEPT {
             shading_sum = Vec4::ZERO;
@@ -251,7 +322,13 @@ impl PixelWarp<'_> {
                 }
             }
         }
-        let mut shading = if weight_sum > MIN_TOTAL_WEIGHT {
+        let sharp = self.params.resample == PATCHEX_RESAMPLE_CATMULL_ROM
+            && self.target_nid.w == 0.0
+            && least_agreement >= AGREEMENT_THRESHOLD
+            && self.surface_around(q);
+        let mut shading = if sharp {
+            self.catmull_rom_shading(q)
+        } else if weight_sum > MIN_TOTAL_WEIGHT {
             shading_sum / weight_sum
         } else {
             texel(self.source.shading, self.texel_of(q))
@@ -308,10 +385,10 @@ impl PixelWarp<'_> {
         }
         let weighted = (self.params.agreeing_bilinear != 0)
             .then(|| self.agreeing_footprint(q))
-            .filter(|&(_, weight_sum, _)| weight_sum > MIN_TOTAL_WEIGHT);
+            .filter(|&(_, weight_sum, _, _)| weight_sum > MIN_TOTAL_WEIGHT);
         let shading = weighted.map_or_else(
             || self.bilinear_shading(q),
-            |(shading_sum, weight_sum, _)| shading_sum / weight_sum,
+            |(shading_sum, weight_sum, _, _)| shading_sum / weight_sum,
         );
         WarpedPixel {
             shading,

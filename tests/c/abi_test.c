@@ -208,6 +208,7 @@ int main(int argc, char **argv) {
   warp.sigma_position = PATCHEX_DEFAULT_SIGMA_POSITION;
   warp.occlusion_search_radius = PATCHEX_DEFAULT_OCCLUSION_SEARCH_RADIUS;
   warp.hole_fill = PATCHEX_HOLE_FILL_BACKGROUND;
+  warp.resample = PATCHEX_RESAMPLE_CATMULL_ROM;
 
   PatchexCreateInfo info = create_info(PATCHEX_PRESET_FULL, 2, &warp);
 

@@ -42,6 +42,8 @@ pub enum Method {
     /// The default warp with its holes filled by the nearest source texel
     /// (`PATCHEX_HOLE_FILL_NEAREST`), for comparison.
     GbufferNearestFill,
+    /// The default warp resampling frame t bilinearly everywhere (`PATCHEX_RESAMPLE_BILINEAR`).
+    GbufferBilinear,
     /// The default warp with the shadow sub-task: shadows of dynamic objects separated, tracked
     /// by optical flow and moved.
     GbufferShadows,
@@ -78,6 +80,7 @@ impl Method {
             Method::OcclusionMotion => "occlusion-motion-vector warp",
             Method::Gbuffer => "G-buffer-guided warp (default)",
             Method::GbufferNearestFill => "G-buffer-guided warp, holes from the nearest texel",
+            Method::GbufferBilinear => "G-buffer-guided warp, bilinear resampling",
             Method::GbufferShadows => "G-buffer-guided warp + shadow sub-task",
             Method::Patchex => "PatchEX (warp + shadows + networks on patches)",
             Method::PatchexEveryPixel => {
@@ -97,6 +100,12 @@ impl Method {
             Method::GbufferNearestFill => {
                 return Some(WarpSettings {
                     hole_fill: PATCHEX_HOLE_FILL_NEAREST,
+                    ..WarpSettings::default()
+                })
+            }
+            Method::GbufferBilinear => {
+                return Some(WarpSettings {
+                    resample: PATCHEX_RESAMPLE_BILINEAR,
                     ..WarpSettings::default()
                 })
             }
@@ -672,7 +681,7 @@ fn method_table(out: &mut String, methods: &BTreeMap<Method, MethodResult>) {
     writeln!(
         out,
         "| method | PSNR dB: frame / holes / FI / near-BE / shadows | SSIM: same regions | \
-         FLIP: same regions | GPU ms |\n|---|---|---|---|---|"
+         FLIP: same regions | detail: same regions | GPU ms |\n|---|---|---|---|---|---|"
     )
     .unwrap();
     for (method, result) in methods {
@@ -686,11 +695,12 @@ fn method_table(out: &mut String, methods: &BTreeMap<Method, MethodResult>) {
         };
         writeln!(
             out,
-            "| {} | {} | {} | {} | {} |",
+            "| {} | {} | {} | {} | {} | {} |",
             method.label(),
             column(|s| s.psnr, 2),
             column(|s| s.ssim, 4),
             column(|s| s.flip, 4),
+            column(|s| s.detail, 3),
             result
                 .mean_gpu_ms()
                 .map_or("-".to_owned(), |ms| format!("{ms:.1}")),
@@ -740,7 +750,9 @@ fn report_markdown(results: &[DatasetResult], methods: &[Method]) -> String {
         out,
         "Scores of tone-mapped frames against the rendered ground truth at each target's instant \
          (alpha 1/2 in a 2x stream; in a 3x stream 1/3 and 2/3, split in a table of their own) (PSNR, SSIM: \
-         higher is better; FLIP: lower is better), pooled over every target pixel of each region. \
+         higher is better; FLIP: lower is better; detail: the energy of luma's finest scale \
+         against the truth's, 1 is best, below 1 softer, above 1 noisier), pooled over every \
+         target pixel of each region. \
          Regions come from the plugin's segmentation and the holes from its default warp, the \
          same pixels for every method. GPU ms: submit plus extrapolation per frame, from \
          timestamp queries, leaving out the first target (lazy shader compilation). The \
@@ -829,7 +841,7 @@ fn report_json(results: &[DatasetResult], methods: &[Method]) -> serde_json::Val
                     .zip(&result.pooled)
                     .map(|(name, pooled)| {
                         let scores = pooled.scores().map(|s| {
-                            json!({"psnr": finite(s.psnr), "ssim": s.ssim, "flip": s.flip, "pixels": pooled.pixels})
+                            json!({"psnr": finite(s.psnr), "ssim": s.ssim, "flip": s.flip, "detail": finite(s.detail), "pixels": pooled.pixels})
                         });
                         (name.to_string(), scores.unwrap_or(serde_json::Value::Null))
                     })

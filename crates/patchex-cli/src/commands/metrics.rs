@@ -1,5 +1,7 @@
 //! Image quality metrics on tone-mapped RGB in [0, 1], per pixel so they can be pooled over any
-//! region: squared error (for PSNR), SSIM (Wang et al. 2004, on luma) and NVIDIA's FLIP.
+//! region: squared error (for PSNR), SSIM (Wang et al. 2004, on luma), NVIDIA's FLIP, and the
+//! fine detail kept: the energy of luma's finest scale against the reference's, which PSNR
+//! barely registers when an image is a little soft.
 
 use nv_flip::{FlipImageRgb8, DEFAULT_PIXELS_PER_DEGREE};
 
@@ -9,6 +11,9 @@ const SSIM_RADIUS: i32 = 5;
 const SSIM_SIGMA: f32 = 1.5;
 const SSIM_C1: f32 = 0.01 * 0.01;
 const SSIM_C2: f32 = 0.03 * 0.03;
+/// The finest scale: luma less its Gaussian blur of sigma 1 pixel.
+const DETAIL_RADIUS: i32 = 3;
+const DETAIL_SIGMA: f32 = 1.0;
 
 /// Per-pixel error maps of `test` against `reference` (both RGB, row-major).
 pub struct ErrorMaps {
@@ -16,6 +21,9 @@ pub struct ErrorMaps {
     pub squared: Vec<f32>,
     pub ssim: Vec<f32>,
     pub flip: Vec<f32>,
+    /// The squared finest-scale luma of the test image and of the reference.
+    pub detail: Vec<f32>,
+    pub reference_detail: Vec<f32>,
 }
 
 pub fn error_maps(reference: &[f32], test: &[f32], width: usize, height: usize) -> ErrorMaps {
@@ -24,11 +32,22 @@ pub fn error_maps(reference: &[f32], test: &[f32], width: usize, height: usize) 
         .zip(test.chunks(3))
         .map(|(r, t)| (0..3).map(|c| (r[c] - t[c]).powi(2)).sum::<f32>() / 3.0)
         .collect();
+    let (reference_luma, test_luma) = (luma(reference), luma(test));
     ErrorMaps {
         squared,
-        ssim: ssim_map(&luma(reference), &luma(test), width, height),
+        ssim: ssim_map(&reference_luma, &test_luma, width, height),
         flip: flip_map(reference, test, width, height),
+        detail: detail_map(&test_luma, width, height),
+        reference_detail: detail_map(&reference_luma, width, height),
     }
+}
+
+fn detail_map(luma: &[f32], width: usize, height: usize) -> Vec<f32> {
+    let blurred = blur(luma, width, height, DETAIL_RADIUS, DETAIL_SIGMA);
+    luma.iter()
+        .zip(blurred)
+        .map(|(value, blurred)| (value - blurred).powi(2))
+        .collect()
 }
 
 fn luma(rgb: &[f32]) -> Vec<f32> {
@@ -38,9 +57,9 @@ fn luma(rgb: &[f32]) -> Vec<f32> {
 }
 
 /// Separable Gaussian blur with clamp-to-edge.
-fn blur(values: &[f32], width: usize, height: usize) -> Vec<f32> {
-    let taps: Vec<f32> = (-SSIM_RADIUS..=SSIM_RADIUS)
-        .map(|d| (-(d * d) as f32 / (2.0 * SSIM_SIGMA * SSIM_SIGMA)).exp())
+fn blur(values: &[f32], width: usize, height: usize, radius: i32, sigma: f32) -> Vec<f32> {
+    let taps: Vec<f32> = (-radius..=radius)
+        .map(|d| (-(d * d) as f32 / (2.0 * sigma * sigma)).exp())
         .collect();
     let total: f32 = taps.iter().sum();
     let pass = |input: &[f32], horizontal: bool| -> Vec<f32> {
@@ -48,7 +67,7 @@ fn blur(values: &[f32], width: usize, height: usize) -> Vec<f32> {
         for y in 0..height as i32 {
             for x in 0..width as i32 {
                 let mut sum = 0.0;
-                for (tap, d) in taps.iter().zip(-SSIM_RADIUS..=SSIM_RADIUS) {
+                for (tap, d) in taps.iter().zip(-radius..=radius) {
                     let (sx, sy) = if horizontal {
                         ((x + d).clamp(0, width as i32 - 1), y)
                     } else {
@@ -66,10 +85,11 @@ fn blur(values: &[f32], width: usize, height: usize) -> Vec<f32> {
 
 fn ssim_map(x: &[f32], y: &[f32], width: usize, height: usize) -> Vec<f32> {
     let product = |a: &[f32], b: &[f32]| a.iter().zip(b).map(|(p, q)| p * q).collect::<Vec<_>>();
-    let (mean_x, mean_y) = (blur(x, width, height), blur(y, width, height));
-    let xx = blur(&product(x, x), width, height);
-    let yy = blur(&product(y, y), width, height);
-    let xy = blur(&product(x, y), width, height);
+    let window = |values: &[f32]| blur(values, width, height, SSIM_RADIUS, SSIM_SIGMA);
+    let (mean_x, mean_y) = (window(x), window(y));
+    let xx = window(&product(x, x));
+    let yy = window(&product(y, y));
+    let xy = window(&product(x, y));
     (0..x.len())
         .map(|i| {
             let (mx, my) = (mean_x[i], mean_y[i]);
@@ -102,6 +122,8 @@ pub struct Pooled {
     squared: f64,
     ssim: f64,
     flip: f64,
+    detail: f64,
+    reference_detail: f64,
 }
 
 impl Pooled {
@@ -110,6 +132,8 @@ impl Pooled {
         self.squared += maps.squared[pixel] as f64;
         self.ssim += maps.ssim[pixel] as f64;
         self.flip += maps.flip[pixel] as f64;
+        self.detail += maps.detail[pixel] as f64;
+        self.reference_detail += maps.reference_detail[pixel] as f64;
     }
 
     pub fn merge(&mut self, other: &Pooled) {
@@ -117,9 +141,11 @@ impl Pooled {
         self.squared += other.squared;
         self.ssim += other.ssim;
         self.flip += other.flip;
+        self.detail += other.detail;
+        self.reference_detail += other.reference_detail;
     }
 
-    /// PSNR in dB, SSIM and mean FLIP; `None` for a region with no pixels.
+    /// PSNR in dB, SSIM, mean FLIP and the detail ratio; `None` for a region with no pixels.
     pub fn scores(&self) -> Option<Scores> {
         (self.pixels > 0).then(|| {
             let n = self.pixels as f64;
@@ -132,6 +158,7 @@ impl Pooled {
                 },
                 ssim: self.ssim / n,
                 flip: self.flip / n,
+                detail: self.detail / self.reference_detail,
             }
         })
     }
@@ -142,6 +169,9 @@ pub struct Scores {
     pub psnr: f64,
     pub ssim: f64,
     pub flip: f64,
+    /// The finest scale's energy against the reference's: 1 keeps its detail, below 1 is
+    /// softer, above 1 is noisier or sharpened. NaN where the reference is flat.
+    pub detail: f64,
 }
 
 #[cfg(test)]
@@ -166,6 +196,33 @@ mod tests {
         assert_eq!(scores.psnr, f64::INFINITY);
         assert!((scores.ssim - 1.0).abs() < 1e-5, "{scores:?}");
         assert!(scores.flip < 1e-6, "{scores:?}");
+        assert_eq!(scores.detail, 1.0);
+    }
+
+    #[test]
+    fn a_blurred_image_keeps_less_detail() {
+        let (width, height) = (32, 32);
+        let reference = ramp(width, height);
+        let channel = |c: usize| {
+            reference
+                .iter()
+                .skip(c)
+                .step_by(3)
+                .copied()
+                .collect::<Vec<_>>()
+        };
+        let blurred: Vec<Vec<f32>> = (0..3)
+            .map(|c| blur(&channel(c), width, height, 2, 1.0))
+            .collect();
+        let soft: Vec<f32> = (0..width * height)
+            .flat_map(|p| (0..3).map(move |c| p * 3 + c))
+            .map(|i| blurred[i % 3][i / 3])
+            .collect();
+        let maps = error_maps(&reference, &soft, width, height);
+        let mut pooled = Pooled::default();
+        (0..width * height).for_each(|p| pooled.add(&maps, p));
+        let detail = pooled.scores().unwrap().detail;
+        assert!(detail < 0.5, "{detail}");
     }
 
     #[test]

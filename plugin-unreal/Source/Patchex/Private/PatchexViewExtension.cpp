@@ -300,6 +300,8 @@ void FPatchexViewExtension::Record(VkCommandBuffer CommandBuffer, const FPatchex
 		Warp.sigma_normal = PATCHEX_DEFAULT_SIGMA_NORMAL;
 		Warp.sigma_position = PATCHEX_DEFAULT_SIGMA_POSITION;
 		Warp.occlusion_search_radius = PATCHEX_DEFAULT_OCCLUSION_SEARCH_RADIUS;
+		Warp.hole_fill = PATCHEX_HOLE_FILL_BACKGROUND;
+		Warp.resample = PATCHEX_RESAMPLE_CATMULL_ROM;
 		PatchexSegmentationSettings Segmentation{};
 		Segmentation.header = {PATCHEX_STRUCT_TYPE_SEGMENTATION_SETTINGS, sizeof(PatchexSegmentationSettings), &Warp};
 		Segmentation.growth_x = CVarGrowthX.GetValueOnRenderThread();
