@@ -30,7 +30,10 @@ fn every_pass_matches_its_reference_on_rendered_frames() {
         (PATCHEX_WARP_GBUFFER_GUIDED, PATCHEX_RESAMPLE_CATMULL_ROM),
         (PATCHEX_WARP_GBUFFER_GUIDED, PATCHEX_RESAMPLE_BILINEAR),
         (PATCHEX_WARP_MOTION_VECTOR, PATCHEX_RESAMPLE_CATMULL_ROM),
-        (PATCHEX_WARP_OCCLUSION_MOTION_VECTOR, PATCHEX_RESAMPLE_CATMULL_ROM),
+        (
+            PATCHEX_WARP_OCCLUSION_MOTION_VECTOR,
+            PATCHEX_RESAMPLE_CATMULL_ROM,
+        ),
     ] {
         let chained = Chained {
             warp: Some(WarpSettings {

@@ -38,6 +38,7 @@ const PLANE_MOTION: u32 = 17u;
 const PLANE_NOV: u32 = 19u;
 const PLANE_SHADOW_MASK: u32 = 20u;
 const PLANE_FINAL_NO_DYNAMIC_SHADOWS: u32 = 21u;
+const PLANE_SPECULAR_LIGHT: u32 = 24u;
 
 fn store(plane: u32, pixel: u32, value: f32) {
     let plane_size = u32(frame.viewport.x) * u32(frame.viewport.y);
@@ -127,6 +128,7 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
         let lit = select(vec3<f32>(0.0), sky, options.lighting == 1u);
         store3(PLANE_FINAL, pixel, lit);
         store3(PLANE_FINAL_NO_DYNAMIC_SHADOWS, pixel, lit);
+        store3(PLANE_SPECULAR_LIGHT, pixel, vec3<f32>(0.0));
         return;
     }
 
@@ -167,6 +169,7 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     if options.lighting != 1u {
         store3(PLANE_FINAL, pixel, vec3<f32>(0.0));
         store3(PLANE_FINAL_NO_DYNAMIC_SHADOWS, pixel, vec3<f32>(0.0));
+        store3(PLANE_SPECULAR_LIGHT, pixel, vec3<f32>(0.0));
         return;
     }
 
@@ -187,7 +190,8 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     let visibility_term = 0.5 / max(smith_v + smith_l, 1e-6);
     let fresnel_weight = pow(1.0 - v_dot_h, 5.0);
     let fresnel = specular_color * (1.0 - fresnel_weight) + vec3<f32>(fresnel_weight);
-    let sun_brdf = diffuse_color / PI + distribution * visibility_term * fresnel;
+    let sun_specular_brdf = distribution * visibility_term * fresnel;
+    let sun_brdf = diffuse_color / PI + sun_specular_brdf;
     let sun_light = frame.sun_radiance.rgb * sun_brdf * n_dot_l;
 
     // Sky: hemisphere irradiance for diffuse, the reflected sky for specular; not shadowed.
@@ -202,4 +206,6 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     let lit = ambient_light + sun_light * static_visibility * dynamic_visibility + emissive;
     store3(PLANE_FINAL, pixel, lit);
     store3(PLANE_FINAL_NO_DYNAMIC_SHADOWS, pixel, unshadowed_by_dynamic);
+    let sun_specular = frame.sun_radiance.rgb * sun_specular_brdf * n_dot_l * static_visibility * dynamic_visibility;
+    store3(PLANE_SPECULAR_LIGHT, pixel, sun_specular + sky_specular);
 }

@@ -35,7 +35,8 @@ impl Lighting {
     /// Unreal's split: diffuse from BaseColor * (1 - Metallic), specular from
     /// lerp(0.08 * Specular, BaseColor, Metallic); GGX + Smith + Schlick for the sun, a
     /// hemisphere and Karis' environment BRDF fit for the sky.
-    fn shade(&self, s: &Surface, sun_visibility: f32) -> Vec3 {
+    /// The lit colour and its view-dependent part (the sun's and sky's specular reflection).
+    fn shade(&self, s: &Surface, sun_visibility: f32) -> (Vec3, Vec3) {
         let diffuse_color = s.base_color * (1.0 - s.metallic);
         let specular_color = Vec3::splat(0.08 * s.specular).lerp(s.base_color, s.metallic);
         let n_dot_v = s.normal.dot(s.to_camera).clamp(0.0, 1.0);
@@ -52,7 +53,8 @@ impl Lighting {
             .max(1e-6);
         let fw = (1.0 - v_dot_h).powi(5);
         let fresnel = specular_color * (1.0 - fw) + Vec3::splat(fw);
-        let sun = self.sun_radiance * (diffuse_color / PI + d * smith * fresnel) * n_dot_l;
+        let sun_diffuse = self.sun_radiance * diffuse_color / PI * n_dot_l;
+        let sun_specular = self.sun_radiance * d * smith * fresnel * n_dot_l;
 
         let ambient = self
             .ground_ambient
@@ -67,7 +69,9 @@ impl Lighting {
         ];
         let a004 = (c[0] * c[0]).min((-9.28 * n_dot_v).exp2()) * c[0] + c[1];
         let env = specular_color * (-1.04 * a004 + c[2]) + Vec3::splat(1.04 * a004 + c[3]);
-        diffuse_color * ambient + self.sky(reflected) * env + sun * sun_visibility
+        let specular = self.sky(reflected) * env + sun_specular * sun_visibility;
+        let total = diffuse_color * ambient + sun_diffuse * sun_visibility + specular;
+        (total, specular)
     }
 }
 
@@ -116,8 +120,9 @@ fn final_colour_equals_the_lighting_of_the_gbuffers() {
                 to_camera: (camera - position).normalize(),
             };
             let mask = get(SHADOW_MASK, x, y)[0];
-            let expected = lighting.shade(&surface, mask);
-            let expected_unshadowed = lighting.shade(&surface, 1.0);
+            let (expected, expected_specular) = lighting.shade(&surface, mask);
+            let (expected_unshadowed, _) = lighting.shade(&surface, 1.0);
+            let specular = v3(SPECULAR_LIGHT, x, y);
             let tolerance = 1e-3 * expected.max_element().max(1.0);
             assert!(
                 final_image.abs_diff_eq(expected, tolerance),
@@ -126,6 +131,10 @@ fn final_colour_equals_the_lighting_of_the_gbuffers() {
             assert!(
                 unshadowed.abs_diff_eq(expected_unshadowed, tolerance),
                 "pixel ({x},{y}): FinalImageNoDynamicShadows {unshadowed} but {expected_unshadowed}"
+            );
+            assert!(
+                specular.abs_diff_eq(expected_specular, tolerance),
+                "pixel ({x},{y}): SpecularLight {specular} but {expected_specular}"
             );
             checked += 1;
             let on_ground = get(CUSTOM_STENCIL, x, y)[0] == 0.0;

@@ -22,7 +22,8 @@ use patchex::passes::segmentation::{REGION_FI, REGION_NEAR_BE};
 use patchex::passes::warp::WarpSettings;
 use patchex::passes::{RuntimeGroup, STAGES};
 use patchex_scene::dataset::{
-    write_exr, Dataset, FrameLayers, FrameRole, LayerImage, FINAL_IMAGE, SHADOW_MASK,
+    write_exr, Dataset, FrameLayers, FrameRole, LayerImage, FINAL_IMAGE, ROUGHNESS, SHADOW_MASK,
+    SPECULAR_LIGHT,
 };
 use serde_json::json;
 
@@ -193,9 +194,16 @@ pub struct EvalArgs {
 /// A pixel is in a dynamic object's shadow where the mask is below this.
 const SHADOWED: f32 = 0.95;
 
+/// A highlight: a target pixel of roughness below HIGHLIGHT_ROUGHNESS whose colour takes at
+/// least HIGHLIGHT_SHARE of its luminance from specular reflection.
+const HIGHLIGHT_ROUGHNESS: f32 = 0.5;
+const HIGHLIGHT_SHARE: f32 = 0.3;
+
 /// Regions every score is pooled over. "shadows": where frame t or the target has a shadow of
-/// a dynamic object (mask below 0.95), the pixels the shadow sub-task is for.
-const REGIONS: [&str; 5] = ["frame", "holes", "FI", "near-BE", "shadows"];
+/// a dynamic object (mask below 0.95), the pixels the shadow sub-task is for. "highlights": the
+/// target's highlights, where the shading depends on the view (none in a dataset without the
+/// SpecularLight layer).
+const REGIONS: [&str; 6] = ["frame", "holes", "FI", "near-BE", "shadows", "highlights"];
 const REGION_COUNT: usize = REGIONS.len();
 
 /// Scores and times of one method on one dataset (or on all).
@@ -216,6 +224,7 @@ impl MethodResult {
         holes: &[bool],
         regions: &[u32],
         shadows: &[bool],
+        highlights: &[bool],
         alpha: (usize, usize),
     ) {
         let by_alpha = self.by_alpha.entry(alpha).or_default();
@@ -227,6 +236,9 @@ impl MethodResult {
             }
             if shadows[pixel] {
                 self.pooled[4].add(maps, pixel);
+            }
+            if highlights[pixel] {
+                self.pooled[5].add(maps, pixel);
             }
             match regions[pixel] {
                 REGION_FI => self.pooled[2].add(maps, pixel),
@@ -392,6 +404,7 @@ fn evaluate(
             .zip(&current.layer(SHADOW_MASK).data)
             .map(|(before, after)| *before < SHADOWED || *after < SHADOWED)
             .collect();
+        let highlights = highlights(&current);
         let mut run_plugin =
             |warp, networks: Option<NetworkChoice>, with_diagnostics, with_shadows: bool| {
                 // Two indices a run: frame t-1 and frame t when shadows are tracked.
@@ -424,6 +437,7 @@ fn evaluate(
         result.region_pixels[2] += regions.iter().filter(|r| **r == REGION_FI).count() as u64;
         result.region_pixels[3] += regions.iter().filter(|r| **r == REGION_NEAR_BE).count() as u64;
         result.region_pixels[4] += shadows.iter().filter(|s| **s).count() as u64;
+        result.region_pixels[5] += highlights.iter().filter(|h| **h).count() as u64;
 
         let mut strip_outputs = Vec::new();
         for &method in methods {
@@ -460,7 +474,14 @@ fn evaluate(
                 .methods
                 .get_mut(&method)
                 .expect("every method has a result");
-            method_result.add(&maps, &holes, &regions, &shadows, (target - source, stride));
+            method_result.add(
+                &maps,
+                &holes,
+                &regions,
+                &shadows,
+                &highlights,
+                (target - source, stride),
+            );
             // The first target's times include the driver's lazy shader compilation.
             if let (Some(stats), true) = (stats, n > 0) {
                 method_result.add_time(&stats);
@@ -680,7 +701,7 @@ fn all_scenes(results: &[DatasetResult], methods: &[Method]) -> BTreeMap<Method,
 fn method_table(out: &mut String, methods: &BTreeMap<Method, MethodResult>) {
     writeln!(
         out,
-        "| method | PSNR dB: frame / holes / FI / near-BE / shadows | SSIM: same regions | \
+        "| method | PSNR dB: frame / holes / FI / near-BE / shadows / highlights | SSIM: same regions | \
          FLIP: same regions | detail: same regions | GPU ms |\n|---|---|---|---|---|---|"
     )
     .unwrap();
@@ -736,11 +757,12 @@ fn stage_table(out: &mut String, methods: &BTreeMap<Method, MethodResult>) {
 fn coverage(region_pixels: &[u64; REGION_COUNT]) -> String {
     let share = |i: usize| 100.0 * region_pixels[i] as f64 / region_pixels[0].max(1) as f64;
     format!(
-        "holes {:.2}%, FI {:.2}%, near-BE {:.2}%, shadows {:.2}% of the pixels",
+        "holes {:.2}%, FI {:.2}%, near-BE {:.2}%, shadows {:.2}%, highlights {:.2}% of the pixels",
         share(1),
         share(2),
         share(3),
-        share(4)
+        share(4),
+        share(5)
     )
 }
 
@@ -877,6 +899,27 @@ fn report_json(results: &[DatasetResult], methods: &[Method]) -> serde_json::Val
 /// JSON has no infinity: a perfect PSNR is written as null.
 fn finite(value: f64) -> Option<f64> {
     value.is_finite().then_some(value)
+}
+
+/// The target's highlights (HIGHLIGHT_ROUGHNESS, HIGHLIGHT_SHARE), row by row.
+fn highlights(target: &FrameLayers) -> Vec<bool> {
+    let luminance = |rgb: &[f32]| 0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2];
+    let roughness = &target.layer(ROUGHNESS).data;
+    let Some(specular) = target.get(SPECULAR_LIGHT) else {
+        return vec![false; roughness.len()];
+    };
+    target
+        .layer(FINAL_IMAGE)
+        .data
+        .chunks(3)
+        .zip(specular.data.chunks(3))
+        .zip(roughness)
+        .map(|((lit, specular), &roughness)| {
+            roughness < HIGHLIGHT_ROUGHNESS
+                && luminance(specular) > HIGHLIGHT_SHARE * luminance(lit)
+                && luminance(lit) > 0.0
+        })
+        .collect()
 }
 
 fn dict(region_pixels: &[u64; REGION_COUNT]) -> serde_json::Value {

@@ -138,7 +138,7 @@ fn visualize(layer: &LayerImage, view: &ViewInfo) -> Vec<Rgb> {
     let (near, far) = (view.near, view.far);
     let pixels = (0..layer.height).flat_map(|y| (0..layer.width).map(move |x| (x, y)));
     match layer.name.as_str() {
-        FINAL_IMAGE | FINAL_IMAGE_NO_DYNAMIC_SHADOWS => pixels
+        FINAL_IMAGE | FINAL_IMAGE_NO_DYNAMIC_SHADOWS | SPECULAR_LIGHT => pixels
             .map(|(x, y)| {
                 // Reinhard tone mapping, then sRGB.
                 let p = layer.pixel(x, y);

@@ -26,6 +26,8 @@ pub const MOTION_VECTOR: &str = "MotionVector";
 pub const NOV: &str = "NoV";
 pub const SHADOW_MASK: &str = "ShadowMask";
 pub const FINAL_IMAGE_NO_DYNAMIC_SHADOWS: &str = "FinalImageNoDynamicShadows";
+/// The view-dependent part of FinalImage: the sun's and the sky's specular reflection.
+pub const SPECULAR_LIGHT: &str = "SpecularLight";
 
 pub const LAYERS: &[LayerSpec] = &[
     LayerSpec {
@@ -106,10 +108,16 @@ pub const LAYERS: &[LayerSpec] = &[
         first_plane: 21,
         lit: true,
     },
+    LayerSpec {
+        name: SPECULAR_LIGHT,
+        channels: RGB,
+        first_plane: 24,
+        lit: true,
+    },
 ];
 
 /// Number of f32 planes the resolve pass writes.
-pub const PLANE_COUNT: usize = 24;
+pub const PLANE_COUNT: usize = 27;
 
 pub fn layer_spec(name: &str) -> Option<&'static LayerSpec> {
     LAYERS.iter().find(|layer| layer.name == name)
