@@ -20,6 +20,8 @@ static TAutoConsoleVariable<int32> CVarWarp(TEXT("r.Patchex.Warp"), PATCHEX_WARP
 	TEXT("0: G-buffer-guided warp, 1: motion vectors, 2: occlusion motion vectors."), ECVF_RenderThreadSafe);
 static TAutoConsoleVariable<int32> CVarKernelRadius(TEXT("r.Patchex.KernelRadius"), PATCHEX_DEFAULT_KERNEL_RADIUS,
 	TEXT("Gather radius of the G-buffer-guided warp, 0 to 3 pixels."), ECVF_RenderThreadSafe);
+static TAutoConsoleVariable<int32> CVarResample(TEXT("r.Patchex.Resample"), PATCHEX_RESAMPLE_CATMULL_ROM,
+	TEXT("How the G-buffer-guided warp resamples static surfaces: 0 Catmull-Rom (sharper), 1 bilinear (cheaper)."), ECVF_RenderThreadSafe);
 static TAutoConsoleVariable<float> CVarGrowthX(TEXT("r.Patchex.GrowthX"), PATCHEX_DEFAULT_GROWTH_X,
 	TEXT("k_x of the foveated segmentation, 0 to 64."), ECVF_RenderThreadSafe);
 static TAutoConsoleVariable<float> CVarGrowthY(TEXT("r.Patchex.GrowthY"), PATCHEX_DEFAULT_GROWTH_Y,
@@ -301,7 +303,7 @@ void FPatchexViewExtension::Record(VkCommandBuffer CommandBuffer, const FPatchex
 		Warp.sigma_position = PATCHEX_DEFAULT_SIGMA_POSITION;
 		Warp.occlusion_search_radius = PATCHEX_DEFAULT_OCCLUSION_SEARCH_RADIUS;
 		Warp.hole_fill = PATCHEX_HOLE_FILL_BACKGROUND;
-		Warp.resample = PATCHEX_RESAMPLE_CATMULL_ROM;
+		Warp.resample = uint32(CVarResample.GetValueOnRenderThread());
 		PatchexSegmentationSettings Segmentation{};
 		Segmentation.header = {PATCHEX_STRUCT_TYPE_SEGMENTATION_SETTINGS, sizeof(PatchexSegmentationSettings), &Warp};
 		Segmentation.growth_x = CVarGrowthX.GetValueOnRenderThread();
