@@ -4,9 +4,8 @@
 // position, for moving ones the same relative depth), it takes their bilinear blend, weighted by
 // that agreement, so zero motion returns frame t exactly; on a static surface whose 4x4 texels
 // around q all show it, a sharper Catmull-Rom fetch (PATCHEX_RESAMPLE_CATMULL_ROM, the default).
-// Where they do not (disocclusions,
-// silhouettes, motion-vector errors), it gathers from a (2r+1)^2 window with a joint bilateral
-// kernel instead. A pixel whose source leaves the screen or finds no agreeing texel is a hole;
+// Where they do not (disocclusions, silhouettes, motion-vector errors), it gathers from a
+// (2r+1)^2 window with a joint bilateral kernel instead. A pixel whose source leaves the screen or finds no agreeing texel is a hole;
 // a hole on screen is filled from the side the disocclusion uncovers, by fill_holes.wgsl.
 // #import gbuffer
 // #import warp
