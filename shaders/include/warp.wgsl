@@ -6,6 +6,8 @@
 
 // A source texel agrees with the target when its geometry weight reaches this value.
 const AGREEMENT_THRESHOLD: f32 = 0.5;
+// -ln(AGREEMENT_THRESHOLD).
+const LN_AGREEMENT_THRESHOLD: f32 = 0.6931472;
 // Below this total weight a weighted fetch found nothing usable.
 const MIN_TOTAL_WEIGHT: f32 = 1e-6;
 // Grazing surfaces stretch a pixel's footprint by 1 / cos(angle), up to this cosine.
@@ -191,13 +193,17 @@ fn agreement_at(t: Surface, s: vec2i) -> f32 {
 // its normal and its plane, as `agreement_at` measures them without the distance along it.
 fn on_static_surface(t: Surface, s: vec2i) -> bool {
     let packed = textureLoad(source_normal_id, s, 0).r;
+    if (object_id(packed) != t.id) {
+        return false;
+    }
     let depth = textureLoad(source_depth, s, 0).r;
-    if (object_id(packed) != t.id || is_sky(t.depth) || is_sky(depth)) {
+    if (is_sky(t.depth) || is_sky(depth)) {
         return false;
     }
     let normal_term = (1.0 - dot(t.normal, unpack_normal(packed))) * params.inv_sigma_normal;
     let across = dot(t.normal, source_position(s, depth) - t.position) / t.footprint * params.inv_sigma_position;
-    return exp(-(normal_term + across * across)) >= AGREEMENT_THRESHOLD;
+    // exp(-x) >= AGREEMENT_THRESHOLD, without the exp.
+    return normal_term + across * across <= LN_AGREEMENT_THRESHOLD;
 }
 
 // Where target pixel `p` lands in frame t when it follows `motion` (raw engine units).

@@ -109,10 +109,9 @@ impl PixelWarp<'_> {
         q.floor().as_ivec2().clamp(IVec2::ZERO, self.extent() - 1)
     }
 
-    /// Agreement of the target's surface with a source texel; `in_plane_weight` as
-    /// `Params::in_plane_weight`.
-    fn geometry_weight(&self, source_geo: Vec4, source_nid: Vec4, in_plane_weight: f32) -> f32 {
-        let (target_geo, target_nid, params) = (self.target_geo, self.target_nid, self.params);
+    /// Agreement of the target's surface with a source texel (`agreement_at`).
+    fn geometry_weight(&self, source_geo: Vec4, source_nid: Vec4) -> f32 {
+        let (target_geo, target_nid) = (self.target_geo, self.target_nid);
         if target_nid.w != source_nid.w {
             return 0.0;
         }
@@ -123,6 +122,13 @@ impl PixelWarp<'_> {
                 0.0
             };
         }
+        (-self.disagreement(source_geo, source_nid, self.params.in_plane_weight)).exp()
+    }
+
+    /// The exponent of the agreement of two surfaces neither of which is sky, with
+    /// `in_plane_weight` as `Params::in_plane_weight`.
+    fn disagreement(&self, source_geo: Vec4, source_nid: Vec4, in_plane_weight: f32) -> f32 {
+        let (target_geo, target_nid, params) = (self.target_geo, self.target_nid, self.params);
         let normal_term =
             (1.0 - target_nid.truncate().dot(source_nid.truncate())) * params.inv_sigma_normal;
         let e = if target_nid.w == 0.0 {
@@ -138,14 +144,13 @@ impl PixelWarp<'_> {
             (target_geo.w - source_geo.w).abs() / target_geo.w.max(source_geo.w)
                 * params.inv_sigma_depth
         };
-        (-(normal_term + e * e)).exp()
+        normal_term + e * e
     }
 
     fn agreement_at(&self, s: IVec2) -> f32 {
         self.geometry_weight(
             texel(self.source.geometry, s),
             texel(self.source.normal_id, s),
-            self.params.in_plane_weight,
         )
     }
 
@@ -156,9 +161,10 @@ impl PixelWarp<'_> {
             texel(self.source.geometry, s),
             texel(self.source.normal_id, s),
         );
-        !is_sky(self.target_geo.w)
+        normal_id.w == self.target_nid.w
+            && !is_sky(self.target_geo.w)
             && !is_sky(geometry.w)
-            && self.geometry_weight(geometry, normal_id, 0.0) >= AGREEMENT_THRESHOLD
+            && self.disagreement(geometry, normal_id, 0.0) <= -AGREEMENT_THRESHOLD.ln()
     }
 
     /// Mirror of `surface_around`: the 12 texels Catmull-Rom adds around q's four nearest show
