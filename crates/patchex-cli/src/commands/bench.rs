@@ -41,6 +41,8 @@ pub enum Configuration {
     MotionVector,
     OcclusionMotion,
     Gbuffer,
+    /// The G-buffer-guided warp resampling bilinearly everywhere (PATCHEX_RESAMPLE_BILINEAR).
+    GbufferBilinear,
     GbufferShadows,
     /// The networks without the shadow sub-task (PATCHEX_PRESET_NETWORKS).
     PatchexNoShadows,
@@ -60,6 +62,7 @@ impl Configuration {
             Configuration::MotionVector => "motion-vector warp (WARP_ONLY)",
             Configuration::OcclusionMotion => "occlusion-motion-vector warp (WARP_ONLY)",
             Configuration::Gbuffer => "G-buffer-guided warp (WARP_ONLY)",
+            Configuration::GbufferBilinear => "G-buffer-guided warp, bilinear (WARP_ONLY)",
             Configuration::GbufferShadows => "G-buffer-guided warp + shadows (WARP_AND_SHADOWS)",
             Configuration::PatchexNoShadows => "warp + networks (NETWORKS)",
             Configuration::Patchex => "PatchEX: warp + shadows + networks (FULL)",
@@ -77,12 +80,20 @@ impl Configuration {
         }
     }
 
+    fn resample(self) -> PatchexResample {
+        match self {
+            Configuration::GbufferBilinear => PATCHEX_RESAMPLE_BILINEAR,
+            _ => PATCHEX_RESAMPLE_CATMULL_ROM,
+        }
+    }
+
     fn with_shadows(self) -> bool {
         !matches!(
             self,
             Configuration::MotionVector
                 | Configuration::OcclusionMotion
                 | Configuration::Gbuffer
+                | Configuration::GbufferBilinear
                 | Configuration::PatchexNoShadows
         )
     }
@@ -110,6 +121,7 @@ impl Configuration {
             Configuration::MotionVector => RGBColor(230, 159, 0),
             Configuration::OcclusionMotion => RGBColor(86, 180, 233),
             Configuration::Gbuffer => RGBColor(0, 158, 115),
+            Configuration::GbufferBilinear => RGBColor(100, 200, 160),
             Configuration::GbufferShadows => RGBColor(204, 121, 167),
             Configuration::PatchexNoShadows => RGBColor(0, 0, 0),
             Configuration::Patchex => RGBColor(213, 94, 0),
@@ -143,7 +155,7 @@ pub struct BenchArgs {
     #[arg(
         long,
         value_delimiter = ',',
-        default_value = "motion-vector,occlusion-motion,gbuffer,gbuffer-shadows,patchex-no-shadows,patchex,patchex-half-resolution,patchex-whole-frame"
+        default_value = "motion-vector,occlusion-motion,gbuffer-bilinear,gbuffer,gbuffer-shadows,patchex-no-shadows,patchex,patchex-half-resolution,patchex-whole-frame"
     )]
     configurations: Vec<Configuration>,
     /// Frames of the doubled stream rendered per scene and size; targets are the odd frames
@@ -301,6 +313,7 @@ fn measure(
             0.5,
             Some(WarpSettings {
                 kind: configuration.warp(),
+                resample: configuration.resample(),
                 ..WarpSettings::default()
             }),
             networks.as_ref(),
@@ -437,6 +450,7 @@ fn report(
     )
     .unwrap();
     fill_share_table(&mut out, args, configurations, results);
+    resample_table(&mut out, args, configurations, results);
     patch_ratio_table(&mut out, args, configurations, results);
     let labels: Vec<&str> = configurations.iter().map(|c| c.label()).collect();
     let costs: Vec<Vec<Costs>> = results
@@ -477,6 +491,50 @@ fn fill_share_table(
             "| {} | {fill:.1} | {rest:.1} | {:.1}% |",
             size_label(*size),
             100.0 * fill / rest
+        )
+        .unwrap();
+    }
+}
+
+/// The warp stage with Catmull-Rom on static surfaces (the default) against bilinear
+/// everywhere, per size: the resampling's price and what it buys.
+fn resample_table(
+    out: &mut String,
+    args: &BenchArgs,
+    configurations: &[Configuration],
+    results: &[Vec<Measured>],
+) {
+    let find = |wanted| configurations.iter().position(|c| *c == wanted);
+    let (Some(sharp), Some(bilinear)) = (
+        find(Configuration::Gbuffer),
+        find(Configuration::GbufferBilinear),
+    ) else {
+        return;
+    };
+    writeln!(
+        out,
+        "\nThe warp stage with Catmull-Rom on static surfaces (the default) against bilinear \
+         everywhere, GPU ms per target, measured in this run, and the change in quality:\n\n\
+         | size | Catmull-Rom ms | bilinear ms | Catmull-Rom / bilinear | PSNR change dB | FLIP change |\n\
+         |---|---|---|---|---|---|"
+    )
+    .unwrap();
+    for (size, row) in args.sizes.iter().zip(results) {
+        let warp_ms = |measured: &Measured| measured.costs.mean(PATCHEX_STAGE_WARP).gpu_ms;
+        let (Some(with), Some(without)) =
+            (row[sharp].quality.scores(), row[bilinear].quality.scores())
+        else {
+            continue;
+        };
+        writeln!(
+            out,
+            "| {} | {:.1} | {:.1} | {:.2} | {:+.2} | {:+.4} |",
+            size_label(*size),
+            warp_ms(&row[sharp]),
+            warp_ms(&row[bilinear]),
+            warp_ms(&row[sharp]) / warp_ms(&row[bilinear]),
+            with.psnr - without.psnr,
+            with.flip - without.flip,
         )
         .unwrap();
     }
