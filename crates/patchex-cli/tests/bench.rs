@@ -21,7 +21,7 @@ fn bench_measures_every_configuration_at_every_size_and_plots_the_trade() {
         serde_json::from_str(&std::fs::read_to_string(out.path().join("bench.json")).unwrap())
             .unwrap();
     let rows = json["rows"].as_array().unwrap();
-    assert_eq!(rows.len(), 2 * 8, "two sizes, eight configurations");
+    assert_eq!(rows.len(), 2 * 9, "two sizes, nine configurations");
     for row in rows {
         // Targets 3 (frames 0, 2 and 3); every stage group took time, inference only where
         // networks ran.
@@ -33,7 +33,13 @@ fn bench_measures_every_configuration_at_every_size_and_plots_the_trade() {
         let configuration = row["configuration"].as_str().unwrap();
         let networks = configuration.starts_with("Patchex");
         // Warp-only configurations remodulate in the warp: nothing is left to blend.
-        let warp_only = ["MotionVector", "OcclusionMotion", "Gbuffer"].contains(&configuration);
+        let warp_only = [
+            "MotionVector",
+            "OcclusionMotion",
+            "Gbuffer",
+            "GbufferBilinear",
+        ]
+        .contains(&configuration);
         let blending = row["gpu_ms"]["blending"].as_f64().unwrap();
         assert_eq!(blending > 0.0, !warp_only, "{row}");
         // Every configuration reports its context's memory and each stage's traffic.
@@ -68,6 +74,7 @@ fn bench_measures_every_configuration_at_every_size_and_plots_the_trade() {
     );
     assert!(markdown.contains("Growth with resolution"), "{markdown}");
     assert!(markdown.contains("| 108p |") && markdown.contains("whole frame / patches"));
+    assert!(markdown.contains("Catmull-Rom / bilinear"), "{markdown}");
     let plot = std::fs::read(out.path().join("trade.png")).unwrap();
     assert!(plot.starts_with(b"\x89PNG"), "trade.png is a PNG");
 }
