@@ -28,7 +28,7 @@ use patchex_scene::dataset::{
 use serde_json::json;
 
 use super::interpolate::interpolate;
-use super::metrics::{error_maps, ErrorMaps, Pooled};
+use super::metrics::{error_maps, luma, ErrorMaps, Pooled};
 use super::picture::{to_rgb8, tone_map, write_grid};
 use super::plugin_driver::{NetworkChoice, PluginDriver};
 use super::{shipped_path, CommandResult};
@@ -903,21 +903,16 @@ fn finite(value: f64) -> Option<f64> {
 
 /// The target's highlights (HIGHLIGHT_ROUGHNESS, HIGHLIGHT_SHARE), row by row.
 fn highlights(target: &FrameLayers) -> Vec<bool> {
-    let luminance = |rgb: &[f32]| 0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2];
     let roughness = &target.layer(ROUGHNESS).data;
     let Some(specular) = target.get(SPECULAR_LIGHT) else {
         return vec![false; roughness.len()];
     };
-    target
-        .layer(FINAL_IMAGE)
-        .data
-        .chunks(3)
-        .zip(specular.data.chunks(3))
+    let lit = luma(&target.layer(FINAL_IMAGE).data);
+    lit.iter()
+        .zip(luma(&specular.data))
         .zip(roughness)
-        .map(|((lit, specular), &roughness)| {
-            roughness < HIGHLIGHT_ROUGHNESS
-                && luminance(specular) > HIGHLIGHT_SHARE * luminance(lit)
-                && luminance(lit) > 0.0
+        .map(|((&lit, specular), &roughness)| {
+            roughness < HIGHLIGHT_ROUGHNESS && specular > HIGHLIGHT_SHARE * lit && lit > 0.0
         })
         .collect()
 }

@@ -50,7 +50,8 @@ fn detail_map(luma: &[f32], width: usize, height: usize) -> Vec<f32> {
         .collect()
 }
 
-fn luma(rgb: &[f32]) -> Vec<f32> {
+/// Rec. 709 luma of each RGB pixel.
+pub fn luma(rgb: &[f32]) -> Vec<f32> {
     rgb.chunks(3)
         .map(|p| p[0] * LUMA[0] + p[1] * LUMA[1] + p[2] * LUMA[2])
         .collect()
