@@ -92,7 +92,7 @@
 #include <vulkan/vulkan.h>
 
 // Version of this ABI, returned by `patchex_abi_version`; bumped on any incompatible change.
-#define PATCHEX_ABI_VERSION 12
+#define PATCHEX_ABI_VERSION 13
 
 // The warp settings a context uses unless told otherwise: a 3x3 gather; a texel keeps most of
 // its weight within ~5% relative depth, ~0.1 of (1 - cos) of normal angle (about 25 degrees),
@@ -381,7 +381,7 @@ typedef struct PatchexExtrapolateDesc {
   // PATCHEX_STRUCT_TYPE_EXTRAPOLATE_DESC, sizeof(PatchexExtrapolateDesc), optional chain
   // (PatchexWarpSettings and PatchexSegmentationSettings override the context's defaults
   // for this call; PatchexDiagnostics and PatchexShadowDiagnostics ask for the per-pixel
-  // intermediate results).
+  // intermediate results; PatchexTargetShadowInput gives the shadows at the target).
   struct PatchexStructHeader header;
   uint32_t queue_family_index;
   // Position of the target between frame t (0) and frame t+1 (1), in (0, 1].
@@ -616,6 +616,32 @@ typedef struct PatchexShadowInput {
   struct PatchexImage color_without_dynamic_shadows;
 } PatchexShadowInput;
 
+// Chainable on PatchexExtrapolateDesc, when frame t came with a PatchexShadowInput: the
+// dynamic casters' shadows at the target instant, in place of the shadows the flow moves there.
+// The flow moves frame t's shadows but keeps their shape; this mask has the target's shape (a
+// walking character's legs cast where they are now). Optional, and a trade: it costs the
+// engine a pass, and patchex two small passes (the sun's share of frame t's light, then the
+// shadows placed), against shadows that match the target.
+//
+// How patchex uses it, on static target pixels: the shading warped without the dynamic
+// shadows loses (1 - mask) times the share of its light that the sun gives. That share is frame
+// t's own where the warp carried it from a shadowed texel (the layer over the darkness there),
+// and the mean over frame t's shadows elsewhere. Dynamic objects keep the shadows on them, as
+// without this input. It takes effect from the second consecutive frame with a shadow input,
+// as the flow does; before that, shadows stay where the warp carries them.
+//
+// What an engine provides: the same mask as PatchexShadowInput's, at the target instant: the
+// sun's visibility through dynamic casters only, at the target's pixels. A depth-only pass of
+// the dynamic casters into the sun's shadow map at their target pose, projected against the
+// target depth the engine already has for the G-buffer.
+typedef struct PatchexTargetShadowInput {
+  // PATCHEX_STRUCT_TYPE_TARGET_SHADOW_INPUT, sizeof(PatchexTargetShadowInput), chain.
+  struct PatchexStructHeader header;
+  // Visibility of the sun through dynamic casters at the target, in [0, 1], in the first
+  // channel. Float or UNORM formats. Values outside [0, 1] or NaN are sanitised and counted.
+  struct PatchexImage mask;
+} PatchexTargetShadowInput;
+
 // Chainable on PatchexCreateInfo (context default) or PatchexFrameDesc (this frame), with a
 // shadows preset (PATCHEX_PRESET_WARP_AND_SHADOWS or FULL): the dense optical flow that
 // tracks the dynamic-caster shadow mask between frames t-1 and t.
@@ -748,6 +774,8 @@ typedef struct PatchexShadowDiagnostics {
 
 #define PATCHEX_STRUCT_TYPE_NETWORK_MEMORY 14
 
+#define PATCHEX_STRUCT_TYPE_TARGET_SHADOW_INPUT 15
+
 // Demodulate, warp (PatchexWarpSettings), remodulate. Holes keep the warp's nearest colour.
 #define PATCHEX_PRESET_WARP_ONLY 0
 
@@ -850,8 +878,9 @@ typedef struct PatchexShadowDiagnostics {
 // Submit, with a PatchexShadowInput: mask pyramid, polynomial expansion and Farneback flow.
 #define PATCHEX_STAGE_SHADOW_FLOW 8
 
-// Extrapolation of a frame with a shadow input: the shadow layer's warps, or with
-// PATCHEX_SHADOW_HISTORY_STARTED only the clearing of the shadows' share.
+// Extrapolation of a frame with a shadow input: the shadow layer's warps (its flow's only
+// without a PatchexTargetShadowInput), or with PATCHEX_SHADOW_HISTORY_STARTED only the clearing
+// of the shadows' share.
 #define PATCHEX_STAGE_SHADOW_WARP 9
 
 // A networks preset (PATCHEX_PRESET_NETWORKS or FULL), a frame with dynamic objects: patch
@@ -869,6 +898,10 @@ typedef struct PatchexShadowDiagnostics {
 // the frame's warp listed, remodulating them when the warp does. The shadow layer's own fill
 // is part of PATCHEX_STAGE_SHADOW_WARP.
 #define PATCHEX_STAGE_FILL_HOLES 13
+
+// Extrapolation with a PatchexTargetShadowInput, after the shadow layer's warp: the sun's share
+// of frame t's light over its shadows, then the shadows placed from the target's mask.
+#define PATCHEX_STAGE_TARGET_SHADOWS 14
 
 #define PATCHEX_RESET_NONE 0
 

@@ -3,7 +3,9 @@
 // casters' shadows, demodulated, and the shadow layer, the share of that light those shadows
 // take away:
 //   shading = U / m,   layer = (min(F, U) - U) / U   (in [-1, 0]; 0 where U is black),
-// with F the colour, U the colour without dynamic shadows and m the modulation factor. The frame
+// with F the colour, U the colour without dynamic shadows and m the modulation factor; the
+// layer's alpha holds the shadow's darkness, 1 - mask, which the warps carry with it so that a
+// target shadow input can read the sun's share, layer / darkness (place_target_shadows.wgsl). The frame
 // is warped without those shadows, and remodulation puts back the layer where the shadows are
 // at the target, as a share of the light the receiver has there: a shadow moved onto ground
 // that static casters already shade takes away only the little light that is left. Nothing is
@@ -56,11 +58,11 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
         let separates = params.tracked != 0u
             && object_id(textureLoad(source_normal_id, p, 0).r) == 0u;
         textureStore(shading, p, demodulated(select(lit.value, unshadowed.value, separates), m.factor));
-        var layer = vec3f(0.0);
+        var layer = vec4f(0.0);
         if (separates) {
-            layer = shadow_share(lit.value, unshadowed.value);
+            layer = vec4f(shadow_share(lit.value, unshadowed.value), 1.0 - visibility.value.x);
         }
-        textureStore(shadow_layer, p, vec4f(layer, 1.0));
+        textureStore(shadow_layer, p, layer);
         let changed = m.changed || lit.changed || unshadowed.changed || visibility.changed;
         if (changed) {
             atomicAdd(&group_tallies[0u], 1u);

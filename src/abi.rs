@@ -26,7 +26,7 @@ pub type PFN_vkGetInstanceProcAddr = Option<vk::PFN_vkGetInstanceProcAddr>;
 pub type PFN_vkGetDeviceProcAddr = Option<vk::PFN_vkGetDeviceProcAddr>;
 
 /// Version of this ABI, returned by `patchex_abi_version`; bumped on any incompatible change.
-pub const PATCHEX_ABI_VERSION: u32 = 12;
+pub const PATCHEX_ABI_VERSION: u32 = 13;
 
 /// 0 or 1; any other value is rejected as an invalid argument.
 pub type PatchexBool = u32;
@@ -47,6 +47,7 @@ pub const PATCHEX_STRUCT_TYPE_NETWORK_WEIGHTS: PatchexStructType = 11;
 pub const PATCHEX_STRUCT_TYPE_NETWORK_SETTINGS: PatchexStructType = 12;
 pub const PATCHEX_STRUCT_TYPE_NETWORK_PRECISION: PatchexStructType = 13;
 pub const PATCHEX_STRUCT_TYPE_NETWORK_MEMORY: PatchexStructType = 14;
+pub const PATCHEX_STRUCT_TYPE_TARGET_SHADOW_INPUT: PatchexStructType = 15;
 
 /// The first fields of every versioned struct, read before the rest.
 #[repr(C)]
@@ -293,7 +294,7 @@ pub struct PatchexExtrapolateDesc {
     /// PATCHEX_STRUCT_TYPE_EXTRAPOLATE_DESC, sizeof(PatchexExtrapolateDesc), optional chain
     /// (PatchexWarpSettings and PatchexSegmentationSettings override the context's defaults
     /// for this call; PatchexDiagnostics and PatchexShadowDiagnostics ask for the per-pixel
-    /// intermediate results).
+    /// intermediate results; PatchexTargetShadowInput gives the shadows at the target).
     pub header: PatchexStructHeader,
     pub queue_family_index: u32,
     /// Position of the target between frame t (0) and frame t+1 (1), in (0, 1].
@@ -424,6 +425,34 @@ pub struct PatchexShadowInput {
     pub mask: PatchexImage,
     /// Frame t's linear HDR colour without the shadows of dynamic casters; formats as `color`.
     pub color_without_dynamic_shadows: PatchexImage,
+}
+
+/// Chainable on PatchexExtrapolateDesc, when frame t came with a PatchexShadowInput: the
+/// dynamic casters' shadows at the target instant, in place of the shadows the flow moves there.
+/// The flow moves frame t's shadows but keeps their shape; this mask has the target's shape (a
+/// walking character's legs cast where they are now). Optional, and a trade: it costs the
+/// engine a pass, and patchex two small passes (the sun's share of frame t's light, then the
+/// shadows placed), against shadows that match the target.
+///
+/// How patchex uses it, on static target pixels: the shading warped without the dynamic
+/// shadows loses (1 - mask) times the share of its light that the sun gives. That share is frame
+/// t's own where the warp carried it from a shadowed texel (the layer over the darkness there),
+/// and the mean over frame t's shadows elsewhere. Dynamic objects keep the shadows on them, as
+/// without this input. It takes effect from the second consecutive frame with a shadow input,
+/// as the flow does; before that, shadows stay where the warp carries them.
+///
+/// What an engine provides: the same mask as PatchexShadowInput's, at the target instant: the
+/// sun's visibility through dynamic casters only, at the target's pixels. A depth-only pass of
+/// the dynamic casters into the sun's shadow map at their target pose, projected against the
+/// target depth the engine already has for the G-buffer.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct PatchexTargetShadowInput {
+    /// PATCHEX_STRUCT_TYPE_TARGET_SHADOW_INPUT, sizeof(PatchexTargetShadowInput), chain.
+    pub header: PatchexStructHeader,
+    /// Visibility of the sun through dynamic casters at the target, in [0, 1], in the first
+    /// channel. Float or UNORM formats. Values outside [0, 1] or NaN are sanitised and counted.
+    pub mask: PatchexImage,
 }
 
 /// Farneback optical-flow settings a context uses unless told otherwise: three pyramid levels
@@ -591,8 +620,9 @@ pub const PATCHEX_STAGE_LBP: PatchexStage = 6;
 pub const PATCHEX_STAGE_DIAGNOSTICS: PatchexStage = 7;
 /// Submit, with a PatchexShadowInput: mask pyramid, polynomial expansion and Farneback flow.
 pub const PATCHEX_STAGE_SHADOW_FLOW: PatchexStage = 8;
-/// Extrapolation of a frame with a shadow input: the shadow layer's warps, or with
-/// PATCHEX_SHADOW_HISTORY_STARTED only the clearing of the shadows' share.
+/// Extrapolation of a frame with a shadow input: the shadow layer's warps (its flow's only
+/// without a PatchexTargetShadowInput), or with PATCHEX_SHADOW_HISTORY_STARTED only the clearing
+/// of the shadows' share.
 pub const PATCHEX_STAGE_SHADOW_WARP: PatchexStage = 9;
 /// A networks preset (PATCHEX_PRESET_NETWORKS or FULL), a frame with dynamic objects: patch
 /// planning, the networks' input gathering and both networks.
@@ -606,6 +636,9 @@ pub const PATCHEX_STAGE_PACK_OUTPUT: PatchexStage = 12;
 /// the frame's warp listed, remodulating them when the warp does. The shadow layer's own fill
 /// is part of PATCHEX_STAGE_SHADOW_WARP.
 pub const PATCHEX_STAGE_FILL_HOLES: PatchexStage = 13;
+/// Extrapolation with a PatchexTargetShadowInput, after the shadow layer's warp: the sun's share
+/// of frame t's light over its shadows, then the shadows placed from the target's mask.
+pub const PATCHEX_STAGE_TARGET_SHADOWS: PatchexStage = 14;
 /// Size of the `gpu_ms` arrays; stages added later take indices below it.
 pub const PATCHEX_STAGE_SLOTS: usize = 16;
 

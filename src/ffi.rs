@@ -171,6 +171,14 @@ unsafe fn read_chain(
                 )?;
                 extensions.shadow = Some(input);
             }
+            PATCHEX_STRUCT_TYPE_TARGET_SHADOW_INPUT => {
+                let input = read_versioned(
+                    next.cast::<PatchexTargetShadowInput>(),
+                    kind,
+                    "PatchexTargetShadowInput",
+                )?;
+                extensions.target_shadow_mask = Some(input.mask);
+            }
             PATCHEX_STRUCT_TYPE_SHADOW_FLOW_SETTINGS => {
                 let settings = read_versioned(
                     next.cast::<PatchexShadowFlowSettings>(),
@@ -522,6 +530,7 @@ pub unsafe extern "C" fn patchex_extrapolate(
                 PATCHEX_STRUCT_TYPE_SEGMENTATION_SETTINGS,
                 PATCHEX_STRUCT_TYPE_DIAGNOSTICS,
                 PATCHEX_STRUCT_TYPE_SHADOW_DIAGNOSTICS,
+                PATCHEX_STRUCT_TYPE_TARGET_SHADOW_INPUT,
                 PATCHEX_STRUCT_TYPE_NETWORK_SETTINGS,
             ],
             "PatchexExtrapolateDesc",

@@ -259,6 +259,7 @@ fn c11_engine_reaches_every_feature_and_matches_the_rust_path() {
     let outputs = output_formats.map(|format| output_image_as(engine, format, WIDTH, HEIGHT));
     let diagnostics = output_image(engine, WIDTH, HEIGHT);
     let shadow_diagnostics = output_image(engine, WIDTH, HEIGHT);
+    let target_shadows = output_image(engine, WIDTH, HEIGHT);
     let submit = |cmd, frame: &GpuFrame, index, flow: Option<&PatchexShadowFlowSettings>| {
         let mut shadow = frame.shadow_input();
         shadow.header.next = flow.map_or(std::ptr::null(), link);
@@ -356,6 +357,14 @@ fn c11_engine_reaches_every_feature_and_matches_the_rust_path() {
             };
             extrapolate(cmd, &frames[3], &outputs[k], chain);
         }
+        let target_mask = PatchexTargetShadowInput {
+            header: header_of::<PatchexTargetShadowInput>(
+                PATCHEX_STRUCT_TYPE_TARGET_SHADOW_INPUT,
+                std::ptr::null(),
+            ),
+            mask: frames[3].shadow_input().mask,
+        };
+        extrapolate(cmd, &frames[3], &target_shadows, link(&target_mask));
     });
 
     let compare = |name: &str, image: &EngineImage, format: vk::Format| {
@@ -379,6 +388,7 @@ fn c11_engine_reaches_every_feature_and_matches_the_rust_path() {
     }
     let diagnostics = compare("diagnostics", &diagnostics, half);
     let shadow_diagnostics = compare("shadow_diagnostics", &shadow_diagnostics, half);
+    compare("target_shadows", &target_shadows, half);
 
     let (result, second) = rig.stats(2);
     assert_eq!(result, PatchexResult::Success);
@@ -387,8 +397,11 @@ fn c11_engine_reaches_every_feature_and_matches_the_rust_path() {
 
     // The calls did what their structs asked.
     assert_eq!(second.shadow_history, PATCHEX_SHADOW_HISTORY_TRACKED);
-    let [guided, motion, occlusion, _] = &second.extrapolations;
+    let [guided, motion, occlusion, masked] = &second.extrapolations;
     let ran = |s: &PatchexExtrapolationStats, stage: PatchexStage| s.stages_run & 1 << stage != 0;
+    assert!(
+        ran(masked, PATCHEX_STAGE_TARGET_SHADOWS) && !ran(guided, PATCHEX_STAGE_TARGET_SHADOWS)
+    );
     assert!(ran(guided, PATCHEX_STAGE_SHADOW_WARP) && ran(guided, PATCHEX_STAGE_DIAGNOSTICS));
     assert!(ran(guided, PATCHEX_STAGE_INFERENCE) && guided.repaired_fraction > 0.0);
     assert!(!ran(motion, PATCHEX_STAGE_DIAGNOSTICS));

@@ -55,17 +55,19 @@ fn run_with_shadows(
     with_shadows: bool,
 ) -> ShadowOutcome {
     let frames = [previous, source, target];
-    run_with_shadows_warped(rig, frames, alpha, [with_shadows; 2], None)
+    run_with_shadows_warped(rig, frames, alpha, [with_shadows; 2], None, false)
 }
 
-/// `run_with_shadows` with the extrapolation's warp settings `warp`, and a shadow input for
-/// each submitted frame where `with_shadows` says so.
+/// `run_with_shadows` with the extrapolation's warp settings `warp`, a shadow input for each
+/// submitted frame where `with_shadows` says so, and the target's mask as a target shadow input
+/// when `target_shadows`.
 fn run_with_shadows_warped(
     rig: &Rig,
     [previous, source, target]: [&Frame; 3],
     alpha: f32,
     with_shadows: [bool; 2],
     warp: Option<&WarpSettings>,
+    target_shadows: bool,
 ) -> ShadowOutcome {
     let engine = &rig.engine;
     let family = engine.queue_family_index;
@@ -86,6 +88,15 @@ fn run_with_shadows_warped(
         },
         image: diagnostics_image.describe(OUTPUT_LAYOUT),
     };
+    let target_shadow_input = PatchexTargetShadowInput {
+        header: PatchexStructHeader {
+            next: &diagnostics as *const _ as *const c_void,
+            ..PatchexStructHeader::of::<PatchexTargetShadowInput>(
+                PATCHEX_STRUCT_TYPE_TARGET_SHADOW_INPUT,
+            )
+        },
+        mask: gpu_target.shadow_input().mask,
+    };
     let shadow_inputs = frames.each_ref().map(|frame| frame.shadow_input());
     for (index, frame) in frames.iter().enumerate() {
         let mut desc = frame.frame_desc(1 + index as u64, family);
@@ -101,7 +112,11 @@ fn run_with_shadows_warped(
             );
             if index == 1 {
                 let mut extrapolate = gpu_target.extrapolate_desc(&output, alpha, family);
-                extrapolate.header.next = &diagnostics as *const _ as *const c_void;
+                extrapolate.header.next = if target_shadows {
+                    &target_shadow_input as *const _ as *const c_void
+                } else {
+                    &diagnostics as *const _ as *const c_void
+                };
                 assert_eq!(
                     rig.extrapolate(cmd, &extrapolate),
                     PatchexResult::Success,
@@ -126,6 +141,7 @@ fn reference_run(
     target: &Frame,
     alpha: f32,
     warp: &WarpSettings,
+    target_shadows: bool,
 ) -> reference::Extrapolation {
     let previous_camera = Camera::from_abi(&previous.camera, "previous").unwrap();
     let source_camera = Camera::from_abi(&source.camera, "source").unwrap();
@@ -143,6 +159,7 @@ fn reference_run(
                 width: source.color.width as u32,
                 height: source.color.height as u32,
             }),
+            target_mask: target_shadows.then_some(&target.shadow_mask),
         }),
         alpha,
         warp,
@@ -167,13 +184,83 @@ fn shadow_passes_match_their_references_on_rendered_frames() {
         128,
         72,
         &WarpSettings::default(),
+        false,
     );
 }
 
 /// Under an orbiting camera, where the flow starts at the ground's motion between the cameras.
 #[test]
 fn shadow_passes_match_their_references_under_a_moving_camera() {
-    assert_shadow_passes_match_their_references("fast_run.toml", 128, 72, &WarpSettings::default());
+    assert_shadow_passes_match_their_references(
+        "fast_run.toml",
+        128,
+        72,
+        &WarpSettings::default(),
+        false,
+    );
+}
+
+/// With the target's mask as a target shadow input, under a moving camera: the flow's warp does
+/// not run, the sun's share comes from the carried layer and from its mean.
+#[test]
+fn target_shadow_passes_match_their_references_under_a_moving_camera() {
+    assert_shadow_passes_match_their_references(
+        "fast_run.toml",
+        128,
+        72,
+        &WarpSettings::default(),
+        true,
+    );
+}
+
+/// The target's mask gives the shadow of an animated character the shape it has at the target,
+/// which the flow cannot: over the static pixels in the characters' shadow at frame t or at the
+/// target, the output comes closer to the rendered target than with the shadows the flow moves.
+#[test]
+fn a_target_shadow_mask_brings_animated_shadows_closer_than_the_flow() {
+    let (width, height) = (160, 90);
+    let sequence = support::rendered::render("fast_run.toml", 4, width, height);
+    let [previous, _, source, target] = &sequence.frames[..] else {
+        unreachable!("four frames")
+    };
+    let frames = [previous, source, target];
+    let run = |target_shadows| {
+        let rig = shadows_rig(width, height);
+        let outcome = run_with_shadows_warped(&rig, frames, 0.5, [true; 2], None, target_shadows);
+        let messages = rig.engine.take_validation_messages();
+        assert!(messages.is_empty(), "validation: {messages:?}");
+        outcome.output
+    };
+    let (flow, masked) = (run(false), run(true));
+    let shadowed: Vec<usize> = (0..(width * height) as usize)
+        .filter(|&i| source.shadow_mask.data[i] < 0.95 || target.shadow_mask.data[i] < 0.95)
+        .filter(|&i| source.stencil.data[i] == 0.0 && target.stencil.data[i] == 0.0)
+        .collect();
+    let region = |image: &Image| Image {
+        width: shadowed.len(),
+        height: 1,
+        channels: 4,
+        data: shadowed
+            .iter()
+            .flat_map(|&i| image.data[4 * i..4 * i + 4].to_vec())
+            .collect(),
+    };
+    let truth = region(&target.color);
+    let (psnr_flow, psnr_masked) = (psnr(&region(&flow), &truth), psnr(&region(&masked), &truth));
+    eprintln!(
+        "{} shadow pixels: {psnr_flow:.2} dB with the flow's shadows, {psnr_masked:.2} dB with \
+         the target's mask",
+        shadowed.len()
+    );
+    assert!(
+        shadowed.len() > 200,
+        "only {} pixels in shadow",
+        shadowed.len()
+    );
+    assert!(
+        psnr_masked > psnr_flow + 1.0,
+        "{psnr_masked} dB with the target's mask against {psnr_flow} dB with the flow"
+    );
 }
 
 /// With the motion-vector warp as the frame's, whose warp of the layer stores the shadow's
@@ -184,7 +271,7 @@ fn shadow_passes_match_their_references_with_the_motion_vector_warp() {
         kind: PATCHEX_WARP_MOTION_VECTOR,
         ..WarpSettings::default()
     };
-    assert_shadow_passes_match_their_references("shadow_terrain.toml", 128, 72, &warp);
+    assert_shadow_passes_match_their_references("shadow_terrain.toml", 128, 72, &warp, false);
 }
 
 /// A frame wider than 1280 pixels: the flow's finest level averages 4 x 4 pixels.
@@ -200,6 +287,7 @@ fn shadow_flow_of_a_large_frame_starts_coarser_as_the_reference_does() {
         extent.width,
         extent.height,
         &WarpSettings::default(),
+        false,
     );
 }
 
@@ -208,6 +296,7 @@ fn assert_shadow_passes_match_their_references(
     width: u32,
     height: u32,
     warp: &WarpSettings,
+    target_shadows: bool,
 ) {
     // Frames 0 and 2 are rendered frames t-1 and t, frame 3 the instant halfway to t+1.
     let sequence = support::rendered::render(scene, 4, width, height);
@@ -216,10 +305,10 @@ fn assert_shadow_passes_match_their_references(
     };
     let rig = shadows_rig(width, height);
     let frames = [previous, source, target];
-    let outcome = run_with_shadows_warped(&rig, frames, 0.5, [true; 2], Some(warp));
+    let outcome = run_with_shadows_warped(&rig, frames, 0.5, [true; 2], Some(warp), target_shadows);
     let messages = rig.engine.take_validation_messages();
     assert!(messages.is_empty(), "validation: {messages:?}");
-    let expected = reference_run(previous, source, target, 0.5, warp);
+    let expected = reference_run(previous, source, target, 0.5, warp, target_shadows);
     support::pipeline::assert_stages_agree(&expected, &outcome.stats);
     let shadows = expected.shadows.as_ref().expect("a shadow input was given");
 
@@ -269,6 +358,10 @@ fn assert_shadow_passes_match_their_references(
         outcome.stats.source_sanitized_pixels, shadows.separated.sanitized,
         "sanitised pixels of frame t"
     );
+    assert_eq!(
+        outcome.stats.extrapolations[0].sanitized_pixels, expected.target_sanitized,
+        "sanitised pixels of the target"
+    );
 }
 
 /// Frame t's shadows with no frame t-1 to measure their drift from stay on their receivers:
@@ -285,7 +378,7 @@ fn untracked_shadows_stay_on_their_receivers_under_a_moving_camera() {
     let frames = [previous, source, target];
     let [started, without] = [[false, true], [false; 2]].map(|with_shadows| {
         let rig = shadows_rig(width, height);
-        let outcome = run_with_shadows_warped(&rig, frames, 0.5, with_shadows, None);
+        let outcome = run_with_shadows_warped(&rig, frames, 0.5, with_shadows, None, false);
         let messages = rig.engine.take_validation_messages();
         assert!(messages.is_empty(), "validation: {messages:?}");
         outcome
@@ -586,6 +679,72 @@ fn bad_shadow_inputs_and_flow_settings_are_refused() {
     );
 }
 
+/// A target shadow input needs frame t's shadow input, and its mask is checked as frame t's is;
+/// a refused call leaves the context able to take the next one.
+#[test]
+fn bad_target_shadow_inputs_are_refused() {
+    let scene = shadow_scene();
+    let source = scene.render(0.0, Vec2::ZERO, -FRAME_TIME);
+    let target = scene.render(0.5 * FRAME_TIME, Vec2::ZERO, 0.0);
+    let rig = shadows_rig(160, 96);
+    let family = rig.engine.queue_family_index;
+    let gpu = GpuFrame::upload(&rig.engine, &source);
+    let gpu_target = GpuFrame::upload(&rig.engine, &target);
+    let output = output_image(&rig.engine, 160, 96);
+    let submit = |index, with_shadows: bool| {
+        let shadow = gpu.shadow_input();
+        let mut desc = gpu.frame_desc(index, family);
+        if with_shadows {
+            desc.header.next = &shadow as *const _ as *const c_void;
+        }
+        let mut result = PatchexResult::Success;
+        rig.engine.run(|cmd| result = rig.submit(cmd, &desc));
+        assert_eq!(result, PatchexResult::Success, "{}", rig.last_error());
+    };
+    let extrapolate = |mask: PatchexImage| {
+        let input = PatchexTargetShadowInput {
+            header: PatchexStructHeader::of::<PatchexTargetShadowInput>(
+                PATCHEX_STRUCT_TYPE_TARGET_SHADOW_INPUT,
+            ),
+            mask,
+        };
+        let mut desc = gpu_target.extrapolate_desc(&output, 0.5, family);
+        desc.header.next = &input as *const _ as *const c_void;
+        let mut result = PatchexResult::Success;
+        rig.engine.run(|cmd| result = rig.extrapolate(cmd, &desc));
+        result
+    };
+    let mask = gpu_target.shadow_input().mask;
+
+    submit(1, false);
+    assert_eq!(extrapolate(mask), PatchexResult::ErrorInvalidArgument);
+    assert!(
+        rig.last_error()
+            .contains("PatchexTargetShadowInput needs frame t"),
+        "{}",
+        rig.last_error()
+    );
+    submit(2, true);
+    let stencil_as_mask = gpu_target.stencil.describe(GBUFFER_LAYOUT);
+    assert_eq!(
+        extrapolate(stencil_as_mask),
+        PatchexResult::ErrorUnsupportedFormat
+    );
+    assert!(
+        rig.last_error().contains("PatchexTargetShadowInput.mask"),
+        "{}",
+        rig.last_error()
+    );
+    let no_image = PatchexImage {
+        image: Default::default(),
+        ..mask
+    };
+    assert_eq!(extrapolate(no_image), PatchexResult::ErrorNullPointer);
+    assert_eq!(extrapolate(mask), PatchexResult::Success);
+    let messages = rig.engine.take_validation_messages();
+    assert!(messages.is_empty(), "validation: {messages:?}");
+}
+
 /// NaN and infinity in the shadow inputs (and in frame t-1's mask): the output stays finite,
 /// the flow stays finite, and the sanitised pixels are counted as the reference counts them.
 #[test]
@@ -607,7 +766,14 @@ fn non_finite_shadow_inputs_are_sanitised_and_counted() {
     }
     let rig = shadows_rig(160, 96);
     let outcome = run_with_shadows(&rig, &previous, &source, &target, 0.5, true);
-    let expected = reference_run(&previous, &source, &target, 0.5, &WarpSettings::default());
+    let expected = reference_run(
+        &previous,
+        &source,
+        &target,
+        0.5,
+        &WarpSettings::default(),
+        false,
+    );
     let shadows = expected.shadows.as_ref().expect("a shadow input was given");
     assert!(outcome.output.data.iter().all(|v| v.is_finite()));
     assert!(outcome.diagnostics.data.iter().all(|v| v.is_finite()));

@@ -2,7 +2,7 @@
 //! submit or one extrapolation). Every offset is a multiple of 256, the largest storage- and
 //! uniform-buffer offset alignment Vulkan allows.
 
-use crate::passes::{inpaint, segmentation, warp};
+use crate::passes::{inpaint, segmentation, target_shadows, warp};
 
 /// The frame warp's counts and largest motion (`warp::*_OFFSET`): holes, off-screen pixels, the
 /// target's invalid geometry, and what it sanitised when it remodulates.
@@ -23,5 +23,7 @@ pub const CAMERAS: u64 = (PATCHES + inpaint::PATCH_SLOTS_BYTES).next_multiple_of
 /// layer's through the frame's warp.
 pub const DEFERRED_HOLES: u64 = (CAMERAS + warp::CAMERAS_BYTES).next_multiple_of(256);
 pub const SURFACE_DEFERRED_HOLES: u64 = DEFERRED_HOLES + 256;
+/// With a target shadow input: the sun's share summed over frame t's shadows.
+pub const SUN_SHARE: u64 = SURFACE_DEFERRED_HOLES + 256;
 /// One region's counters, which the frame ring allocates per region.
-pub const REGION_BYTES: u64 = SURFACE_DEFERRED_HOLES + warp::DEFERRED_HOLES_BYTES;
+pub const REGION_BYTES: u64 = SUN_SHARE + target_shadows::SUN_SHARE_BYTES;

@@ -16,7 +16,7 @@ use crate::passes::pack_gbuffer::EngineGbuffer;
 use crate::passes::{warp, RegionPasses, Texture};
 use crate::vk::barriers::EngineImageAccess;
 use crate::vk::frame_ring::RegionRecord;
-use crate::vk::image::{ImageRole, ImportedImage};
+use crate::vk::image::{ImageRole, ImportedImage, MASK_FORMATS};
 use crate::vk::recorder::Recorder;
 
 impl Context {
@@ -81,6 +81,7 @@ impl Context {
                 .expect("a submitted frame allocated the work images"),
             shadows: self.images.shadows.as_ref().filter(|_| source.has_shadows),
             shadows_tracked: source.shadows_tracked,
+            target_shadow_mask: engine.target_shadow_mask,
             analysis,
             inpainting: self.inpainting.as_ref(),
             networks: run_networks,
@@ -175,6 +176,14 @@ impl Context {
                 "patchex_extrapolate called before any patchex_submit_gbuffers"
             );
         };
+        if extensions.target_shadow_mask.is_some() && !source.has_shadows {
+            bail!(
+                ErrorInvalidArgument,
+                "PatchexTargetShadowInput needs frame t to have come with a PatchexShadowInput \
+                 (frame {} did not)",
+                source.frame_index
+            );
+        }
         let inputs: TargetInputs = inputs::target(&self.gpu, desc, self.max_extent)?;
         if inputs.extent != source.extent {
             bail!(
@@ -213,6 +222,19 @@ impl Context {
         let base_color = access.read(&inputs.base_color)?;
         let material = access.read_optional(inputs.material.as_ref())?;
         let output = access.write(&inputs.output)?;
+        let target_shadow_mask = extensions
+            .target_shadow_mask
+            .as_ref()
+            .map(|mask| {
+                let role = ImageRole::input("PatchexTargetShadowInput.mask", MASK_FORMATS);
+                access.read(&ImportedImage::import_required(
+                    &self.gpu,
+                    mask,
+                    &role,
+                    inputs.extent,
+                )?)
+            })
+            .transpose()?;
         let mut import_diagnostics = |image: Option<&PatchexImage>, name| {
             image
                 .map(|image| {
@@ -239,6 +261,7 @@ impl Context {
             base_color,
             material,
             output,
+            target_shadow_mask,
             diagnostics,
             shadow_diagnostics,
         })
@@ -254,6 +277,7 @@ struct EngineImages {
     base_color: Texture,
     material: Option<Texture>,
     output: Texture,
+    target_shadow_mask: Option<Texture>,
     diagnostics: Option<Texture>,
     shadow_diagnostics: Option<Texture>,
 }

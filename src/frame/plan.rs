@@ -18,7 +18,7 @@ use crate::passes::shadow_flow::{self, FlowSettings};
 use crate::passes::warp::{self, Remodulation, Store, WarpSettings};
 use crate::passes::{
     demodulate, diagnostics, fill_holes, lbp, pack_gbuffer, pack_output, remodulate,
-    separate_shadows, CounterRange, PipelineId, Pipelines, RegionPasses, Texture,
+    separate_shadows, target_shadows, CounterRange, PipelineId, Pipelines, RegionPasses, Texture,
     SANITIZE_COUNTER_BYTES,
 };
 use crate::vk::image::ImportedImage;
@@ -139,6 +139,8 @@ pub struct ExtrapolationPlan<'a> {
     pub shadows: Option<&'a ShadowImages>,
     /// Frame t-1 came with one too: the flow measured how the shadows drift.
     pub shadows_tracked: bool,
+    /// `PatchexTargetShadowInput.mask`: the shadows at the target, in place of the flow's.
+    pub target_shadow_mask: Option<Texture>,
     /// The regions and LBP map, for the networks and the diagnostics.
     pub analysis: Option<&'a AnalysisImages>,
     /// The networks, when the preset has them.
@@ -173,6 +175,7 @@ pub fn record(rec: &mut Recorder, plan: &ExtrapolationPlan) {
     warp_frame(rec, plan);
     fill_holes(rec, plan);
     warp_shadows(rec, plan);
+    target_shadows(rec, plan);
     segment(rec, plan);
     lbp(rec, plan);
     inference_and_blend(rec, plan);
@@ -208,6 +211,12 @@ impl<'a> ExtrapolationPlan<'a> {
     /// The G-buffer warp lists its holes for the fill; the other warps fill their own.
     fn lists_holes(&self) -> bool {
         self.warp_pipeline() == PipelineId::WarpGbuffer
+    }
+
+    /// The target's shadows come from its mask: the engine gave one, and frame t's shadows were
+    /// separated from its shading (from the second consecutive frame with a shadow input).
+    fn places_target_shadows(&self) -> bool {
+        self.shadows.is_some() && self.shadows_tracked && self.target_shadow_mask.is_some()
     }
 
     /// The nearest-texel fill is the warp's own; only the default defers its holes.
@@ -297,7 +306,8 @@ fn fill_holes(rec: &mut Recorder, plan: &ExtrapolationPlan) {
 
 /// The shadow layer moved by the mask's flow scaled to the target instant; then through the
 /// frame's own warp (where that warp put frame t's shadow), which turns the moved layer into
-/// the shadows' share at the target in place.
+/// the shadows' share at the target in place. With a target shadow input, only the frame's warp
+/// runs: it carries the layer, which `target_shadows` reads the sun's share from.
 fn warp_shadows(rec: &mut Recorder, plan: &ExtrapolationPlan) {
     let Some(shadows) = plan.shadows else {
         return;
@@ -313,26 +323,31 @@ fn warp_shadows(rec: &mut Recorder, plan: &ExtrapolationPlan) {
             rec.clear(share);
             return;
         }
-        // The occlusion-motion warp's sets: the frame's own warp uses the first when it is
-        // that warp, and the shadow layer's through the frame's warp the second.
-        let flow_warp = PipelineId::WarpOcclusionMotion;
-        let flow_set = if plan.warp_pipeline() == flow_warp {
-            2
+        let store = if plan.places_target_shadows() {
+            Store::Shading
         } else {
-            0
+            // The occlusion-motion warp's sets: the frame's own warp uses the first when it is
+            // that warp, and the shadow layer's through the frame's warp the second.
+            let flow_warp = PipelineId::WarpOcclusionMotion;
+            let flow_set = if plan.warp_pipeline() == flow_warp {
+                2
+            } else {
+                0
+            };
+            warp::record(
+                rec,
+                plan.passes.nth(flow_warp, flow_set),
+                &plan.shadow_params,
+                &plan.warp_inputs(layer, (&shadows[ShadowImages::FLOW]).into()),
+                Store::Shading,
+                share.into(),
+                &plan
+                    .passes
+                    .counters(counters::SHADOW_WARP, warp::COUNTER_BYTES),
+                None,
+            );
+            Store::ShadowShare
         };
-        warp::record(
-            rec,
-            plan.passes.nth(flow_warp, flow_set),
-            &plan.shadow_params,
-            &plan.warp_inputs(layer, (&shadows[ShadowImages::FLOW]).into()),
-            Store::Shading,
-            share.into(),
-            &plan
-                .passes
-                .counters(counters::SHADOW_WARP, warp::COUNTER_BYTES),
-            None,
-        );
         // The frame's fill has read its holes: the list's image takes the layer's.
         let inputs = plan.warp_inputs(layer, plan.motion);
         let layer_counters = plan
@@ -344,7 +359,7 @@ fn warp_shadows(rec: &mut Recorder, plan: &ExtrapolationPlan) {
             plan.passes.nth(plan.warp_pipeline(), 1),
             &plan.warp_params,
             &inputs,
-            Store::ShadowShare,
+            store,
             share.into(),
             &layer_counters,
             holes.as_ref(),
@@ -354,12 +369,46 @@ fn warp_shadows(rec: &mut Recorder, plan: &ExtrapolationPlan) {
                 rec,
                 &plan.warp_params,
                 &inputs,
-                Store::ShadowShare,
+                store,
                 share.into(),
                 &layer_counters,
                 holes,
             );
         }
+    });
+}
+
+/// With a target shadow input: the share of light the target's shadows take away, from its
+/// mask and the sun's share of frame t's light, in place of the carried layer.
+fn target_shadows(rec: &mut Recorder, plan: &ExtrapolationPlan) {
+    let (Some(shadows), Some(mask)) = (plan.shadows, plan.target_shadow_mask) else {
+        return;
+    };
+    if !plan.places_target_shadows() {
+        return;
+    }
+    rec.stage(PATCHEX_STAGE_TARGET_SHADOWS, |rec| {
+        target_shadows::record(
+            rec,
+            [
+                plan.passes.get(PipelineId::EstimateSunShare),
+                plan.passes.get(PipelineId::PlaceTargetShadows),
+            ],
+            plan.extent,
+            &target_shadows::TargetShadowInputs {
+                shadow_layer: &shadows[ShadowImages::LAYER],
+                mask,
+                stencil: plan.target.stencil,
+                placeholder_uint: plan.placeholders.1,
+                sun_share: plan
+                    .passes
+                    .counters(counters::SUN_SHARE, target_shadows::SUN_SHARE_BYTES),
+                sanitized: plan
+                    .passes
+                    .counters(counters::SANITIZE, SANITIZE_COUNTER_BYTES),
+            },
+            &shadows[ShadowImages::SHADOW_SHARE],
+        )
     });
 }
 

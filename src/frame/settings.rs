@@ -22,6 +22,8 @@ pub struct Extensions {
     pub diagnostics: Option<PatchexImage>,
     pub shadow_diagnostics: Option<PatchexImage>,
     pub shadow: Option<PatchexShadowInput>,
+    /// `PatchexTargetShadowInput.mask`.
+    pub target_shadow_mask: Option<PatchexImage>,
     pub flow: Option<FlowSettings>,
     pub network_weights: Option<NetworkWeightPaths>,
     pub networks: Option<NetworkSwitches>,

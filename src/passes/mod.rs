@@ -14,6 +14,7 @@ pub mod remodulate;
 pub mod segmentation;
 pub mod separate_shadows;
 pub mod shadow_flow;
+pub mod target_shadows;
 pub mod warp;
 
 use std::sync::{Arc, Mutex, Weak};
@@ -86,7 +87,7 @@ const fn stage(id: PatchexStage, name: &'static str, group: RuntimeGroup) -> Sta
 /// Every stage a frame can run, in the order they are recorded: the submit's, then each
 /// extrapolation's. The recorder holds every call to this order (`Recorder::stage`) and the
 /// reference follows it (`reference::extrapolate`).
-pub const STAGES: [Stage; 13] = {
+pub const STAGES: [Stage; 14] = {
     use RuntimeGroup::*;
     [
         stage(PATCHEX_STAGE_PACK_SOURCE_GBUFFER, "pack source", Gbuffer),
@@ -95,6 +96,7 @@ pub const STAGES: [Stage; 13] = {
         stage(PATCHEX_STAGE_WARP, "warp", Warping),
         stage(PATCHEX_STAGE_FILL_HOLES, "fill holes", Warping),
         stage(PATCHEX_STAGE_SHADOW_WARP, "shadow warp", Warping),
+        stage(PATCHEX_STAGE_TARGET_SHADOWS, "target shadows", Warping),
         stage(PATCHEX_STAGE_SEGMENT, "segment", Preprocessing),
         stage(PATCHEX_STAGE_LBP, "lbp", Preprocessing),
         stage(PATCHEX_STAGE_INFERENCE, "inference", Inference),
@@ -146,6 +148,9 @@ pipeline_table! {
     WarpOcclusionMotion: warp_occlusion_motion, 3;
     /// The G-buffer warp's hole fill: the frame's, and the shadow layer's.
     FillHoles: fill_holes, 2;
+    /// With a target shadow input: the sun's share over frame t's shadows, then the target's.
+    EstimateSunShare: estimate_sun_share, 1;
+    PlaceTargetShadows: place_target_shadows, 1;
     ObjectBounds: object_bounds, 1;
     GrowRegions: grow_regions, 1;
     RegionMasks: region_masks, 1;

@@ -13,6 +13,7 @@ pub mod pack_output;
 pub mod remodulate;
 pub mod segmentation;
 pub mod separate_shadows;
+pub mod target_shadows;
 pub mod warp;
 
 /// One instant's inputs, as plain images: the reference side of what an engine submits.
@@ -39,6 +40,8 @@ pub struct ShadowInputs<'a> {
     /// Frame pixels per texel of the flow's finest level: `shadow_flow::mask_step` of the
     /// largest frame the context has seen.
     pub mask_step: u32,
+    /// The target's mask (`PatchexTargetShadowInput`), in place of the flow's shadows.
+    pub target_mask: Option<&'a Image>,
 }
 
 /// The shadow sub-task's results.
@@ -185,6 +188,7 @@ pub fn extrapolate(
     if warp.kind == PATCHEX_WARP_GBUFFER_GUIDED && warp.hole_fill == PATCHEX_HOLE_FILL_BACKGROUND {
         stages.push(PATCHEX_STAGE_FILL_HOLES);
     }
+    let mut target_mask_sanitized = 0;
     let shadows = separated.zip(flow).map(|(separated, flow)| {
         let Some(flow) = flow else {
             return Shadows {
@@ -194,40 +198,40 @@ pub fn extrapolate(
             };
         };
         stages.push(PATCHEX_STAGE_SHADOW_WARP);
-        let shadow_params = warp.shadow_params(extent, target.camera, alpha);
-        let moved = warp::warp(
-            PATCHEX_WARP_OCCLUSION_MOTION_VECTOR,
-            &warp::WarpSources {
-                shading: &separated.shadow_layer,
-                geometry: &source_packed.geometry,
-                normal_id: &source_packed.normal_id,
-            },
-            &warp::WarpTarget {
-                geometry: &target_packed.geometry,
-                normal_id: &target_packed.normal_id,
-                motion: &flow,
-                camera_position: target_packed.camera_position,
-                valid: &target_packed.valid,
-            },
-            &shadow_params,
-        );
-        let carried = warp::warp(
-            warp.kind,
-            &warp::WarpSources {
-                shading: &separated.shadow_layer,
-                geometry: &source_packed.geometry,
-                normal_id: &source_packed.normal_id,
-            },
-            &warp::WarpTarget {
-                geometry: &target_packed.geometry,
-                normal_id: &target_packed.normal_id,
-                motion,
-                camera_position: target_packed.camera_position,
-                valid: &target_packed.valid,
-            },
-            &params,
-        );
-        let share = shadow_share(&moved.warped, &carried.warped);
+        let layer_sources = warp::WarpSources {
+            shading: &separated.shadow_layer,
+            geometry: &source_packed.geometry,
+            normal_id: &source_packed.normal_id,
+        };
+        let target_of = |motion| warp::WarpTarget {
+            geometry: &target_packed.geometry,
+            normal_id: &target_packed.normal_id,
+            motion,
+            camera_position: target_packed.camera_position,
+            valid: &target_packed.valid,
+        };
+        let carried = warp::warp(warp.kind, &layer_sources, &target_of(motion), &params);
+        let target_mask = shadow_inputs.and_then(|s| s.target_mask);
+        let share = match target_mask {
+            Some(mask) => {
+                stages.push(PATCHEX_STAGE_TARGET_SHADOWS);
+                let sums = target_shadows::sun_share_sums(&separated.shadow_layer);
+                let (share, sanitized) =
+                    target_shadows::place(&carried, mask, target.stencil, sums);
+                target_mask_sanitized = sanitized;
+                share
+            }
+            None => {
+                let shadow_params = warp.shadow_params(extent, target.camera, alpha);
+                let moved = warp::warp(
+                    PATCHEX_WARP_OCCLUSION_MOTION_VECTOR,
+                    &layer_sources,
+                    &target_of(&flow),
+                    &shadow_params,
+                );
+                shadow_share(&moved.warped, &carried.warped)
+            }
+        };
         Shadows {
             separated,
             flow,
@@ -258,7 +262,7 @@ pub fn extrapolate(
             &segmented.rects,
         )
     });
-    let (output, target_sanitized) = remodulate::remodulate(
+    let (output, remodulate_sanitized) = remodulate::remodulate(
         inpainted.as_ref().map_or(&warped.warped, |i| &i.blended),
         &warped.divisor,
         shadows.as_ref().map(|s| &s.share),
@@ -266,6 +270,7 @@ pub fn extrapolate(
         target.material,
     );
     stages.push(PATCHEX_STAGE_REMODULATE);
+    let target_sanitized = remodulate_sanitized + target_mask_sanitized;
     Extrapolation {
         output,
         warped,

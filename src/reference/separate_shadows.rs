@@ -1,6 +1,6 @@
 //! Mirror of `shaders/separate_shadows.wgsl`.
 
-use glam::Vec3;
+use glam::{Vec3, Vec4};
 
 use super::gbuffer::{demodulated, pixel_modulation, sanitize, sanitize_input_color};
 use super::Image;
@@ -9,7 +9,8 @@ pub struct Separated {
     /// The demodulated frame, which the warps carry: without the dynamic casters' shadows on
     /// static receivers when tracked.
     pub shading: Image,
-    /// The share of light those shadows take away, in [-1, 0]; zero untracked.
+    /// The share of light those shadows take away, in [-1, 0], and in alpha their darkness
+    /// (1 - mask); zero untracked.
     pub shadow_layer: Image,
     /// Level 0 of the flow's pyramid.
     pub mask: Image,
@@ -46,15 +47,13 @@ pub fn separate(
             let separates = tracked && !dynamic;
             let shading = demodulated(if separates { unshadowed } else { lit }, factor);
             let layer = if separates {
-                shadow_share(lit, unshadowed)
+                shadow_share(lit, unshadowed).extend(1.0 - visibility.x)
             } else {
-                Vec3::ZERO
+                Vec4::ZERO
             };
             let visibility = if dynamic { 1.0 } else { visibility.x };
             separated.shading.set(x, y, &shading.to_array());
-            separated
-                .shadow_layer
-                .set(x, y, &[layer.x, layer.y, layer.z, 1.0]);
+            separated.shadow_layer.set(x, y, &layer.to_array());
             separated.mask.set(x, y, &[visibility]);
             separated.sanitized +=
                 (material_changed || lit_changed || unshadowed_changed || mask_changed) as u32;

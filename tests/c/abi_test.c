@@ -13,7 +13,8 @@
  * R32F, motion vectors as RG32F and stencil ids as R8_UINT. The program creates a FULL context
  * with every create-time chained struct, submits frames 0 and 2 with their shadow input, and
  * extrapolates: frame 1 with diagnostics; frame 3 three times, once per warp kind, with
- * segmentation and network settings, both diagnostics and, last, an A2B10G10R10 output. It
+ * segmentation and network settings, both diagnostics and, last, an A2B10G10R10 output; then
+ * frame 3 once more with its own shadow mask as the target shadow input. It
  * writes each output image and both frames' statistics to OUT_DIR, and exits 0 only when every
  * call did what the header says and validation reported nothing.
  */
@@ -239,6 +240,7 @@ int main(int argc, char **argv) {
                                    VK_IMAGE_USAGE_SAMPLED_BIT)};
   Image diagnostics = output_image(VK_FORMAT_R16G16B16A16_SFLOAT, 8, storage);
   Image shadow_diagnostics = output_image(VK_FORMAT_R16G16B16A16_SFLOAT, 8, storage);
+  Image target_shadows = output_image(VK_FORMAT_R16G16B16A16_SFLOAT, 8, storage);
 
   /* Frame t-1 (index 1) and its halfway instant, with a flow override on the frame. */
   PatchexShadowFlowSettings frame_flow = flow;
@@ -284,6 +286,14 @@ int main(int argc, char **argv) {
     expect(patchex_extrapolate(ctx, gpu.cmd, &desc), PATCHEX_RESULT_SUCCESS, "extrapolate 2", ctx);
   }
 
+  /* The fourth: the shadows at the target from the target's own mask. */
+  PatchexTargetShadowInput target_mask;
+  target_mask.header = header(PATCHEX_STRUCT_TYPE_TARGET_SHADOW_INPUT, sizeof target_mask, NULL);
+  target_mask.mask = describe(&frames[3].shadow_mask);
+  desc = extrapolate_desc(&frames[3], &target_shadows, &target_mask);
+  expect(patchex_extrapolate(ctx, gpu.cmd, &desc), PATCHEX_RESULT_SUCCESS,
+         "extrapolate with the target's shadow mask", ctx);
+
   /* A refused call records nothing and names its fault. */
   PatchexStructHeader unknown = header(999, sizeof unknown, NULL);
   desc = extrapolate_desc(&frames[3], &first, &unknown);
@@ -304,12 +314,13 @@ int main(int argc, char **argv) {
   write_image(&outputs[2], out, "occlusion_motion_vector");
   write_image(&diagnostics, out, "diagnostics");
   write_image(&shadow_diagnostics, out, "shadow_diagnostics");
+  write_image(&target_shadows, out, "target_shadows");
 
   CHECK(vkDeviceWaitIdle(gpu.device));
   patchex_destroy(ctx);
   for (int i = 0; i < 4; ++i) destroy_frame(&frames[i]);
   Image *images[] = {&first, &first_diagnostics, &outputs[0], &outputs[1], &outputs[2],
-                     &diagnostics, &shadow_diagnostics};
+                     &diagnostics, &shadow_diagnostics, &target_shadows};
   for (size_t i = 0; i < sizeof images / sizeof images[0]; ++i) destroy_image(images[i]);
   destroy_gpu();
   return verdict();

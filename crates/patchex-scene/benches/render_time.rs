@@ -5,7 +5,10 @@
 //! CPU, the dynamic shadow map, the G-buffer and resolve passes, and reading all layers back
 //! (EXR encoding is not included). Validation is off. Shown are medians over the timed
 //! frames: wall time per frame, and GPU time (timestamp queries) of the G-buffer stage
-//! (dynamic shadow map + G-buffer pass) and of the resolve pass.
+//! (dynamic shadow map + G-buffer pass) and of the resolve pass. The dynamic shadow map is also
+//! shown apart, as a share of the frame's GPU time: it is the depth-only pass of the moving
+//! casters that an engine runs once more, at the target's pose, for patchex's target shadow
+//! input (`PatchexTargetShadowInput`).
 
 use patchex_scene::dataset::frame_time;
 use patchex_scene::render::PassTimings;
@@ -28,6 +31,8 @@ struct SceneTimes {
     frame_ms: f64,
     gbuffer_ms: f64,
     resolve_ms: f64,
+    /// The dynamic shadow map over the frame's GPU time (all three passes).
+    shadow_share: f64,
 }
 
 fn time_scene(gpu: &Arc<Gpu>, world: &World, (width, height): (u32, u32)) -> SceneTimes {
@@ -61,6 +66,7 @@ fn time_scene(gpu: &Arc<Gpu>, world: &World, (width, height): (u32, u32)) -> Sce
         frame_ms: median(frame_ms),
         gbuffer_ms: gpu_ms(|p| p.shadow_ms + p.gbuffer_ms),
         resolve_ms: gpu_ms(|p| p.resolve_ms),
+        shadow_share: gpu_ms(|p| p.shadow_ms / (p.shadow_ms + p.gbuffer_ms + p.resolve_ms)),
     }
 }
 
@@ -88,14 +94,14 @@ fn main() {
     println!(
         "medians of {TIMED_FRAMES} frames after {WARM_UP_FRAMES} warm-up frames, milliseconds\n"
     );
-    println!("| scene | triangles | 360p frame | 360p G-buffer GPU | 360p resolve GPU | 720p frame | 720p G-buffer GPU | 720p resolve GPU | 720p / 360p frame |");
-    println!("| --- | --- | --- | --- | --- | --- | --- | --- | --- |");
+    println!("| scene | triangles | 360p frame | 360p G-buffer GPU | 360p resolve GPU | 720p frame | 720p G-buffer GPU | 720p resolve GPU | 720p / 360p frame | dynamic shadow map / GPU frame, 360p / 720p |");
+    println!("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |");
     for scene in scenes {
         let world = World::load(&scene, None).expect("scene loads");
         let triangles = (world.static_batch.indices.len() + world.dynamic_batch.indices.len()) / 3;
         let [low, high] = SIZES.map(|size| time_scene(&gpu, &world, size));
         println!(
-            "| {} | {triangles} | {:.1} | {:.1} | {:.1} | {:.1} | {:.1} | {:.1} | {:.2} |",
+            "| {} | {triangles} | {:.1} | {:.1} | {:.1} | {:.1} | {:.1} | {:.1} | {:.2} | {:.1}% / {:.1}% |",
             world.description.name,
             low.frame_ms,
             low.gbuffer_ms,
@@ -103,7 +109,9 @@ fn main() {
             high.frame_ms,
             high.gbuffer_ms,
             high.resolve_ms,
-            high.frame_ms / low.frame_ms
+            high.frame_ms / low.frame_ms,
+            100.0 * low.shadow_share,
+            100.0 * high.shadow_share
         );
     }
 }

@@ -31,7 +31,7 @@ use serde_json::json;
 use super::costs::{self, Costs};
 use super::metrics::{error_maps, Pooled};
 use super::picture::tone_map;
-use super::plugin_driver::{InputFormats, NetworkChoice, PluginDriver};
+use super::plugin_driver::{InputFormats, NetworkChoice, PluginDriver, ShadowRun};
 use super::render::parse_size;
 use super::CommandResult;
 
@@ -318,7 +318,10 @@ fn measure(
             }),
             networks.as_ref(),
             false,
-            shadows.then_some(Some((earlier, &manifest.frames[index - 3]))),
+            shadows.then_some(ShadowRun {
+                earlier: Some((earlier, &manifest.frames[index - 3])),
+                target_mask: false,
+            }),
         )
     };
     // One unmeasured run of each configuration: the driver compiles shaders lazily.

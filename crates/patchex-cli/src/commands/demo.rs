@@ -15,7 +15,7 @@ use patchex_scene::dataset::{render_sequence, Dataset, FrameRole, SequenceOption
 use patchex_scene::{Gpu, GpuOptions, World};
 
 use super::picture::{psnr, tone_map, write_strip};
-use super::plugin_driver::{NetworkChoice, PluginDriver};
+use super::plugin_driver::{NetworkChoice, PluginDriver, ShadowRun};
 use super::render::parse_size;
 use super::CommandResult;
 
@@ -129,7 +129,10 @@ pub fn run(args: DemoArgs) -> CommandResult {
             None,
             args.networks.then(NetworkChoice::default).as_ref(),
             false,
-            args.shadows.then_some(earlier),
+            args.shadows.then_some(ShadowRun {
+                earlier,
+                target_mask: false,
+            }),
         )?;
         let (width, height) = (manifest.width, manifest.height);
         let frame_t = tone_map(&source_layers.layer(FINAL_IMAGE).data, 3);

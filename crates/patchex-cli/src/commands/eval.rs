@@ -30,7 +30,7 @@ use serde_json::json;
 use super::interpolate::interpolate;
 use super::metrics::{error_maps, luma, ErrorMaps, Pooled};
 use super::picture::{to_rgb8, tone_map, write_grid};
-use super::plugin_driver::{NetworkChoice, PluginDriver};
+use super::plugin_driver::{NetworkChoice, PluginDriver, ShadowRun};
 use super::{shipped_path, CommandResult};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, ValueEnum)]
@@ -48,6 +48,9 @@ pub enum Method {
     /// The default warp with the shadow sub-task: shadows of dynamic objects separated, tracked
     /// by optical flow and moved.
     GbufferShadows,
+    /// The default warp with the shadow sub-task given the target's shadow mask
+    /// (`PatchexTargetShadowInput`): the shadows placed where they are at the target.
+    GbufferTargetShadows,
     /// PatchEX: the G-buffer-guided warp, the shadow sub-task and the inpainting networks on
     /// the FI and near-BE patches (PATCHEX_PRESET_FULL).
     Patchex,
@@ -83,6 +86,7 @@ impl Method {
             Method::GbufferNearestFill => "G-buffer-guided warp, holes from the nearest texel",
             Method::GbufferBilinear => "G-buffer-guided warp, bilinear resampling",
             Method::GbufferShadows => "G-buffer-guided warp + shadow sub-task",
+            Method::GbufferTargetShadows => "G-buffer-guided warp + target shadow mask",
             Method::Patchex => "PatchEX (warp + shadows + networks on patches)",
             Method::PatchexEveryPixel => {
                 "PatchEX, corrections over every pixel (the paper's blend)"
@@ -112,6 +116,7 @@ impl Method {
             }
             Method::Gbuffer
             | Method::GbufferShadows
+            | Method::GbufferTargetShadows
             | Method::Patchex
             | Method::PatchexEveryPixel
             | Method::PatchexNoShadows
@@ -125,15 +130,17 @@ impl Method {
         })
     }
 
-    fn with_shadows(self) -> bool {
-        matches!(
-            self,
+    /// With the shadow sub-task: whether the target's shadow mask goes with it.
+    fn shadows(self) -> Option<bool> {
+        match self {
             Method::GbufferShadows
-                | Method::Patchex
-                | Method::PatchexEveryPixel
-                | Method::PatchexWholeFrame
-                | Method::PatchexNoPerceptual
-        )
+            | Method::Patchex
+            | Method::PatchexEveryPixel
+            | Method::PatchexWholeFrame
+            | Method::PatchexNoPerceptual => Some(false),
+            Method::GbufferTargetShadows => Some(true),
+            _ => None,
+        }
     }
 
     /// The inpainting networks the method runs, if any.
@@ -406,7 +413,7 @@ fn evaluate(
             .collect();
         let highlights = highlights(&current);
         let mut run_plugin =
-            |warp, networks: Option<NetworkChoice>, with_diagnostics, with_shadows: bool| {
+            |warp, networks: Option<NetworkChoice>, with_diagnostics, shadows: Option<bool>| {
                 // Two indices a run: frame t-1 and frame t when shadows are tracked.
                 frame_index += 2;
                 driver.extrapolate(
@@ -417,15 +424,16 @@ fn evaluate(
                     Some(warp),
                     networks.as_ref(),
                     with_diagnostics,
-                    with_shadows.then(|| {
-                        earlier
+                    shadows.map(|target_mask| ShadowRun {
+                        earlier: earlier
                             .as_ref()
-                            .map(|(layers, index)| (layers, &manifest.frames[*index]))
+                            .map(|(layers, index)| (layers, &manifest.frames[*index])),
+                        target_mask,
                     }),
                 )
             };
         // The default warp's diagnostics give every method's regions and holes.
-        let reference = run_plugin(WarpSettings::default(), None, true, false)?;
+        let reference = run_plugin(WarpSettings::default(), None, true, None)?;
         let diagnostics = reference.diagnostics.as_ref().expect("asked for");
         let holes: Vec<bool> = diagnostics.chunks(4).map(|d| d[0] > 0.5).collect();
         let regions: Vec<u32> = diagnostics
@@ -447,8 +455,7 @@ fn evaluate(
                     (reference.color.clone(), 4, Some(reference.stats))
                 }
                 Some(warp) => {
-                    let run =
-                        run_plugin(warp, method.networks(args), false, method.with_shadows())?;
+                    let run = run_plugin(warp, method.networks(args), false, method.shadows())?;
                     (run.color, 4, Some(run.stats))
                 }
                 None if method == Method::Copy => {

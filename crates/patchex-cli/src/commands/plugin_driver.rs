@@ -135,6 +135,15 @@ struct UploadedFrame {
     camera: PatchexCamera,
 }
 
+/// The shadow sub-task's inputs of one extrapolation.
+#[derive(Clone, Copy, Default)]
+pub struct ShadowRun<'a> {
+    /// Frame t-1, submitted first with its shadow input so that the shadows' motion is tracked.
+    pub earlier: Option<(&'a FrameLayers, &'a FrameInfo)>,
+    /// The target's mask goes with the extrapolation as a PatchexTargetShadowInput.
+    pub target_mask: bool,
+}
+
 /// What one extrapolation produced.
 pub struct Extrapolated {
     /// RGBA, linear HDR.
@@ -356,10 +365,9 @@ impl PluginDriver {
 
     /// Submits `source` as frame `frame_index` and extrapolates the `target` instant from it,
     /// with the context's default warp or `warp`, the inpainting `networks` if given, and the
-    /// diagnostics image if asked. With
-    /// `shadows`, both frames go with their shadow input, and frame t-1 (`shadows`' frame, when
-    /// there is one) is submitted first as frame `frame_index - 1`, so the shadow's motion is
-    /// tracked.
+    /// diagnostics image if asked. With `shadows`, both frames go with their shadow input, frame
+    /// t-1 (when there is one) is submitted first as frame `frame_index - 1`, so the shadow's
+    /// motion is tracked, and the target's mask goes with the extrapolation if asked.
     #[allow(clippy::too_many_arguments)]
     pub fn extrapolate(
         &self,
@@ -370,15 +378,16 @@ impl PluginDriver {
         warp: Option<WarpSettings>,
         networks: Option<&NetworkChoice>,
         with_diagnostics: bool,
-        shadows: Option<Option<(&FrameLayers, &FrameInfo)>>,
+        shadows: Option<ShadowRun>,
     ) -> Result<Extrapolated, String> {
         let with_shadows = shadows.is_some();
+        let with_target_mask = shadows.is_some_and(|s| s.target_mask);
         let context = self.context_for(networks, with_shadows)?;
         let earlier = shadows
-            .flatten()
+            .and_then(|s| s.earlier)
             .map(|(layers, info)| self.upload(layers, info, true, true));
         let source = self.upload(source.0, source.1, true, with_shadows);
-        let target = self.upload(target.0, target.1, false, false);
+        let target = self.upload(target.0, target.1, false, with_target_mask);
         let output = self.output_image();
         let diagnostics_image = with_diagnostics.then(|| self.output_image());
         let network_settings = networks.map(|networks| PatchexNetworkSettings {
@@ -391,7 +400,8 @@ impl PluginDriver {
             resolution_divisor: networks.resolution_divisor,
             correct_valid_pixels: networks.correct_valid_pixels as PatchexBool,
         });
-        // The chain, back to front: network settings, warp settings, then diagnostics.
+        // The chain, back to front: network settings, warp settings, diagnostics, then the
+        // target's shadow mask.
         let mut next: *const c_void = ptr::null();
         if let Some(settings) = &network_settings {
             next = settings as *const PatchexNetworkSettings as *const c_void;
@@ -413,6 +423,22 @@ impl PluginDriver {
         });
         if let Some(diagnostics) = &diagnostics {
             next = diagnostics as *const PatchexDiagnostics as *const c_void;
+        }
+        let target_shadow_input =
+            target
+                .shadow
+                .as_ref()
+                .map(|(mask, _)| PatchexTargetShadowInput {
+                    header: PatchexStructHeader {
+                        next,
+                        ..PatchexStructHeader::of::<PatchexTargetShadowInput>(
+                            PATCHEX_STRUCT_TYPE_TARGET_SHADOW_INPUT,
+                        )
+                    },
+                    mask: mask.describe(LAYOUT),
+                });
+        if let Some(input) = &target_shadow_input {
+            next = input as *const PatchexTargetShadowInput as *const c_void;
         }
         let shadow_input = |frame: &UploadedFrame| {
             frame

@@ -18,7 +18,7 @@ use patchex::reference::{self, inpaint::Networks, ShadowInputs};
 use patchex_scene::dataset::{render_sequence, Dataset, SequenceOptions};
 use patchex_scene::{Gpu, GpuOptions, World};
 
-use super::plugin_driver::{NetworkChoice, PluginDriver};
+use super::plugin_driver::{NetworkChoice, PluginDriver, ShadowRun};
 use super::reference_frames::{from_layers, inputs, Frame};
 use super::render::parse_size;
 use super::{shipped_path, CommandResult};
@@ -191,9 +191,10 @@ fn check(args: &SelftestArgs, work: &std::path::Path) -> Result<bool, Box<dyn st
             Some(warp),
             networks.as_ref(),
             false,
-            configuration
-                .shadows
-                .then_some(Some((&layers[0], &manifest.frames[earlier_index]))),
+            configuration.shadows.then_some(ShadowRun {
+                earlier: Some((&layers[0], &manifest.frames[earlier_index])),
+                target_mask: false,
+            }),
         )?;
         let want = expected(&frames, configuration, alpha, &warp, &shipped);
         let messages = driver.validation_messages();
@@ -262,6 +263,7 @@ fn expected(
         previous: Some((&earlier.shadow_mask, &earlier.stencil, &earlier.camera)),
         flow: FlowSettings::default(),
         mask_step: mask_step(extent),
+        target_mask: None,
     };
     let networks = if configuration.networks {
         Networks {
