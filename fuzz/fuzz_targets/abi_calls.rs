@@ -276,7 +276,7 @@ fn mostly<T>(
 fn unknown_struct_type(u: &mut Unstructured) -> Result<u32> {
     let struct_type: u32 = u.arbitrary()?;
     Ok(
-        if (1..=PATCHEX_STRUCT_TYPE_SHADOW_DIAGNOSTICS).contains(&struct_type) {
+        if (1..=PATCHEX_STRUCT_TYPE_TARGET_SHADOW_INPUT).contains(&struct_type) {
             0
         } else {
             struct_type
@@ -362,6 +362,7 @@ enum Link {
     Warp(Box<PatchexWarpSettings>),
     Segmentation(Box<PatchexSegmentationSettings>),
     Diagnostics(Box<PatchexDiagnostics>),
+    TargetShadows(Box<PatchexTargetShadowInput>),
     Unknown(Box<PatchexStructHeader>),
 }
 
@@ -371,6 +372,7 @@ impl Link {
             Link::Warp(s) => &mut s.header,
             Link::Segmentation(s) => &mut s.header,
             Link::Diagnostics(s) => &mut s.header,
+            Link::TargetShadows(s) => &mut s.header,
             Link::Unknown(h) => h,
         }
     }
@@ -380,6 +382,7 @@ impl Link {
             Link::Warp(s) => &**s as *const _ as *const c_void,
             Link::Segmentation(s) => &**s as *const _ as *const c_void,
             Link::Diagnostics(s) => &**s as *const _ as *const c_void,
+            Link::TargetShadows(s) => &**s as *const _ as *const c_void,
             Link::Unknown(h) => &**h as *const _ as *const c_void,
         }
     }
@@ -389,7 +392,7 @@ impl Link {
 fn chain(u: &mut Unstructured, world: &World) -> Result<(Vec<Link>, *const c_void)> {
     let mut links = Vec::new();
     for _ in 0..u.int_in_range(0..=3)? {
-        let link = match u.int_in_range(0..=3)? {
+        let link = match u.int_in_range(0..=4)? {
             0 => Link::Warp(Box::new(PatchexWarpSettings {
                 header: header(
                     u,
@@ -422,6 +425,15 @@ fn chain(u: &mut Unstructured, world: &World) -> Result<(Vec<Link>, *const c_voi
                     size_of::<PatchexDiagnostics>(),
                 )?,
                 image: image(u, world, DIAGNOSTICS)?,
+            })),
+            3 => Link::TargetShadows(Box::new(PatchexTargetShadowInput {
+                header: header(
+                    u,
+                    PATCHEX_STRUCT_TYPE_TARGET_SHADOW_INPUT,
+                    size_of::<PatchexTargetShadowInput>(),
+                )?,
+                // A depth image: R32_SFLOAT, a mask's format.
+                mask: image(u, world, DEPTH)?,
             })),
             _ => Link::Unknown(Box::new(PatchexStructHeader {
                 struct_type: unknown_struct_type(u)?,
