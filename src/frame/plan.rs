@@ -381,12 +381,15 @@ fn warp_shadows(rec: &mut Recorder, plan: &ExtrapolationPlan) {
 /// With a target shadow input: the share of light the target's shadows take away, from its
 /// mask and the sun's share of frame t's light, in place of the carried layer.
 fn target_shadows(rec: &mut Recorder, plan: &ExtrapolationPlan) {
-    let (Some(shadows), Some(mask)) = (plan.shadows, plan.target_shadow_mask) else {
+    let Some(mask) = plan
+        .target_shadow_mask
+        .filter(|_| plan.places_target_shadows())
+    else {
         return;
     };
-    if !plan.places_target_shadows() {
-        return;
-    }
+    let shadows = plan
+        .shadows
+        .expect("placing shadows needs the shadow images");
     rec.stage(PATCHEX_STAGE_TARGET_SHADOWS, |rec| {
         target_shadows::record(
             rec,
