@@ -263,6 +263,55 @@ fn a_target_shadow_mask_brings_animated_shadows_closer_than_the_flow() {
     );
 }
 
+/// Target masks at the extremes: all lit (the target has no dynamic shadow, so static ground
+/// comes out as lit without one) and all in shadow (every static pixel loses the sun's share).
+/// Both match the reference, and the shadowed output is darker wherever frame t had sun.
+#[test]
+fn target_shadow_masks_all_lit_and_all_shadowed_match_the_reference() {
+    let (width, height) = (128, 72);
+    let sequence = support::rendered::render("fast_run.toml", 4, width, height);
+    let [previous, _, source, target] = &sequence.frames[..] else {
+        unreachable!("four frames")
+    };
+    let outputs = [1.0, 0.0].map(|visibility| {
+        let mut target = target.clone();
+        target.shadow_mask.data.fill(visibility);
+        let rig = shadows_rig(width, height);
+        let frames = [previous, source, &target];
+        let outcome = run_with_shadows_warped(&rig, frames, 0.5, [true; 2], None, true);
+        let messages = rig.engine.take_validation_messages();
+        assert!(messages.is_empty(), "validation: {messages:?}");
+        let expected = reference_run(
+            previous,
+            source,
+            &target,
+            0.5,
+            &WarpSettings::default(),
+            true,
+        );
+        let worst = outcome
+            .output
+            .data
+            .iter()
+            .zip(&expected.output.data)
+            .map(|(&got, &want)| worst_error(got, want, 1e-3, 2e-3))
+            .fold(0.0f32, f32::max);
+        assert!(
+            worst <= 1.0,
+            "mask {visibility}: output differs from the reference ({worst})"
+        );
+        outcome.output
+    });
+    let [lit, shadowed] = &outputs;
+    let darker = (0..(width * height) as usize)
+        .filter(|&i| luminance(&shadowed.data[4 * i..]) < 0.98 * luminance(&lit.data[4 * i..]))
+        .count();
+    assert!(
+        darker > (width * height) as usize / 4,
+        "only {darker} pixels darker all in shadow"
+    );
+}
+
 /// With the motion-vector warp as the frame's, whose warp of the layer stores the shadow's
 /// share as the G-buffer warp's does.
 #[test]
@@ -745,14 +794,19 @@ fn bad_target_shadow_inputs_are_refused() {
     assert!(messages.is_empty(), "validation: {messages:?}");
 }
 
-/// NaN and infinity in the shadow inputs (and in frame t-1's mask): the output stays finite,
-/// the flow stays finite, and the sanitised pixels are counted as the reference counts them.
+/// NaN and infinity in the shadow inputs (frame t-1's mask and the target's included): the
+/// output stays finite, the flow stays finite, and the sanitised pixels are counted as the
+/// reference counts them.
 #[test]
 fn non_finite_shadow_inputs_are_sanitised_and_counted() {
     let scene = shadow_scene();
     let mut previous = scene.render(-FRAME_TIME, Vec2::ZERO, -2.0 * FRAME_TIME);
     let mut source = scene.render(0.0, Vec2::ZERO, -FRAME_TIME);
-    let target = scene.render(0.5 * FRAME_TIME, Vec2::ZERO, 0.0);
+    let mut target = scene.render(0.5 * FRAME_TIME, Vec2::ZERO, 0.0);
+    for (i, x) in (0..160).step_by(5).enumerate() {
+        let bad = [f32::NAN, 2.0, -1.0, f32::INFINITY][i % 4];
+        target.shadow_mask.set(x, 10 + (i * 7) % 80, &[bad]);
+    }
     for (i, x) in (0..160).step_by(7).enumerate() {
         let y = 20 + (i * 3) % 70;
         previous.shadow_mask.set(x, y, &[f32::NAN]);
@@ -785,6 +839,28 @@ fn non_finite_shadow_inputs_are_sanitised_and_counted() {
         outcome.stats.source_sanitized_pixels,
         shadows.separated.sanitized
     );
+    let messages = rig.engine.take_validation_messages();
+    assert!(messages.is_empty(), "validation: {messages:?}");
+
+    // The target's mask, as a target shadow input, holds bad values too.
+    let rig = shadows_rig(160, 96);
+    let frames = [&previous, &source, &target];
+    let outcome = run_with_shadows_warped(&rig, frames, 0.5, [true; 2], None, true);
+    let expected = reference_run(
+        &previous,
+        &source,
+        &target,
+        0.5,
+        &WarpSettings::default(),
+        true,
+    );
+    assert!(outcome.output.data.iter().all(|v| v.is_finite()));
+    let target_sanitized = outcome.stats.extrapolations[0].sanitized_pixels;
+    assert!(
+        target_sanitized >= 32,
+        "every bad pixel of the target's mask counts"
+    );
+    assert_eq!(target_sanitized, expected.target_sanitized);
     let messages = rig.engine.take_validation_messages();
     assert!(messages.is_empty(), "validation: {messages:?}");
 }
