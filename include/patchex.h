@@ -649,6 +649,8 @@ typedef struct PatchexShadowFlowSettings {
   // PATCHEX_STRUCT_TYPE_SHADOW_FLOW_SETTINGS, sizeof(PatchexShadowFlowSettings), chain.
   struct PatchexStructHeader header;
   // Pyramid levels, 1 to 6; each halves the resolution and doubles the motion it can follow.
+  // 0 switches the flow off, for an engine that chains a PatchexTargetShadowInput on every
+  // extrapolation: its submit then costs no flow, and needs no frame t-1.
   uint32_t levels;
   // Flow refinements per level, 1 to 10.
   uint32_t iterations;
@@ -930,6 +932,11 @@ typedef struct PatchexShadowDiagnostics {
 
 // Frame t-1 had a shadow input too: the shadows' motion was tracked.
 #define PATCHEX_SHADOW_HISTORY_TRACKED 2
+
+// The flow was switched off (PatchexShadowFlowSettings.levels 0): the shadows were separated
+// for a PatchexTargetShadowInput to place; an extrapolation without one keeps them where the
+// frame's warp carries them.
+#define PATCHEX_SHADOW_HISTORY_SEPARATED 3
 
 #ifdef __cplusplus
 extern "C" {

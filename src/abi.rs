@@ -473,6 +473,8 @@ pub struct PatchexShadowFlowSettings {
     /// PATCHEX_STRUCT_TYPE_SHADOW_FLOW_SETTINGS, sizeof(PatchexShadowFlowSettings), chain.
     pub header: PatchexStructHeader,
     /// Pyramid levels, 1 to 6; each halves the resolution and doubles the motion it can follow.
+    /// 0 switches the flow off, for an engine that chains a PatchexTargetShadowInput on every
+    /// extrapolation: its submit then costs no flow, and needs no frame t-1.
     pub levels: u32,
     /// Flow refinements per level, 1 to 10.
     pub iterations: u32,
@@ -805,3 +807,7 @@ pub const PATCHEX_SHADOW_HISTORY_NONE: PatchexShadowHistory = 0;
 pub const PATCHEX_SHADOW_HISTORY_STARTED: PatchexShadowHistory = 1;
 /// Frame t-1 had a shadow input too: the shadows' motion was tracked.
 pub const PATCHEX_SHADOW_HISTORY_TRACKED: PatchexShadowHistory = 2;
+/// The flow was switched off (PatchexShadowFlowSettings.levels 0): the shadows were separated
+/// for a PatchexTargetShadowInput to place; an extrapolation without one keeps them where the
+/// frame's warp carries them.
+pub const PATCHEX_SHADOW_HISTORY_SEPARATED: PatchexShadowHistory = 3;

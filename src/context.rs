@@ -36,8 +36,10 @@ pub(crate) struct SourceFrame {
     pub camera: Camera,
     /// It came with a shadow input: its layer and flow are in the shadow images.
     pub has_shadows: bool,
-    /// Frame t-1 had one too, unbroken: the flow measured how its shadows drift.
-    pub shadows_tracked: bool,
+    /// What its shadow sub-task had to work with (PATCHEX_SHADOW_HISTORY_*): tracked, the flow
+    /// measured how its shadows drift; started or tracked, the flow ran and left its expansion
+    /// for the next frame's; separated, its shadows await a target mask.
+    pub shadow_history: PatchexShadowHistory,
 }
 
 pub struct Context {

@@ -55,12 +55,12 @@ fn run_with_shadows(
     with_shadows: bool,
 ) -> ShadowOutcome {
     let frames = [previous, source, target];
-    run_with_shadows_warped(rig, frames, alpha, [with_shadows; 2], None, false)
+    run_with_shadows_warped(rig, frames, alpha, [with_shadows; 2], None, false, None)
 }
 
 /// `run_with_shadows` with the extrapolation's warp settings `warp`, a shadow input for each
-/// submitted frame where `with_shadows` says so, and the target's mask as a target shadow input
-/// when `target_shadows`.
+/// submitted frame where `with_shadows` says so (with `flow` chained on it), and the target's
+/// mask as a target shadow input when `target_shadows`.
 fn run_with_shadows_warped(
     rig: &Rig,
     [previous, source, target]: [&Frame; 3],
@@ -68,6 +68,7 @@ fn run_with_shadows_warped(
     with_shadows: [bool; 2],
     warp: Option<&WarpSettings>,
     target_shadows: bool,
+    flow: Option<&PatchexShadowFlowSettings>,
 ) -> ShadowOutcome {
     let engine = &rig.engine;
     let family = engine.queue_family_index;
@@ -97,7 +98,13 @@ fn run_with_shadows_warped(
         },
         mask: gpu_target.shadow_input().mask,
     };
-    let shadow_inputs = frames.each_ref().map(|frame| frame.shadow_input());
+    let shadow_inputs = frames.each_ref().map(|frame| PatchexShadowInput {
+        header: PatchexStructHeader {
+            next: flow.map_or(std::ptr::null(), |f| f as *const _ as *const c_void),
+            ..frame.shadow_input().header
+        },
+        ..frame.shadow_input()
+    });
     for (index, frame) in frames.iter().enumerate() {
         let mut desc = frame.frame_desc(1 + index as u64, family);
         if with_shadows[index] {
@@ -142,6 +149,7 @@ fn reference_run(
     alpha: f32,
     warp: &WarpSettings,
     target_shadows: bool,
+    flow: FlowSettings,
 ) -> reference::Extrapolation {
     let previous_camera = Camera::from_abi(&previous.camera, "previous").unwrap();
     let source_camera = Camera::from_abi(&source.camera, "source").unwrap();
@@ -153,7 +161,7 @@ fn reference_run(
             color_without_dynamic_shadows: &source.color_without_dynamic_shadows,
             mask: &source.shadow_mask,
             previous: Some((&previous.shadow_mask, &previous.stencil, &previous_camera)),
-            flow: FlowSettings::default(),
+            flow,
             // The rigs are made for the frames' own size.
             mask_step: mask_step(vk::Extent2D {
                 width: source.color.width as u32,
@@ -226,7 +234,8 @@ fn a_target_shadow_mask_brings_animated_shadows_closer_than_the_flow() {
     let frames = [previous, source, target];
     let run = |target_shadows| {
         let rig = shadows_rig(width, height);
-        let outcome = run_with_shadows_warped(&rig, frames, 0.5, [true; 2], None, target_shadows);
+        let outcome =
+            run_with_shadows_warped(&rig, frames, 0.5, [true; 2], None, target_shadows, None);
         let messages = rig.engine.take_validation_messages();
         assert!(messages.is_empty(), "validation: {messages:?}");
         outcome.output
@@ -278,7 +287,7 @@ fn target_shadow_masks_all_lit_and_all_shadowed_match_the_reference() {
         target.shadow_mask.data.fill(visibility);
         let rig = shadows_rig(width, height);
         let frames = [previous, source, &target];
-        let outcome = run_with_shadows_warped(&rig, frames, 0.5, [true; 2], None, true);
+        let outcome = run_with_shadows_warped(&rig, frames, 0.5, [true; 2], None, true, None);
         let messages = rig.engine.take_validation_messages();
         assert!(messages.is_empty(), "validation: {messages:?}");
         let expected = reference_run(
@@ -288,6 +297,7 @@ fn target_shadow_masks_all_lit_and_all_shadowed_match_the_reference() {
             0.5,
             &WarpSettings::default(),
             true,
+            FlowSettings::default(),
         );
         let worst = outcome
             .output
@@ -309,6 +319,77 @@ fn target_shadow_masks_all_lit_and_all_shadowed_match_the_reference() {
     assert!(
         darker > (width * height) as usize / 4,
         "only {darker} pixels darker all in shadow"
+    );
+}
+
+/// With the flow off (levels 0), a target mask gives the very frames it gives with the flow,
+/// and the submit runs no flow; without a mask the shadows stay where the frame's warp carries
+/// them, as the reference keeps them.
+#[test]
+fn with_the_flow_off_the_target_mask_gives_the_same_frames_for_less() {
+    let (width, height) = (128, 72);
+    let sequence = support::rendered::render("fast_run.toml", 4, width, height);
+    let [previous, _, source, target] = &sequence.frames[..] else {
+        unreachable!("four frames")
+    };
+    let frames = [previous, source, target];
+    let off = PatchexShadowFlowSettings {
+        header: PatchexStructHeader::of::<PatchexShadowFlowSettings>(
+            PATCHEX_STRUCT_TYPE_SHADOW_FLOW_SETTINGS,
+        ),
+        levels: 0,
+        iterations: PATCHEX_DEFAULT_FLOW_ITERATIONS,
+        window_radius: PATCHEX_DEFAULT_FLOW_WINDOW_RADIUS,
+        poly_radius: PATCHEX_DEFAULT_FLOW_POLY_RADIUS,
+        poly_sigma: PATCHEX_DEFAULT_FLOW_POLY_SIGMA,
+    };
+    let run = |target_shadows, flow| {
+        let rig = shadows_rig(width, height);
+        let outcome =
+            run_with_shadows_warped(&rig, frames, 0.5, [true; 2], None, target_shadows, flow);
+        let messages = rig.engine.take_validation_messages();
+        assert!(messages.is_empty(), "validation: {messages:?}");
+        outcome
+    };
+    let with_flow = run(true, None);
+    let without_flow = run(true, Some(&off));
+    assert_eq!(with_flow.output, without_flow.output);
+    assert_eq!(
+        without_flow.stats.shadow_history,
+        PATCHEX_SHADOW_HISTORY_SEPARATED
+    );
+    let flowed = |outcome: &ShadowOutcome| {
+        outcome.stats.submit_stages_run & 1 << PATCHEX_STAGE_SHADOW_FLOW != 0
+    };
+    assert!(flowed(&with_flow) && !flowed(&without_flow));
+
+    let carried = run(false, Some(&off));
+    let flow = FlowSettings::from_abi(&off).unwrap();
+    let expected = reference_run(
+        previous,
+        source,
+        target,
+        0.5,
+        &WarpSettings::default(),
+        false,
+        flow,
+    );
+    support::pipeline::assert_stages_agree(&expected, &carried.stats);
+    let worst = carried
+        .output
+        .data
+        .iter()
+        .zip(&expected.output.data)
+        .map(|(&got, &want)| worst_error(got, want, 1e-3, 2e-3))
+        .fold(0.0f32, f32::max);
+    assert!(worst <= 1.0, "output differs from the reference ({worst})");
+    assert!(
+        carried
+            .diagnostics
+            .data
+            .chunks(4)
+            .all(|p| p[0] == 0.0 && p[1] == 0.0),
+        "no flow, no motion"
     );
 }
 
@@ -354,10 +435,26 @@ fn assert_shadow_passes_match_their_references(
     };
     let rig = shadows_rig(width, height);
     let frames = [previous, source, target];
-    let outcome = run_with_shadows_warped(&rig, frames, 0.5, [true; 2], Some(warp), target_shadows);
+    let outcome = run_with_shadows_warped(
+        &rig,
+        frames,
+        0.5,
+        [true; 2],
+        Some(warp),
+        target_shadows,
+        None,
+    );
     let messages = rig.engine.take_validation_messages();
     assert!(messages.is_empty(), "validation: {messages:?}");
-    let expected = reference_run(previous, source, target, 0.5, warp, target_shadows);
+    let expected = reference_run(
+        previous,
+        source,
+        target,
+        0.5,
+        warp,
+        target_shadows,
+        FlowSettings::default(),
+    );
     support::pipeline::assert_stages_agree(&expected, &outcome.stats);
     let shadows = expected.shadows.as_ref().expect("a shadow input was given");
 
@@ -427,7 +524,7 @@ fn untracked_shadows_stay_on_their_receivers_under_a_moving_camera() {
     let frames = [previous, source, target];
     let [started, without] = [[false, true], [false; 2]].map(|with_shadows| {
         let rig = shadows_rig(width, height);
-        let outcome = run_with_shadows_warped(&rig, frames, 0.5, with_shadows, None, false);
+        let outcome = run_with_shadows_warped(&rig, frames, 0.5, with_shadows, None, false, None);
         let messages = rig.engine.take_validation_messages();
         assert!(messages.is_empty(), "validation: {messages:?}");
         outcome
@@ -666,10 +763,10 @@ fn bad_shadow_inputs_and_flow_settings_are_refused() {
     let bad_settings = [
         (
             PatchexShadowFlowSettings {
-                levels: 0,
+                levels: 7,
                 ..settings
             },
-            "levels 0",
+            "levels 7",
         ),
         (
             PatchexShadowFlowSettings {
@@ -827,6 +924,7 @@ fn non_finite_shadow_inputs_are_sanitised_and_counted() {
         0.5,
         &WarpSettings::default(),
         false,
+        FlowSettings::default(),
     );
     let shadows = expected.shadows.as_ref().expect("a shadow input was given");
     assert!(outcome.output.data.iter().all(|v| v.is_finite()));
@@ -845,7 +943,7 @@ fn non_finite_shadow_inputs_are_sanitised_and_counted() {
     // The target's mask, as a target shadow input, holds bad values too.
     let rig = shadows_rig(160, 96);
     let frames = [&previous, &source, &target];
-    let outcome = run_with_shadows_warped(&rig, frames, 0.5, [true; 2], None, true);
+    let outcome = run_with_shadows_warped(&rig, frames, 0.5, [true; 2], None, true, None);
     let expected = reference_run(
         &previous,
         &source,
@@ -853,6 +951,7 @@ fn non_finite_shadow_inputs_are_sanitised_and_counted() {
         0.5,
         &WarpSettings::default(),
         true,
+        FlowSettings::default(),
     );
     assert!(outcome.output.data.iter().all(|v| v.is_finite()));
     let target_sanitized = outcome.stats.extrapolations[0].sanitized_pixels;
@@ -874,21 +973,37 @@ fn shadow_history_survives_resizes_resets_and_gaps() {
     let rig = shadows_rig(160, 96);
     let engine = &rig.engine;
     let family = engine.queue_family_index;
-    // (size, reset, with shadow input, what the shadow sub-task had to work with)
+    // (size, reset, with shadow input, with the flow off, what the shadow sub-task had to work
+    // with)
     const NONE: u32 = PATCHEX_SHADOW_HISTORY_NONE;
     const STARTED: u32 = PATCHEX_SHADOW_HISTORY_STARTED;
     const TRACKED: u32 = PATCHEX_SHADOW_HISTORY_TRACKED;
+    const SEPARATED: u32 = PATCHEX_SHADOW_HISTORY_SEPARATED;
     let plan = [
-        ((96, 64), false, true, STARTED),
-        ((96, 64), false, true, TRACKED),
-        ((160, 96), false, true, STARTED),
-        ((160, 96), false, true, TRACKED),
-        ((160, 96), true, true, STARTED),
-        ((160, 96), false, false, NONE),
-        ((160, 96), false, true, STARTED),
-        ((160, 96), false, true, TRACKED),
+        ((96, 64), false, true, false, STARTED),
+        ((96, 64), false, true, false, TRACKED),
+        ((160, 96), false, true, false, STARTED),
+        ((160, 96), false, true, false, TRACKED),
+        ((160, 96), true, true, false, STARTED),
+        ((160, 96), false, false, false, NONE),
+        ((160, 96), false, true, false, STARTED),
+        ((160, 96), false, true, false, TRACKED),
+        // A frame without flow leaves no expansion for the next frame's to track from.
+        ((160, 96), false, true, true, SEPARATED),
+        ((160, 96), false, true, false, STARTED),
+        ((160, 96), false, true, false, TRACKED),
     ];
-    for (index, &((width, height), reset, with_shadows, history)) in plan.iter().enumerate() {
+    let flow_off = PatchexShadowFlowSettings {
+        header: PatchexStructHeader::of::<PatchexShadowFlowSettings>(
+            PATCHEX_STRUCT_TYPE_SHADOW_FLOW_SETTINGS,
+        ),
+        levels: 0,
+        iterations: PATCHEX_DEFAULT_FLOW_ITERATIONS,
+        window_radius: PATCHEX_DEFAULT_FLOW_WINDOW_RADIUS,
+        poly_radius: PATCHEX_DEFAULT_FLOW_POLY_RADIUS,
+        poly_sigma: PATCHEX_DEFAULT_FLOW_POLY_SIGMA,
+    };
+    for (index, &((width, height), reset, with_shadows, off, history)) in plan.iter().enumerate() {
         let scene = Scene {
             width,
             height,
@@ -899,7 +1014,10 @@ fn shadow_history_survives_resizes_resets_and_gaps() {
         let target = scene.render(time + 0.5 * FRAME_TIME, Vec2::ZERO, time);
         let target = GpuFrame::upload(engine, &target);
         let output = output_image(engine, width as u32, height as u32);
-        let shadow = source.shadow_input();
+        let mut shadow = source.shadow_input();
+        if off {
+            shadow.header.next = &flow_off as *const _ as *const c_void;
+        }
         let mut desc = source.frame_desc(1 + index as u64, family);
         desc.reset = reset as u32;
         if with_shadows {
@@ -925,7 +1043,7 @@ fn shadow_history_survives_resizes_resets_and_gaps() {
         let ran = |bits: u32, stage: PatchexStage| bits & (1 << stage) != 0;
         assert_eq!(
             ran(stats.submit_stages_run, PATCHEX_STAGE_SHADOW_FLOW),
-            with_shadows,
+            with_shadows && !off,
             "frame {index}"
         );
         let stages = stats.extrapolations[0].stages_run;

@@ -10,7 +10,7 @@ use crate::error::{bail, PatchexResult, Result};
 use crate::frame::images::{Growth, OutputStaging};
 use crate::frame::plan::{self, ExtrapolationPlan};
 use crate::frame::settings::Extensions;
-use crate::frame::submit::engine_gbuffer;
+use crate::frame::submit::{engine_gbuffer, shadows_separated};
 use crate::inputs::{self, TargetInputs};
 use crate::passes::pack_gbuffer::EngineGbuffer;
 use crate::passes::{warp, RegionPasses, Texture};
@@ -80,7 +80,8 @@ impl Context {
                 .as_ref()
                 .expect("a submitted frame allocated the work images"),
             shadows: self.images.shadows.as_ref().filter(|_| source.has_shadows),
-            shadows_tracked: source.shadows_tracked,
+            shadows_separated: shadows_separated(source.shadow_history),
+            shadows_tracked: source.shadow_history == PATCHEX_SHADOW_HISTORY_TRACKED,
             target_shadow_mask: engine.target_shadow_mask,
             analysis,
             inpainting: self.inpainting.as_ref(),

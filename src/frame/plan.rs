@@ -38,6 +38,8 @@ pub struct SubmitPlan<'a> {
     pub flow: FlowSettings,
     /// With frame t-1 to track from: static receivers' motion into it, where the flow starts.
     pub reprojection: Option<PixelRays>,
+    /// Frame t's shadows are separated from its shading (`submit::shadows_separated`).
+    pub separates: bool,
     pub placeholder_uint: Texture,
 }
 
@@ -74,19 +76,25 @@ fn demodulate(rec: &mut Recorder, plan: &SubmitPlan) {
         .counters(counters::SANITIZE, SANITIZE_COUNTER_BYTES);
     let shading = &plan.work[WorkImages::SOURCE_SHADING];
     rec.stage(PATCHEX_STAGE_DEMODULATE, |rec| match plan.separation {
-        Some((separation, shadows)) => separate_shadows::record(
-            rec,
-            plan.passes.get(PipelineId::SeparateShadows),
-            plan.extent,
-            separation,
-            &separate_shadows::SeparationOutputs {
-                source_normal_id: &plan.work[WorkImages::SOURCE_NORMAL_ID],
-                shading,
-                shadow_layer: &shadows[ShadowImages::LAYER],
-            },
-            &sanitized,
-            plan.reprojection.is_some(),
-        ),
+        Some((separation, shadows)) => {
+            separate_shadows::record(
+                rec,
+                plan.passes.get(PipelineId::SeparateShadows),
+                plan.extent,
+                separation,
+                &separate_shadows::SeparationOutputs {
+                    source_normal_id: &plan.work[WorkImages::SOURCE_NORMAL_ID],
+                    shading,
+                    shadow_layer: &shadows[ShadowImages::LAYER],
+                },
+                &sanitized,
+                plan.separates,
+            );
+            if !plan.flow.runs() {
+                // The flow is off: no motion, for the diagnostics to show.
+                rec.clear(&shadows[ShadowImages::FLOW]);
+            }
+        }
         None => demodulate::record(
             rec,
             plan.passes.get(PipelineId::Demodulate),
@@ -100,7 +108,7 @@ fn demodulate(rec: &mut Recorder, plan: &SubmitPlan) {
 
 /// How the shadow mask moved from frame t-1 to frame t.
 fn shadow_flow(rec: &mut Recorder, plan: &SubmitPlan) {
-    let Some((separation, shadows)) = plan.separation else {
+    let Some((separation, shadows)) = plan.separation.filter(|_| plan.flow.runs()) else {
         return;
     };
     let passes = &plan.passes;
@@ -137,6 +145,8 @@ pub struct ExtrapolationPlan<'a> {
     pub work: &'a WorkImages,
     /// The shadow sub-task's images, when frame t came with a shadow input.
     pub shadows: Option<&'a ShadowImages>,
+    /// Frame t's shadows were separated from its shading (`submit::shadows_separated`).
+    pub shadows_separated: bool,
     /// Frame t-1 came with one too: the flow measured how the shadows drift.
     pub shadows_tracked: bool,
     /// `PatchexTargetShadowInput.mask`: the shadows at the target, in place of the flow's.
@@ -216,7 +226,7 @@ impl<'a> ExtrapolationPlan<'a> {
     /// The target's shadows come from its mask: the engine gave one, and frame t's shadows were
     /// separated from its shading (from the second consecutive frame with a shadow input).
     fn places_target_shadows(&self) -> bool {
-        self.shadows.is_some() && self.shadows_tracked && self.target_shadow_mask.is_some()
+        self.shadows.is_some() && self.shadows_separated && self.target_shadow_mask.is_some()
     }
 
     /// The nearest-texel fill is the warp's own; only the default defers its holes.
@@ -306,8 +316,9 @@ fn fill_holes(rec: &mut Recorder, plan: &ExtrapolationPlan) {
 
 /// The shadow layer moved by the mask's flow scaled to the target instant; then through the
 /// frame's own warp (where that warp put frame t's shadow), which turns the moved layer into
-/// the shadows' share at the target in place. With a target shadow input, only the frame's warp
-/// runs: it carries the layer, which `target_shadows` reads the sun's share from.
+/// the shadows' share at the target in place. With a target shadow input, or with the flow off,
+/// only the frame's warp runs: it carries the layer, which `target_shadows` reads the sun's
+/// share from, or which stays the share.
 fn warp_shadows(rec: &mut Recorder, plan: &ExtrapolationPlan) {
     let Some(shadows) = plan.shadows else {
         return;
@@ -315,7 +326,7 @@ fn warp_shadows(rec: &mut Recorder, plan: &ExtrapolationPlan) {
     let layer = &shadows[ShadowImages::LAYER];
     let share = &shadows[ShadowImages::SHADOW_SHARE];
     rec.stage(PATCHEX_STAGE_SHADOW_WARP, |rec| {
-        if !plan.shadows_tracked {
+        if !plan.shadows_separated {
             // No frame t-1 to measure a drift from: the shadows stay on their receivers, where
             // the frame's warp carried them, and change nothing. (Moved by a zero flow instead,
             // they would stay put on the screen and slide across the ground under a moving
@@ -323,7 +334,9 @@ fn warp_shadows(rec: &mut Recorder, plan: &ExtrapolationPlan) {
             rec.clear(share);
             return;
         }
-        let store = if plan.places_target_shadows() {
+        // The layer as the frame's warp carries it is the share where its shadows stay: for a
+        // target mask to replace, or, with the flow off and no mask, as it is.
+        let store = if plan.places_target_shadows() || !plan.shadows_tracked {
             Store::Shading
         } else {
             // The occlusion-motion warp's sets: the frame's own warp uses the first when it is

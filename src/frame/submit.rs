@@ -67,12 +67,16 @@ impl Context {
             serial,
         };
         self.images.ensure_work(&mut growth, inputs.extent)?;
-        // Frame t-1's expansion is usable when it was made, unbroken, on the same images.
+        // Frame t-1's expansion is usable when its flow made it, unbroken, on the same images;
+        // this frame's flow, switched off, needs none.
+        let flow_made_expansion = |history| {
+            history == PATCHEX_SHADOW_HISTORY_STARTED || history == PATCHEX_SHADOW_HISTORY_TRACKED
+        };
         let mut track = reset_reason == PATCHEX_RESET_NONE
-            && self
-                .source
-                .as_ref()
-                .is_some_and(|s| s.has_shadows && s.extent == inputs.extent);
+            && flow_settings.runs()
+            && self.source.as_ref().is_some_and(|s| {
+                flow_made_expansion(s.shadow_history) && s.extent == inputs.extent
+            });
         if shadow_inputs.is_some() {
             track &= !self.images.ensure_shadows(&mut growth)?;
             self.shadow_current = 1 - self.shadow_current;
@@ -85,6 +89,13 @@ impl Context {
                 .camera
                 .reprojection_into(&previous.camera, inputs.extent)
         });
+
+        let shadow_history = match &shadow_inputs {
+            None => PATCHEX_SHADOW_HISTORY_NONE,
+            Some(_) if !flow_settings.runs() => PATCHEX_SHADOW_HISTORY_SEPARATED,
+            Some(_) if track => PATCHEX_SHADOW_HISTORY_TRACKED,
+            Some(_) => PATCHEX_SHADOW_HISTORY_STARTED,
+        };
 
         // Everything is validated and allocated: from here on the call cannot fail.
         let slot = self.ring.slot_of(serial);
@@ -118,6 +129,7 @@ impl Context {
             shadow_current: self.shadow_current,
             flow: flow_settings,
             reprojection,
+            separates: shadows_separated(shadow_history),
             placeholder_uint,
         };
         plan::record_submit(&mut rec, &plan);
@@ -127,11 +139,6 @@ impl Context {
             self.ring.readback.buffer,
         );
 
-        let shadow_history = match (&separation_inputs, track) {
-            (None, _) => PATCHEX_SHADOW_HISTORY_NONE,
-            (Some(_), false) => PATCHEX_SHADOW_HISTORY_STARTED,
-            (Some(_), true) => PATCHEX_SHADOW_HISTORY_TRACKED,
-        };
         self.ring.slots[slot].record = Some(FrameRecord {
             frame_index: inputs.frame_index,
             serial,
@@ -152,7 +159,7 @@ impl Context {
             extent: inputs.extent,
             camera: inputs.geometry.camera,
             has_shadows: shadow_inputs.is_some(),
-            shadows_tracked: shadow_history == PATCHEX_SHADOW_HISTORY_TRACKED,
+            shadow_history,
         });
         Ok(())
     }
@@ -195,4 +202,10 @@ pub(crate) fn engine_gbuffer(
         stencil: access.read_optional(geometry.stencil.as_ref())?,
         camera: geometry.camera,
     })
+}
+
+/// Frame t's shadows were separated from its shading, for its flow to move or a target mask to
+/// place: frame t-1's flow left an expansion to track from, or the flow is off.
+pub(crate) fn shadows_separated(history: PatchexShadowHistory) -> bool {
+    history == PATCHEX_SHADOW_HISTORY_TRACKED || history == PATCHEX_SHADOW_HISTORY_SEPARATED
 }

@@ -59,9 +59,20 @@ impl Default for FlowSettings {
 }
 
 impl FlowSettings {
+    /// Levels 0 switch the flow off (`PatchexShadowFlowSettings.levels`).
+    pub fn runs(&self) -> bool {
+        self.levels > 0
+    }
+
     pub fn from_abi(settings: &PatchexShadowFlowSettings) -> Result<Self> {
+        if settings.levels > MAX_LEVELS {
+            bail!(
+                ErrorInvalidArgument,
+                "PatchexShadowFlowSettings.levels {} must be 0 (no flow) to {MAX_LEVELS}",
+                settings.levels
+            );
+        }
         for (name, value, max) in [
-            ("levels", settings.levels, MAX_LEVELS),
             ("iterations", settings.iterations, MAX_ITERATIONS),
             ("window_radius", settings.window_radius, MAX_WINDOW_RADIUS),
             ("poly_radius", settings.poly_radius, MAX_POLY_RADIUS),

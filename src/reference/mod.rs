@@ -52,8 +52,9 @@ pub struct Shadows {
     /// The share of light the shadows take away at the target, which remodulation applies: the
     /// layer moved by the flow (with the occlusion-motion-vector warp) where that found a
     /// receiver, the layer carried by the frame's own warp elsewhere, rounded to f16 as stored
-    /// (`include/warp.wgsl`, `shadow_share`). Zero without frame t-1's mask: the shadows stay
-    /// in the frame, on their receivers.
+    /// (`include/warp.wgsl`, `shadow_share`); with a target mask, the share it places
+    /// (`target_shadows`); with the flow off and no mask, the layer the frame's warp carried.
+    /// Zero without frame t-1's mask: the shadows stay in the frame, on their receivers.
     pub share: Image,
 }
 
@@ -123,6 +124,9 @@ pub fn extrapolate(
         pack(target, target.motion, pack_gbuffer::Instant::Target),
     );
     let color = source.color.expect("frame t has colour");
+    // Frame t's shadows are separated for frame t-1's flow to move, or with the flow off for a
+    // target mask to place.
+    let separates = |shadow: &ShadowInputs| !shadow.flow.runs() || shadow.previous.is_some();
     let separated = shadow_inputs.map(|shadow| {
         separate_shadows::separate(
             color,
@@ -131,7 +135,7 @@ pub fn extrapolate(
             source.base_color,
             source.material,
             &source_packed.normal_id,
-            shadow.previous.is_some(),
+            separates(shadow),
         )
     });
     let (shading, source_sanitized) = match &separated {
@@ -139,11 +143,12 @@ pub fn extrapolate(
         None => demodulate::demodulate(color, source.base_color, source.material),
     };
     stages.push(PATCHEX_STAGE_DEMODULATE);
-    // The shadows' flow to frame t-1, in frame t's submit: zero without frame t-1's mask.
+    // The shadows' flow to frame t-1, in frame t's submit: none without frame t-1's mask or
+    // with the flow off.
     let flow = shadow_inputs
         .zip(separated.as_ref())
         .map(|(shadow, separated)| {
-            let (mask, object_ids, camera) = shadow.previous?;
+            let (mask, object_ids, camera) = shadow.previous.filter(|_| shadow.flow.runs())?;
             stages.push(PATCHEX_STAGE_SHADOW_FLOW);
             let previous_mask = separate_shadows::flow_mask(mask, object_ids);
             let start = optical_flow::FlowStart {
@@ -189,55 +194,60 @@ pub fn extrapolate(
         stages.push(PATCHEX_STAGE_FILL_HOLES);
     }
     let mut target_mask_sanitized = 0;
-    let shadows = separated.zip(flow).map(|(separated, flow)| {
-        let Some(flow) = flow else {
-            return Shadows {
-                separated,
-                flow: Image::new(extent.width as usize, extent.height as usize, 4),
-                share: Image::new(extent.width as usize, extent.height as usize, 4),
+    let no_flow = || Image::new(extent.width as usize, extent.height as usize, 4);
+    let shadows = shadow_inputs
+        .zip(separated)
+        .zip(flow)
+        .map(|((shadow, separated), flow)| {
+            if !separates(shadow) {
+                return Shadows {
+                    separated,
+                    flow: no_flow(),
+                    share: no_flow(),
+                };
+            }
+            stages.push(PATCHEX_STAGE_SHADOW_WARP);
+            let layer_sources = warp::WarpSources {
+                shading: &separated.shadow_layer,
+                geometry: &source_packed.geometry,
+                normal_id: &source_packed.normal_id,
             };
-        };
-        stages.push(PATCHEX_STAGE_SHADOW_WARP);
-        let layer_sources = warp::WarpSources {
-            shading: &separated.shadow_layer,
-            geometry: &source_packed.geometry,
-            normal_id: &source_packed.normal_id,
-        };
-        let target_of = |motion| warp::WarpTarget {
-            geometry: &target_packed.geometry,
-            normal_id: &target_packed.normal_id,
-            motion,
-            camera_position: target_packed.camera_position,
-            valid: &target_packed.valid,
-        };
-        let carried = warp::warp(warp.kind, &layer_sources, &target_of(motion), &params);
-        let target_mask = shadow_inputs.and_then(|s| s.target_mask);
-        let share = match target_mask {
-            Some(mask) => {
-                stages.push(PATCHEX_STAGE_TARGET_SHADOWS);
-                let sums = target_shadows::sun_share_sums(&separated.shadow_layer);
-                let (share, sanitized) =
-                    target_shadows::place(&carried, mask, target.stencil, sums);
-                target_mask_sanitized = sanitized;
-                share
+            let target_of = |motion| warp::WarpTarget {
+                geometry: &target_packed.geometry,
+                normal_id: &target_packed.normal_id,
+                motion,
+                camera_position: target_packed.camera_position,
+                valid: &target_packed.valid,
+            };
+            let carried = warp::warp(warp.kind, &layer_sources, &target_of(motion), &params);
+            let share = match (shadow.target_mask, &flow) {
+                (Some(mask), _) => {
+                    stages.push(PATCHEX_STAGE_TARGET_SHADOWS);
+                    let sums = target_shadows::sun_share_sums(&separated.shadow_layer);
+                    let (share, sanitized) =
+                        target_shadows::place(&carried, mask, target.stencil, sums);
+                    target_mask_sanitized = sanitized;
+                    share
+                }
+                (None, Some(flow)) => {
+                    let shadow_params = warp.shadow_params(extent, target.camera, alpha);
+                    let moved = warp::warp(
+                        PATCHEX_WARP_OCCLUSION_MOTION_VECTOR,
+                        &layer_sources,
+                        &target_of(flow),
+                        &shadow_params,
+                    );
+                    shadow_share(&moved.warped, &carried.warped)
+                }
+                // The flow off and no mask: the shadows stay where the warp carries them.
+                (None, None) => carried.warped,
+            };
+            Shadows {
+                separated,
+                flow: flow.unwrap_or_else(no_flow),
+                share,
             }
-            None => {
-                let shadow_params = warp.shadow_params(extent, target.camera, alpha);
-                let moved = warp::warp(
-                    PATCHEX_WARP_OCCLUSION_MOTION_VECTOR,
-                    &layer_sources,
-                    &target_of(&flow),
-                    &shadow_params,
-                );
-                shadow_share(&moved.warped, &carried.warped)
-            }
-        };
-        Shadows {
-            separated,
-            flow,
-            share,
-        }
-    });
+        });
     let segmented = segmentation::segment(
         &target_packed.normal_id,
         motion,

@@ -140,7 +140,8 @@ struct UploadedFrame {
 pub struct ShadowRun<'a> {
     /// Frame t-1, submitted first with its shadow input so that the shadows' motion is tracked.
     pub earlier: Option<(&'a FrameLayers, &'a FrameInfo)>,
-    /// The target's mask goes with the extrapolation as a PatchexTargetShadowInput.
+    /// The target's mask goes with the extrapolation as a PatchexTargetShadowInput, and the
+    /// frames go without flow.
     pub target_mask: bool,
 }
 
@@ -440,14 +441,32 @@ impl PluginDriver {
         if let Some(input) = &target_shadow_input {
             next = input as *const PatchexTargetShadowInput as *const c_void;
         }
+        // With target masks on every extrapolation, the frames need no flow.
+        let flow_off = PatchexShadowFlowSettings {
+            header: PatchexStructHeader::of::<PatchexShadowFlowSettings>(
+                PATCHEX_STRUCT_TYPE_SHADOW_FLOW_SETTINGS,
+            ),
+            levels: 0,
+            iterations: PATCHEX_DEFAULT_FLOW_ITERATIONS,
+            window_radius: PATCHEX_DEFAULT_FLOW_WINDOW_RADIUS,
+            poly_radius: PATCHEX_DEFAULT_FLOW_POLY_RADIUS,
+            poly_sigma: PATCHEX_DEFAULT_FLOW_POLY_SIGMA,
+        };
         let shadow_input = |frame: &UploadedFrame| {
             frame
                 .shadow
                 .as_ref()
                 .map(|(mask, color)| PatchexShadowInput {
-                    header: PatchexStructHeader::of::<PatchexShadowInput>(
-                        PATCHEX_STRUCT_TYPE_SHADOW_INPUT,
-                    ),
+                    header: PatchexStructHeader {
+                        next: if with_target_mask {
+                            &flow_off as *const PatchexShadowFlowSettings as *const c_void
+                        } else {
+                            ptr::null()
+                        },
+                        ..PatchexStructHeader::of::<PatchexShadowInput>(
+                            PATCHEX_STRUCT_TYPE_SHADOW_INPUT,
+                        )
+                    },
                     mask: mask.describe(LAYOUT),
                     color_without_dynamic_shadows: color.describe(LAYOUT),
                 })
