@@ -877,7 +877,8 @@ typedef struct PatchexShadowDiagnostics {
 // Only when a PatchexDiagnostics image is chained.
 #define PATCHEX_STAGE_DIAGNOSTICS 7
 
-// Submit, with a PatchexShadowInput: mask pyramid, polynomial expansion and Farneback flow.
+// Submit, with a PatchexShadowInput and the flow on: mask pyramid, polynomial expansion and
+// Farneback flow.
 #define PATCHEX_STAGE_SHADOW_FLOW 8
 
 // Extrapolation of a frame with a shadow input: the shadow layer's warps (its flow's only

@@ -620,7 +620,8 @@ pub const PATCHEX_STAGE_SEGMENT: PatchexStage = 5;
 pub const PATCHEX_STAGE_LBP: PatchexStage = 6;
 /// Only when a PatchexDiagnostics image is chained.
 pub const PATCHEX_STAGE_DIAGNOSTICS: PatchexStage = 7;
-/// Submit, with a PatchexShadowInput: mask pyramid, polynomial expansion and Farneback flow.
+/// Submit, with a PatchexShadowInput and the flow on: mask pyramid, polynomial expansion and
+/// Farneback flow.
 pub const PATCHEX_STAGE_SHADOW_FLOW: PatchexStage = 8;
 /// Extrapolation of a frame with a shadow input: the shadow layer's warps (its flow's only
 /// without a PatchexTargetShadowInput), or with PATCHEX_SHADOW_HISTORY_STARTED only the clearing
