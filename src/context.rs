@@ -34,12 +34,18 @@ pub(crate) struct SourceFrame {
     pub serial: u64,
     pub extent: vk::Extent2D,
     pub camera: Camera,
-    /// It came with a shadow input: its layer and flow are in the shadow images.
-    pub has_shadows: bool,
-    /// What its shadow sub-task had to work with (PATCHEX_SHADOW_HISTORY_*): tracked, the flow
-    /// measured how its shadows drift; started or tracked, the flow ran and left its expansion
-    /// for the next frame's; separated, its shadows await a target mask.
+    /// What its shadow sub-task had to work with (PATCHEX_SHADOW_HISTORY_*): none, it came
+    /// without a shadow input; tracked, the flow measured how its shadows drift; started or
+    /// tracked, the flow ran and left its expansion for the next frame's; separated, its
+    /// shadows await a target mask.
     pub shadow_history: PatchexShadowHistory,
+}
+
+impl SourceFrame {
+    /// It came with a shadow input: its layer (and flow) are in the shadow images.
+    pub fn has_shadows(&self) -> bool {
+        self.shadow_history != PATCHEX_SHADOW_HISTORY_NONE
+    }
 }
 
 pub struct Context {

@@ -176,6 +176,20 @@ fn reference_run(
     )
 }
 
+/// Flow settings that switch the flow off (levels 0), the rest at their defaults.
+fn flow_off() -> PatchexShadowFlowSettings {
+    PatchexShadowFlowSettings {
+        header: PatchexStructHeader::of::<PatchexShadowFlowSettings>(
+            PATCHEX_STRUCT_TYPE_SHADOW_FLOW_SETTINGS,
+        ),
+        levels: 0,
+        iterations: PATCHEX_DEFAULT_FLOW_ITERATIONS,
+        window_radius: PATCHEX_DEFAULT_FLOW_WINDOW_RADIUS,
+        poly_radius: PATCHEX_DEFAULT_FLOW_POLY_RADIUS,
+        poly_sigma: PATCHEX_DEFAULT_FLOW_POLY_SIGMA,
+    }
+}
+
 fn luminance(pixel: &[f32]) -> f32 {
     Vec3::from_slice(pixel).dot(LUMINANCE)
 }
@@ -333,16 +347,7 @@ fn with_the_flow_off_the_target_mask_gives_the_same_frames_for_less() {
         unreachable!("four frames")
     };
     let frames = [previous, source, target];
-    let off = PatchexShadowFlowSettings {
-        header: PatchexStructHeader::of::<PatchexShadowFlowSettings>(
-            PATCHEX_STRUCT_TYPE_SHADOW_FLOW_SETTINGS,
-        ),
-        levels: 0,
-        iterations: PATCHEX_DEFAULT_FLOW_ITERATIONS,
-        window_radius: PATCHEX_DEFAULT_FLOW_WINDOW_RADIUS,
-        poly_radius: PATCHEX_DEFAULT_FLOW_POLY_RADIUS,
-        poly_sigma: PATCHEX_DEFAULT_FLOW_POLY_SIGMA,
-    };
+    let off = flow_off();
     let run = |target_shadows, flow| {
         let rig = shadows_rig(width, height);
         let outcome =
@@ -993,16 +998,7 @@ fn shadow_history_survives_resizes_resets_and_gaps() {
         ((160, 96), false, true, false, STARTED),
         ((160, 96), false, true, false, TRACKED),
     ];
-    let flow_off = PatchexShadowFlowSettings {
-        header: PatchexStructHeader::of::<PatchexShadowFlowSettings>(
-            PATCHEX_STRUCT_TYPE_SHADOW_FLOW_SETTINGS,
-        ),
-        levels: 0,
-        iterations: PATCHEX_DEFAULT_FLOW_ITERATIONS,
-        window_radius: PATCHEX_DEFAULT_FLOW_WINDOW_RADIUS,
-        poly_radius: PATCHEX_DEFAULT_FLOW_POLY_RADIUS,
-        poly_sigma: PATCHEX_DEFAULT_FLOW_POLY_SIGMA,
-    };
+    let flow_off = flow_off();
     for (index, &((width, height), reset, with_shadows, off, history)) in plan.iter().enumerate() {
         let scene = Scene {
             width,

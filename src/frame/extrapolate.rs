@@ -79,7 +79,11 @@ impl Context {
                 .work
                 .as_ref()
                 .expect("a submitted frame allocated the work images"),
-            shadows: self.images.shadows.as_ref().filter(|_| source.has_shadows),
+            shadows: self
+                .images
+                .shadows
+                .as_ref()
+                .filter(|_| source.has_shadows()),
             shadows_separated: shadows_separated(source.shadow_history),
             shadows_tracked: source.shadow_history == PATCHEX_SHADOW_HISTORY_TRACKED,
             target_shadow_mask: engine.target_shadow_mask,
@@ -177,7 +181,7 @@ impl Context {
                 "patchex_extrapolate called before any patchex_submit_gbuffers"
             );
         };
-        if extensions.target_shadow_mask.is_some() && !source.has_shadows {
+        if extensions.target_shadow_mask.is_some() && !source.has_shadows() {
             bail!(
                 ErrorInvalidArgument,
                 "PatchexTargetShadowInput needs frame t to have come with a PatchexShadowInput \

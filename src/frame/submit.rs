@@ -158,7 +158,6 @@ impl Context {
             serial,
             extent: inputs.extent,
             camera: inputs.geometry.camera,
-            has_shadows: shadow_inputs.is_some(),
             shadow_history,
         });
         Ok(())
