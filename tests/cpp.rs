@@ -1,7 +1,8 @@
 //! The C++ engine in examples/cpp-engine, built the way a C++ user builds against patchex:
 //! the library installed into a prefix with scripts/install.sh, found by CMake's
 //! find_package (and by pkg-config), then run for 30 frames under the validation layers with
-//! the full preset, the shadow input and a HUD drawn over every generated frame.
+//! the full preset, the shadow input and a HUD drawn over every generated frame; and once more
+//! with the target's shadow mask and the flow off.
 
 mod support;
 
@@ -38,19 +39,37 @@ fn cpp_engine_renders_and_extrapolates_30_frames_on_its_render_thread() {
         Command::new("cmake").arg("--build").arg(&build),
         "cmake --build",
     );
-    let output = run(
-        Command::new(build.join("patchex-cpp-engine")).args(["--frames", "30"]),
-        "the C++ engine",
+    let engine = |extra: &[&str]| {
+        let output = run(
+            Command::new(build.join("patchex-cpp-engine"))
+                .args(["--frames", "30"])
+                .args(extra),
+            "the C++ engine",
+        );
+        println!("{output}");
+        assert_eq!(
+            output.matches("PSNR").count(),
+            2 * 30 + 1,
+            "a PSNR per extrapolated frame and the mean"
+        );
+        assert!(output.contains("HUD drawn for its own instant over 60 generated frames"));
+        assert!(output.contains("ok (0 validation messages)"));
+        let mean = output
+            .lines()
+            .find_map(|line| line.strip_prefix("mean PSNR over 60 extrapolated frames: "))
+            .and_then(|rest| rest.split(' ').next()?.parse::<f64>().ok())
+            .expect("the mean PSNR is printed");
+        (output, mean)
+    };
+    let (output, with_flow) = engine(&[]);
+    assert!(output.contains("preset FULL with the shadow input,"));
+    // The balls' shadows at each in-between instant, and no flow.
+    let (output, with_mask) = engine(&["--target-shadows"]);
+    assert!(output.contains("preset FULL with the shadow input and the target's shadow mask"));
+    assert!(
+        with_mask > with_flow,
+        "{with_mask} dB with the target's shadow mask against {with_flow} dB without"
     );
-    println!("{output}");
-    assert_eq!(
-        output.matches("PSNR").count(),
-        2 * 30 + 1,
-        "a PSNR per extrapolated frame and the mean"
-    );
-    assert!(output.contains("preset FULL with the shadow input"));
-    assert!(output.contains("HUD drawn for its own instant over 60 generated frames"));
-    assert!(output.contains("ok (0 validation messages)"));
 }
 
 /// The shared library exports the patchex_* entry points and nothing else of its own, and is

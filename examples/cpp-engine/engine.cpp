@@ -14,7 +14,11 @@
 // patchex's statistics, prints the PSNR of each extrapolated frame against the instant rendered
 // in full, next to the PSNR of showing frame t again, and checks the HUD of each shown frame.
 //
-//   patchex-cpp-engine [--frames N]      (default 30)
+//   patchex-cpp-engine [--frames N] [--target-shadows]      (default 30 frames)
+//
+// With --target-shadows the engine also gives patchex the balls' shadow mask at each
+// in-between instant (PatchexTargetShadowInput; scene.comp renders it with every instant's
+// G-buffers), and switches the shadows' optical flow off, which it then no longer needs.
 //
 // Exit status 0 when every call succeeded, the validation layer (with synchronization
 // validation) reported nothing, every HUD was drawn for its own instant, and extrapolation beat
@@ -654,7 +658,7 @@ void report(const Slot& s, PatchexContext* context, Totals& totals) {
 }
 
 // The render thread: the whole frame loop, as an engine's render thread runs it.
-void render_thread(const Engine& e, PatchexContext* context, int frames, Totals& totals) {
+void render_thread(const Engine& e, PatchexContext* context, int frames, bool target_shadows, Totals& totals) {
   VkCommandPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
   pool_info.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
   pool_info.queueFamilyIndex = e.family;
@@ -712,8 +716,13 @@ void render_thread(const Engine& e, PatchexContext* context, int frames, Totals&
     }
     for (uint32_t k = 0; k < kAlphas.size(); ++k) {
       const GBuffer& target = s.gbuffers[1 + k];
+      // The balls' shadows where they are at this instant, rendered with its G-buffers.
+      PatchexTargetShadowInput target_mask{};
+      target_mask.header = {PATCHEX_STRUCT_TYPE_TARGET_SHADOW_INPUT, sizeof(PatchexTargetShadowInput), nullptr};
+      target_mask.mask = target.shadow_mask.describe();
       PatchexExtrapolateDesc extrapolate{};
-      extrapolate.header = {PATCHEX_STRUCT_TYPE_EXTRAPOLATE_DESC, sizeof(PatchexExtrapolateDesc), nullptr};
+      extrapolate.header = {PATCHEX_STRUCT_TYPE_EXTRAPOLATE_DESC, sizeof(PatchexExtrapolateDesc),
+                            target_shadows ? &target_mask : nullptr};
       extrapolate.queue_family_index = e.family;
       extrapolate.alpha = kAlphas[k];
       extrapolate.width = kWidth;
@@ -777,14 +786,18 @@ void render_thread(const Engine& e, PatchexContext* context, int frames, Totals&
 
 int main(int argc, char** argv) {
   int frames = 30;
-  for (int i = 1; i + 1 < argc; ++i)
-    if (std::string(argv[i]) == "--frames") frames = std::atoi(argv[i + 1]);
+  bool target_shadows = false;
+  for (int i = 1; i < argc; ++i) {
+    if (std::string(argv[i]) == "--frames" && i + 1 < argc) frames = std::atoi(argv[++i]);
+    else if (std::string(argv[i]) == "--target-shadows") target_shadows = true;
+    else frames = 0;
+  }
   if (frames < 1) {
-    std::fprintf(stderr, "usage: %s [--frames N]   (N >= 1)\n", argv[0]);
+    std::fprintf(stderr, "usage: %s [--frames N] [--target-shadows]   (N >= 1)\n", argv[0]);
     return 2;
   }
-  std::printf("patchex ABI version %u, preset FULL with the shadow input, %dx%d, %d frames, two extrapolations each\n",
-              patchex_abi_version(),
+  std::printf("patchex ABI version %u, preset FULL with the shadow input%s, %dx%d, %d frames, two extrapolations each\n",
+              patchex_abi_version(), target_shadows ? " and the target's shadow mask" : "",
               kWidth, kHeight, frames);
   Engine e = create_engine();
 
@@ -801,6 +814,15 @@ int main(int argc, char** argv) {
   info.max_height = kHeight;
   info.frames_in_flight = kFramesInFlight;
   info.preset = PATCHEX_PRESET_FULL;
+  // With the target's shadow mask on every extrapolation, the shadows need no optical flow.
+  PatchexShadowFlowSettings no_flow{};
+  no_flow.header = {PATCHEX_STRUCT_TYPE_SHADOW_FLOW_SETTINGS, sizeof(PatchexShadowFlowSettings), nullptr};
+  no_flow.levels = 0;
+  no_flow.iterations = PATCHEX_DEFAULT_FLOW_ITERATIONS;
+  no_flow.window_radius = PATCHEX_DEFAULT_FLOW_WINDOW_RADIUS;
+  no_flow.poly_radius = PATCHEX_DEFAULT_FLOW_POLY_RADIUS;
+  no_flow.poly_sigma = PATCHEX_DEFAULT_FLOW_POLY_SIGMA;
+  if (target_shadows) info.header.next = &no_flow;
   PatchexContext* context = nullptr;
   if (patchex_create(&info, &context) != PATCHEX_RESULT_SUCCESS) {
     std::fprintf(stderr, "patchex_create: %s\n", patchex_last_error(nullptr));
@@ -808,7 +830,7 @@ int main(int argc, char** argv) {
   }
 
   Totals totals;
-  std::thread render(render_thread, std::cref(e), context, frames, std::ref(totals));
+  std::thread render(render_thread, std::cref(e), context, frames, target_shadows, std::ref(totals));
   render.join();
 
   patchex_destroy(context);
