@@ -337,8 +337,8 @@ fn target_shadow_masks_all_lit_and_all_shadowed_match_the_reference() {
 }
 
 /// With the flow off (levels 0), a target mask gives the very frames it gives with the flow,
-/// and the submit runs no flow; without a mask the shadows stay where the frame's warp carries
-/// them, as the reference keeps them.
+/// and the submit runs no flow and holds no flow images; without a mask the shadows stay where
+/// the frame's warp carries them, as the reference keeps them.
 #[test]
 fn with_the_flow_off_the_target_mask_gives_the_same_frames_for_less() {
     let (width, height) = (128, 72);
@@ -367,6 +367,13 @@ fn with_the_flow_off_the_target_mask_gives_the_same_frames_for_less() {
         outcome.stats.submit_stages_run & 1 << PATCHEX_STAGE_SHADOW_FLOW != 0
     };
     assert!(flowed(&with_flow) && !flowed(&without_flow));
+    // Nor does the context hold the flow's atlases.
+    assert!(
+        without_flow.stats.device_memory_bytes < with_flow.stats.device_memory_bytes,
+        "{} bytes without the flow against {} with it",
+        without_flow.stats.device_memory_bytes,
+        with_flow.stats.device_memory_bytes
+    );
 
     let carried = run(false, Some(&off));
     let flow = FlowSettings::from_abi(&off).unwrap();

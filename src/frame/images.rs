@@ -185,32 +185,51 @@ impl OutputStaging {
 }
 
 /// The shadow sub-task's images, made at the first frame with a shadow input.
-pub type ShadowImages = ImageSet<13>;
+pub type ShadowImages = ImageSet<3, Shadows>;
+pub struct Shadows;
 
 impl ShadowImages {
+    /// The share of light frame t's dynamic shadows take away, with their darkness in alpha.
     pub const LAYER: usize = 0;
     /// The layer as its flow moved it, which the frame's warp of the layer then turns into the
     /// shadows' share at the target: moved where the flow found a receiver, carried elsewhere.
     /// Cleared when there was no flow to move it by (frame t-1's shadows were not tracked).
     pub const SHADOW_SHARE: usize = 1;
-    pub const MASK_PYRAMID: usize = 2;
-    /// Frame t's and frame t-1's expansions, alternating (`Context::shadow_current`).
-    pub const POLY: [usize; 2] = [3, 4];
-    pub const POLY_XY: [usize; 2] = [5, 6];
-    pub const EQUATIONS: usize = 7;
-    const EQUATIONS_H2: usize = 8;
-    pub const ROWS: usize = 9;
-    const ROWS_H2: usize = 10;
-    pub const FLOW_PYRAMID: usize = 11;
-    pub const FLOW: usize = 12;
+    /// The mask's flow at frame t's pixels; cleared when the flow is off.
+    pub const FLOW: usize = 2;
 
-    const SPECS: [ImageSpec; 13] = [
+    const SPECS: [ImageSpec; 3] = [
         // Shading, as the frame's: RGBA16F.
         frame_image("patchex shadow layer", vk::Format::R16G16B16A16_SFLOAT),
         ImageSpec {
             cleared: true,
             ..frame_image("patchex shadow share", vk::Format::R16G16B16A16_SFLOAT)
         },
+        // Displacements: two channels, in half floats, as motion vectors come.
+        ImageSpec {
+            cleared: true,
+            ..frame_image("patchex shadow flow", vk::Format::R16G16_SFLOAT)
+        },
+    ];
+}
+
+/// The shadow flow's pyramid atlases, made at the first frame whose flow runs: a context whose
+/// flow is off never holds them.
+pub type FlowAtlases = ImageSet<10, Flow>;
+pub struct Flow;
+
+impl FlowAtlases {
+    pub const MASK_PYRAMID: usize = 0;
+    /// Frame t's and frame t-1's expansions, alternating (`Context::shadow_current`).
+    pub const POLY: [usize; 2] = [1, 2];
+    pub const POLY_XY: [usize; 2] = [3, 4];
+    pub const EQUATIONS: usize = 5;
+    const EQUATIONS_H2: usize = 6;
+    pub const ROWS: usize = 7;
+    const ROWS_H2: usize = 8;
+    pub const FLOW_PYRAMID: usize = 9;
+
+    const SPECS: [ImageSpec; 10] = [
         atlas_image("patchex shadow mask pyramid", vk::Format::R32_SFLOAT),
         atlas_image(
             "patchex shadow expansion A",
@@ -226,16 +245,14 @@ impl ShadowImages {
         atlas_image("patchex flow equations h2", vk::Format::R32_SFLOAT),
         atlas_image("patchex flow rows", vk::Format::R32G32B32A32_SFLOAT),
         atlas_image("patchex flow rows h2", vk::Format::R32_SFLOAT),
-        // Displacements: two channels; the frame's in half floats, as motion vectors come.
         atlas_image("patchex shadow flow pyramid", vk::Format::R32G32_SFLOAT),
-        ImageSpec {
-            cleared: true,
-            ..frame_image("patchex shadow flow", vk::Format::R16G16_SFLOAT)
-        },
     ];
 
+    /// What the flow reads and writes: these atlases, frame t's `frame` mask, and the shadow
+    /// images' flow, which it leaves at the frame's size.
     pub fn flow_images<'a>(
         &'a self,
+        shadows: &'a ShadowImages,
         current: usize,
         frame: shadow_flow::FrameMask<'a>,
     ) -> shadow_flow::FlowImages<'a> {
@@ -250,7 +267,7 @@ impl ShadowImages {
             rows: &self[Self::ROWS],
             rows_h2: &self[Self::ROWS_H2],
             flow_pyramid: &self[Self::FLOW_PYRAMID],
-            flow: &self[Self::FLOW],
+            flow: &shadows[ShadowImages::FLOW],
             mask_step: shadow_flow::mask_step(self.extent),
         }
     }
@@ -263,6 +280,8 @@ pub struct FrameImages {
     pub analysis: Option<AnalysisImages>,
     /// Made at the first frame with a shadow input.
     pub shadows: Option<ShadowImages>,
+    /// Made at the first frame whose shadow flow runs.
+    pub flow: Option<FlowAtlases>,
     pub output_staging: Option<OutputStaging>,
     /// 1x1 images bound where an optional input is absent; the shaders never read them.
     placeholder_float: OwnedImage,
@@ -275,7 +294,8 @@ impl FrameImages {
         WorkImages::check_formats(gpu, &WorkImages::SPECS)?;
         AnalysisImages::check_formats(gpu, &AnalysisImages::SPECS)?;
         OutputStaging::check_formats(gpu, &OutputStaging::SPECS)?;
-        ShadowImages::check_formats(gpu, &ShadowImages::SPECS)
+        ShadowImages::check_formats(gpu, &ShadowImages::SPECS)?;
+        FlowAtlases::check_formats(gpu, &FlowAtlases::SPECS)
     }
 
     /// The placeholders; every other set waits for its first frame.
@@ -314,6 +334,7 @@ impl FrameImages {
             work: None,
             analysis: None,
             shadows: None,
+            flow: None,
             output_staging: None,
             placeholder_float: float,
             placeholder_uint: uint,
@@ -330,6 +351,13 @@ impl FrameImages {
     pub fn ensure_shadows(&mut self, growth: &mut Growth) -> Result<bool> {
         let extent = self.work_extent();
         grow(growth, &mut self.shadows, extent, &ShadowImages::SPECS)
+    }
+
+    /// Makes or grows the flow's atlases to the working images' extent. Returns whether they
+    /// were (re)made, which loses frame t-1's expansion.
+    pub fn ensure_flow(&mut self, growth: &mut Growth) -> Result<bool> {
+        let extent = self.work_extent();
+        grow(growth, &mut self.flow, extent, &FlowAtlases::SPECS)
     }
 
     /// Makes or grows the analysis images to the working images' extent.
@@ -372,7 +400,9 @@ impl FrameImages {
     pub fn submit_images(&mut self) -> impl Iterator<Item = &mut OwnedImage> {
         let work = self.work.iter_mut().flat_map(|w| w.images.iter_mut());
         let shadows = self.shadows.iter_mut().flat_map(|s| s.images.iter_mut());
+        let flow = self.flow.iter_mut().flat_map(|f| f.images.iter_mut());
         work.chain(shadows)
+            .chain(flow)
             .chain([&mut self.placeholder_float, &mut self.placeholder_uint])
     }
 
@@ -380,6 +410,7 @@ impl FrameImages {
         self.work.as_ref().map_or(0, |w| w.size_bytes())
             + self.analysis.as_ref().map_or(0, |a| a.size_bytes())
             + self.shadows.as_ref().map_or(0, |s| s.size_bytes())
+            + self.flow.as_ref().map_or(0, |f| f.size_bytes())
             + self.output_staging.as_ref().map_or(0, |s| s.size_bytes())
             + self.placeholder_float.size_bytes()
             + self.placeholder_uint.size_bytes()
@@ -389,12 +420,14 @@ impl FrameImages {
         let work = self.work.take().map(|w| w.images);
         let analysis = self.analysis.take().map(|a| a.images);
         let shadows = self.shadows.take().map(|s| s.images);
+        let flow = self.flow.take().map(|f| f.images);
         let staging = self.output_staging.take().map(|s| s.images);
         for mut image in work
             .into_iter()
             .flatten()
             .chain(analysis.into_iter().flatten())
             .chain(shadows.into_iter().flatten())
+            .chain(flow.into_iter().flatten())
             .chain(staging.into_iter().flatten())
         {
             image.destroy(gpu, allocator);
@@ -449,7 +482,8 @@ mod tests {
             .iter()
             .chain(&AnalysisImages::SPECS)
             .chain(&OutputStaging::SPECS)
-            .chain(&ShadowImages::SPECS);
+            .chain(&ShadowImages::SPECS)
+            .chain(&FlowAtlases::SPECS);
         for spec in specs {
             assert!(
                 texel_bytes(spec.format, vk::ImageAspectFlags::COLOR) > 0,

@@ -9,7 +9,7 @@ use ash::vk;
 use crate::abi::*;
 use crate::camera::PixelRays;
 use crate::frame::counters;
-use crate::frame::images::{AnalysisImages, OutputStaging, ShadowImages, WorkImages};
+use crate::frame::images::{AnalysisImages, FlowAtlases, OutputStaging, ShadowImages, WorkImages};
 use crate::frame::settings::NetworkSwitches;
 use crate::passes::inpaint::{self, Inpainting};
 use crate::passes::pack_gbuffer::EngineGbuffer;
@@ -33,6 +33,8 @@ pub struct SubmitPlan<'a> {
     pub demodulation: demodulate::DemodulateInputs,
     /// With a shadow input: what the separation reads, and the shadow images.
     pub separation: Option<(&'a separate_shadows::SeparationInputs, &'a ShadowImages)>,
+    /// The flow's atlases, once a frame's flow has run.
+    pub flow_atlases: Option<&'a FlowAtlases>,
     /// Which of the alternating flow images is frame t's.
     pub shadow_current: usize,
     pub flow: FlowSettings,
@@ -108,9 +110,12 @@ fn demodulate(rec: &mut Recorder, plan: &SubmitPlan) {
 
 /// How the shadow mask moved from frame t-1 to frame t.
 fn shadow_flow(rec: &mut Recorder, plan: &SubmitPlan) {
-    let Some((separation, shadows)) = plan.separation.filter(|_| plan.flow.runs()) else {
+    let (Some((separation, shadows)), Some(atlases)) = (plan.separation, plan.flow_atlases) else {
         return;
     };
+    if !plan.flow.runs() {
+        return;
+    }
     let passes = &plan.passes;
     rec.stage(PATCHEX_STAGE_SHADOW_FLOW, |rec| {
         shadow_flow::record(
@@ -125,7 +130,8 @@ fn shadow_flow(rec: &mut Recorder, plan: &SubmitPlan) {
             },
             plan.extent,
             &plan.flow,
-            &shadows.flow_images(
+            &atlases.flow_images(
+                shadows,
                 plan.shadow_current,
                 shadow_flow::FrameMask {
                     mask: separation.mask,

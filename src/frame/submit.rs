@@ -79,6 +79,9 @@ impl Context {
             });
         if shadow_inputs.is_some() {
             track &= !self.images.ensure_shadows(&mut growth)?;
+            if flow_settings.runs() {
+                track &= !self.images.ensure_flow(&mut growth)?;
+            }
             self.shadow_current = 1 - self.shadow_current;
         }
 
@@ -126,6 +129,7 @@ impl Context {
                 placeholder,
             },
             separation: separation_inputs.as_ref().zip(self.images.shadows.as_ref()),
+            flow_atlases: self.images.flow.as_ref(),
             shadow_current: self.shadow_current,
             flow: flow_settings,
             reprojection,
