@@ -53,44 +53,59 @@ struct Configuration {
     name: &'static str,
     warp: PatchexWarpKind,
     shadows: bool,
+    /// The target's shadow mask on the extrapolation, and the flow off.
+    target_shadows: bool,
     networks: bool,
 }
 
-const CONFIGURATIONS: [Configuration; 6] = [
+const CONFIGURATIONS: [Configuration; 7] = [
     Configuration {
         name: "G-buffer-guided warp (WARP_ONLY)",
         warp: PATCHEX_WARP_GBUFFER_GUIDED,
         shadows: false,
+        target_shadows: false,
         networks: false,
     },
     Configuration {
         name: "motion-vector warp",
         warp: PATCHEX_WARP_MOTION_VECTOR,
         shadows: false,
+        target_shadows: false,
         networks: false,
     },
     Configuration {
         name: "occlusion-motion-vector warp",
         warp: PATCHEX_WARP_OCCLUSION_MOTION_VECTOR,
         shadows: false,
+        target_shadows: false,
         networks: false,
     },
     Configuration {
         name: "warp + shadows (WARP_AND_SHADOWS)",
         warp: PATCHEX_WARP_GBUFFER_GUIDED,
         shadows: true,
+        target_shadows: false,
+        networks: false,
+    },
+    Configuration {
+        name: "warp + target shadow mask, no flow",
+        warp: PATCHEX_WARP_GBUFFER_GUIDED,
+        shadows: true,
+        target_shadows: true,
         networks: false,
     },
     Configuration {
         name: "warp + networks (NETWORKS)",
         warp: PATCHEX_WARP_GBUFFER_GUIDED,
         shadows: false,
+        target_shadows: false,
         networks: true,
     },
     Configuration {
         name: "PatchEX (FULL)",
         warp: PATCHEX_WARP_GBUFFER_GUIDED,
         shadows: true,
+        target_shadows: false,
         networks: true,
     },
 ];
@@ -193,7 +208,7 @@ fn check(args: &SelftestArgs, work: &std::path::Path) -> Result<bool, Box<dyn st
             false,
             configuration.shadows.then_some(ShadowRun {
                 earlier: Some((&layers[0], &manifest.frames[earlier_index])),
-                target_mask: false,
+                target_mask: configuration.target_shadows,
             }),
         )?;
         let want = expected(&frames, configuration, alpha, &warp, &shipped);
@@ -213,9 +228,13 @@ fn check(args: &SelftestArgs, work: &std::path::Path) -> Result<bool, Box<dyn st
         // A configuration only checks its sub-tasks if they ran on these frames.
         let stats = &got.stats;
         let ran = |stage: PatchexStage| stats.extrapolations[0].stages_run & (1 << stage) != 0;
-        let exercised = (!configuration.shadows
-            || stats.shadow_history == PATCHEX_SHADOW_HISTORY_TRACKED
-                && ran(PATCHEX_STAGE_SHADOW_WARP))
+        let shadows_exercised = if configuration.target_shadows {
+            stats.shadow_history == PATCHEX_SHADOW_HISTORY_SEPARATED
+                && ran(PATCHEX_STAGE_TARGET_SHADOWS)
+        } else {
+            stats.shadow_history == PATCHEX_SHADOW_HISTORY_TRACKED && ran(PATCHEX_STAGE_SHADOW_WARP)
+        };
+        let exercised = (!configuration.shadows || shadows_exercised)
             && (!configuration.networks || ran(PATCHEX_STAGE_INFERENCE));
         let pass = exercised
             && beyond <= ALLOWED_SHARE * pixels
@@ -261,9 +280,16 @@ fn expected(
         color_without_dynamic_shadows: &source.color_without_dynamic_shadows,
         mask: &source.shadow_mask,
         previous: Some((&earlier.shadow_mask, &earlier.stencil, &earlier.camera)),
-        flow: FlowSettings::default(),
+        flow: if configuration.target_shadows {
+            FlowSettings {
+                levels: 0,
+                ..FlowSettings::default()
+            }
+        } else {
+            FlowSettings::default()
+        },
         mask_step: mask_step(extent),
-        target_mask: None,
+        target_mask: configuration.target_shadows.then_some(&target.shadow_mask),
     };
     let networks = if configuration.networks {
         Networks {
