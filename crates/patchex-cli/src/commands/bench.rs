@@ -44,6 +44,9 @@ pub enum Configuration {
     /// The G-buffer-guided warp resampling bilinearly everywhere (PATCHEX_RESAMPLE_BILINEAR).
     GbufferBilinear,
     GbufferShadows,
+    /// The shadow sub-task given the target's shadow mask (PatchexTargetShadowInput), its flow
+    /// off.
+    GbufferTargetShadows,
     /// The networks without the shadow sub-task (PATCHEX_PRESET_NETWORKS).
     PatchexNoShadows,
     /// The full method: G-buffer warp, shadows and the networks on their patches.
@@ -64,6 +67,9 @@ impl Configuration {
             Configuration::Gbuffer => "G-buffer-guided warp (WARP_ONLY)",
             Configuration::GbufferBilinear => "G-buffer-guided warp, bilinear (WARP_ONLY)",
             Configuration::GbufferShadows => "G-buffer-guided warp + shadows (WARP_AND_SHADOWS)",
+            Configuration::GbufferTargetShadows => {
+                "G-buffer-guided warp + target shadow mask, no flow (WARP_AND_SHADOWS)"
+            }
             Configuration::PatchexNoShadows => "warp + networks (NETWORKS)",
             Configuration::Patchex => "PatchEX: warp + shadows + networks (FULL)",
             Configuration::PatchexWholeFrame => "PatchEX, networks over the whole frame (FULL)",
@@ -123,6 +129,7 @@ impl Configuration {
             Configuration::Gbuffer => RGBColor(0, 158, 115),
             Configuration::GbufferBilinear => RGBColor(100, 200, 160),
             Configuration::GbufferShadows => RGBColor(204, 121, 167),
+            Configuration::GbufferTargetShadows => RGBColor(150, 60, 120),
             Configuration::PatchexNoShadows => RGBColor(0, 0, 0),
             Configuration::Patchex => RGBColor(213, 94, 0),
             Configuration::PatchexWholeFrame => RGBColor(0, 114, 178),
@@ -155,7 +162,7 @@ pub struct BenchArgs {
     #[arg(
         long,
         value_delimiter = ',',
-        default_value = "motion-vector,occlusion-motion,gbuffer-bilinear,gbuffer,gbuffer-shadows,patchex-no-shadows,patchex,patchex-half-resolution,patchex-whole-frame"
+        default_value = "motion-vector,occlusion-motion,gbuffer-bilinear,gbuffer,gbuffer-shadows,gbuffer-target-shadows,patchex-no-shadows,patchex,patchex-half-resolution,patchex-whole-frame"
     )]
     configurations: Vec<Configuration>,
     /// Frames of the doubled stream rendered per scene and size; targets are the odd frames
@@ -320,7 +327,7 @@ fn measure(
             false,
             shadows.then_some(ShadowRun {
                 earlier: Some((earlier, &manifest.frames[index - 3])),
-                target_mask: false,
+                target_mask: configuration == Configuration::GbufferTargetShadows,
             }),
         )
     };
