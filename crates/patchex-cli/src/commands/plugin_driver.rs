@@ -79,9 +79,10 @@ impl NetworkChoice {
     }
 }
 
-/// What a context is made with: its preset, the weights' folder, FP32 tensors, and the
-/// tensors' patch side (`whole_frame`, the divisor and the blend are chosen per call).
-type ContextKey = (PatchexPreset, Option<PathBuf>, bool, Option<u32>);
+/// What a context is made with: its preset, the weights' folder, FP32 tensors, the tensors'
+/// patch side (`whole_frame`, the divisor and the blend are chosen per call), and whether its
+/// frames come with target shadow masks and no flow.
+type ContextKey = (PatchexPreset, Option<PathBuf>, bool, Option<u32>, bool);
 
 /// How the driver stores a frame's layers in engine images.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
@@ -204,10 +205,13 @@ impl PluginDriver {
     }
 
     /// The context that runs `networks` with or without `shadows`, made on first use.
+    /// The context for `networks` and `shadows`; with the target's shadow mask (`target_mask`)
+    /// one of its own, which never runs the flow, so that its memory is its own.
     fn context_for(
         &self,
         networks: Option<&NetworkChoice>,
         shadows: bool,
+        target_mask: bool,
     ) -> Result<*mut PatchexContext, String> {
         let preset = match (networks.is_some(), shadows) {
             (false, false) => PATCHEX_PRESET_WARP_ONLY,
@@ -220,6 +224,7 @@ impl PluginDriver {
             networks.and_then(|n| n.weights.clone()),
             networks.is_some_and(|n| n.fp32_tensors),
             networks.and_then(|n| n.max_patch_side),
+            target_mask,
         );
         let mut contexts = self.contexts.borrow_mut();
         if let Some((_, context)) = contexts.iter().find(|(k, _)| *k == key) {
@@ -383,7 +388,7 @@ impl PluginDriver {
     ) -> Result<Extrapolated, String> {
         let with_shadows = shadows.is_some();
         let with_target_mask = shadows.is_some_and(|s| s.target_mask);
-        let context = self.context_for(networks, with_shadows)?;
+        let context = self.context_for(networks, with_shadows, with_target_mask)?;
         let earlier = shadows
             .and_then(|s| s.earlier)
             .map(|(layers, info)| self.upload(layers, info, true, true));
