@@ -439,7 +439,9 @@ pub struct PatchexShadowInput {
 /// t's own where the warp carried it from a shadowed texel (the layer over the darkness there),
 /// and the mean over frame t's shadows elsewhere. Dynamic objects keep the shadows on them, as
 /// without this input. It takes effect from the second consecutive frame with a shadow input,
-/// as the flow does; before that, shadows stay where the warp carries them.
+/// as the flow does (before that, shadows stay where the warp carries them), or from the first
+/// with the flow off (PatchexShadowFlowSettings.levels 0), which an engine that gives this
+/// input on every extrapolation should choose: its submits then run no flow.
 ///
 /// What an engine provides: the same mask as PatchexShadowInput's, at the target instant: the
 /// sun's visibility through dynamic casters only, at the target's pixels. A depth-only pass of

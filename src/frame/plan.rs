@@ -110,12 +110,10 @@ fn demodulate(rec: &mut Recorder, plan: &SubmitPlan) {
 
 /// How the shadow mask moved from frame t-1 to frame t.
 fn shadow_flow(rec: &mut Recorder, plan: &SubmitPlan) {
-    let (Some((separation, shadows)), Some(atlases)) = (plan.separation, plan.flow_atlases) else {
+    let atlases = plan.flow_atlases.filter(|_| plan.flow.runs());
+    let (Some((separation, shadows)), Some(atlases)) = (plan.separation, atlases) else {
         return;
     };
-    if !plan.flow.runs() {
-        return;
-    }
     let passes = &plan.passes;
     rec.stage(PATCHEX_STAGE_SHADOW_FLOW, |rec| {
         shadow_flow::record(
@@ -230,7 +228,8 @@ impl<'a> ExtrapolationPlan<'a> {
     }
 
     /// The target's shadows come from its mask: the engine gave one, and frame t's shadows were
-    /// separated from its shading (from the second consecutive frame with a shadow input).
+    /// separated from its shading (from the second consecutive frame with a shadow input, or
+    /// from the first with the flow off).
     fn places_target_shadows(&self) -> bool {
         self.shadows.is_some() && self.shadows_separated && self.target_shadow_mask.is_some()
     }
