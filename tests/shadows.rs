@@ -416,6 +416,25 @@ fn shadow_passes_match_their_references_with_the_motion_vector_warp() {
     assert_shadow_passes_match_their_references("shadow_terrain.toml", 128, 72, &warp, false);
 }
 
+/// The target mask with the motion-vector warp as the frame's, which carries the layer for it
+/// as the G-buffer warp does, and with the G-buffer warp's nearest-texel fill, which leaves no
+/// holes to a fill pass.
+#[test]
+fn target_shadow_passes_match_their_references_with_other_warps() {
+    for warp in [
+        WarpSettings {
+            kind: PATCHEX_WARP_MOTION_VECTOR,
+            ..WarpSettings::default()
+        },
+        WarpSettings {
+            hole_fill: PATCHEX_HOLE_FILL_NEAREST,
+            ..WarpSettings::default()
+        },
+    ] {
+        assert_shadow_passes_match_their_references("fast_run.toml", 128, 72, &warp, true);
+    }
+}
+
 /// A frame wider than 1280 pixels: the flow's finest level averages 4 x 4 pixels.
 #[test]
 fn shadow_flow_of_a_large_frame_starts_coarser_as_the_reference_does() {
