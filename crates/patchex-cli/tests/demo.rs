@@ -53,3 +53,38 @@ fn demo_extrapolates_a_rendered_scene_and_writes_its_report() {
         );
     }
 }
+
+/// With the target's shadow masks: every target runs the target shadows stage, and no flow.
+#[test]
+fn demo_hands_the_plugin_the_target_shadow_masks() {
+    let repo = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let out = tempfile::tempdir().unwrap();
+    let output = Command::new(env!("CARGO_BIN_EXE_patchex"))
+        .arg("demo")
+        .arg(repo.join("scenes/crossing_street.toml"))
+        .args(["--frames", "6", "--size", "128x72", "--validation"])
+        .args(["--shadows", "--target-shadows", "--out"])
+        .arg(out.path())
+        .output()
+        .expect("the patchex binary runs");
+    let text = format!(
+        "{}{}",
+        String::from_utf8_lossy(&output.stdout),
+        String::from_utf8_lossy(&output.stderr)
+    );
+    assert!(output.status.success(), "{text}");
+    let summary = std::fs::read_to_string(out.path().join("summary.json")).unwrap();
+    assert_eq!(
+        summary.matches("\"target shadows\": ").count(),
+        3,
+        "{summary}"
+    );
+    assert!(!summary.contains("\"shadow flow\": "), "{summary}");
+
+    // The mask alone is refused: it needs the shadow input.
+    let refused = Command::new(env!("CARGO_BIN_EXE_patchex"))
+        .args(["demo", "--target-shadows"])
+        .output()
+        .expect("the patchex binary runs");
+    assert!(!refused.status.success());
+}

@@ -45,6 +45,11 @@ pub struct DemoArgs {
     /// shadows creep and change shape, it costs more than it gains (docs/quality.md).
     #[arg(long)]
     shadows: bool,
+    /// With --shadows, also hand the plugin each generated instant's shadow mask
+    /// (PatchexTargetShadowInput) and switch the flow off: the shadows take the shape they have
+    /// at that instant, as an engine's extra depth-only pass of its moving casters gives them.
+    #[arg(long, requires = "shadows")]
+    target_shadows: bool,
     /// Run the inpainting networks on the FI and near-BE patches (with --shadows,
     /// PATCHEX_PRESET_FULL; the built-in weights). Off by default: the shipped weights barely change the frame yet
     /// (docs/quality.md).
@@ -131,7 +136,7 @@ pub fn run(args: DemoArgs) -> CommandResult {
             false,
             args.shadows.then_some(ShadowRun {
                 earlier,
-                target_mask: false,
+                target_mask: args.target_shadows,
             }),
         )?;
         let (width, height) = (manifest.width, manifest.height);
