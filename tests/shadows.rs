@@ -199,6 +199,56 @@ fn worst_error(got: f32, want: f32, absolute: f32, relative: f32) -> f32 {
     (got - want).abs() / (absolute + relative * want.abs())
 }
 
+/// Worst error of an output image against another in units of the colour tolerance.
+fn worst_output_error(got: &Image, want: &Image) -> f32 {
+    got.data
+        .iter()
+        .zip(&want.data)
+        .map(|(&g, &w)| worst_error(g, w, 1e-3, 2e-3))
+        .fold(0.0, f32::max)
+}
+
+/// Frames t-1 and t of `scene` (frames 0 and 2 of its doubled stream) and the instant halfway
+/// to t+1 (frame 3), rendered at `width` x `height`.
+fn rendered_frames(scene: &str, width: u32, height: u32) -> [Frame; 3] {
+    let sequence = support::rendered::render(scene, 4, width, height);
+    let Ok([previous, _, source, target]) = <[Frame; 4]>::try_from(sequence.frames) else {
+        unreachable!("four frames")
+    };
+    [previous, source, target]
+}
+
+/// `run_with_shadows_warped` at alpha 1/2 on a fresh rig of the frames' size, under validation
+/// that must stay silent.
+fn run_validated(
+    frames: [&Frame; 3],
+    with_shadows: [bool; 2],
+    warp: Option<&WarpSettings>,
+    target_shadows: bool,
+    flow: Option<&PatchexShadowFlowSettings>,
+) -> ShadowOutcome {
+    let (width, height) = (frames[1].color.width, frames[1].color.height);
+    let rig = shadows_rig(width as u32, height as u32);
+    let outcome =
+        run_with_shadows_warped(&rig, frames, 0.5, with_shadows, warp, target_shadows, flow);
+    let messages = rig.engine.take_validation_messages();
+    assert!(messages.is_empty(), "validation: {messages:?}");
+    outcome
+}
+
+/// The pixels `indices` of `image`, in one row.
+fn pixels_of(image: &Image, indices: &[usize]) -> Image {
+    Image {
+        width: indices.len(),
+        height: 1,
+        channels: 4,
+        data: indices
+            .iter()
+            .flat_map(|&i| image.data[4 * i..4 * i + 4].to_vec())
+            .collect(),
+    }
+}
+
 #[test]
 fn shadow_passes_match_their_references_on_rendered_frames() {
     assert_shadow_passes_match_their_references(
@@ -240,34 +290,17 @@ fn target_shadow_passes_match_their_references_under_a_moving_camera() {
 /// target, the output comes closer to the rendered target than with the shadows the flow moves.
 #[test]
 fn a_target_shadow_mask_brings_animated_shadows_closer_than_the_flow() {
-    let (width, height) = (160, 90);
-    let sequence = support::rendered::render("fast_run.toml", 4, width, height);
-    let [previous, _, source, target] = &sequence.frames[..] else {
-        unreachable!("four frames")
-    };
-    let frames = [previous, source, target];
+    let frames = rendered_frames("fast_run.toml", 160, 90);
+    let [_, source, target] = &frames;
     let run = |target_shadows| {
-        let rig = shadows_rig(width, height);
-        let outcome =
-            run_with_shadows_warped(&rig, frames, 0.5, [true; 2], None, target_shadows, None);
-        let messages = rig.engine.take_validation_messages();
-        assert!(messages.is_empty(), "validation: {messages:?}");
-        outcome.output
+        run_validated(frames.each_ref(), [true; 2], None, target_shadows, None).output
     };
     let (flow, masked) = (run(false), run(true));
-    let shadowed: Vec<usize> = (0..(width * height) as usize)
+    let shadowed: Vec<usize> = (0..source.shadow_mask.data.len())
         .filter(|&i| source.shadow_mask.data[i] < 0.95 || target.shadow_mask.data[i] < 0.95)
         .filter(|&i| source.stencil.data[i] == 0.0 && target.stencil.data[i] == 0.0)
         .collect();
-    let region = |image: &Image| Image {
-        width: shadowed.len(),
-        height: 1,
-        channels: 4,
-        data: shadowed
-            .iter()
-            .flat_map(|&i| image.data[4 * i..4 * i + 4].to_vec())
-            .collect(),
-    };
+    let region = |image: &Image| pixels_of(image, &shadowed);
     let truth = region(&target.color);
     let (psnr_flow, psnr_masked) = (psnr(&region(&flow), &truth), psnr(&region(&masked), &truth));
     eprintln!(
@@ -291,19 +324,11 @@ fn a_target_shadow_mask_brings_animated_shadows_closer_than_the_flow() {
 /// Both match the reference, and the shadowed output is darker wherever frame t had sun.
 #[test]
 fn target_shadow_masks_all_lit_and_all_shadowed_match_the_reference() {
-    let (width, height) = (128, 72);
-    let sequence = support::rendered::render("fast_run.toml", 4, width, height);
-    let [previous, _, source, target] = &sequence.frames[..] else {
-        unreachable!("four frames")
-    };
+    let [previous, source, target] = &rendered_frames("fast_run.toml", 128, 72);
     let outputs = [1.0, 0.0].map(|visibility| {
         let mut target = target.clone();
         target.shadow_mask.data.fill(visibility);
-        let rig = shadows_rig(width, height);
-        let frames = [previous, source, &target];
-        let outcome = run_with_shadows_warped(&rig, frames, 0.5, [true; 2], None, true, None);
-        let messages = rig.engine.take_validation_messages();
-        assert!(messages.is_empty(), "validation: {messages:?}");
+        let outcome = run_validated([previous, source, &target], [true; 2], None, true, None);
         let expected = reference_run(
             previous,
             source,
@@ -313,13 +338,7 @@ fn target_shadow_masks_all_lit_and_all_shadowed_match_the_reference() {
             true,
             FlowSettings::default(),
         );
-        let worst = outcome
-            .output
-            .data
-            .iter()
-            .zip(&expected.output.data)
-            .map(|(&got, &want)| worst_error(got, want, 1e-3, 2e-3))
-            .fold(0.0f32, f32::max);
+        let worst = worst_output_error(&outcome.output, &expected.output);
         assert!(
             worst <= 1.0,
             "mask {visibility}: output differs from the reference ({worst})"
@@ -327,11 +346,12 @@ fn target_shadow_masks_all_lit_and_all_shadowed_match_the_reference() {
         outcome.output
     });
     let [lit, shadowed] = &outputs;
-    let darker = (0..(width * height) as usize)
+    let pixels = lit.width * lit.height;
+    let darker = (0..pixels)
         .filter(|&i| luminance(&shadowed.data[4 * i..]) < 0.98 * luminance(&lit.data[4 * i..]))
         .count();
     assert!(
-        darker > (width * height) as usize / 4,
+        darker > pixels / 4,
         "only {darker} pixels darker all in shadow"
     );
 }
@@ -341,20 +361,11 @@ fn target_shadow_masks_all_lit_and_all_shadowed_match_the_reference() {
 /// the frame's warp carries them, as the reference keeps them.
 #[test]
 fn with_the_flow_off_the_target_mask_gives_the_same_frames_for_less() {
-    let (width, height) = (128, 72);
-    let sequence = support::rendered::render("fast_run.toml", 4, width, height);
-    let [previous, _, source, target] = &sequence.frames[..] else {
-        unreachable!("four frames")
-    };
-    let frames = [previous, source, target];
+    let frames = rendered_frames("fast_run.toml", 128, 72);
+    let [previous, source, target] = &frames;
     let off = flow_off();
     let run = |target_shadows, flow| {
-        let rig = shadows_rig(width, height);
-        let outcome =
-            run_with_shadows_warped(&rig, frames, 0.5, [true; 2], None, target_shadows, flow);
-        let messages = rig.engine.take_validation_messages();
-        assert!(messages.is_empty(), "validation: {messages:?}");
-        outcome
+        run_validated(frames.each_ref(), [true; 2], None, target_shadows, flow)
     };
     let with_flow = run(true, None);
     let without_flow = run(true, Some(&off));
@@ -387,13 +398,7 @@ fn with_the_flow_off_the_target_mask_gives_the_same_frames_for_less() {
         flow,
     );
     support::pipeline::assert_stages_agree(&expected, &carried.stats);
-    let worst = carried
-        .output
-        .data
-        .iter()
-        .zip(&expected.output.data)
-        .map(|(&got, &want)| worst_error(got, want, 1e-3, 2e-3))
-        .fold(0.0f32, f32::max);
+    let worst = worst_output_error(&carried.output, &expected.output);
     assert!(worst <= 1.0, "output differs from the reference ({worst})");
     assert!(
         carried
@@ -459,24 +464,15 @@ fn assert_shadow_passes_match_their_references(
     warp: &WarpSettings,
     target_shadows: bool,
 ) {
-    // Frames 0 and 2 are rendered frames t-1 and t, frame 3 the instant halfway to t+1.
-    let sequence = support::rendered::render(scene, 4, width, height);
-    let [previous, _, source, target] = &sequence.frames[..] else {
-        unreachable!("four frames")
-    };
-    let rig = shadows_rig(width, height);
-    let frames = [previous, source, target];
-    let outcome = run_with_shadows_warped(
-        &rig,
-        frames,
-        0.5,
+    let frames = rendered_frames(scene, width, height);
+    let [previous, source, target] = &frames;
+    let outcome = run_validated(
+        frames.each_ref(),
         [true; 2],
         Some(warp),
         target_shadows,
         None,
     );
-    let messages = rig.engine.take_validation_messages();
-    assert!(messages.is_empty(), "validation: {messages:?}");
     let expected = reference_run(
         previous,
         source,
@@ -489,8 +485,7 @@ fn assert_shadow_passes_match_their_references(
     support::pipeline::assert_stages_agree(&expected, &outcome.stats);
     let shadows = expected.shadows.as_ref().expect("a shadow input was given");
 
-    let (mut flow_worst, mut layer_worst, mut share_worst, mut output_worst) =
-        (0.0f32, 0.0f32, 0.0f32, 0.0f32);
+    let (mut flow_worst, mut layer_worst, mut share_worst) = (0.0f32, 0.0f32, 0.0f32);
     let mut moving = 0;
     for y in 0..height as usize {
         for x in 0..width as usize {
@@ -505,12 +500,9 @@ fn assert_shadow_passes_match_their_references(
             layer_worst = layer_worst.max(worst_error(got[2], layer, 1e-4, 2e-3));
             let share = round_to_f16(luminance(shadows.share.at(x, y)));
             share_worst = share_worst.max(worst_error(got[3], share, 1e-3, 2e-3));
-            for c in 0..3 {
-                let (g, w) = (outcome.output.at(x, y)[c], expected.output.at(x, y)[c]);
-                output_worst = output_worst.max(worst_error(g, w, 1e-3, 2e-3));
-            }
         }
     }
+    let output_worst = worst_output_error(&outcome.output, &expected.output);
     eprintln!(
         "worst / tolerance: flow {flow_worst:.3}, layer {layer_worst:.3}, shadow share \
          {share_worst:.3}, output {output_worst:.3}; {moving} pixels of flow over 0.5 px"
@@ -548,18 +540,10 @@ fn assert_shadow_passes_match_their_references(
 #[test]
 fn untracked_shadows_stay_on_their_receivers_under_a_moving_camera() {
     let (width, height) = (128, 72);
-    let sequence = support::rendered::render("fast_run.toml", 4, width, height);
-    let [previous, _, source, target] = &sequence.frames[..] else {
-        unreachable!("four frames")
-    };
-    let frames = [previous, source, target];
-    let [started, without] = [[false, true], [false; 2]].map(|with_shadows| {
-        let rig = shadows_rig(width, height);
-        let outcome = run_with_shadows_warped(&rig, frames, 0.5, with_shadows, None, false, None);
-        let messages = rig.engine.take_validation_messages();
-        assert!(messages.is_empty(), "validation: {messages:?}");
-        outcome
-    });
+    let frames = rendered_frames("fast_run.toml", width, height);
+    let source = &frames[1];
+    let [started, without] = [[false, true], [false; 2]]
+        .map(|with_shadows| run_validated(frames.each_ref(), with_shadows, None, false, None));
 
     assert_eq!(started.stats.shadow_history, PATCHEX_SHADOW_HISTORY_STARTED);
     let traffic = &started.stats.extrapolation_traffic[0];
@@ -572,10 +556,7 @@ fn untracked_shadows_stay_on_their_receivers_under_a_moving_camera() {
     );
     let changed = started.diagnostics.data.chunks(4).filter(|d| d[3] != 0.0);
     assert_eq!(changed.count(), 0, "pixels with a shadow share");
-    let mut output_worst = 0.0f32;
-    for (g, w) in started.output.data.iter().zip(&without.output.data) {
-        output_worst = output_worst.max(worst_error(*g, *w, 1e-3, 2e-3));
-    }
+    let output_worst = worst_output_error(&started.output, &without.output);
     eprintln!("worst / tolerance against the output without a shadow input: {output_worst:.3}");
     assert!(output_worst <= 1.0, "the shadows moved");
     // The case is real: the camera moves the ground by pixels, and it is in shadow.
@@ -703,20 +684,10 @@ fn moving_the_shadow_brings_the_extrapolation_closer_to_the_rendered_target() {
     let with = run_with_shadows(&rig, &previous, &source, &target, 0.5, true);
 
     // Scored where frame t or the target has shadow: where the shadow was and where it went.
-    let region = |image: &Image| {
-        let mut data = Vec::new();
-        for i in 0..source.shadow_mask.data.len() {
-            if source.shadow_mask.data[i] < 0.95 || target.shadow_mask.data[i] < 0.95 {
-                data.extend_from_slice(&image.data[4 * i..4 * i + 4]);
-            }
-        }
-        Image {
-            width: data.len() / 4,
-            height: 1,
-            channels: 4,
-            data,
-        }
-    };
+    let shadowed: Vec<usize> = (0..source.shadow_mask.data.len())
+        .filter(|&i| source.shadow_mask.data[i] < 0.95 || target.shadow_mask.data[i] < 0.95)
+        .collect();
+    let region = |image: &Image| pixels_of(image, &shadowed);
     let truth = region(&target.color);
     let (psnr_without, psnr_with) = (
         psnr(&region(&without.output), &truth),
