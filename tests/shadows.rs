@@ -176,20 +176,6 @@ fn reference_run(
     )
 }
 
-/// Flow settings that switch the flow off (levels 0), the rest at their defaults.
-fn flow_off() -> PatchexShadowFlowSettings {
-    PatchexShadowFlowSettings {
-        header: PatchexStructHeader::of::<PatchexShadowFlowSettings>(
-            PATCHEX_STRUCT_TYPE_SHADOW_FLOW_SETTINGS,
-        ),
-        levels: 0,
-        iterations: PATCHEX_DEFAULT_FLOW_ITERATIONS,
-        window_radius: PATCHEX_DEFAULT_FLOW_WINDOW_RADIUS,
-        poly_radius: PATCHEX_DEFAULT_FLOW_POLY_RADIUS,
-        poly_sigma: PATCHEX_DEFAULT_FLOW_POLY_SIGMA,
-    }
-}
-
 fn luminance(pixel: &[f32]) -> f32 {
     Vec3::from_slice(pixel).dot(LUMINANCE)
 }
@@ -363,7 +349,7 @@ fn target_shadow_masks_all_lit_and_all_shadowed_match_the_reference() {
 fn with_the_flow_off_the_target_mask_gives_the_same_frames_for_less() {
     let frames = rendered_frames("fast_run.toml", 128, 72);
     let [previous, source, target] = &frames;
-    let off = flow_off();
+    let off = FlowSettings::off().to_abi();
     let run = |target_shadows, flow| {
         run_validated(frames.each_ref(), [true; 2], None, target_shadows, flow)
     };
@@ -387,7 +373,7 @@ fn with_the_flow_off_the_target_mask_gives_the_same_frames_for_less() {
     );
 
     let carried = run(false, Some(&off));
-    let flow = FlowSettings::from_abi(&off).unwrap();
+    let flow = FlowSettings::off();
     let expected = reference_run(
         previous,
         source,
@@ -740,16 +726,7 @@ fn bad_shadow_inputs_and_flow_settings_are_refused() {
     let family = rig.engine.queue_family_index;
     let gpu = GpuFrame::upload(&rig.engine, &source);
 
-    let settings = PatchexShadowFlowSettings {
-        header: PatchexStructHeader::of::<PatchexShadowFlowSettings>(
-            PATCHEX_STRUCT_TYPE_SHADOW_FLOW_SETTINGS,
-        ),
-        levels: PATCHEX_DEFAULT_FLOW_LEVELS,
-        iterations: PATCHEX_DEFAULT_FLOW_ITERATIONS,
-        window_radius: PATCHEX_DEFAULT_FLOW_WINDOW_RADIUS,
-        poly_radius: PATCHEX_DEFAULT_FLOW_POLY_RADIUS,
-        poly_sigma: PATCHEX_DEFAULT_FLOW_POLY_SIGMA,
-    };
+    let settings = FlowSettings::default().to_abi();
     // Submits frame 1 with `shadow` and, when given, `settings` chained after it.
     let submit = |shadow: PatchexShadowInput, settings: Option<PatchexShadowFlowSettings>| {
         let mut shadow = shadow;
@@ -995,7 +972,7 @@ fn shadow_history_survives_resizes_resets_and_gaps() {
         ((160, 96), false, true, false, STARTED),
         ((160, 96), false, true, false, TRACKED),
     ];
-    let flow_off = flow_off();
+    let flow_off = FlowSettings::off().to_abi();
     for (index, &((width, height), reset, with_shadows, off, history)) in plan.iter().enumerate() {
         let scene = Scene {
             width,

@@ -59,9 +59,32 @@ impl Default for FlowSettings {
 }
 
 impl FlowSettings {
+    /// The defaults with the flow switched off (levels 0), for an engine that gives a
+    /// `PatchexTargetShadowInput` on every extrapolation.
+    pub fn off() -> Self {
+        Self {
+            levels: 0,
+            ..Self::default()
+        }
+    }
+
     /// Levels 0 switch the flow off (`PatchexShadowFlowSettings.levels`).
     pub fn runs(&self) -> bool {
         self.levels > 0
+    }
+
+    /// These settings as the struct an engine chains.
+    pub fn to_abi(&self) -> PatchexShadowFlowSettings {
+        PatchexShadowFlowSettings {
+            header: PatchexStructHeader::of::<PatchexShadowFlowSettings>(
+                PATCHEX_STRUCT_TYPE_SHADOW_FLOW_SETTINGS,
+            ),
+            levels: self.levels,
+            iterations: self.iterations,
+            window_radius: self.window_radius,
+            poly_radius: self.poly_radius,
+            poly_sigma: self.poly_sigma,
+        }
     }
 
     pub fn from_abi(settings: &PatchexShadowFlowSettings) -> Result<Self> {

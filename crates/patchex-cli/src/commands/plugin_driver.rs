@@ -15,6 +15,7 @@ use patchex::abi::*;
 use patchex::error::PatchexResult;
 use patchex::ffi::PatchexContext;
 use patchex::loader::PatchexLibrary;
+use patchex::passes::shadow_flow::FlowSettings;
 use patchex::passes::warp::WarpSettings;
 use patchex_harness::{Engine, EngineImage, EngineOptions};
 use patchex_scene::dataset::{
@@ -447,16 +448,7 @@ impl PluginDriver {
             next = input as *const PatchexTargetShadowInput as *const c_void;
         }
         // With target masks on every extrapolation, the frames need no flow.
-        let flow_off = PatchexShadowFlowSettings {
-            header: PatchexStructHeader::of::<PatchexShadowFlowSettings>(
-                PATCHEX_STRUCT_TYPE_SHADOW_FLOW_SETTINGS,
-            ),
-            levels: 0,
-            iterations: PATCHEX_DEFAULT_FLOW_ITERATIONS,
-            window_radius: PATCHEX_DEFAULT_FLOW_WINDOW_RADIUS,
-            poly_radius: PATCHEX_DEFAULT_FLOW_POLY_RADIUS,
-            poly_sigma: PATCHEX_DEFAULT_FLOW_POLY_SIGMA,
-        };
+        let flow_off = FlowSettings::off().to_abi();
         let shadow_input = |frame: &UploadedFrame| {
             frame
                 .shadow

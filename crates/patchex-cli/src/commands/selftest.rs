@@ -281,10 +281,7 @@ fn expected(
         mask: &source.shadow_mask,
         previous: Some((&earlier.shadow_mask, &earlier.stencil, &earlier.camera)),
         flow: if configuration.target_shadows {
-            FlowSettings {
-                levels: 0,
-                ..FlowSettings::default()
-            }
+            FlowSettings::off()
         } else {
             FlowSettings::default()
         },
