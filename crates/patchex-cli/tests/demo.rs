@@ -4,14 +4,17 @@
 use std::path::Path;
 use std::process::Command;
 
-#[test]
-fn demo_extrapolates_a_rendered_scene_and_writes_its_report() {
+/// Runs the demo on crossing_street, 6 frames at 128x72 under validation, with `options`;
+/// returns its output folder and what it printed.
+fn demo(options: &[&str]) -> (tempfile::TempDir, String) {
     let repo = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
     let out = tempfile::tempdir().unwrap();
     let output = Command::new(env!("CARGO_BIN_EXE_patchex"))
         .arg("demo")
         .arg(repo.join("scenes/crossing_street.toml"))
-        .args(["--frames", "6", "--size", "128x72", "--validation", "--out"])
+        .args(["--frames", "6", "--size", "128x72", "--validation"])
+        .args(options)
+        .arg("--out")
         .arg(out.path())
         .output()
         .expect("the patchex binary runs");
@@ -21,6 +24,12 @@ fn demo_extrapolates_a_rendered_scene_and_writes_its_report() {
         String::from_utf8_lossy(&output.stderr)
     );
     assert!(output.status.success(), "{text}");
+    (out, text)
+}
+
+#[test]
+fn demo_extrapolates_a_rendered_scene_and_writes_its_report() {
+    let (out, text) = demo(&[]);
     for target in [1, 3, 5] {
         assert!(
             out.path()
@@ -57,22 +66,7 @@ fn demo_extrapolates_a_rendered_scene_and_writes_its_report() {
 /// With the target's shadow masks: every target runs the target shadows stage, and no flow.
 #[test]
 fn demo_hands_the_plugin_the_target_shadow_masks() {
-    let repo = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-    let out = tempfile::tempdir().unwrap();
-    let output = Command::new(env!("CARGO_BIN_EXE_patchex"))
-        .arg("demo")
-        .arg(repo.join("scenes/crossing_street.toml"))
-        .args(["--frames", "6", "--size", "128x72", "--validation"])
-        .args(["--shadows", "--target-shadows", "--out"])
-        .arg(out.path())
-        .output()
-        .expect("the patchex binary runs");
-    let text = format!(
-        "{}{}",
-        String::from_utf8_lossy(&output.stdout),
-        String::from_utf8_lossy(&output.stderr)
-    );
-    assert!(output.status.success(), "{text}");
+    let (out, _) = demo(&["--shadows", "--target-shadows"]);
     let summary = std::fs::read_to_string(out.path().join("summary.json")).unwrap();
     assert_eq!(
         summary.matches("\"target shadows\": ").count(),
