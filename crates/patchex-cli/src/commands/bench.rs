@@ -506,6 +506,12 @@ fn fill_share_table(
     }
 }
 
+/// Where both `wanted` configurations sit among those measured, if both were.
+fn positions(configurations: &[Configuration], wanted: [Configuration; 2]) -> Option<[usize; 2]> {
+    let find = |wanted| configurations.iter().position(|c| *c == wanted);
+    Some([find(wanted[0])?, find(wanted[1])?])
+}
+
 /// The warp stage with Catmull-Rom on static surfaces (the default) against bilinear
 /// everywhere, per size: the resampling's price and what it buys.
 fn resample_table(
@@ -514,10 +520,9 @@ fn resample_table(
     configurations: &[Configuration],
     results: &[Vec<Measured>],
 ) {
-    let find = |wanted| configurations.iter().position(|c| *c == wanted);
-    let (Some(sharp), Some(bilinear)) = (
-        find(Configuration::Gbuffer),
-        find(Configuration::GbufferBilinear),
+    let Some([sharp, bilinear]) = positions(
+        configurations,
+        [Configuration::Gbuffer, Configuration::GbufferBilinear],
     ) else {
         return;
     };
@@ -558,10 +563,9 @@ fn patch_ratio_table(
     configurations: &[Configuration],
     results: &[Vec<Measured>],
 ) {
-    let find = |wanted| configurations.iter().position(|c| *c == wanted);
-    let (Some(patches), Some(whole)) = (
-        find(Configuration::Patchex),
-        find(Configuration::PatchexWholeFrame),
+    let Some([patches, whole]) = positions(
+        configurations,
+        [Configuration::Patchex, Configuration::PatchexWholeFrame],
     ) else {
         return;
     };
