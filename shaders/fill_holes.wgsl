@@ -8,6 +8,7 @@
 // face the same way. Dispatched indirectly from the warp's count, so a frame without holes
 // runs no workgroup. src/reference/warp.rs (`fill_hole`) mirrors it.
 // #import gbuffer
+// #import cameras
 // #import warp
 // #import tallies
 

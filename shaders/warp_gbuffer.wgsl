@@ -8,6 +8,7 @@
 // (2r+1)^2 window with a joint bilateral kernel instead. A pixel whose source leaves the screen or finds no agreeing texel is a hole;
 // a hole on screen is filled from the side the disocclusion uncovers, by fill_holes.wgsl.
 // #import gbuffer
+// #import cameras
 // #import warp
 // #import warp_entry
 // #import tallies

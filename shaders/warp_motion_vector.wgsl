@@ -3,6 +3,7 @@
 // geometry than the target pixel (it was hidden in frame t) the result ghosts; such pixels, and
 // those whose source leaves the screen, are counted as holes.
 // #import gbuffer
+// #import cameras
 // #import warp
 // #import warp_entry
 // #import tallies

@@ -5,6 +5,7 @@
 // that lands on the best-agreeing surface: at a disocclusion that is the occluder's own motion,
 // which fetches the background beside the occluder in frame t instead of the occluder.
 // #import gbuffer
+// #import cameras
 // #import warp
 // #import warp_entry
 // #import tallies

@@ -1,7 +1,8 @@
 // What every backward warp shares: its parameters, bindings and hole counters, the target's
 // G-buffer read straight from the engine's images, the geometry agreement test, and how a pixel
 // is stored, remodulated when nothing else runs between the warp and the output. The entry point
-// is warp_entry.wgsl; fill_holes.wgsl shares the rest. Needs gbuffer.wgsl and tallies.wgsl.
+// is warp_entry.wgsl; fill_holes.wgsl shares the rest. Needs gbuffer.wgsl, cameras.wgsl and
+// tallies.wgsl.
 // src/reference/warp.rs mirrors it.
 
 // A source texel agrees with the target when its geometry weight reaches this value.
@@ -59,27 +60,6 @@ struct WarpCounters {
     invalid_geometry_pixels: atomic<u32>,
     // With `remodulate`: pixels whose material or result was sanitised.
     sanitized_pixels: atomic<u32>,
-}
-
-// Each instant's camera as rays through its pixel centres, scaled to unit linear depth: the
-// surface seen through pixel (x, y) lies at position + depth * (at_origin + x per_x + y per_y).
-// Exact for any perspective projection, since linear depth runs along its axis.
-struct Cameras {
-    source_position: vec3f,
-    source_at_origin: vec3f,
-    source_per_x: vec3f,
-    source_per_y: vec3f,
-    target_position: vec3f,
-    target_at_origin: vec3f,
-    target_per_x: vec3f,
-    target_per_y: vec3f,
-    // How the target's engine depth and normals read (gbuffer.wgsl `linear_depth`,
-    // `unit_normal`).
-    target_depth_curve: vec4f,
-    target_far: f32,
-    target_depth_convention: u32,
-    target_normal_encoding: u32,
-    target_has_stencil: u32,
 }
 
 @group(0) @binding(0) var source_shading: texture_2d<f32>;
