@@ -39,6 +39,7 @@ const PLANE_NOV: u32 = 19u;
 const PLANE_SHADOW_MASK: u32 = 20u;
 const PLANE_FINAL_NO_DYNAMIC_SHADOWS: u32 = 21u;
 const PLANE_SPECULAR_LIGHT: u32 = 24u;
+const PLANE_STATIC_SHADOW_MASK: u32 = 27u;
 
 fn store(plane: u32, pixel: u32, value: f32) {
     let plane_size = u32(frame.viewport.x) * u32(frame.viewport.y);
@@ -125,6 +126,7 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
         store(PLANE_MOTION + 1u, pixel, motion.y);
         store(PLANE_NOV, pixel, 1.0);
         store(PLANE_SHADOW_MASK, pixel, 1.0);
+        store(PLANE_STATIC_SHADOW_MASK, pixel, 1.0);
         let lit = select(vec3<f32>(0.0), sky, options.lighting == 1u);
         store3(PLANE_FINAL, pixel, lit);
         store3(PLANE_FINAL_NO_DYNAMIC_SHADOWS, pixel, lit);
@@ -166,6 +168,7 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     let static_visibility = sun_visibility(static_shadow_map, light_clip, frame.shadow_params.x);
     let dynamic_visibility = sun_visibility(dynamic_shadow_map, light_clip, frame.shadow_params.x);
     store(PLANE_SHADOW_MASK, pixel, dynamic_visibility);
+    store(PLANE_STATIC_SHADOW_MASK, pixel, static_visibility);
     if options.lighting != 1u {
         store3(PLANE_FINAL, pixel, vec3<f32>(0.0));
         store3(PLANE_FINAL_NO_DYNAMIC_SHADOWS, pixel, vec3<f32>(0.0));

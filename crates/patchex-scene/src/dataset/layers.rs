@@ -28,6 +28,9 @@ pub const SHADOW_MASK: &str = "ShadowMask";
 pub const FINAL_IMAGE_NO_DYNAMIC_SHADOWS: &str = "FinalImageNoDynamicShadows";
 /// The view-dependent part of FinalImage: the sun's and the sky's specular reflection.
 pub const SPECULAR_LIGHT: &str = "SpecularLight";
+/// The sun's visibility through static casters; the sun's whole visibility is this times
+/// ShadowMask (dynamic casters).
+pub const STATIC_SHADOW_MASK: &str = "StaticShadowMask";
 
 pub const LAYERS: &[LayerSpec] = &[
     LayerSpec {
@@ -114,10 +117,16 @@ pub const LAYERS: &[LayerSpec] = &[
         first_plane: 24,
         lit: true,
     },
+    LayerSpec {
+        name: STATIC_SHADOW_MASK,
+        channels: R,
+        first_plane: 27,
+        lit: false,
+    },
 ];
 
 /// Number of f32 planes the resolve pass writes.
-pub const PLANE_COUNT: usize = 27;
+pub const PLANE_COUNT: usize = 28;
 
 pub fn layer_spec(name: &str) -> Option<&'static LayerSpec> {
     LAYERS.iter().find(|layer| layer.name == name)

@@ -48,6 +48,18 @@ pub struct Manifest {
     pub frames: Vec<FrameInfo>,
     pub dynamic_objects: Vec<DynamicObject>,
     pub layers: Vec<String>,
+    /// The sun that lit every frame; older manifests have none.
+    #[serde(default)]
+    pub sun: Option<SunInfo>,
+}
+
+/// The scene's sun, as an engine gives it to `PatchexSunLight`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SunInfo {
+    /// Unit, world space, from a surface towards the sun.
+    pub direction: [f32; 3],
+    /// Colour times intensity: a white Lambertian surface facing the sun shows this over pi.
+    pub illuminance: [f32; 3],
 }
 
 fn one_target_between() -> usize {

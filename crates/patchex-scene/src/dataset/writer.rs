@@ -1,7 +1,9 @@
 //! Renders a scene into a sequence folder: `frame_NNNN.exr` per frame plus `manifest.json`.
 
 use super::reader::frame_file_name;
-use super::{write_exr, DynamicObject, FrameInfo, FrameRole, Manifest, LAYERS, MOTION_VECTOR};
+use super::{
+    write_exr, DynamicObject, FrameInfo, FrameRole, Manifest, SunInfo, LAYERS, MOTION_VECTOR,
+};
 use crate::error::{io_error, Result};
 use crate::gpu::Gpu;
 use crate::render::{FrameRequest, Renderer};
@@ -99,6 +101,10 @@ pub fn render_sequence(
             })
             .collect(),
         layers: LAYERS.iter().map(|layer| layer.name.to_owned()).collect(),
+        sun: Some(SunInfo {
+            direction: world.sun.direction.to_array(),
+            illuminance: world.sun.radiance.to_array(),
+        }),
     };
     let manifest_path = options.out_dir.join("manifest.json");
     let json = serde_json::to_string_pretty(&manifest).expect("the manifest is plain data");
