@@ -92,7 +92,7 @@
 #include <vulkan/vulkan.h>
 
 // Version of this ABI, returned by `patchex_abi_version`; bumped on any incompatible change.
-#define PATCHEX_ABI_VERSION 13
+#define PATCHEX_ABI_VERSION 14
 
 // The warp settings a context uses unless told otherwise: a 3x3 gather; a texel keeps most of
 // its weight within ~5% relative depth, ~0.1 of (1 - cos) of normal angle (about 25 degrees),
@@ -346,7 +346,8 @@ typedef struct PatchexGeometry {
 typedef struct PatchexFrameDesc {
   // PATCHEX_STRUCT_TYPE_FRAME_DESC, sizeof(PatchexFrameDesc), optional chain
   // (PatchexShadowInput turns the shadow sub-task on for this frame; PatchexShadowFlowSettings
-  // overrides the context's flow settings for it).
+  // overrides the context's flow settings for it; PatchexSunLight moves the sun's highlights
+  // with the view).
   struct PatchexStructHeader header;
   // The engine's frame number. Without `reset` it must exceed the previous submit's
   // (PATCHEX_RESULT_ERROR_OUT_OF_ORDER otherwise); a gap (not previous + 1) drops history as
@@ -428,8 +429,9 @@ typedef struct PatchexExtrapolationStats {
   // Fraction of target pixels whose source fell off-screen.
   float offscreen_fraction;
   // Target pixels whose base colour or material had to be sanitised (as for
-  // `source_sanitized_pixels`), or whose result exceeded the largest half float and was
-  // clamped to it.
+  // `source_sanitized_pixels`; with frame t's PatchexSunLight, also the roughness of the
+  // pixels its highlights are placed on), or whose result exceeded the largest half float
+  // and was clamped to it. A pixel is counted once by each pass that sanitised it.
   uint32_t sanitized_pixels;
   // Fraction of target pixels in the foreground-interaction region (dynamic objects).
   float fi_fraction;
@@ -506,8 +508,10 @@ typedef struct PatchexFrameStats {
   // Pixels of frame t with an input patchex had to sanitise: a colour (or, with a shadow
   // input, a colour without dynamic shadows) that is NaN, negative, infinite or beyond the
   // largest half float (65504), or a base colour, metallic, specular or shadow-mask value
-  // that is NaN or outside [0, 1]. NaN becomes 0, everything else the nearest usable value.
-  // Bright colour within the half-float range is never changed, whatever its base colour.
+  // that is NaN or outside [0, 1] (with a PatchexSunLight, also the sun's visibility, and the
+  // roughness of pixels the sun reaches). NaN becomes 0, everything else the nearest usable
+  // value. Bright colour within the half-float range is never changed, whatever its base
+  // colour. A pixel is counted once by each pass that sanitised it.
   uint32_t source_sanitized_pixels;
   // Pixels of frame t whose depth is NaN or outside its convention's range, or whose normal
   // has a NaN or infinite component (as for `invalid_geometry_pixels`; its motion vectors are
@@ -643,6 +647,42 @@ typedef struct PatchexTargetShadowInput {
   // channel. Float or UNORM formats. Values outside [0, 1] or NaN are sanitised and counted.
   struct PatchexImage mask;
 } PatchexTargetShadowInput;
+
+// Chainable on PatchexFrameDesc: the sun (one directional light) that lit frame t, so that its
+// highlights move with the view instead of staying where frame t saw them. Without it, patchex
+// warps the light a surface reflects towards the camera as if it did not depend on the view: a
+// glossy floor's highlight stays on the floor where frame t saw it, and a moving camera sees it
+// stuck to the surface instead of sliding.
+//
+// How patchex uses it: in frame t it takes the sun's specular reflection out of the shading it
+// warps, and at the target it adds the reflection back as the target's view sees it, times the
+// visibility carried from frame t by the motion vectors (and, with a shadow input, times the
+// dynamic shadows' share at the target). The reflection is the one the glTF metallic-roughness
+// model and Unreal's default lit shading evaluate: a GGX distribution of alpha = roughness^2
+// (roughness below 0.02 evaluated as 0.02), height-correlated Smith visibility and Schlick's
+// Fresnel from a specular colour of lerp(0.08 * specular, base colour, metallic), read from
+// `base_color` and `material` (R metallic, G specular, B roughness; without a material image,
+// metallic 0, specular 0.5, roughness 0.5). The target's `material` should be given too. Light
+// from the sky and other lights stays in the warped shading. A renderer with another specular
+// model leaves the difference where frame t had it.
+//
+// It costs patchex one pass over frame t's pixels in the submit, and one over the target's.
+typedef struct PatchexSunLight {
+  // PATCHEX_STRUCT_TYPE_SUN_LIGHT, sizeof(PatchexSunLight), chain.
+  struct PatchexStructHeader header;
+  // World-space direction from a surface towards the sun, in the normals' space; any finite
+  // length above 0 (patchex normalises it).
+  float direction[3];
+  // The light's colour times its intensity, in linear RGB, as the engine shades with it and in
+  // the units of `color` (with any pre-exposure): a white Lambertian surface facing the sun
+  // shows illuminance / pi. Finite, >= 0.
+  float illuminance[3];
+  // Visibility of the sun at frame t's pixels, in [0, 1], in the first channel: the shadow
+  // term the engine lit `color` with, through every caster; with a PatchexShadowInput, through
+  // the static casters alone (the term `color_without_dynamic_shadows` was lit with). Float or
+  // UNORM formats. Values outside [0, 1] or NaN are sanitised and counted.
+  struct PatchexImage visibility;
+} PatchexSunLight;
 
 // Chainable on PatchexCreateInfo (context default) or PatchexFrameDesc (this frame), with a
 // shadows preset (PATCHEX_PRESET_WARP_AND_SHADOWS or FULL): the dense optical flow that
@@ -780,6 +820,8 @@ typedef struct PatchexShadowDiagnostics {
 
 #define PATCHEX_STRUCT_TYPE_TARGET_SHADOW_INPUT 15
 
+#define PATCHEX_STRUCT_TYPE_SUN_LIGHT 16
+
 // Demodulate, warp (PatchexWarpSettings), remodulate. Holes keep the warp's nearest colour.
 #define PATCHEX_PRESET_WARP_ONLY 0
 
@@ -907,6 +949,11 @@ typedef struct PatchexShadowDiagnostics {
 // Extrapolation with a PatchexTargetShadowInput, after the shadow layer's warp: the sun's share
 // of frame t's light over its shadows, then the shadows placed from the target's mask.
 #define PATCHEX_STAGE_TARGET_SHADOWS 14
+
+// Extrapolation of a frame that came with a PatchexSunLight, after remodulation: the sun's
+// highlights, evaluated for the target's view. (Frame t's are taken out of its shading in
+// PATCHEX_STAGE_DEMODULATE.)
+#define PATCHEX_STAGE_HIGHLIGHTS 15
 
 #define PATCHEX_RESET_NONE 0
 

@@ -26,7 +26,7 @@ pub type PFN_vkGetInstanceProcAddr = Option<vk::PFN_vkGetInstanceProcAddr>;
 pub type PFN_vkGetDeviceProcAddr = Option<vk::PFN_vkGetDeviceProcAddr>;
 
 /// Version of this ABI, returned by `patchex_abi_version`; bumped on any incompatible change.
-pub const PATCHEX_ABI_VERSION: u32 = 13;
+pub const PATCHEX_ABI_VERSION: u32 = 14;
 
 /// 0 or 1; any other value is rejected as an invalid argument.
 pub type PatchexBool = u32;
@@ -48,6 +48,7 @@ pub const PATCHEX_STRUCT_TYPE_NETWORK_SETTINGS: PatchexStructType = 12;
 pub const PATCHEX_STRUCT_TYPE_NETWORK_PRECISION: PatchexStructType = 13;
 pub const PATCHEX_STRUCT_TYPE_NETWORK_MEMORY: PatchexStructType = 14;
 pub const PATCHEX_STRUCT_TYPE_TARGET_SHADOW_INPUT: PatchexStructType = 15;
+pub const PATCHEX_STRUCT_TYPE_SUN_LIGHT: PatchexStructType = 16;
 
 /// The first fields of every versioned struct, read before the rest.
 #[repr(C)]
@@ -257,7 +258,8 @@ impl PatchexCreateInfo {
 pub struct PatchexFrameDesc {
     /// PATCHEX_STRUCT_TYPE_FRAME_DESC, sizeof(PatchexFrameDesc), optional chain
     /// (PatchexShadowInput turns the shadow sub-task on for this frame; PatchexShadowFlowSettings
-    /// overrides the context's flow settings for it).
+    /// overrides the context's flow settings for it; PatchexSunLight moves the sun's highlights
+    /// with the view).
     pub header: PatchexStructHeader,
     /// The engine's frame number. Without `reset` it must exceed the previous submit's
     /// (PATCHEX_RESULT_ERROR_OUT_OF_ORDER otherwise); a gap (not previous + 1) drops history as
@@ -457,6 +459,44 @@ pub struct PatchexTargetShadowInput {
     pub mask: PatchexImage,
 }
 
+/// Chainable on PatchexFrameDesc: the sun (one directional light) that lit frame t, so that its
+/// highlights move with the view instead of staying where frame t saw them. Without it, patchex
+/// warps the light a surface reflects towards the camera as if it did not depend on the view: a
+/// glossy floor's highlight stays on the floor where frame t saw it, and a moving camera sees it
+/// stuck to the surface instead of sliding.
+///
+/// How patchex uses it: in frame t it takes the sun's specular reflection out of the shading it
+/// warps, and at the target it adds the reflection back as the target's view sees it, times the
+/// visibility carried from frame t by the motion vectors (and, with a shadow input, times the
+/// dynamic shadows' share at the target). The reflection is the one the glTF metallic-roughness
+/// model and Unreal's default lit shading evaluate: a GGX distribution of alpha = roughness^2
+/// (roughness below 0.02 evaluated as 0.02), height-correlated Smith visibility and Schlick's
+/// Fresnel from a specular colour of lerp(0.08 * specular, base colour, metallic), read from
+/// `base_color` and `material` (R metallic, G specular, B roughness; without a material image,
+/// metallic 0, specular 0.5, roughness 0.5). The target's `material` should be given too. Light
+/// from the sky and other lights stays in the warped shading. A renderer with another specular
+/// model leaves the difference where frame t had it.
+///
+/// It costs patchex one pass over frame t's pixels in the submit, and one over the target's.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct PatchexSunLight {
+    /// PATCHEX_STRUCT_TYPE_SUN_LIGHT, sizeof(PatchexSunLight), chain.
+    pub header: PatchexStructHeader,
+    /// World-space direction from a surface towards the sun, in the normals' space; any finite
+    /// length above 0 (patchex normalises it).
+    pub direction: [f32; 3],
+    /// The light's colour times its intensity, in linear RGB, as the engine shades with it and in
+    /// the units of `color` (with any pre-exposure): a white Lambertian surface facing the sun
+    /// shows illuminance / pi. Finite, >= 0.
+    pub illuminance: [f32; 3],
+    /// Visibility of the sun at frame t's pixels, in [0, 1], in the first channel: the shadow
+    /// term the engine lit `color` with, through every caster; with a PatchexShadowInput, through
+    /// the static casters alone (the term `color_without_dynamic_shadows` was lit with). Float or
+    /// UNORM formats. Values outside [0, 1] or NaN are sanitised and counted.
+    pub visibility: PatchexImage,
+}
+
 /// Farneback optical-flow settings a context uses unless told otherwise: three pyramid levels
 /// (motion up to about 4 * window_radius pixels), three iterations per level, a 15x15 window,
 /// and a 5x5 polynomial fit with sigma 1.1 (Farneback's own choice for that size).
@@ -644,6 +684,10 @@ pub const PATCHEX_STAGE_FILL_HOLES: PatchexStage = 13;
 /// Extrapolation with a PatchexTargetShadowInput, after the shadow layer's warp: the sun's share
 /// of frame t's light over its shadows, then the shadows placed from the target's mask.
 pub const PATCHEX_STAGE_TARGET_SHADOWS: PatchexStage = 14;
+/// Extrapolation of a frame that came with a PatchexSunLight, after remodulation: the sun's
+/// highlights, evaluated for the target's view. (Frame t's are taken out of its shading in
+/// PATCHEX_STAGE_DEMODULATE.)
+pub const PATCHEX_STAGE_HIGHLIGHTS: PatchexStage = 15;
 /// Size of the `gpu_ms` arrays; stages added later take indices below it.
 pub const PATCHEX_STAGE_SLOTS: usize = 16;
 
@@ -686,8 +730,9 @@ pub struct PatchexExtrapolationStats {
     /// Fraction of target pixels whose source fell off-screen.
     pub offscreen_fraction: f32,
     /// Target pixels whose base colour or material had to be sanitised (as for
-    /// `source_sanitized_pixels`), or whose result exceeded the largest half float and was
-    /// clamped to it.
+    /// `source_sanitized_pixels`; with frame t's PatchexSunLight, also the roughness of the
+    /// pixels its highlights are placed on), or whose result exceeded the largest half float
+    /// and was clamped to it. A pixel is counted once by each pass that sanitised it.
     pub sanitized_pixels: u32,
     /// Fraction of target pixels in the foreground-interaction region (dynamic objects).
     pub fi_fraction: f32,
@@ -755,8 +800,10 @@ pub struct PatchexFrameStats {
     /// Pixels of frame t with an input patchex had to sanitise: a colour (or, with a shadow
     /// input, a colour without dynamic shadows) that is NaN, negative, infinite or beyond the
     /// largest half float (65504), or a base colour, metallic, specular or shadow-mask value
-    /// that is NaN or outside [0, 1]. NaN becomes 0, everything else the nearest usable value.
-    /// Bright colour within the half-float range is never changed, whatever its base colour.
+    /// that is NaN or outside [0, 1] (with a PatchexSunLight, also the sun's visibility, and the
+    /// roughness of pixels the sun reaches). NaN becomes 0, everything else the nearest usable
+    /// value. Bright colour within the half-float range is never changed, whatever its base
+    /// colour. A pixel is counted once by each pass that sanitised it.
     pub source_sanitized_pixels: u32,
     /// Pixels of frame t whose depth is NaN or outside its convention's range, or whose normal
     /// has a NaN or infinite component (as for `invalid_geometry_pixels`; its motion vectors are

@@ -39,6 +39,9 @@ pub(crate) struct SourceFrame {
     /// tracked, the flow ran and left its expansion for the next frame's; separated, its
     /// shadows await a target mask.
     pub shadow_history: PatchexShadowHistory,
+    /// Its `PatchexSunLight`: its highlights were taken out of its shading, and its visibility
+    /// of the sun is in the highlight images.
+    pub sun: Option<crate::passes::highlights::Sun>,
 }
 
 impl SourceFrame {

@@ -179,6 +179,11 @@ unsafe fn read_chain(
                 )?;
                 extensions.target_shadow_mask = Some(input.mask);
             }
+            PATCHEX_STRUCT_TYPE_SUN_LIGHT => {
+                let input =
+                    read_versioned(next.cast::<PatchexSunLight>(), kind, "PatchexSunLight")?;
+                extensions.sun = Some(input);
+            }
             PATCHEX_STRUCT_TYPE_SHADOW_FLOW_SETTINGS => {
                 let settings = read_versioned(
                     next.cast::<PatchexShadowFlowSettings>(),
@@ -485,6 +490,7 @@ pub unsafe extern "C" fn patchex_submit_gbuffers(
             &[
                 PATCHEX_STRUCT_TYPE_SHADOW_INPUT,
                 PATCHEX_STRUCT_TYPE_SHADOW_FLOW_SETTINGS,
+                PATCHEX_STRUCT_TYPE_SUN_LIGHT,
             ],
             "PatchexFrameDesc",
         )?;

@@ -58,6 +58,44 @@ pub fn shadow(gpu: &Gpu, input: &PatchexShadowInput, extent: vk::Extent2D) -> Re
     })
 }
 
+/// A frame's optional sun (`PatchexSunLight`), checked: a unit direction and a usable
+/// illuminance.
+pub struct SunInputs {
+    pub direction: glam::Vec3,
+    pub illuminance: glam::Vec3,
+    pub visibility: ImportedImage,
+}
+
+pub fn sun(gpu: &Gpu, input: &PatchexSunLight, extent: vk::Extent2D) -> Result<SunInputs> {
+    let direction = glam::Vec3::from_array(input.direction);
+    let length = direction.length();
+    if !length.is_finite() || length <= f32::MIN_POSITIVE {
+        bail!(
+            ErrorInvalidArgument,
+            "PatchexSunLight.direction {:?} is not a direction: it needs a finite length above 0",
+            input.direction
+        );
+    }
+    let illuminance = glam::Vec3::from_array(input.illuminance);
+    if !illuminance.is_finite() || illuminance.min_element() < 0.0 {
+        bail!(
+            ErrorInvalidArgument,
+            "PatchexSunLight.illuminance {:?} must be finite and >= 0 in every channel",
+            input.illuminance
+        );
+    }
+    Ok(SunInputs {
+        direction: direction / length,
+        illuminance,
+        visibility: ImportedImage::import_required(
+            gpu,
+            &input.visibility,
+            &ImageRole::input("PatchexSunLight.visibility", MASK_FORMATS),
+            extent,
+        )?,
+    })
+}
+
 pub struct TargetInputs {
     pub alpha: f32,
     pub extent: vk::Extent2D,

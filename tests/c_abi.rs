@@ -40,6 +40,7 @@ fn write_frame(frame: &Frame, path: &Path) {
         &frame.color_without_dynamic_shadows,
         &frame.depth,
         &frame.shadow_mask,
+        &frame.static_visibility,
         &frame.motion,
     ];
     for image in floats {
@@ -163,6 +164,14 @@ fn c11_engine_reaches_every_feature_and_matches_the_rust_path() {
     for (index, frame) in sequence.frames.iter().enumerate() {
         write_frame(frame, &data.join(format!("frame{index}.bin")));
     }
+    let sun = sequence.manifest.sun.expect("the renderer records its sun");
+    let sun_floats: Vec<u8> = sun
+        .direction
+        .iter()
+        .chain(&sun.illuminance)
+        .flat_map(|v| v.to_ne_bytes())
+        .collect();
+    std::fs::write(data.join("sun.bin"), sun_floats).unwrap();
     // The shipped weights, read from their files (PatchexNetworkWeights).
     let fi = root.join("assets/networks/fi.safetensors");
     let near_be = root.join("assets/networks/near_be.safetensors");
@@ -260,11 +269,13 @@ fn c11_engine_reaches_every_feature_and_matches_the_rust_path() {
     let diagnostics = output_image(engine, WIDTH, HEIGHT);
     let shadow_diagnostics = output_image(engine, WIDTH, HEIGHT);
     let target_shadows = output_image(engine, WIDTH, HEIGHT);
-    let submit = |cmd, frame: &GpuFrame, index, flow: Option<&PatchexShadowFlowSettings>| {
+    let submit = |cmd, frame: &GpuFrame, index, flow: Option<&PatchexShadowFlowSettings>, lit| {
         let mut shadow = frame.shadow_input();
         shadow.header.next = flow.map_or(std::ptr::null(), link);
+        let mut light = frame.sun_light(&sun, true);
+        light.header.next = link(&shadow);
         let mut desc = frame.frame_desc(index, family);
-        desc.header.next = link(&shadow);
+        desc.header.next = if lit { link(&light) } else { link(&shadow) };
         assert_eq!(
             rig.submit(cmd, &desc),
             PatchexResult::Success,
@@ -291,7 +302,7 @@ fn c11_engine_reaches_every_feature_and_matches_the_rust_path() {
         ..flow
     };
     engine.run(|cmd| {
-        submit(cmd, &frames[0], 1, Some(&frame_flow));
+        submit(cmd, &frames[0], 1, Some(&frame_flow), false);
         let diag = PatchexDiagnostics {
             header: header_of::<PatchexDiagnostics>(
                 PATCHEX_STRUCT_TYPE_DIAGNOSTICS,
@@ -302,7 +313,7 @@ fn c11_engine_reaches_every_feature_and_matches_the_rust_path() {
         extrapolate(cmd, &frames[1], &first, link(&diag));
     });
     engine.run(|cmd| {
-        submit(cmd, &frames[2], 2, None);
+        submit(cmd, &frames[2], 2, None, true);
         let kinds = [
             PATCHEX_WARP_GBUFFER_GUIDED,
             PATCHEX_WARP_MOTION_VECTOR,
@@ -403,6 +414,10 @@ fn c11_engine_reaches_every_feature_and_matches_the_rust_path() {
         ran(masked, PATCHEX_STAGE_TARGET_SHADOWS) && !ran(guided, PATCHEX_STAGE_TARGET_SHADOWS)
     );
     assert!(ran(guided, PATCHEX_STAGE_SHADOW_WARP) && ran(guided, PATCHEX_STAGE_DIAGNOSTICS));
+    assert!(second
+        .extrapolations
+        .iter()
+        .all(|s| ran(s, PATCHEX_STAGE_HIGHLIGHTS)));
     assert!(ran(guided, PATCHEX_STAGE_INFERENCE) && guided.repaired_fraction > 0.0);
     assert!(!ran(motion, PATCHEX_STAGE_DIAGNOSTICS));
     assert!(ran(occlusion, PATCHEX_STAGE_PACK_OUTPUT) && occlusion.repaired_fraction == 1.0);

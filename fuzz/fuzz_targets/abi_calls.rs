@@ -276,7 +276,7 @@ fn mostly<T>(
 fn unknown_struct_type(u: &mut Unstructured) -> Result<u32> {
     let struct_type: u32 = u.arbitrary()?;
     Ok(
-        if (1..=PATCHEX_STRUCT_TYPE_TARGET_SHADOW_INPUT).contains(&struct_type) {
+        if (1..=PATCHEX_STRUCT_TYPE_SUN_LIGHT).contains(&struct_type) {
             0
         } else {
             struct_type
@@ -363,6 +363,7 @@ enum Link {
     Segmentation(Box<PatchexSegmentationSettings>),
     Diagnostics(Box<PatchexDiagnostics>),
     TargetShadows(Box<PatchexTargetShadowInput>),
+    Sun(Box<PatchexSunLight>),
     Unknown(Box<PatchexStructHeader>),
 }
 
@@ -373,6 +374,7 @@ impl Link {
             Link::Segmentation(s) => &mut s.header,
             Link::Diagnostics(s) => &mut s.header,
             Link::TargetShadows(s) => &mut s.header,
+            Link::Sun(s) => &mut s.header,
             Link::Unknown(h) => h,
         }
     }
@@ -383,6 +385,7 @@ impl Link {
             Link::Segmentation(s) => &**s as *const _ as *const c_void,
             Link::Diagnostics(s) => &**s as *const _ as *const c_void,
             Link::TargetShadows(s) => &**s as *const _ as *const c_void,
+            Link::Sun(s) => &**s as *const _ as *const c_void,
             Link::Unknown(h) => &**h as *const _ as *const c_void,
         }
     }
@@ -392,7 +395,7 @@ impl Link {
 fn chain(u: &mut Unstructured, world: &World) -> Result<(Vec<Link>, *const c_void)> {
     let mut links = Vec::new();
     for _ in 0..u.int_in_range(0..=3)? {
-        let link = match u.int_in_range(0..=4)? {
+        let link = match u.int_in_range(0..=5)? {
             0 => Link::Warp(Box::new(PatchexWarpSettings {
                 header: header(
                     u,
@@ -434,6 +437,17 @@ fn chain(u: &mut Unstructured, world: &World) -> Result<(Vec<Link>, *const c_voi
                 )?,
                 // A depth image: R32_SFLOAT, a mask's format.
                 mask: image(u, world, DEPTH)?,
+            })),
+            4 => Link::Sun(Box::new(PatchexSunLight {
+                header: header(
+                    u,
+                    PATCHEX_STRUCT_TYPE_SUN_LIGHT,
+                    size_of::<PatchexSunLight>(),
+                )?,
+                direction: mostly(u, [0.3, 0.8, 0.5], |u| u.arbitrary())?,
+                illuminance: mostly(u, [3.0, 3.0, 2.8], |u| u.arbitrary())?,
+                // A depth image: R32_SFLOAT, a visibility's format.
+                visibility: image(u, world, DEPTH)?,
             })),
             _ => Link::Unknown(Box::new(PatchexStructHeader {
                 struct_type: unknown_struct_type(u)?,

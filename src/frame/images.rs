@@ -213,6 +213,22 @@ impl ShadowImages {
     ];
 }
 
+/// What the sun's highlights need between the submit and the extrapolations, made at the first
+/// frame with a sun.
+pub type HighlightImages = ImageSet<1, Highlights>;
+pub struct Highlights;
+
+impl HighlightImages {
+    /// Frame t's visibility of the sun, which the target's highlights read where the motion
+    /// vectors say each pixel was.
+    pub const VISIBILITY: usize = 0;
+
+    const SPECS: [ImageSpec; 1] = [frame_image(
+        "patchex sun visibility",
+        vk::Format::R16_SFLOAT,
+    )];
+}
+
 /// The shadow flow's pyramid atlases, made at the first frame whose flow runs: a context whose
 /// flow is off never holds them.
 pub type FlowAtlases = ImageSet<10, Flow>;
@@ -282,6 +298,8 @@ pub struct FrameImages {
     pub shadows: Option<ShadowImages>,
     /// Made at the first frame whose shadow flow runs.
     pub flow: Option<FlowAtlases>,
+    /// Made at the first frame with a sun.
+    pub highlights: Option<HighlightImages>,
     pub output_staging: Option<OutputStaging>,
     /// 1x1 images bound where an optional input is absent; the shaders never read them.
     placeholder_float: OwnedImage,
@@ -295,7 +313,8 @@ impl FrameImages {
         AnalysisImages::check_formats(gpu, &AnalysisImages::SPECS)?;
         OutputStaging::check_formats(gpu, &OutputStaging::SPECS)?;
         ShadowImages::check_formats(gpu, &ShadowImages::SPECS)?;
-        FlowAtlases::check_formats(gpu, &FlowAtlases::SPECS)
+        FlowAtlases::check_formats(gpu, &FlowAtlases::SPECS)?;
+        HighlightImages::check_formats(gpu, &HighlightImages::SPECS)
     }
 
     /// The placeholders; every other set waits for its first frame.
@@ -335,6 +354,7 @@ impl FrameImages {
             analysis: None,
             shadows: None,
             flow: None,
+            highlights: None,
             output_staging: None,
             placeholder_float: float,
             placeholder_uint: uint,
@@ -358,6 +378,18 @@ impl FrameImages {
     pub fn ensure_flow(&mut self, growth: &mut Growth) -> Result<bool> {
         let extent = self.work_extent();
         grow(growth, &mut self.flow, extent, &FlowAtlases::SPECS)
+    }
+
+    /// Makes or grows the highlights' images to the working images' extent.
+    pub fn ensure_highlights(&mut self, growth: &mut Growth) -> Result<()> {
+        let extent = self.work_extent();
+        grow(
+            growth,
+            &mut self.highlights,
+            extent,
+            &HighlightImages::SPECS,
+        )
+        .map(drop)
     }
 
     /// Makes or grows the analysis images to the working images' extent.
@@ -401,8 +433,10 @@ impl FrameImages {
         let work = self.work.iter_mut().flat_map(|w| w.images.iter_mut());
         let shadows = self.shadows.iter_mut().flat_map(|s| s.images.iter_mut());
         let flow = self.flow.iter_mut().flat_map(|f| f.images.iter_mut());
+        let highlights = self.highlights.iter_mut().flat_map(|h| h.images.iter_mut());
         work.chain(shadows)
             .chain(flow)
+            .chain(highlights)
             .chain([&mut self.placeholder_float, &mut self.placeholder_uint])
     }
 
@@ -411,6 +445,7 @@ impl FrameImages {
             + self.analysis.as_ref().map_or(0, |a| a.size_bytes())
             + self.shadows.as_ref().map_or(0, |s| s.size_bytes())
             + self.flow.as_ref().map_or(0, |f| f.size_bytes())
+            + self.highlights.as_ref().map_or(0, |h| h.size_bytes())
             + self.output_staging.as_ref().map_or(0, |s| s.size_bytes())
             + self.placeholder_float.size_bytes()
             + self.placeholder_uint.size_bytes()
@@ -421,6 +456,7 @@ impl FrameImages {
         let analysis = self.analysis.take().map(|a| a.images);
         let shadows = self.shadows.take().map(|s| s.images);
         let flow = self.flow.take().map(|f| f.images);
+        let highlights = self.highlights.take().map(|h| h.images);
         let staging = self.output_staging.take().map(|s| s.images);
         for mut image in work
             .into_iter()
@@ -428,6 +464,7 @@ impl FrameImages {
             .chain(analysis.into_iter().flatten())
             .chain(shadows.into_iter().flatten())
             .chain(flow.into_iter().flatten())
+            .chain(highlights.into_iter().flatten())
             .chain(staging.into_iter().flatten())
         {
             image.destroy(gpu, allocator);
@@ -483,7 +520,8 @@ mod tests {
             .chain(&AnalysisImages::SPECS)
             .chain(&OutputStaging::SPECS)
             .chain(&ShadowImages::SPECS)
-            .chain(&FlowAtlases::SPECS);
+            .chain(&FlowAtlases::SPECS)
+            .chain(&HighlightImages::SPECS);
         for spec in specs {
             assert!(
                 texel_bytes(spec.format, vk::ImageAspectFlags::COLOR) > 0,

@@ -9,7 +9,9 @@ use ash::vk;
 use crate::abi::*;
 use crate::camera::PixelRays;
 use crate::frame::counters;
-use crate::frame::images::{AnalysisImages, FlowAtlases, OutputStaging, ShadowImages, WorkImages};
+use crate::frame::images::{
+    AnalysisImages, FlowAtlases, HighlightImages, OutputStaging, ShadowImages, WorkImages,
+};
 use crate::frame::settings::NetworkSwitches;
 use crate::passes::inpaint::{self, Inpainting};
 use crate::passes::pack_gbuffer::EngineGbuffer;
@@ -17,7 +19,7 @@ use crate::passes::segmentation::{self, SegmentationSettings};
 use crate::passes::shadow_flow::{self, FlowSettings};
 use crate::passes::warp::{self, Remodulation, Store, WarpSettings};
 use crate::passes::{
-    demodulate, diagnostics, fill_holes, lbp, pack_gbuffer, pack_output, remodulate,
+    demodulate, diagnostics, fill_holes, highlights, lbp, pack_gbuffer, pack_output, remodulate,
     separate_shadows, target_shadows, CounterRange, PipelineId, Pipelines, RegionPasses, Texture,
     SANITIZE_COUNTER_BYTES,
 };
@@ -42,6 +44,8 @@ pub struct SubmitPlan<'a> {
     pub reprojection: Option<PixelRays>,
     /// Frame t's shadows are separated from its shading (`submit::shadows_separated`).
     pub separates: bool,
+    /// With a sun: what frame t's highlights are taken out with, and where its visibility is kept.
+    pub highlights: Option<(&'a highlights::SourceHighlights<'a>, &'a HighlightImages)>,
     pub placeholder_uint: Texture,
 }
 
@@ -71,40 +75,53 @@ fn pack_source(rec: &mut Recorder, plan: &SubmitPlan) {
     });
 }
 
-/// Frame t's colour over its modulation; with a shadow input, also the shadow layer apart.
+/// Frame t's colour over its modulation; with a shadow input, also the shadow layer apart; with
+/// a sun, less its highlights.
 fn demodulate(rec: &mut Recorder, plan: &SubmitPlan) {
     let sanitized = plan
         .passes
         .counters(counters::SANITIZE, SANITIZE_COUNTER_BYTES);
     let shading = &plan.work[WorkImages::SOURCE_SHADING];
-    rec.stage(PATCHEX_STAGE_DEMODULATE, |rec| match plan.separation {
-        Some((separation, shadows)) => {
-            separate_shadows::record(
-                rec,
-                plan.passes.get(PipelineId::SeparateShadows),
-                plan.extent,
-                separation,
-                &separate_shadows::SeparationOutputs {
-                    source_normal_id: &plan.work[WorkImages::SOURCE_NORMAL_ID],
-                    shading,
-                    shadow_layer: &shadows[ShadowImages::LAYER],
-                },
-                &sanitized,
-                plan.separates,
-            );
-            if !plan.flow.runs() {
-                // The flow is off: no motion, for the diagnostics to show.
-                rec.clear(&shadows[ShadowImages::FLOW]);
+    rec.stage(PATCHEX_STAGE_DEMODULATE, |rec| {
+        match plan.separation {
+            Some((separation, shadows)) => {
+                separate_shadows::record(
+                    rec,
+                    plan.passes.get(PipelineId::SeparateShadows),
+                    plan.extent,
+                    separation,
+                    &separate_shadows::SeparationOutputs {
+                        source_normal_id: &plan.work[WorkImages::SOURCE_NORMAL_ID],
+                        shading,
+                        shadow_layer: &shadows[ShadowImages::LAYER],
+                    },
+                    &sanitized,
+                    plan.separates,
+                );
+                if !plan.flow.runs() {
+                    // The flow is off: no motion, for the diagnostics to show.
+                    rec.clear(&shadows[ShadowImages::FLOW]);
+                }
             }
+            None => demodulate::record(
+                rec,
+                plan.passes.get(PipelineId::Demodulate),
+                plan.extent,
+                &plan.demodulation,
+                shading,
+                &sanitized,
+            ),
         }
-        None => demodulate::record(
-            rec,
-            plan.passes.get(PipelineId::Demodulate),
-            plan.extent,
-            &plan.demodulation,
-            shading,
-            &sanitized,
-        ),
+        if let Some((highlights, images)) = plan.highlights {
+            highlights::record_removal(
+                rec,
+                plan.passes.get(PipelineId::RemoveHighlights),
+                plan.extent,
+                highlights,
+                shading,
+                &images[HighlightImages::VISIBILITY],
+            );
+        }
     });
 }
 
@@ -182,6 +199,8 @@ pub struct ExtrapolationPlan<'a> {
     pub deferred_holes: [CounterRange; 2],
     pub diagnostics: Option<Texture>,
     pub shadow_diagnostics: Option<Texture>,
+    /// Frame t came with a sun: its highlights as the target sees them.
+    pub highlights: Option<highlights::TargetHighlights<'a>>,
 }
 
 /// Records the extrapolation's stages in order.
@@ -195,6 +214,7 @@ pub fn record(rec: &mut Recorder, plan: &ExtrapolationPlan) {
     inference_and_blend(rec, plan);
     diagnostics(rec, plan);
     remodulate(rec, plan);
+    place_highlights(rec, plan);
     pack_output(rec, plan);
 }
 
@@ -239,8 +259,8 @@ impl<'a> ExtrapolationPlan<'a> {
         self.lists_holes() && self.warp.hole_fill == PATCHEX_HOLE_FILL_BACKGROUND
     }
 
-    /// With nothing to run between the warp and the output (no shadow layers, networks or
-    /// diagnostics), the warp remodulates as it writes, and the frame is read and written once.
+    /// With nothing to run between the warp and the output but the highlights (no shadow layers,
+    /// networks or diagnostics), the warp remodulates as it writes.
     fn remodulates_in_warp(&self) -> bool {
         self.shadows.is_none() && self.analysis.is_none()
     }
@@ -576,6 +596,23 @@ fn remodulate(rec: &mut Recorder, plan: &ExtrapolationPlan) {
             &plan
                 .passes
                 .counters(counters::SANITIZE, SANITIZE_COUNTER_BYTES),
+        )
+    });
+}
+
+/// The sun's highlights as the target sees them, added to the remodulated frame.
+fn place_highlights(rec: &mut Recorder, plan: &ExtrapolationPlan) {
+    let Some(highlights) = &plan.highlights else {
+        return;
+    };
+    rec.stage(PATCHEX_STAGE_HIGHLIGHTS, |rec| {
+        highlights::record_placement(
+            rec,
+            plan.passes.get(PipelineId::PlaceHighlights),
+            plan.extent,
+            highlights,
+            &plan.cameras,
+            plan.frame,
         )
     });
 }

@@ -25,6 +25,7 @@ pub struct Extensions {
     /// `PatchexTargetShadowInput.mask`.
     pub target_shadow_mask: Option<PatchexImage>,
     pub flow: Option<FlowSettings>,
+    pub sun: Option<PatchexSunLight>,
     pub network_weights: Option<NetworkWeightPaths>,
     pub networks: Option<NetworkSwitches>,
     pub network_precision: Option<TensorPrecision>,

@@ -6,11 +6,16 @@ use ash::vk;
 use crate::abi::*;
 use crate::context::{Context, SourceFrame};
 use crate::error::{bail, Result};
+use crate::frame::counters;
 use crate::frame::images::Growth;
+use crate::frame::images::WorkImages;
 use crate::frame::plan::{self, SubmitPlan};
 use crate::frame::settings::{Extensions, NEEDS_SHADOW_PRESET};
 use crate::inputs::{self, GeometryInputs, SourceInputs};
-use crate::passes::{demodulate, pack_gbuffer, separate_shadows, RegionPasses};
+use crate::passes::highlights::{self, Sun};
+use crate::passes::{
+    demodulate, pack_gbuffer, separate_shadows, RegionPasses, SANITIZE_COUNTER_BYTES,
+};
 use crate::vk::barriers::EngineImageAccess;
 use crate::vk::frame_ring::{FrameRecord, RegionRecord};
 use crate::vk::image::OwnedImage;
@@ -37,6 +42,10 @@ impl Context {
             .shadow
             .map(|input| inputs::shadow(&self.gpu, &input, inputs.extent))
             .transpose()?;
+        let sun_inputs = extensions
+            .sun
+            .map(|input| inputs::sun(&self.gpu, &input, inputs.extent))
+            .transpose()?;
         let flow_settings = extensions.flow.unwrap_or(self.defaults.flow);
         let reset_reason = self.reset_reason(&inputs)?;
         let (placeholder, placeholder_uint) = self.images.placeholders();
@@ -57,6 +66,10 @@ impl Context {
             None => None,
         };
         let gbuffer = engine_gbuffer(&mut access, &inputs.geometry)?;
+        let sun_visibility = sun_inputs
+            .as_ref()
+            .map(|sun| access.read(&sun.visibility))
+            .transpose()?;
 
         let serial = self.source.as_ref().map_or(1, |s| s.serial + 1);
         self.ring.collect(&self.gpu, &mut self.allocator, serial);
@@ -67,6 +80,9 @@ impl Context {
             serial,
         };
         self.images.ensure_work(&mut growth, inputs.extent)?;
+        if sun_inputs.is_some() {
+            self.images.ensure_highlights(&mut growth)?;
+        }
         // Frame t-1's expansion is usable when its flow made it, unbroken, on the same images;
         // this frame's flow, switched off, needs none.
         let flow_made_expansion = |history| {
@@ -117,10 +133,39 @@ impl Context {
         };
         rec.fill_zero(&passes.all_counters());
         let mut rec = rec.timed(&self.ring, slot, 0);
+        let separates = shadows_separated(shadow_history);
+        let work = self.images.work.as_ref().expect("allocated above");
+        let sun = sun_inputs.as_ref().map(|input| Sun {
+            direction: input.direction,
+            illuminance: input.illuminance,
+        });
+        let highlights = sun.zip(sun_visibility).map(|(sun, visibility)| {
+            let highlights = highlights::SourceHighlights {
+                sun,
+                visibility,
+                // Shadows left in the shading: the visibility it holds is through every caster.
+                dynamic_mask: separation_inputs
+                    .as_ref()
+                    .filter(|_| !separates)
+                    .map(|separation| separation.mask),
+                base_color,
+                material,
+                placeholder,
+                rays: inputs
+                    .geometry
+                    .camera
+                    .pixel_rays(inputs.extent, inputs.geometry.camera.position()),
+                source_depth: &work[WorkImages::SOURCE_DEPTH],
+                source_normal_id: &work[WorkImages::SOURCE_NORMAL_ID],
+                sanitized: passes.counters(counters::SANITIZE, SANITIZE_COUNTER_BYTES),
+            };
+            let images = self.images.highlights.as_ref().expect("allocated above");
+            (highlights, images)
+        });
         let plan = SubmitPlan {
             extent: inputs.extent,
             passes,
-            work: self.images.work.as_ref().expect("allocated above"),
+            work,
             gbuffer: &gbuffer,
             demodulation: demodulate::DemodulateInputs {
                 color,
@@ -133,7 +178,8 @@ impl Context {
             shadow_current: self.shadow_current,
             flow: flow_settings,
             reprojection,
-            separates: shadows_separated(shadow_history),
+            separates,
+            highlights: highlights.as_ref().map(|(h, images)| (h, *images)),
             placeholder_uint,
         };
         plan::record_submit(&mut rec, &plan);
@@ -163,6 +209,7 @@ impl Context {
             extent: inputs.extent,
             camera: inputs.geometry.camera,
             shadow_history,
+            sun,
         });
         Ok(())
     }

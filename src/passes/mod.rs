@@ -6,6 +6,7 @@
 pub mod demodulate;
 pub mod diagnostics;
 pub mod fill_holes;
+pub mod highlights;
 pub mod inpaint;
 pub mod lbp;
 pub mod pack_gbuffer;
@@ -87,7 +88,7 @@ const fn stage(id: PatchexStage, name: &'static str, group: RuntimeGroup) -> Sta
 /// Every stage a frame can run, in the order they are recorded: the submit's, then each
 /// extrapolation's. The recorder holds every call to this order (`Recorder::stage`) and the
 /// reference follows it (`reference::extrapolate`).
-pub const STAGES: [Stage; 14] = {
+pub const STAGES: [Stage; 15] = {
     use RuntimeGroup::*;
     [
         stage(PATCHEX_STAGE_PACK_SOURCE_GBUFFER, "pack source", Gbuffer),
@@ -103,6 +104,7 @@ pub const STAGES: [Stage; 14] = {
         stage(PATCHEX_STAGE_BLEND, "blend", Blending),
         stage(PATCHEX_STAGE_DIAGNOSTICS, "diagnostics", Output),
         stage(PATCHEX_STAGE_REMODULATE, "remodulate", Blending),
+        stage(PATCHEX_STAGE_HIGHLIGHTS, "highlights", Warping),
         stage(PATCHEX_STAGE_PACK_OUTPUT, "pack output", Output),
     ]
 };
@@ -132,6 +134,9 @@ macro_rules! pipeline_table {
 
 pipeline_table! {
     Demodulate: demodulate, 1;
+    /// With a sun: frame t's highlights out of its shading, in the submit; the target's in.
+    RemoveHighlights: remove_highlights, 1;
+    PlaceHighlights: place_highlights, 1;
     /// Frame t's G-buffer, in the submit.
     PackGbuffer: pack_gbuffer, 1;
     SeparateShadows: separate_shadows, 1;

@@ -4,6 +4,7 @@
 
 pub mod demodulate;
 pub mod gbuffer;
+pub mod highlights;
 pub mod inpaint;
 pub mod lbp;
 pub mod network;
@@ -28,6 +29,8 @@ pub struct FrameInputs<'a> {
     pub camera: &'a crate::camera::Camera,
     pub normal_encoding: u32,
     pub motion_vector_scale: [f32; 2],
+    /// Frame t's `PatchexSunLight`: the sun, and its visibility image.
+    pub sun: Option<(crate::passes::highlights::Sun, &'a Image)>,
 }
 
 /// Frame t's shadow input, and frame t-1's when it had one (and no reset came between).
@@ -138,10 +141,31 @@ pub fn extrapolate(
             separates(shadow),
         )
     });
-    let (shading, source_sanitized) = match &separated {
+    let (mut shading, mut source_sanitized) = match &separated {
         Some(separated) => (separated.shading.clone(), separated.sanitized),
         None => demodulate::demodulate(color, source.base_color, source.material),
     };
+    // With a sun: its highlights out of the shading, its visibility kept for the target.
+    let kept_visibility = source.sun.map(|(sun, visibility)| {
+        let (without, kept, sanitized) = highlights::remove(
+            &shading,
+            &highlights::SourceHighlights {
+                sun,
+                visibility,
+                dynamic_mask: shadow_inputs
+                    .filter(|shadow| !separates(shadow))
+                    .map(|shadow| shadow.mask),
+                base_color: source.base_color,
+                material: source.material,
+                rays: source.camera.pixel_rays(extent, source.camera.position()),
+                geometry: &source_packed.geometry,
+                normal_id: &source_packed.normal_id,
+            },
+        );
+        shading = without;
+        source_sanitized += sanitized;
+        (sun, kept)
+    });
     stages.push(PATCHEX_STAGE_DEMODULATE);
     // The shadows' flow to frame t-1, in frame t's submit: none without frame t-1's mask or
     // with the flow off.
@@ -280,7 +304,33 @@ pub fn extrapolate(
         target.material,
     );
     stages.push(PATCHEX_STAGE_REMODULATE);
-    let target_sanitized = remodulate_sanitized + target_mask_sanitized;
+    let mut target_sanitized = remodulate_sanitized + target_mask_sanitized;
+    let output = match &kept_visibility {
+        Some((sun, kept)) => {
+            stages.push(PATCHEX_STAGE_HIGHLIGHTS);
+            let (output, sanitized) = highlights::place(
+                &output,
+                &highlights::TargetHighlights {
+                    sun: *sun,
+                    kept_visibility: kept,
+                    source_geometry: &source_packed.geometry,
+                    source_normal_id: &source_packed.normal_id,
+                    geometry: &target_packed.geometry,
+                    normal_id: &target_packed.normal_id,
+                    valid: &target_packed.valid,
+                    base_color: target.base_color,
+                    material: target.material,
+                    motion,
+                    warp: &params,
+                    shadow_share: shadows.as_ref().map(|s| &s.share),
+                    rays: target.camera.pixel_rays(extent, origin),
+                },
+            );
+            target_sanitized += sanitized;
+            output
+        }
+        None => output,
+    };
     Extrapolation {
         output,
         warped,

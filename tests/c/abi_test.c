@@ -9,10 +9,11 @@
  *
  * DATA_DIR holds frame0.bin .. frame3.bin (rendered frames t-1 and t at 0 and 2, the instants
  * halfway to the next frame at 1 and 3), each: a PatchexCamera, then colour, base colour,
- * material, normal and colour without dynamic shadows as RGBA32F, depth and shadow mask as
- * R32F, motion vectors as RG32F and stencil ids as R8_UINT. The program creates a FULL context
- * with every create-time chained struct, submits frames 0 and 2 with their shadow input, and
- * extrapolates: frame 1 with diagnostics; frame 3 three times, once per warp kind, with
+ * material, normal and colour without dynamic shadows as RGBA32F, depth, shadow mask and the
+ * sun's visibility through static casters as R32F, motion vectors as RG32F and stencil ids as
+ * R8_UINT; and sun.bin, the sun's direction and illuminance (six floats). The program creates a
+ * FULL context with every create-time chained struct, submits frames 0 and 2 with their shadow
+ * input (frame 2 also with the sun), and extrapolates: frame 1 with diagnostics; frame 3 three times, once per warp kind, with
  * segmentation and network settings, both diagnostics and, last, an A2B10G10R10 output; then
  * frame 3 once more with its own shadow mask as the target shadow input. It
  * writes each output image and both frames' statistics to OUT_DIR, and exits 0 only when every
@@ -40,7 +41,7 @@ static void write_image(Image *image, const char *dir, const char *name) {
 typedef struct Frame {
   PatchexCamera camera;
   Image color, base_color, material, normal, color_without_dynamic_shadows;
-  Image depth, shadow_mask, motion, stencil;
+  Image depth, shadow_mask, static_visibility, motion, stencil;
 } Frame;
 
 static Frame load_frame(const char *dir, int index) {
@@ -52,7 +53,7 @@ static Frame load_frame(const char *dir, int index) {
     exit(2);
   }
   size_t pixels = (size_t)width * height;
-  size_t size = sizeof(PatchexCamera) + pixels * (5 * 16 + 4 + 4 + 8 + 1);
+  size_t size = sizeof(PatchexCamera) + pixels * (5 * 16 + 3 * 4 + 8 + 1);
   unsigned char *bytes = malloc(size);
   if (!bytes || fread(bytes, 1, size, file) != size) {
     fprintf(stderr, "%s is not %zu bytes\n", path, size);
@@ -71,6 +72,8 @@ static Frame load_frame(const char *dir, int index) {
   at += pixels * 4;
   f.shadow_mask = input_image(VK_FORMAT_R32_SFLOAT, 4, at);
   at += pixels * 4;
+  f.static_visibility = input_image(VK_FORMAT_R32_SFLOAT, 4, at);
+  at += pixels * 4;
   f.motion = input_image(VK_FORMAT_R32G32_SFLOAT, 8, at);
   at += pixels * 8;
   f.stencil = input_image(VK_FORMAT_R8_UINT, 1, at);
@@ -80,8 +83,8 @@ static Frame load_frame(const char *dir, int index) {
 
 static void destroy_frame(Frame *f) {
   Image *all[] = {&f->color, &f->base_color, &f->material, &f->normal,
-                  &f->color_without_dynamic_shadows, &f->depth, &f->shadow_mask, &f->motion,
-                  &f->stencil};
+                  &f->color_without_dynamic_shadows, &f->depth, &f->shadow_mask,
+                  &f->static_visibility, &f->motion, &f->stencil};
   for (size_t i = 0; i < sizeof all / sizeof all[0]; ++i) destroy_image(all[i]);
 }
 
@@ -98,16 +101,26 @@ static PatchexGeometry geometry(const Frame *f) {
   return g;
 }
 
-/* Frame `f` as frame `index`, with its shadow input and (optionally) flow settings. */
+/* Frame `f` as frame `index`, with its shadow input, and optionally flow settings and the sun
+   (direction, then illuminance). */
 static void submit(PatchexContext *ctx, const Frame *f, uint64_t index,
-                   const PatchexShadowFlowSettings *flow) {
+                   const PatchexShadowFlowSettings *flow, const float *sun) {
   PatchexShadowInput shadow;
   shadow.header = header(PATCHEX_STRUCT_TYPE_SHADOW_INPUT, sizeof shadow, flow);
   shadow.mask = describe(&f->shadow_mask);
   shadow.color_without_dynamic_shadows = describe(&f->color_without_dynamic_shadows);
+  PatchexSunLight light;
+  light.header = header(PATCHEX_STRUCT_TYPE_SUN_LIGHT, sizeof light, &shadow);
+  if (sun) {
+    memcpy(light.direction, sun, sizeof light.direction);
+    memcpy(light.illuminance, sun + 3, sizeof light.illuminance);
+    /* With a shadow input: the visibility through static casters. */
+    light.visibility = describe(&f->static_visibility);
+  }
   PatchexFrameDesc desc;
   memset(&desc, 0, sizeof desc);
-  desc.header = header(PATCHEX_STRUCT_TYPE_FRAME_DESC, sizeof desc, &shadow);
+  desc.header = header(PATCHEX_STRUCT_TYPE_FRAME_DESC, sizeof desc,
+                       sun ? (const void *)&light : &shadow);
   desc.frame_index = index;
   desc.queue_family_index = gpu.family;
   desc.width = width;
@@ -230,6 +243,15 @@ int main(int argc, char **argv) {
 
   Frame frames[4];
   for (int i = 0; i < 4; ++i) frames[i] = load_frame(data, i);
+  float sun[6];
+  char sun_path[4096];
+  snprintf(sun_path, sizeof sun_path, "%s/sun.bin", data);
+  FILE *sun_file = fopen(sun_path, "rb");
+  if (!sun_file || fread(sun, sizeof sun, 1, sun_file) != 1) {
+    fprintf(stderr, "cannot read %s\n", sun_path);
+    return 2;
+  }
+  fclose(sun_file);
   const VkImageUsageFlags storage = VK_IMAGE_USAGE_STORAGE_BIT;
   Image first = output_image(VK_FORMAT_R16G16B16A16_SFLOAT, 8, storage);
   Image first_diagnostics = output_image(VK_FORMAT_R16G16B16A16_SFLOAT, 8, storage);
@@ -247,7 +269,7 @@ int main(int argc, char **argv) {
   frame_flow.header.next = NULL;
   frame_flow.iterations = 2;
   begin();
-  submit(ctx, &frames[0], 1, &frame_flow);
+  submit(ctx, &frames[0], 1, &frame_flow, NULL);
   PatchexDiagnostics first_diag;
   first_diag.header = header(PATCHEX_STRUCT_TYPE_DIAGNOSTICS, sizeof first_diag, NULL);
   first_diag.image = describe(&first_diagnostics);
@@ -255,9 +277,9 @@ int main(int argc, char **argv) {
   expect(patchex_extrapolate(ctx, gpu.cmd, &desc), PATCHEX_RESULT_SUCCESS, "extrapolate 1", ctx);
   submit_and_wait();
 
-  /* Frame t (index 2): three extrapolations of its halfway instant, one per warp. */
+  /* Frame t (index 2), with the sun: three extrapolations of its halfway instant, one per warp. */
   begin();
-  submit(ctx, &frames[2], 2, NULL);
+  submit(ctx, &frames[2], 2, NULL, sun);
 
   const PatchexWarpKind kinds[3] = {PATCHEX_WARP_GBUFFER_GUIDED, PATCHEX_WARP_MOTION_VECTOR,
                                     PATCHEX_WARP_OCCLUSION_MOTION_VECTOR};

@@ -17,6 +17,7 @@ use patchex::loader::PatchexLibrary;
 use patchex::reference::Image;
 use patchex_harness::intercept::Intercept;
 use patchex_harness::{Engine, EngineImage, EngineOptions};
+use patchex_scene::dataset::SunInfo;
 
 use scene::Frame;
 
@@ -283,6 +284,8 @@ pub struct GpuFrame {
     pub motion: EngineImage,
     pub shadow_mask: EngineImage,
     pub color_without_dynamic_shadows: EngineImage,
+    pub sun_visibility: EngineImage,
+    pub static_visibility: EngineImage,
     pub camera: PatchexCamera,
     pub width: u32,
     pub height: u32,
@@ -326,6 +329,13 @@ impl GpuFrame {
                 rgba,
                 GBUFFER_LAYOUT,
             ),
+            sun_visibility: upload(engine, &frame.sun_visibility, F::R32_SFLOAT, GBUFFER_LAYOUT),
+            static_visibility: upload(
+                engine,
+                &frame.static_visibility,
+                F::R32_SFLOAT,
+                GBUFFER_LAYOUT,
+            ),
             camera: frame.camera,
             width: frame.color.width as u32,
             height: frame.color.height as u32,
@@ -367,6 +377,22 @@ impl GpuFrame {
             color_without_dynamic_shadows: self
                 .color_without_dynamic_shadows
                 .describe(GBUFFER_LAYOUT),
+        }
+    }
+
+    /// `sun` as a PatchexSunLight with this frame's visibility: through every caster, or
+    /// through static casters alone for a frame that goes `with_shadow_input`.
+    pub fn sun_light(&self, sun: &SunInfo, with_shadow_input: bool) -> PatchexSunLight {
+        let visibility = if with_shadow_input {
+            &self.static_visibility
+        } else {
+            &self.sun_visibility
+        };
+        PatchexSunLight {
+            header: PatchexStructHeader::of::<PatchexSunLight>(PATCHEX_STRUCT_TYPE_SUN_LIGHT),
+            direction: sun.direction,
+            illuminance: sun.illuminance,
+            visibility: visibility.describe(GBUFFER_LAYOUT),
         }
     }
 

@@ -9,7 +9,7 @@ use patchex::reference::Image;
 use patchex_scene::dataset::{
     render_sequence, SequenceOptions, BASE_COLOR, CUSTOM_STENCIL, FINAL_IMAGE,
     FINAL_IMAGE_NO_DYNAMIC_SHADOWS, METALLIC, MOTION_VECTOR, ROUGHNESS, SCENE_DEPTH, SHADOW_MASK,
-    SPECULAR, WORLD_NORMAL,
+    SPECULAR, STATIC_SHADOW_MASK, WORLD_NORMAL,
 };
 use patchex_scene::{Dataset, FrameLayers, Gpu, GpuOptions, Manifest, World};
 
@@ -90,6 +90,11 @@ fn frame(layers: &FrameLayers, manifest: &Manifest, index: usize) -> Frame {
         },
         shadow_mask: gather(layers, &[(SHADOW_MASK, 0)]),
         color_without_dynamic_shadows: rgba(layers, FINAL_IMAGE_NO_DYNAMIC_SHADOWS),
+        sun_visibility: Image::from_fn(layers.width, layers.height, 1, |x, y| {
+            let through = |name| layers.layer(name).value(x, y, 0);
+            vec![through(STATIC_SHADOW_MASK) * through(SHADOW_MASK)]
+        }),
+        static_visibility: gather(layers, &[(STATIC_SHADOW_MASK, 0)]),
         shadow_motion: None,
     }
 }

@@ -43,6 +43,10 @@ pub struct Frame {
     /// The sun's visibility through the sphere (the dynamic caster), 1 channel.
     pub shadow_mask: Image,
     pub color_without_dynamic_shadows: Image,
+    /// The sun's visibility through every caster (`PatchexSunLight.visibility`), 1 channel.
+    pub sun_visibility: Image,
+    /// Through static casters alone (`PatchexSunLight.visibility` with a shadow input).
+    pub static_visibility: Image,
     /// Where known, the true motion of the sphere's shadow to the `previous` instant, in pixels:
     /// on the ground, whose shadow moves with the sphere (NaN elsewhere).
     pub shadow_motion: Option<Image>,
@@ -216,6 +220,8 @@ impl Scene {
             camera: self.camera(time, jitter),
             shadow_mask: Image::new(w, h, 1),
             color_without_dynamic_shadows: Image::new(w, h, 4),
+            sun_visibility: Image::new(w, h, 1),
+            static_visibility: Image::from_fn(w, h, 1, |_, _| vec![1.0]),
             shadow_motion: Some(Image::from_fn(w, h, 2, |_, _| vec![f32::NAN; 2])),
         };
         for y in 0..h {
@@ -293,6 +299,8 @@ impl Scene {
                 }
             }
         }
+        // The sphere is the only caster.
+        frame.sun_visibility = frame.shadow_mask.clone();
         frame
     }
 }

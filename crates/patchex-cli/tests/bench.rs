@@ -21,7 +21,7 @@ fn bench_measures_every_configuration_at_every_size_and_plots_the_trade() {
         serde_json::from_str(&std::fs::read_to_string(out.path().join("bench.json")).unwrap())
             .unwrap();
     let rows = json["rows"].as_array().unwrap();
-    assert_eq!(rows.len(), 2 * 10, "two sizes, ten configurations");
+    assert_eq!(rows.len(), 2 * 11, "two sizes, eleven configurations");
     for row in rows {
         // Targets 3 (frames 0, 2 and 3); every stage group took time, inference only where
         // networks ran.
@@ -38,6 +38,7 @@ fn bench_measures_every_configuration_at_every_size_and_plots_the_trade() {
             "OcclusionMotion",
             "Gbuffer",
             "GbufferBilinear",
+            "GbufferHighlights",
         ]
         .contains(&configuration);
         let blending = row["gpu_ms"]["blending"].as_f64().unwrap();

@@ -43,6 +43,9 @@ pub enum Configuration {
     Gbuffer,
     /// The G-buffer-guided warp resampling bilinearly everywhere (PATCHEX_RESAMPLE_BILINEAR).
     GbufferBilinear,
+    /// The G-buffer-guided warp given the scene's sun (PatchexSunLight): its highlights moved
+    /// with the view.
+    GbufferHighlights,
     GbufferShadows,
     /// The shadow sub-task given the target's shadow mask (PatchexTargetShadowInput), its flow
     /// off.
@@ -66,6 +69,7 @@ impl Configuration {
             Configuration::OcclusionMotion => "occlusion-motion-vector warp (WARP_ONLY)",
             Configuration::Gbuffer => "G-buffer-guided warp (WARP_ONLY)",
             Configuration::GbufferBilinear => "G-buffer-guided warp, bilinear (WARP_ONLY)",
+            Configuration::GbufferHighlights => "G-buffer-guided warp + sun highlights (WARP_ONLY)",
             Configuration::GbufferShadows => "G-buffer-guided warp + shadows (WARP_AND_SHADOWS)",
             Configuration::GbufferTargetShadows => {
                 "G-buffer-guided warp + target shadow mask, no flow (WARP_AND_SHADOWS)"
@@ -100,6 +104,7 @@ impl Configuration {
                 | Configuration::OcclusionMotion
                 | Configuration::Gbuffer
                 | Configuration::GbufferBilinear
+                | Configuration::GbufferHighlights
                 | Configuration::PatchexNoShadows
         )
     }
@@ -128,6 +133,7 @@ impl Configuration {
             Configuration::OcclusionMotion => RGBColor(86, 180, 233),
             Configuration::Gbuffer => RGBColor(0, 158, 115),
             Configuration::GbufferBilinear => RGBColor(100, 200, 160),
+            Configuration::GbufferHighlights => RGBColor(0, 110, 80),
             Configuration::GbufferShadows => RGBColor(204, 121, 167),
             Configuration::GbufferTargetShadows => RGBColor(150, 60, 120),
             Configuration::PatchexNoShadows => RGBColor(0, 0, 0),
@@ -162,7 +168,7 @@ pub struct BenchArgs {
     #[arg(
         long,
         value_delimiter = ',',
-        default_value = "motion-vector,occlusion-motion,gbuffer-bilinear,gbuffer,gbuffer-shadows,gbuffer-target-shadows,patchex-no-shadows,patchex,patchex-half-resolution,patchex-whole-frame"
+        default_value = "motion-vector,occlusion-motion,gbuffer-bilinear,gbuffer,gbuffer-highlights,gbuffer-shadows,gbuffer-target-shadows,patchex-no-shadows,patchex,patchex-half-resolution,patchex-whole-frame"
     )]
     configurations: Vec<Configuration>,
     /// Frames of the doubled stream rendered per scene and size; targets are the odd frames
@@ -329,6 +335,7 @@ fn measure(
                 earlier: Some((earlier, &manifest.frames[index - 3])),
                 target_mask: configuration == Configuration::GbufferTargetShadows,
             }),
+            configuration == Configuration::GbufferHighlights,
         )
     };
     // One unmeasured run of each configuration: the driver compiles shaders lazily.

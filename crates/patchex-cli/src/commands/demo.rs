@@ -50,6 +50,10 @@ pub struct DemoArgs {
     /// at that instant, as an engine's extra depth-only pass of its moving casters gives them.
     #[arg(long, requires = "shadows")]
     target_shadows: bool,
+    /// Hand the plugin the scene's sun with each frame (PatchexSunLight), so that highlights on
+    /// glossy surfaces move with the view instead of sticking to the surface.
+    #[arg(long)]
+    highlights: bool,
     /// Run the inpainting networks on the FI and near-BE patches (with --shadows,
     /// PATCHEX_PRESET_FULL; the built-in weights). Off by default: the shipped weights barely change the frame yet
     /// (docs/quality.md).
@@ -138,6 +142,7 @@ pub fn run(args: DemoArgs) -> CommandResult {
                 earlier,
                 target_mask: args.target_shadows,
             }),
+            args.highlights,
         )?;
         let (width, height) = (manifest.width, manifest.height);
         let frame_t = tone_map(&source_layers.layer(FINAL_IMAGE).data, 3);

@@ -51,6 +51,13 @@ pub enum Method {
     /// The default warp with the shadow sub-task given the target's shadow mask
     /// (`PatchexTargetShadowInput`): the shadows placed where they are at the target.
     GbufferTargetShadows,
+    /// The default warp given the scene's sun (`PatchexSunLight`): its highlights taken out of
+    /// frame t and evaluated for the target's view.
+    GbufferHighlights,
+    /// The shadow sub-task and the sun's highlights: every input an engine has today.
+    GbufferShadowsHighlights,
+    /// The target shadow mask and the sun's highlights.
+    GbufferTargetShadowsHighlights,
     /// PatchEX: the G-buffer-guided warp, the shadow sub-task and the inpainting networks on
     /// the FI and near-BE patches (PATCHEX_PRESET_FULL).
     Patchex,
@@ -87,6 +94,13 @@ impl Method {
             Method::GbufferBilinear => "G-buffer-guided warp, bilinear resampling",
             Method::GbufferShadows => "G-buffer-guided warp + shadow sub-task",
             Method::GbufferTargetShadows => "G-buffer-guided warp + target shadow mask",
+            Method::GbufferHighlights => "G-buffer-guided warp + sun highlights",
+            Method::GbufferShadowsHighlights => {
+                "G-buffer-guided warp + shadow sub-task + sun highlights"
+            }
+            Method::GbufferTargetShadowsHighlights => {
+                "G-buffer-guided warp + target shadow mask + sun highlights"
+            }
             Method::Patchex => "PatchEX (warp + shadows + networks on patches)",
             Method::PatchexEveryPixel => {
                 "PatchEX, corrections over every pixel (the paper's blend)"
@@ -117,6 +131,9 @@ impl Method {
             Method::Gbuffer
             | Method::GbufferShadows
             | Method::GbufferTargetShadows
+            | Method::GbufferHighlights
+            | Method::GbufferShadowsHighlights
+            | Method::GbufferTargetShadowsHighlights
             | Method::Patchex
             | Method::PatchexEveryPixel
             | Method::PatchexNoShadows
@@ -134,13 +151,24 @@ impl Method {
     fn shadows(self) -> Option<bool> {
         match self {
             Method::GbufferShadows
+            | Method::GbufferShadowsHighlights
             | Method::Patchex
             | Method::PatchexEveryPixel
             | Method::PatchexWholeFrame
             | Method::PatchexNoPerceptual => Some(false),
-            Method::GbufferTargetShadows => Some(true),
+            Method::GbufferTargetShadows | Method::GbufferTargetShadowsHighlights => Some(true),
             _ => None,
         }
+    }
+
+    /// Whether frame t goes with the scene's sun (`PatchexSunLight`).
+    fn sun(self) -> bool {
+        matches!(
+            self,
+            Method::GbufferHighlights
+                | Method::GbufferShadowsHighlights
+                | Method::GbufferTargetShadowsHighlights
+        )
     }
 
     /// The inpainting networks the method runs, if any.
@@ -412,28 +440,32 @@ fn evaluate(
             .map(|(before, after)| *before < SHADOWED || *after < SHADOWED)
             .collect();
         let highlights = highlights(&current);
-        let mut run_plugin =
-            |warp, networks: Option<NetworkChoice>, with_diagnostics, shadows: Option<bool>| {
-                // Two indices a run: frame t-1 and frame t when shadows are tracked.
-                frame_index += 2;
-                driver.extrapolate(
-                    frame_index,
-                    (&previous, &manifest.frames[source]),
-                    (&current, &manifest.frames[target]),
-                    alpha,
-                    Some(warp),
-                    networks.as_ref(),
-                    with_diagnostics,
-                    shadows.map(|target_mask| ShadowRun {
-                        earlier: earlier
-                            .as_ref()
-                            .map(|(layers, index)| (layers, &manifest.frames[*index])),
-                        target_mask,
-                    }),
-                )
-            };
+        let mut run_plugin = |warp,
+                              networks: Option<NetworkChoice>,
+                              with_diagnostics,
+                              shadows: Option<bool>,
+                              sun| {
+            // Two indices a run: frame t-1 and frame t when shadows are tracked.
+            frame_index += 2;
+            driver.extrapolate(
+                frame_index,
+                (&previous, &manifest.frames[source]),
+                (&current, &manifest.frames[target]),
+                alpha,
+                Some(warp),
+                networks.as_ref(),
+                with_diagnostics,
+                shadows.map(|target_mask| ShadowRun {
+                    earlier: earlier
+                        .as_ref()
+                        .map(|(layers, index)| (layers, &manifest.frames[*index])),
+                    target_mask,
+                }),
+                sun,
+            )
+        };
         // The default warp's diagnostics give every method's regions and holes.
-        let reference = run_plugin(WarpSettings::default(), None, true, None)?;
+        let reference = run_plugin(WarpSettings::default(), None, true, None, false)?;
         let diagnostics = reference.diagnostics.as_ref().expect("asked for");
         let holes: Vec<bool> = diagnostics.chunks(4).map(|d| d[0] > 0.5).collect();
         let regions: Vec<u32> = diagnostics
@@ -455,7 +487,8 @@ fn evaluate(
                     (reference.color.clone(), 4, Some(reference.stats))
                 }
                 Some(warp) => {
-                    let run = run_plugin(warp, method.networks(args), false, method.shadows())?;
+                    let networks = method.networks(args);
+                    let run = run_plugin(warp, networks, false, method.shadows(), method.sun())?;
                     (run.color, 4, Some(run.stats))
                 }
                 None if method == Method::Copy => {

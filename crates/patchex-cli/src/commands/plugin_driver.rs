@@ -19,9 +19,9 @@ use patchex::passes::shadow_flow::FlowSettings;
 use patchex::passes::warp::WarpSettings;
 use patchex_harness::{Engine, EngineImage, EngineOptions};
 use patchex_scene::dataset::{
-    FrameInfo, FrameLayers, Manifest, BASE_COLOR, CUSTOM_STENCIL, FINAL_IMAGE,
+    FrameInfo, FrameLayers, Manifest, SunInfo, BASE_COLOR, CUSTOM_STENCIL, FINAL_IMAGE,
     FINAL_IMAGE_NO_DYNAMIC_SHADOWS, METALLIC, MOTION_VECTOR, ROUGHNESS, SCENE_DEPTH, SHADOW_MASK,
-    SPECULAR, WORLD_NORMAL,
+    SPECULAR, STATIC_SHADOW_MASK, WORLD_NORMAL,
 };
 
 /// The layout the driver keeps every engine image in between calls.
@@ -106,6 +106,8 @@ pub struct PluginDriver {
     height: u32,
     near: f32,
     far: f32,
+    /// The scene's sun, for the frames that go with a PatchexSunLight.
+    sun: Option<SunInfo>,
     /// How long each call repeats back to back before the one measured (`with_warm_up`).
     warm_up: Duration,
     /// Frame indices the repeats used, added to the caller's so that indices keep increasing.
@@ -134,6 +136,8 @@ struct UploadedFrame {
     motion: EngineImage,
     /// The shadow mask and the colour without dynamic shadows, when asked for.
     shadow: Option<(EngineImage, EngineImage)>,
+    /// The sun's visibility (`PatchexSunLight.visibility`), when asked for.
+    sun_visibility: Option<EngineImage>,
     camera: PatchexCamera,
 }
 
@@ -186,6 +190,7 @@ impl PluginDriver {
             height,
             near: manifest.near,
             far: manifest.far,
+            sun: manifest.sun,
             warm_up: Duration::ZERO,
             repeats: Cell::new(0),
         })
@@ -249,6 +254,7 @@ impl PluginDriver {
         info: &FrameInfo,
         with_color: bool,
         with_shadow: bool,
+        with_sun: bool,
     ) -> UploadedFrame {
         let (w, h) = (self.width, self.height);
         let (wu, hu) = (w as usize, h as usize);
@@ -306,6 +312,18 @@ impl PluginDriver {
                     image(F::R32_SFLOAT, &layers.layer(SHADOW_MASK).plane(0)),
                     image(color, &rgb(FINAL_IMAGE_NO_DYNAMIC_SHADOWS)),
                 )
+            }),
+            // The term the colour was lit with: with a shadow input, the static casters' alone.
+            sun_visibility: with_sun.then(|| {
+                let mut visibility = layers.layer(STATIC_SHADOW_MASK).plane(0);
+                if !with_shadow {
+                    let dynamic = layers.layer(SHADOW_MASK).plane(0);
+                    visibility
+                        .iter_mut()
+                        .zip(dynamic)
+                        .for_each(|(v, d)| *v *= d);
+                }
+                image(F::R32_SFLOAT, &visibility)
             }),
             camera: PatchexCamera {
                 view: info.view,
@@ -374,7 +392,8 @@ impl PluginDriver {
     /// with the context's default warp or `warp`, the inpainting `networks` if given, and the
     /// diagnostics image if asked. With `shadows`, both frames go with their shadow input, frame
     /// t-1 (when there is one) is submitted first as frame `frame_index - 1`, so the shadow's
-    /// motion is tracked, and the target's mask goes with the extrapolation if asked.
+    /// motion is tracked, and the target's mask goes with the extrapolation if asked. With
+    /// `sun`, frame t (and frame t-1) go with the scene's sun.
     #[allow(clippy::too_many_arguments)]
     pub fn extrapolate(
         &self,
@@ -386,15 +405,21 @@ impl PluginDriver {
         networks: Option<&NetworkChoice>,
         with_diagnostics: bool,
         shadows: Option<ShadowRun>,
+        sun: bool,
     ) -> Result<Extrapolated, String> {
         let with_shadows = shadows.is_some();
         let with_target_mask = shadows.is_some_and(|s| s.target_mask);
+        let sun = match (sun, self.sun) {
+            (false, _) => None,
+            (true, Some(sun)) => Some(sun),
+            (true, None) => return Err("the scene's manifest has no sun".to_owned()),
+        };
         let context = self.context_for(networks, with_shadows, with_target_mask)?;
         let earlier = shadows
             .and_then(|s| s.earlier)
-            .map(|(layers, info)| self.upload(layers, info, true, true));
-        let source = self.upload(source.0, source.1, true, with_shadows);
-        let target = self.upload(target.0, target.1, false, with_target_mask);
+            .map(|(layers, info)| self.upload(layers, info, true, true, sun.is_some()));
+        let source = self.upload(source.0, source.1, true, with_shadows, sun.is_some());
+        let target = self.upload(target.0, target.1, false, with_target_mask, false);
         let output = self.output_image();
         let diagnostics_image = with_diagnostics.then(|| self.output_image());
         let network_settings = networks.map(|networks| PatchexNetworkSettings {
@@ -468,20 +493,49 @@ impl PluginDriver {
                     color_without_dynamic_shadows: color.describe(LAYOUT),
                 })
         };
-        let with_shadow_input = |mut desc: PatchexFrameDesc, input: &Option<PatchexShadowInput>| {
-            if let Some(input) = input {
-                desc.header.next = input as *const PatchexShadowInput as *const c_void;
-            }
+        let sun_light = |frame: &UploadedFrame, next| {
+            sun.zip(frame.sun_visibility.as_ref())
+                .map(|(sun, visibility)| PatchexSunLight {
+                    header: PatchexStructHeader {
+                        next,
+                        ..PatchexStructHeader::of::<PatchexSunLight>(PATCHEX_STRUCT_TYPE_SUN_LIGHT)
+                    },
+                    direction: sun.direction,
+                    illuminance: sun.illuminance,
+                    visibility: visibility.describe(LAYOUT),
+                })
+        };
+        let chain_of = |input: &Option<PatchexShadowInput>| {
+            input.as_ref().map_or(ptr::null(), |input| {
+                input as *const PatchexShadowInput as *const c_void
+            })
+        };
+        // A frame's chain: its sun, then its shadow input.
+        let with_inputs = |mut desc: PatchexFrameDesc,
+                           shadow: &Option<PatchexShadowInput>,
+                           sun: &Option<PatchexSunLight>| {
+            desc.header.next = match sun {
+                Some(sun) => sun as *const PatchexSunLight as *const c_void,
+                None => chain_of(shadow),
+            };
             desc
         };
         let warm_until = Instant::now() + self.warm_up;
         let (index, results) = loop {
             let index = frame_index + self.repeats.get();
             let source_shadow = shadow_input(&source);
-            let frame = with_shadow_input(self.frame_desc(index, &source), &source_shadow);
+            let source_sun = sun_light(&source, chain_of(&source_shadow));
+            let frame = with_inputs(self.frame_desc(index, &source), &source_shadow, &source_sun);
             let earlier_shadow = earlier.as_ref().and_then(shadow_input);
+            let earlier_sun = earlier
+                .as_ref()
+                .and_then(|earlier| sun_light(earlier, chain_of(&earlier_shadow)));
             let earlier_frame = earlier.as_ref().map(|earlier| {
-                with_shadow_input(self.frame_desc(index - 1, earlier), &earlier_shadow)
+                with_inputs(
+                    self.frame_desc(index - 1, earlier),
+                    &earlier_shadow,
+                    &earlier_sun,
+                )
             });
             let mut extrapolate = PatchexExtrapolateDesc {
                 header: PatchexStructHeader::of::<PatchexExtrapolateDesc>(

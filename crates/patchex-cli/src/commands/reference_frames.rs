@@ -6,7 +6,7 @@ use patchex::camera::Camera;
 use patchex::reference::{FrameInputs, Image};
 use patchex_scene::dataset::{
     Dataset, BASE_COLOR, CUSTOM_STENCIL, FINAL_IMAGE, FINAL_IMAGE_NO_DYNAMIC_SHADOWS, METALLIC,
-    MOTION_VECTOR, ROUGHNESS, SCENE_DEPTH, SHADOW_MASK, SPECULAR, WORLD_NORMAL,
+    MOTION_VECTOR, ROUGHNESS, SCENE_DEPTH, SHADOW_MASK, SPECULAR, STATIC_SHADOW_MASK, WORLD_NORMAL,
 };
 use patchex_scene::FrameLayers;
 
@@ -24,6 +24,9 @@ pub struct Frame {
     /// objects' shadows.
     pub shadow_mask: Image,
     pub color_without_dynamic_shadows: Image,
+    /// The sun's visibility through every caster (`PatchexSunLight.visibility` without a
+    /// shadow input).
+    pub sun_visibility: Image,
 }
 
 fn gather(layers: &FrameLayers, names: &[(&str, usize)]) -> Image {
@@ -73,6 +76,10 @@ pub fn from_layers(
         camera: Camera::from_abi(&camera, "dataset camera")?,
         shadow_mask: gather(layers, &[(SHADOW_MASK, 0)]),
         color_without_dynamic_shadows: rgb1(layers, FINAL_IMAGE_NO_DYNAMIC_SHADOWS),
+        sun_visibility: Image::from_fn(layers.width, layers.height, 1, |x, y| {
+            let through = |name| layers.layer(name).value(x, y, 0);
+            vec![through(STATIC_SHADOW_MASK) * through(SHADOW_MASK)]
+        }),
     })
 }
 
@@ -88,5 +95,6 @@ pub fn inputs(frame: &Frame) -> FrameInputs<'_> {
         camera: &frame.camera,
         normal_encoding: PATCHEX_NORMAL_SIGNED,
         motion_vector_scale: [1.0, 1.0],
+        sun: None,
     }
 }

@@ -12,10 +12,11 @@ use std::path::PathBuf;
 use clap::Args;
 use patchex::abi::*;
 use patchex::network::{Network, SHIPPED_FI, SHIPPED_NEAR_BE};
+use patchex::passes::highlights::Sun;
 use patchex::passes::shadow_flow::{mask_step, FlowSettings};
 use patchex::passes::warp::WarpSettings;
-use patchex::reference::{self, inpaint::Networks, ShadowInputs};
-use patchex_scene::dataset::{render_sequence, Dataset, SequenceOptions};
+use patchex::reference::{self, inpaint::Networks, FrameInputs, ShadowInputs};
+use patchex_scene::dataset::{render_sequence, Dataset, SequenceOptions, SunInfo};
 use patchex_scene::{Gpu, GpuOptions, World};
 
 use super::plugin_driver::{NetworkChoice, PluginDriver, ShadowRun};
@@ -56,15 +57,18 @@ struct Configuration {
     /// The target's shadow mask on the extrapolation, and the flow off.
     target_shadows: bool,
     networks: bool,
+    /// Frame t goes with the scene's sun (`PatchexSunLight`).
+    sun: bool,
 }
 
-const CONFIGURATIONS: [Configuration; 7] = [
+const CONFIGURATIONS: [Configuration; 8] = [
     Configuration {
         name: "G-buffer-guided warp (WARP_ONLY)",
         warp: PATCHEX_WARP_GBUFFER_GUIDED,
         shadows: false,
         target_shadows: false,
         networks: false,
+        sun: false,
     },
     Configuration {
         name: "motion-vector warp",
@@ -72,6 +76,7 @@ const CONFIGURATIONS: [Configuration; 7] = [
         shadows: false,
         target_shadows: false,
         networks: false,
+        sun: false,
     },
     Configuration {
         name: "occlusion-motion-vector warp",
@@ -79,6 +84,7 @@ const CONFIGURATIONS: [Configuration; 7] = [
         shadows: false,
         target_shadows: false,
         networks: false,
+        sun: false,
     },
     Configuration {
         name: "warp + shadows (WARP_AND_SHADOWS)",
@@ -86,6 +92,7 @@ const CONFIGURATIONS: [Configuration; 7] = [
         shadows: true,
         target_shadows: false,
         networks: false,
+        sun: false,
     },
     Configuration {
         name: "warp + target shadow mask, no flow",
@@ -93,6 +100,15 @@ const CONFIGURATIONS: [Configuration; 7] = [
         shadows: true,
         target_shadows: true,
         networks: false,
+        sun: false,
+    },
+    Configuration {
+        name: "warp + sun highlights",
+        warp: PATCHEX_WARP_GBUFFER_GUIDED,
+        shadows: false,
+        target_shadows: false,
+        networks: false,
+        sun: true,
     },
     Configuration {
         name: "warp + networks (NETWORKS)",
@@ -100,6 +116,7 @@ const CONFIGURATIONS: [Configuration; 7] = [
         shadows: false,
         target_shadows: false,
         networks: true,
+        sun: false,
     },
     Configuration {
         name: "PatchEX (FULL)",
@@ -107,6 +124,7 @@ const CONFIGURATIONS: [Configuration; 7] = [
         shadows: true,
         target_shadows: false,
         networks: true,
+        sun: false,
     },
 ];
 
@@ -210,8 +228,9 @@ fn check(args: &SelftestArgs, work: &std::path::Path) -> Result<bool, Box<dyn st
                 earlier: Some((&layers[0], &manifest.frames[earlier_index])),
                 target_mask: configuration.target_shadows,
             }),
+            configuration.sun,
         )?;
-        let want = expected(&frames, configuration, alpha, &warp, &shipped);
+        let want = expected(&frames, configuration, alpha, &warp, &shipped, manifest.sun);
         let messages = driver.validation_messages();
 
         let pixels = (manifest.width * manifest.height) as f64;
@@ -235,7 +254,8 @@ fn check(args: &SelftestArgs, work: &std::path::Path) -> Result<bool, Box<dyn st
             stats.shadow_history == PATCHEX_SHADOW_HISTORY_TRACKED && ran(PATCHEX_STAGE_SHADOW_WARP)
         };
         let exercised = (!configuration.shadows || shadows_exercised)
-            && (!configuration.networks || ran(PATCHEX_STAGE_INFERENCE));
+            && (!configuration.networks || ran(PATCHEX_STAGE_INFERENCE))
+            && configuration.sun == ran(PATCHEX_STAGE_HIGHLIGHTS);
         let pass = exercised
             && beyond <= ALLOWED_SHARE * pixels
             && hole_difference <= ALLOWED_SHARE * pixels
@@ -253,7 +273,7 @@ fn check(args: &SelftestArgs, work: &std::path::Path) -> Result<bool, Box<dyn st
             messages.len()
         );
         if !exercised {
-            println!("     its shadow or network stages did not run on these frames");
+            println!("     its shadow, network or highlight stages did not run on these frames");
         }
         for message in messages.iter().take(3) {
             println!("     {message}");
@@ -270,6 +290,7 @@ fn expected(
     alpha: f32,
     warp: &WarpSettings,
     shipped: &[Network; 2],
+    manifest_sun: Option<SunInfo>,
 ) -> reference::Extrapolation {
     let [earlier, source, target] = frames;
     let extent = ash::vk::Extent2D {
@@ -297,8 +318,18 @@ fn expected(
     } else {
         Networks::default()
     };
+    let sun = manifest_sun.filter(|_| configuration.sun).map(|sun| {
+        let sun = Sun {
+            direction: sun.direction.into(),
+            illuminance: sun.illuminance.into(),
+        };
+        (sun, &source.sun_visibility)
+    });
     reference::extrapolate(
-        &inputs(source),
+        &FrameInputs {
+            sun,
+            ..inputs(source)
+        },
         &inputs(target),
         configuration.shadows.then_some(&shadows),
         alpha,

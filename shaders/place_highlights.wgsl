@@ -1,0 +1,180 @@
+// With a PatchexSunLight on frame t: adds the sun's highlights to the extrapolated colour, as the
+// target's view sees them on the target's surfaces, in place of frame t's, which
+// remove_highlights.wgsl took out of the shading the warp carried:
+//   c' = c + visibility * (1 + shadow share) * specular.
+// The sun's visibility is frame t's where it saw the target's surface: from the texels around
+// where the motion vectors lead that pass the G-buffer warp's agreement test. With a shadow
+// input, the dynamic shadows' share at the target takes its part away, as remodulation does from
+// the rest of the light.
+// #import gbuffer
+// #import cameras
+// #import sun_specular
+// #import tallies
+
+struct Params {
+    extent: vec2u,
+    // Turns the engine's motion vectors into backward motion in pixels.
+    motion_scale: vec2f,
+    // Target jitter minus frame t's jitter, in pixels.
+    jitter_delta: vec2f,
+    has_material: u32,
+    has_shadow_share: u32,
+    // The call's warp settings, for its agreement test (include/warp.wgsl).
+    inv_sigma_depth: f32,
+    inv_sigma_normal: f32,
+    inv_sigma_position: f32,
+    pixel_angle: f32,
+    sun_direction: vec3f,
+    sun_illuminance: vec3f,
+}
+var<immediate> params: Params;
+
+@group(0) @binding(0) var frame: texture_storage_2d<rgba16float, read_write>;
+@group(0) @binding(1) var target_depth: texture_2d<f32>;
+@group(0) @binding(2) var target_normal: texture_2d<f32>;
+@group(0) @binding(3) var base_color: texture_2d<f32>;
+@group(0) @binding(4) var material: texture_2d<f32>;
+@group(0) @binding(5) var motion: texture_2d<f32>;
+// Frame t's visibility of the sun, as remove_highlights.wgsl kept it.
+@group(0) @binding(6) var kept_visibility: texture_2d<f32>;
+// With `has_shadow_share`: the share of light the dynamic shadows take away at the target.
+@group(0) @binding(7) var shadow_share: texture_2d<f32>;
+@group(0) @binding(8) var<uniform> cameras: Cameras;
+@group(0) @binding(9) var<storage, read_write> counters: SanitizeCounters;
+// Frame t's packed G-buffer (pack_gbuffer.wgsl), which says which texels show the target's
+// surface.
+@group(0) @binding(10) var source_depth: texture_2d<f32>;
+@group(0) @binding(11) var source_normal_id: texture_2d<u32>;
+@group(0) @binding(12) var target_stencil: texture_2d<u32>;
+
+// -ln of the G-buffer warp's agreement threshold (include/warp.wgsl).
+const LN_AGREEMENT_THRESHOLD: f32 = 0.6931472;
+// The share of q's bilinear footprint agreeing texels must hold, as the warp's (BILINEAR_ACCEPT).
+const BILINEAR_ACCEPT: f32 = 0.5;
+// Grazing surfaces stretch a pixel's footprint by 1 / cos(angle), up to this cosine.
+const MIN_FACING: f32 = 0.25;
+// The visibility where frame t saw nothing of the target's surface on screen.
+const UNSEEN_VISIBILITY: f32 = 0.0;
+
+// A setting as this pass branches on it: tied to an image's size, which the driver cannot inline,
+// so that lavapipe does not compile the shader again for every value at every dispatch
+// (include/warp.wgsl `unspecialised`). Always `setting`.
+fn unspecialised(setting: u32) -> u32 {
+    return select(0u, setting, textureDimensions(kept_visibility).x != 0u);
+}
+
+// The target pixel's surface, as frame t's texels are compared with it.
+struct Surface {
+    position: vec3f,
+    depth: f32,
+    normal: vec3f,
+    id: u32,
+    // A pixel's size on the surface.
+    footprint: f32,
+}
+
+// Whether frame t's texel `s` shows surface `t`: the G-buffer warp's agreement test
+// (include/warp.wgsl `agreement_at`), with the call's warp settings.
+fn agrees(t: Surface, s: vec2i) -> bool {
+    let packed = textureLoad(source_normal_id, s, 0).r;
+    let depth = textureLoad(source_depth, s, 0).r;
+    if (object_id(packed) != t.id || is_sky(depth)) {
+        return false;
+    }
+    let normal_term = (1.0 - dot(t.normal, unpack_normal(packed))) * params.inv_sigma_normal;
+    var e: f32;
+    if (t.id == 0u) {
+        let ray = cameras.source_at_origin + f32(s.x) * cameras.source_per_x
+            + f32(s.y) * cameras.source_per_y;
+        let offset = cameras.source_position + depth * ray - t.position;
+        e = length(offset) / t.footprint * params.inv_sigma_position;
+    } else {
+        e = abs(t.depth - depth) / max(t.depth, depth) * params.inv_sigma_depth;
+    }
+    return normal_term + e * e <= LN_AGREEMENT_THRESHOLD;
+}
+
+// Frame t's visibility of the sun where it saw surface `t` around `q`: the bilinear blend of the
+// texels that agree with it when they hold enough of the blend, else the mean of the 3x3 texels
+// around q that agree. Off screen, the bilinear blend of the nearest texels; on screen with none
+// agreeing (a disocclusion the warp fills), UNSEEN_VISIBILITY.
+fn visibility_at(t: Surface, q: vec2f) -> f32 {
+    let corner = vec2i(floor(q - 0.5));
+    let f = q - 0.5 - floor(q - 0.5);
+    let last = vec2i(params.extent) - 1;
+    // Unrolled: lavapipe runs a loop of divergent loads lane by lane.
+    let s00 = clamp(corner, vec2i(0), last);
+    let s10 = clamp(corner + vec2i(1, 0), vec2i(0), last);
+    let s01 = clamp(corner + vec2i(0, 1), vec2i(0), last);
+    let s11 = clamp(corner + vec2i(1, 1), vec2i(0), last);
+    let v = vec4f(textureLoad(kept_visibility, s00, 0).r, textureLoad(kept_visibility, s10, 0).r,
+        textureLoad(kept_visibility, s01, 0).r, textureLoad(kept_visibility, s11, 0).r);
+    let w = vec4f((1.0 - f.x) * (1.0 - f.y), f.x * (1.0 - f.y), (1.0 - f.x) * f.y, f.x * f.y);
+    let agreeing = w * vec4f(select(0.0, 1.0, agrees(t, s00)), select(0.0, 1.0, agrees(t, s10)),
+        select(0.0, 1.0, agrees(t, s01)), select(0.0, 1.0, agrees(t, s11)));
+    let weight = agreeing.x + agreeing.y + agreeing.z + agreeing.w;
+    if (weight >= BILINEAR_ACCEPT) {
+        return dot(agreeing, v) / weight;
+    }
+    let centre = clamp(vec2i(floor(q)), vec2i(0), last);
+    var count = 0.0;
+    var sum = 0.0;
+    for (var i = 0; i < 9; i++) {
+        let s = clamp(centre + vec2i(i % 3 - 1, i / 3 - 1), vec2i(0), last);
+        if (agrees(t, s)) {
+            count += 1.0;
+            sum += textureLoad(kept_visibility, s, 0).r;
+        }
+    }
+    if (count > 0.0) {
+        return sum / count;
+    }
+    let offscreen = !(all(q >= vec2f(0.0)) && all(q < vec2f(params.extent)));
+    return select(UNSEEN_VISIBILITY, dot(w, v), offscreen);
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_index) lane: u32) {
+    open_tallies(lane);
+    let p = id.xy;
+    if (all(p < params.extent)) {
+        let stored_depth = textureLoad(target_depth, p, 0).r;
+        let convention = unspecialised(cameras.target_depth_convention);
+        let depth = linear_depth(stored_depth, p, cameras.target_depth_curve, cameras.target_far,
+            convention);
+        let stored_normal = textureLoad(target_normal, p, 0).xyz;
+        let normal = unit_normal(stored_normal, unspecialised(cameras.target_normal_encoding));
+        let q = vec2f(p) + 0.5 + textureLoad(motion, p, 0).xy * params.motion_scale + params.jitter_delta;
+        // Invalid geometry (the warp counts it) and NaN motion get no highlight.
+        let usable = valid_geometry(stored_depth, stored_normal, convention)
+            && !is_sky(depth) && any(normal != vec3f(0.0)) && all(q == q);
+        var changed = false;
+        if (usable) {
+            var object = 0u;
+            if (unspecialised(cameras.target_has_stencil) != ABSENT) {
+                object = textureLoad(target_stencil, p, 0).r;
+            }
+            let ray = cameras.target_at_origin + f32(p.x) * cameras.target_per_x
+                + f32(p.y) * cameras.target_per_y;
+            let position = cameras.target_position + depth * ray;
+            let view = -normalize(ray);
+            let footprint = depth * params.pixel_angle / max(abs(dot(normal, view)), MIN_FACING);
+            let lit = visibility_at(Surface(position, depth, normal, object, footprint), q);
+            let glossy = glossy_material(base_color, material, p, unspecialised(params.has_material));
+            let sun = Sun(params.sun_direction, params.sun_illuminance);
+            var highlight = lit * sun_specular(sun, normal, view, glossy);
+            if (unspecialised(params.has_shadow_share) != ABSENT) {
+                highlight *= 1.0 + textureLoad(shadow_share, p, 0).rgb;
+            }
+            let color = sanitize_color(textureLoad(frame, p).rgb + highlight);
+            textureStore(frame, p, vec4f(to_half(color.value), 1.0));
+            changed = glossy.roughness_changed || color.changed;
+        }
+        if (changed) {
+            atomicAdd(&group_tallies[0u], 1u);
+        }
+    }
+    if (close_tallies(lane)) {
+        atomicAdd(&counters.sanitized_pixels, atomicLoad(&group_tallies[0u]));
+    }
+}

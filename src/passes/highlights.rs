@@ -1,0 +1,153 @@
+//! The sun's highlights, moved with the view (`PatchexSunLight`): frame t's are taken out of
+//! its shading in the submit (`shaders/remove_highlights.wgsl`), and the target's added to the
+//! extrapolated colour (`shaders/place_highlights.wgsl`), both from the reflection model of
+//! `shaders/include/sun_specular.wgsl`.
+
+use ash::vk;
+use glam::Vec3;
+
+use crate::camera::PixelRays;
+use crate::passes::{CounterRange, Texture};
+use crate::shaders::{place_highlights, remove_highlights};
+use crate::vk::image::OwnedImage;
+use crate::vk::recorder::{Pass, Recorder};
+
+/// The sun of a `PatchexSunLight`, checked: a unit direction towards it, and its illuminance.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sun {
+    pub direction: Vec3,
+    pub illuminance: Vec3,
+}
+
+/// What frame t's highlights are taken out with.
+pub struct SourceHighlights<'a> {
+    pub sun: Sun,
+    /// `PatchexSunLight.visibility`.
+    pub visibility: Texture,
+    /// With a shadow input whose shadows stay in frame t's shading: its mask, which the
+    /// visibility (through static casters) is multiplied by.
+    pub dynamic_mask: Option<Texture>,
+    pub base_color: Texture,
+    pub material: Option<Texture>,
+    pub placeholder: Texture,
+    /// Frame t's camera.
+    pub rays: PixelRays,
+    pub source_depth: &'a OwnedImage,
+    pub source_normal_id: &'a OwnedImage,
+    /// Where the sanitised pixels are counted (frame t's).
+    pub sanitized: CounterRange,
+}
+
+/// Takes frame t's highlights out of `shading`, and keeps its visibility of the sun in
+/// `kept_visibility` for the extrapolations.
+pub fn record_removal(
+    rec: &mut Recorder,
+    pass: Pass,
+    extent: vk::Extent2D,
+    inputs: &SourceHighlights,
+    shading: &OwnedImage,
+    kept_visibility: &OwnedImage,
+) {
+    let material = inputs.material.unwrap_or(inputs.placeholder);
+    let dynamic_mask = inputs.dynamic_mask.unwrap_or(inputs.placeholder);
+    let bound = rec.bind(pass, |writes| {
+        use remove_highlights::binding;
+        writes
+            .image(binding::SHADING, shading)
+            .image(binding::VISIBILITY, inputs.visibility)
+            .image(binding::BASE_COLOR, inputs.base_color)
+            .image(binding::MATERIAL, material)
+            .image(binding::SOURCE_DEPTH, inputs.source_depth)
+            .image(binding::SOURCE_NORMAL_ID, inputs.source_normal_id)
+            .image(binding::KEPT_VISIBILITY, kept_visibility)
+            .image(binding::DYNAMIC_MASK, dynamic_mask)
+            .buffer(binding::COUNTERS, &inputs.sanitized)
+    });
+    let params = remove_highlights::Params {
+        extent: [extent.width, extent.height],
+        has_material: inputs.material.is_some() as u32,
+        times_dynamic_mask: inputs.dynamic_mask.is_some() as u32,
+        ray_at_origin: inputs.rays.at_origin.into(),
+        ray_per_x: inputs.rays.per_x.into(),
+        ray_per_y: inputs.rays.per_y.into(),
+        sun_direction: inputs.sun.direction.into(),
+        sun_illuminance: inputs.sun.illuminance.into(),
+        ..Default::default()
+    };
+    rec.dispatch(&bound, &params, extent);
+}
+
+/// What the target's highlights are placed with.
+pub struct TargetHighlights<'a> {
+    pub sun: Sun,
+    pub kept_visibility: &'a OwnedImage,
+    /// Frame t's packed G-buffer, which says where frame t saw the target's surface.
+    pub source_depth: &'a OwnedImage,
+    pub source_normal_id: &'a OwnedImage,
+    /// The target's object ids; `None`: every pixel is static.
+    pub stencil: Option<Texture>,
+    pub placeholder_uint: Texture,
+    pub depth: Texture,
+    pub normal: Texture,
+    pub base_color: Texture,
+    pub material: Option<Texture>,
+    pub motion: Texture,
+    pub motion_scale: [f32; 2],
+    pub jitter_delta: [f32; 2],
+    /// The call's warp, whose agreement test finds where frame t saw each target pixel.
+    pub warp: crate::passes::warp::Params,
+    /// With a shadow input: the dynamic shadows' share at the target.
+    pub shadow_share: Option<Texture>,
+    pub placeholder: Texture,
+    /// Where the sanitised pixels are counted (the target's).
+    pub sanitized: CounterRange,
+}
+
+/// Adds the target's highlights to `frame`, the extrapolated colour. `cameras`: both instants'
+/// (`warp::cameras`).
+pub fn record_placement(
+    rec: &mut Recorder,
+    pass: Pass,
+    extent: vk::Extent2D,
+    inputs: &TargetHighlights,
+    cameras: &CounterRange,
+    frame: Texture,
+) {
+    let material = inputs.material.unwrap_or(inputs.placeholder);
+    let shadow_share = inputs.shadow_share.unwrap_or(inputs.placeholder);
+    let bound = rec.bind(pass, |writes| {
+        use place_highlights::binding;
+        writes
+            .image(binding::FRAME, frame)
+            .image(binding::TARGET_DEPTH, inputs.depth)
+            .image(binding::TARGET_NORMAL, inputs.normal)
+            .image(binding::BASE_COLOR, inputs.base_color)
+            .image(binding::MATERIAL, material)
+            .image(binding::MOTION, inputs.motion)
+            .image(binding::KEPT_VISIBILITY, inputs.kept_visibility)
+            .image(binding::SHADOW_SHARE, shadow_share)
+            .buffer(binding::CAMERAS, cameras)
+            .buffer(binding::COUNTERS, &inputs.sanitized)
+            .image(binding::SOURCE_DEPTH, inputs.source_depth)
+            .image(binding::SOURCE_NORMAL_ID, inputs.source_normal_id)
+            .image(
+                binding::TARGET_STENCIL,
+                inputs.stencil.unwrap_or(inputs.placeholder_uint),
+            )
+    });
+    let params = place_highlights::Params {
+        extent: [extent.width, extent.height],
+        motion_scale: inputs.motion_scale,
+        jitter_delta: inputs.jitter_delta,
+        has_material: inputs.material.is_some() as u32,
+        has_shadow_share: inputs.shadow_share.is_some() as u32,
+        inv_sigma_depth: inputs.warp.inv_sigma_depth,
+        inv_sigma_normal: inputs.warp.inv_sigma_normal,
+        inv_sigma_position: inputs.warp.inv_sigma_position,
+        pixel_angle: inputs.warp.pixel_angle,
+        sun_direction: inputs.sun.direction.into(),
+        sun_illuminance: inputs.sun.illuminance.into(),
+        ..Default::default()
+    };
+    rec.dispatch(&bound, &params, extent);
+}

@@ -1,0 +1,249 @@
+//! Mirror of `shaders/include/sun_specular.wgsl`, `shaders/remove_highlights.wgsl` and
+//! `shaders/place_highlights.wgsl`.
+
+use glam::{Vec2, Vec3, Vec4};
+
+use super::gbuffer::{is_sky, pixel_modulation, round_vec3_to_f16, sanitize, sanitize_color};
+use super::warp::{AGREEMENT_THRESHOLD, BILINEAR_ACCEPT};
+use super::{round_to_f16, Image};
+use crate::camera::PixelRays;
+use crate::passes::highlights::Sun;
+
+const MIN_ROUGHNESS: f32 = 0.02;
+
+/// `Glossy`: the specular colour, the roughness, and whether the roughness was sanitised.
+struct Glossy {
+    specular_color: Vec3,
+    roughness: f32,
+    roughness_changed: bool,
+}
+
+fn glossy_material(base_color: &Image, material: Option<&Image>, x: usize, y: usize) -> Glossy {
+    let (base, _) = sanitize(Vec3::from_slice(base_color.at(x, y)), 0.0, 1.0);
+    let msr = match material {
+        Some(material) => sanitize(Vec3::from_slice(&material.at(x, y)[..3]), 0.0, 1.0).0,
+        None => Vec3::new(0.0, 0.5, 0.5),
+    };
+    let (roughness, roughness_changed) = sanitize(Vec3::new(msr.z, 0.0, 0.0), 0.0, 1.0);
+    Glossy {
+        specular_color: Vec3::splat(0.08 * msr.y).lerp(base, msr.x),
+        roughness: roughness.x.max(MIN_ROUGHNESS),
+        roughness_changed,
+    }
+}
+
+/// `sun_specular`: the light the sun's reflection sends towards `view`, unshadowed.
+fn sun_specular(sun: &Sun, normal: Vec3, view: Vec3, glossy: &Glossy) -> Vec3 {
+    let n_dot_l = normal.dot(sun.direction);
+    let n_dot_v = normal.dot(view).clamp(0.0, 1.0).max(1e-4);
+    if n_dot_l <= 0.0 {
+        return Vec3::ZERO;
+    }
+    let half_vector = (sun.direction + view).normalize();
+    let n_dot_h = normal.dot(half_vector).clamp(0.0, 1.0);
+    let v_dot_h = view.dot(half_vector).clamp(0.0, 1.0);
+    let alpha = glossy.roughness * glossy.roughness;
+    let alpha2 = alpha * alpha;
+    let d_denominator = n_dot_h * n_dot_h * (alpha2 - 1.0) + 1.0;
+    let distribution = alpha2 / (std::f32::consts::PI * d_denominator * d_denominator);
+    let smith_v = n_dot_l * (n_dot_v * n_dot_v * (1.0 - alpha2) + alpha2).sqrt();
+    let smith_l = n_dot_v * (n_dot_l * n_dot_l * (1.0 - alpha2) + alpha2).sqrt();
+    let visibility = 0.5 / (smith_v + smith_l).max(1e-6);
+    let fresnel_weight = (1.0 - v_dot_h).powf(5.0);
+    let fresnel = glossy.specular_color * (1.0 - fresnel_weight) + Vec3::splat(fresnel_weight);
+    sun.illuminance * distribution * visibility * fresnel * n_dot_l
+}
+
+/// What frame t's highlights are taken out with, as `SourceHighlights` binds it.
+pub struct SourceHighlights<'a> {
+    pub sun: Sun,
+    pub visibility: &'a Image,
+    /// With a shadow input whose shadows stay in the shading: its mask.
+    pub dynamic_mask: Option<&'a Image>,
+    pub base_color: &'a Image,
+    pub material: Option<&'a Image>,
+    /// Frame t's camera.
+    pub rays: PixelRays,
+    /// Frame t's packed G-buffer (`Packed::geometry` and `normal_id`).
+    pub geometry: &'a Image,
+    pub normal_id: &'a Image,
+}
+
+/// Frame t's shading less its highlights, its visibility of the sun (one channel, rounded to
+/// f16 as kept), and the pixels sanitised.
+pub fn remove(shading: &Image, inputs: &SourceHighlights) -> (Image, Image, u32) {
+    let (width, height) = (shading.width, shading.height);
+    let unit = |image: &Image, x, y| sanitize(Vec3::new(image.at(x, y)[0], 0.0, 0.0), 0.0, 1.0);
+    // The visibility the shading holds, and whether the engine's needed sanitising.
+    let lit_at = |x, y| {
+        let (seen, changed) = unit(inputs.visibility, x, y);
+        let dynamic = inputs.dynamic_mask.map_or(1.0, |mask| unit(mask, x, y).0.x);
+        (seen.x * dynamic, changed)
+    };
+    let has_highlight = |x, y, lit: f32| {
+        let normal = Vec3::from_slice(&inputs.normal_id.at(x, y)[..3]);
+        lit > 0.0 && !is_sky(inputs.geometry.at(x, y)[3]) && normal != Vec3::ZERO
+    };
+    let visibility = Image::from_fn(width, height, 1, |x, y| vec![round_to_f16(lit_at(x, y).0)]);
+    let mut sanitized = 0;
+    let output = Image::from_fn(width, height, 4, |x, y| {
+        let s = Vec4::from_slice(shading.at(x, y));
+        let (lit, changed) = lit_at(x, y);
+        if !has_highlight(x, y, lit) {
+            sanitized += changed as u32;
+            return s.to_array().to_vec();
+        }
+        let glossy = glossy_material(inputs.base_color, inputs.material, x, y);
+        sanitized += (changed || glossy.roughness_changed) as u32;
+        let normal = Vec3::from_slice(&inputs.normal_id.at(x, y)[..3]);
+        let rays = &inputs.rays;
+        let ray = rays.at_origin + x as f32 * rays.per_x + y as f32 * rays.per_y;
+        let highlight = lit * sun_specular(&inputs.sun, normal, -ray.normalize(), &glossy);
+        let (factor, _) = pixel_modulation(inputs.base_color, inputs.material, x, y);
+        let scale = (s.w / factor.max_element()).max(1.0);
+        let rgb = round_vec3_to_f16(s.truncate() - highlight / (factor * scale));
+        rgb.extend(s.w).to_array().to_vec()
+    });
+    (output, visibility, sanitized)
+}
+
+/// What the target's highlights are placed with, as `TargetHighlights` binds it.
+pub struct TargetHighlights<'a> {
+    pub sun: Sun,
+    /// Frame t's visibility, as `remove` kept it.
+    pub kept_visibility: &'a Image,
+    /// Frame t's packed G-buffer (`Packed::geometry` and `normal_id`).
+    pub source_geometry: &'a Image,
+    pub source_normal_id: &'a Image,
+    /// The target's packed G-buffer: positions with linear depth, normals as the engine stored
+    /// them (unit) with object ids, and which pixels are usable.
+    pub geometry: &'a Image,
+    pub normal_id: &'a Image,
+    pub valid: &'a [bool],
+    pub base_color: &'a Image,
+    pub material: Option<&'a Image>,
+    pub motion: &'a Image,
+    /// The call's warp (`WarpSettings::params`): motion scale, jitter and agreement test.
+    pub warp: &'a crate::passes::warp::Params,
+    /// With a shadow input: the dynamic shadows' share at the target.
+    pub shadow_share: Option<&'a Image>,
+    /// The target's camera.
+    pub rays: PixelRays,
+}
+
+/// The target pixel's surface (`Surface` in place_highlights.wgsl).
+struct Surface {
+    position: Vec3,
+    depth: f32,
+    normal: Vec3,
+    id: f32,
+    footprint: f32,
+}
+
+const MIN_FACING: f32 = 0.25;
+const UNSEEN_VISIBILITY: f32 = 0.0;
+
+/// `agrees`: frame t's texel (x, y) shows surface `t`.
+fn agrees(inputs: &TargetHighlights, t: &Surface, x: i32, y: i32) -> bool {
+    let packed = inputs.source_normal_id.clamped(x, y);
+    let geometry = inputs.source_geometry.clamped(x, y);
+    let depth = geometry[3];
+    if packed[3] != t.id || is_sky(depth) {
+        return false;
+    }
+    let warp = inputs.warp;
+    let normal_term = (1.0 - t.normal.dot(Vec3::from_slice(&packed[..3]))) * warp.inv_sigma_normal;
+    let e = if t.id == 0.0 {
+        let offset = Vec3::from_slice(&geometry[..3]) - t.position;
+        offset.length() / t.footprint * warp.inv_sigma_position
+    } else {
+        (t.depth - depth).abs() / t.depth.max(depth) * warp.inv_sigma_depth
+    };
+    normal_term + e * e <= -AGREEMENT_THRESHOLD.ln()
+}
+
+/// `visibility_at`: frame t's visibility where it saw surface `t` around `q`.
+fn visibility_at(inputs: &TargetHighlights, t: &Surface, q: Vec2) -> f32 {
+    let kept = inputs.kept_visibility;
+    let corner = (q - 0.5).floor();
+    let f = q - 0.5 - corner;
+    let (cx, cy) = (corner.x as i32, corner.y as i32);
+    let (mut blend, mut weight, mut agreeing) = (0.0, 0.0, 0.0);
+    for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+        let w = if dx == 1 { f.x } else { 1.0 - f.x } * if dy == 1 { f.y } else { 1.0 - f.y };
+        let v = kept.clamped(cx + dx, cy + dy)[0];
+        blend += w * v;
+        if agrees(inputs, t, cx + dx, cy + dy) {
+            weight += w;
+            agreeing += w * v;
+        }
+    }
+    if weight >= BILINEAR_ACCEPT {
+        return agreeing / weight;
+    }
+    let (centre_x, centre_y) = (q.x.floor() as i32, q.y.floor() as i32);
+    let last = (kept.width as i32 - 1, kept.height as i32 - 1);
+    let (centre_x, centre_y) = (centre_x.clamp(0, last.0), centre_y.clamp(0, last.1));
+    let (mut count, mut sum) = (0.0, 0.0);
+    for i in 0..9 {
+        let (x, y) = (centre_x + i % 3 - 1, centre_y + i / 3 - 1);
+        if agrees(inputs, t, x, y) {
+            count += 1.0;
+            sum += kept.clamped(x, y)[0];
+        }
+    }
+    if count > 0.0 {
+        return sum / count;
+    }
+    let size = Vec2::new(kept.width as f32, kept.height as f32);
+    let onscreen = q.cmpge(Vec2::ZERO).all() && q.cmplt(size).all();
+    if onscreen {
+        UNSEEN_VISIBILITY
+    } else {
+        blend
+    }
+}
+
+/// The colour with the target's highlights added, and the pixels sanitised.
+pub fn place(color: &Image, inputs: &TargetHighlights) -> (Image, u32) {
+    let mut sanitized = 0;
+    let output = Image::from_fn(color.width, color.height, 4, |x, y| {
+        let c = Vec4::from_slice(color.at(x, y));
+        let motion = Vec2::from_slice(&inputs.motion.at(x, y)[..2]);
+        let q = Vec2::new(x as f32, y as f32)
+            + 0.5
+            + motion * Vec2::from(inputs.warp.motion_scale)
+            + Vec2::from(inputs.warp.jitter_delta);
+        let normal_id = inputs.normal_id.at(x, y);
+        let normal = Vec3::from_slice(&normal_id[..3]);
+        let geometry = inputs.geometry.at(x, y);
+        let usable = inputs.valid[x + y * color.width]
+            && !is_sky(geometry[3])
+            && normal != Vec3::ZERO
+            && !q.is_nan();
+        if !usable {
+            return c.to_array().to_vec();
+        }
+        let rays = &inputs.rays;
+        let ray = rays.at_origin + x as f32 * rays.per_x + y as f32 * rays.per_y;
+        let view = -ray.normalize();
+        let depth = geometry[3];
+        let surface = Surface {
+            position: rays.position + depth * ray,
+            depth,
+            normal,
+            id: normal_id[3],
+            footprint: depth * inputs.warp.pixel_angle / normal.dot(view).abs().max(MIN_FACING),
+        };
+        let lit = visibility_at(inputs, &surface, q);
+        let glossy = glossy_material(inputs.base_color, inputs.material, x, y);
+        let mut highlight = lit * sun_specular(&inputs.sun, normal, view, &glossy);
+        if let Some(share) = inputs.shadow_share {
+            highlight *= Vec3::ONE + Vec3::from_slice(&share.at(x, y)[..3]);
+        }
+        let (sum, changed) = sanitize_color(c.truncate() + highlight);
+        sanitized += (glossy.roughness_changed || changed) as u32;
+        round_vec3_to_f16(sum).extend(1.0).to_array().to_vec()
+    });
+    (output, sanitized)
+}

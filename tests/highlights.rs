@@ -1,0 +1,403 @@
+//! The sun's highlights (`PatchexSunLight`) on lavapipe through the C ABI: frame t's taken out
+//! of its shading and the target's placed, against the plain-Rust reference on frames of the
+//! scene renderer (glossy tiled ground, a moving camera, animated characters), with and without
+//! the shadow sub-task; the gain over glossy surfaces; and that bad inputs are refused or
+//! sanitised and counted.
+//!
+//! Tolerance: the colour tolerance of `support/pipeline.rs` (2e-3 relative plus 1e-4),
+//! loosened to 1e-3 absolute: the highlight is a sum of pow(), sqrt() and a division whose last
+//! bits differ between the GPU and the reference, on top of the warp's.
+
+mod support;
+
+use std::ffi::c_void;
+
+use ash::vk;
+use glam::Vec3;
+use patchex::abi::*;
+use patchex::camera::Camera;
+use patchex::error::PatchexResult;
+use patchex::passes::highlights::Sun;
+use patchex::passes::shadow_flow::{mask_step, FlowSettings};
+use patchex::passes::warp::WarpSettings;
+use patchex::reference::{self, Image, ShadowInputs};
+use patchex_harness::EngineImage;
+use patchex_scene::dataset::SunInfo;
+use support::pipeline::{assert_stages_agree, inputs, psnr, read_image};
+use support::scene::Frame;
+use support::*;
+
+/// A glossy generated scene: tiled ground of roughness 0.25 to 0.55 under a handheld camera,
+/// with animated characters.
+const SCENE: &str = "generated/autumn_01.toml";
+
+/// Frames t-1 and t (frames 0 and 2 of the doubled stream), the instant halfway to t+1 (frame
+/// 3), and the scene's sun.
+fn rendered_frames(width: u32, height: u32) -> ([Frame; 3], SunInfo) {
+    let sequence = support::rendered::render(SCENE, 4, width, height);
+    let sun = sequence.manifest.sun.expect("the renderer records its sun");
+    let Ok([previous, _, source, target]) = <[Frame; 4]>::try_from(sequence.frames) else {
+        unreachable!("four frames")
+    };
+    ([previous, source, target], sun)
+}
+
+/// What the frames of one run go with.
+#[derive(Clone, Copy, Default)]
+struct Inputs<'a> {
+    /// Frame t-1 and frame t's shadow inputs (a context with the shadow sub-task).
+    shadows: [bool; 2],
+    sun: Option<&'a SunInfo>,
+}
+
+struct Outcome {
+    output: Image,
+    stats: PatchexFrameStats,
+}
+
+/// Submits `previous` (frame 1) and `source` (frame 2), each with what `with` gives it, and
+/// extrapolates `target` at alpha 1/2 from frame 2, on a fresh rig under validation that must
+/// stay silent.
+fn run([previous, source, target]: [&Frame; 3], with: Inputs) -> Outcome {
+    let (width, height) = (source.color.width, source.color.height);
+    let rig = Rig::with_create_info(width as u32, height as u32, |info| {
+        if with.shadows.contains(&true) {
+            info.preset = PATCHEX_PRESET_WARP_AND_SHADOWS;
+        }
+    });
+    let engine = &rig.engine;
+    let family = engine.queue_family_index;
+    let frames = [previous, source].map(|frame| GpuFrame::upload(engine, frame));
+    let gpu_target = GpuFrame::upload(engine, target);
+    let output = output_image(engine, width as u32, height as u32);
+    let shadow_inputs = frames.each_ref().map(GpuFrame::shadow_input);
+    let suns = [0, 1].map(|index| {
+        with.sun.map(|sun| PatchexSunLight {
+            header: PatchexStructHeader {
+                next: if with.shadows[index] {
+                    &shadow_inputs[index] as *const _ as *const c_void
+                } else {
+                    std::ptr::null()
+                },
+                ..PatchexStructHeader::of::<PatchexSunLight>(PATCHEX_STRUCT_TYPE_SUN_LIGHT)
+            },
+            ..frames[index].sun_light(sun, with.shadows[index])
+        })
+    });
+    for (index, frame) in frames.iter().enumerate() {
+        let mut desc = frame.frame_desc(1 + index as u64, family);
+        desc.header.next = match (&suns[index], with.shadows[index]) {
+            (Some(sun), _) => sun as *const _ as *const c_void,
+            (None, true) => &shadow_inputs[index] as *const _ as *const c_void,
+            (None, false) => std::ptr::null(),
+        };
+        engine.run(|cmd| {
+            assert_eq!(
+                rig.submit(cmd, &desc),
+                PatchexResult::Success,
+                "{}",
+                rig.last_error()
+            );
+            if index == 1 {
+                let extrapolate = gpu_target.extrapolate_desc(&output, 0.5, family);
+                assert_eq!(
+                    rig.extrapolate(cmd, &extrapolate),
+                    PatchexResult::Success,
+                    "{}",
+                    rig.last_error()
+                );
+            }
+        });
+    }
+    let (result, stats) = rig.stats(2);
+    assert_eq!(result, PatchexResult::Success, "{}", rig.last_error());
+    let messages = engine.take_validation_messages();
+    assert!(messages.is_empty(), "validation: {messages:?}");
+    Outcome {
+        output: read_image(engine, &output, width, height),
+        stats,
+    }
+}
+
+fn sun_of(info: &SunInfo) -> Sun {
+    Sun {
+        direction: Vec3::from(info.direction),
+        illuminance: Vec3::from(info.illuminance),
+    }
+}
+
+/// The reference's run of `run`.
+fn reference_run(
+    [previous, source, target]: [&Frame; 3],
+    with: Inputs,
+) -> reference::Extrapolation {
+    let previous_camera = Camera::from_abi(&previous.camera, "previous").unwrap();
+    let source_camera = Camera::from_abi(&source.camera, "source").unwrap();
+    let target_camera = Camera::from_abi(&target.camera, "target").unwrap();
+    // Frames with a shadow input give the static casters' visibility, which their colour
+    // without dynamic shadows was lit with.
+    let visibility = if with.shadows[1] {
+        &source.static_visibility
+    } else {
+        &source.sun_visibility
+    };
+    let source_inputs = reference::FrameInputs {
+        sun: with.sun.map(|sun| (sun_of(sun), visibility)),
+        ..inputs(source, &source_camera)
+    };
+    let shadows = with.shadows[1].then(|| ShadowInputs {
+        color_without_dynamic_shadows: &source.color_without_dynamic_shadows,
+        mask: &source.shadow_mask,
+        previous: with.shadows[0].then_some((
+            &previous.shadow_mask,
+            &previous.stencil,
+            &previous_camera,
+        )),
+        flow: FlowSettings::default(),
+        mask_step: mask_step(vk::Extent2D {
+            width: source.color.width as u32,
+            height: source.color.height as u32,
+        }),
+        target_mask: None,
+    });
+    reference::extrapolate(
+        &source_inputs,
+        &inputs(target, &target_camera),
+        shadows.as_ref(),
+        0.5,
+        &WarpSettings::default(),
+        &Default::default(),
+        Default::default(),
+    )
+}
+
+/// Worst error of an output image against another in units of the tolerance.
+fn worst_output_error(got: &Image, want: &Image) -> f32 {
+    got.data
+        .iter()
+        .zip(&want.data)
+        .map(|(&g, &w)| (g - w).abs() / (1e-3 + 2e-3 * w.abs()))
+        .fold(0.0, f32::max)
+}
+
+/// The plugin against the reference for the frames with `with`: the same output, stages and
+/// counts.
+fn assert_matches_reference(frames: [&Frame; 3], with: Inputs) -> Outcome {
+    let outcome = run(frames, with);
+    let expected = reference_run(frames, with);
+    if with.shadows[1] {
+        // Without them, the warp remodulates as it writes: the plugin runs no remodulation
+        // stage, which the reference lists.
+        assert_stages_agree(&expected, &outcome.stats);
+    }
+    let ran = |stage: PatchexStage| outcome.stats.extrapolations[0].stages_run & 1 << stage != 0;
+    assert_eq!(ran(PATCHEX_STAGE_HIGHLIGHTS), with.sun.is_some());
+    let worst = worst_output_error(&outcome.output, &expected.output);
+    assert!(worst <= 1.0, "output differs from the reference ({worst})");
+    assert_eq!(
+        outcome.stats.source_sanitized_pixels,
+        expected.source_sanitized
+    );
+    assert_eq!(
+        outcome.stats.extrapolations[0].sanitized_pixels,
+        expected.target_sanitized
+    );
+    outcome
+}
+
+#[test]
+fn highlight_passes_match_their_references_under_a_moving_camera() {
+    let (frames, sun) = rendered_frames(128, 72);
+    let with = Inputs {
+        sun: Some(&sun),
+        ..Default::default()
+    };
+    assert_matches_reference(frames.each_ref(), with);
+}
+
+/// With the shadow sub-task: on the first frame with a shadow input, whose shadows stay in its
+/// shading (the visibility it holds is the static casters' times the dynamic mask), and on the
+/// second, whose shadows are separated and whose share at the target takes the highlights'
+/// part away.
+#[test]
+fn highlight_passes_match_their_references_with_the_shadow_sub_task() {
+    let (frames, sun) = rendered_frames(128, 72);
+    for shadows in [[false, true], [true, true]] {
+        let with = Inputs {
+            shadows,
+            sun: Some(&sun),
+        };
+        assert_matches_reference(frames.each_ref(), with);
+    }
+}
+
+/// On the glossy surfaces the sun reaches, the highlights as the target sees them bring the
+/// output closer to the rendered target than frame t's carried with the surface.
+#[test]
+fn the_sun_brings_glossy_surfaces_closer_to_the_rendered_target() {
+    let (frames, sun) = rendered_frames(160, 90);
+    let [_, source, target] = &frames;
+    let glossy: Vec<usize> = (0..target.color.width * target.color.height)
+        .filter(|&i| target.material.data[4 * i + 2] < 0.5 && target.sun_visibility.data[i] > 0.5)
+        .filter(|&i| source.stencil.data[i] == 0.0 && target.stencil.data[i] == 0.0)
+        .collect();
+    let region = |image: &Image| Image {
+        width: glossy.len(),
+        height: 1,
+        channels: 4,
+        data: glossy
+            .iter()
+            .flat_map(|&i| image.data[4 * i..4 * i + 4].to_vec())
+            .collect(),
+    };
+    let truth = region(&target.color);
+    let without = run(frames.each_ref(), Inputs::default()).output;
+    let with = Inputs {
+        sun: Some(&sun),
+        ..Default::default()
+    };
+    let with_sun = run(frames.each_ref(), with).output;
+    let (before, after) = (
+        psnr(&region(&without), &truth),
+        psnr(&region(&with_sun), &truth),
+    );
+    eprintln!(
+        "{} glossy lit pixels: {before:.2} dB without the sun, {after:.2} dB with it",
+        glossy.len()
+    );
+    assert!(glossy.len() > 2000, "only {} glossy pixels", glossy.len());
+    assert!(
+        after > before + 1.0,
+        "{after} dB with the sun against {before} dB without"
+    );
+}
+
+/// A sun that reaches no pixel takes nothing out and adds nothing: the frames are those without
+/// one, bit for bit.
+#[test]
+fn a_sun_that_reaches_nothing_changes_nothing() {
+    let (frames, sun) = rendered_frames(96, 54);
+    let mut source = frames[1].clone();
+    source.sun_visibility.data.fill(0.0);
+    let frames = [&frames[0], &source, &frames[2]];
+    let with = Inputs {
+        sun: Some(&sun),
+        ..Default::default()
+    };
+    assert_eq!(
+        run(frames, with).output,
+        run(frames, Inputs::default()).output
+    );
+}
+
+/// NaN, infinite and out-of-range visibilities and roughnesses are sanitised and counted as the
+/// reference counts them, and the output stays finite.
+#[test]
+fn bad_visibility_and_roughness_are_sanitised_and_counted() {
+    let (frames, sun) = rendered_frames(96, 54);
+    let [previous, source, target] = &frames;
+    let (mut source, mut target) = (source.clone(), target.clone());
+    let bad = [f32::NAN, f32::INFINITY, -0.5, 1.5, f32::NEG_INFINITY];
+    for (i, value) in bad.iter().enumerate() {
+        source.sun_visibility.data[7 * i + 3] = *value;
+        // Roughness of lit pixels, which the sun's reflection reads.
+        source.material.data[4 * (40 * i + 300) + 2] = *value;
+        target.material.data[4 * (40 * i + 301) + 2] = *value;
+    }
+    let with = Inputs {
+        sun: Some(&sun),
+        ..Default::default()
+    };
+    let outcome = assert_matches_reference([previous, &source, &target], with);
+    assert!(outcome.stats.source_sanitized_pixels >= bad.len() as u32);
+    assert!(outcome.output.data.iter().all(|v| v.is_finite()));
+}
+
+/// Each unusable PatchexSunLight is refused with INVALID_ARGUMENT (or the image's own error),
+/// with a message naming the field, and the context goes on as before.
+#[test]
+fn unusable_sun_lights_are_refused() {
+    let (frames, sun) = rendered_frames(64, 36);
+    let rig = Rig::new(64, 36);
+    let engine = &rig.engine;
+    let source = GpuFrame::upload(engine, &frames[1]);
+    let wrong_format = EngineImage::new(
+        engine,
+        vk::Format::R8G8B8A8_UINT,
+        64,
+        36,
+        vk::ImageUsageFlags::SAMPLED,
+    );
+    let valid = source.sun_light(&sun, false);
+    let cases: [(PatchexSunLight, PatchexResult, &str); 6] = [
+        (
+            PatchexSunLight {
+                direction: [0.0; 3],
+                ..valid
+            },
+            PatchexResult::ErrorInvalidArgument,
+            "direction",
+        ),
+        (
+            PatchexSunLight {
+                direction: [f32::NAN, 1.0, 0.0],
+                ..valid
+            },
+            PatchexResult::ErrorInvalidArgument,
+            "direction",
+        ),
+        (
+            PatchexSunLight {
+                illuminance: [1.0, -1.0, 1.0],
+                ..valid
+            },
+            PatchexResult::ErrorInvalidArgument,
+            "illuminance",
+        ),
+        (
+            PatchexSunLight {
+                illuminance: [f32::INFINITY, 1.0, 1.0],
+                ..valid
+            },
+            PatchexResult::ErrorInvalidArgument,
+            "illuminance",
+        ),
+        (
+            PatchexSunLight {
+                visibility: PatchexImage::default(),
+                ..valid
+            },
+            PatchexResult::ErrorNullPointer,
+            "visibility",
+        ),
+        (
+            PatchexSunLight {
+                visibility: wrong_format.describe(GBUFFER_LAYOUT),
+                ..valid
+            },
+            PatchexResult::ErrorUnsupportedFormat,
+            "visibility",
+        ),
+    ];
+    for (index, (light, expected, field)) in cases.iter().enumerate() {
+        let mut desc = source.frame_desc(1 + index as u64, engine.queue_family_index);
+        desc.header.next = light as *const _ as *const c_void;
+        engine.run(|cmd| assert_eq!(rig.submit(cmd, &desc), *expected, "{}", rig.last_error()));
+        let message = rig.last_error();
+        assert!(
+            message.contains("PatchexSunLight") && message.contains(field),
+            "{message}"
+        );
+    }
+    // Refused calls leave the context as it was: a good sun is taken.
+    let mut desc = source.frame_desc(10, engine.queue_family_index);
+    desc.header.next = &valid as *const _ as *const c_void;
+    engine.run(|cmd| {
+        assert_eq!(
+            rig.submit(cmd, &desc),
+            PatchexResult::Success,
+            "{}",
+            rig.last_error()
+        )
+    });
+}
