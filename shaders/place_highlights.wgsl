@@ -1,13 +1,14 @@
 // With a PatchexSunLight on frame t: adds the sun's highlights to the extrapolated colour, as the
 // target's view sees them on the target's surfaces, in place of frame t's, which
 // remove_highlights.wgsl took out of the shading the warp carried:
-//   c' = c + visibility * (1 + shadow share) * specular.
+//   c' = c + visibility * dynamic * specular.
 // The sun's visibility is frame t's where it saw the target's surface: from the texels around
-// where the motion vectors lead that pass the G-buffer warp's agreement test. With a shadow
-// input, the dynamic shadows' share at the target takes its part away, as remodulation does from
-// the rest of the light.
+// where the motion vectors lead that pass the G-buffer warp's agreement test. `dynamic` is 1
+// without a shadow input; with one, the dynamic casters' visibility at the target where a target
+// shadow input gives it, else the share of light the shadows leave there (remodulate.wgsl).
 // #import gbuffer
 // #import cameras
+// #import fill
 // #import sun_specular
 // #import tallies
 
@@ -19,6 +20,9 @@ struct Params {
     jitter_delta: vec2f,
     has_material: u32,
     has_shadow_share: u32,
+    // With a target shadow input: the dynamic casters' visibility at the target, which static
+    // pixels' highlights take in place of the share.
+    has_target_mask: u32,
     // The call's warp settings, for its agreement test (include/warp.wgsl).
     inv_sigma_depth: f32,
     inv_sigma_normal: f32,
@@ -46,6 +50,7 @@ var<immediate> params: Params;
 @group(0) @binding(10) var source_depth: texture_2d<f32>;
 @group(0) @binding(11) var source_normal_id: texture_2d<u32>;
 @group(0) @binding(12) var target_stencil: texture_2d<u32>;
+@group(0) @binding(13) var target_mask: texture_2d<f32>;
 
 // -ln of the G-buffer warp's agreement threshold (include/warp.wgsl).
 const LN_AGREEMENT_THRESHOLD: f32 = 0.6931472;
@@ -53,8 +58,6 @@ const LN_AGREEMENT_THRESHOLD: f32 = 0.6931472;
 const BILINEAR_ACCEPT: f32 = 0.5;
 // Grazing surfaces stretch a pixel's footprint by 1 / cos(angle), up to this cosine.
 const MIN_FACING: f32 = 0.25;
-// The visibility where frame t saw nothing of the target's surface on screen.
-const UNSEEN_VISIBILITY: f32 = 0.0;
 
 // A setting as this pass branches on it: tied to an image's size, which the driver cannot inline,
 // so that lavapipe does not compile the shader again for every value at every dispatch
@@ -94,10 +97,16 @@ fn agrees(t: Surface, s: vec2i) -> bool {
     return normal_term + e * e <= LN_AGREEMENT_THRESHOLD;
 }
 
+// What the fill spreads (fill.wgsl): frame t's visibility.
+fn fill_value(s: vec2i) -> vec4f {
+    return vec4f(textureLoad(kept_visibility, s, 0).r);
+}
+
 // Frame t's visibility of the sun where it saw surface `t` around `q`: the bilinear blend of the
 // texels that agree with it when they hold enough of the blend, else the mean of the 3x3 texels
-// around q that agree. Off screen, the bilinear blend of the nearest texels; on screen with none
-// agreeing (a disocclusion the warp fills), UNSEEN_VISIBILITY.
+// around q that agree. Where none does (a hole, off screen or uncovered), frame t's visibility
+// spread as the G-buffer warp's fill spreads its shading there: from the texels whose surface
+// matches, which the fill's shading came from.
 fn visibility_at(t: Surface, q: vec2f) -> f32 {
     let corner = vec2i(floor(q - 0.5));
     let f = q - 0.5 - floor(q - 0.5);
@@ -129,8 +138,7 @@ fn visibility_at(t: Surface, q: vec2f) -> f32 {
     if (count > 0.0) {
         return sum / count;
     }
-    let offscreen = !(all(q >= vec2f(0.0)) && all(q < vec2f(params.extent)));
-    return select(UNSEEN_VISIBILITY, dot(w, v), offscreen);
+    return fill_hole(q, t).x;
 }
 
 @compute @workgroup_size(8, 8, 1)
@@ -163,7 +171,12 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
             let glossy = glossy_material(base_color, material, p, unspecialised(params.has_material));
             let sun = Sun(params.sun_direction, params.sun_illuminance);
             var highlight = lit * sun_specular(sun, normal, view, glossy);
-            if (unspecialised(params.has_shadow_share) != ABSENT) {
+            // The dynamic shadows at the target: a highlight is the sun's alone, so the mask
+            // takes it where there is one; the share, the part of all light they take, elsewhere.
+            if (unspecialised(params.has_target_mask) != ABSENT && object == 0u) {
+                let seen = sanitize_unit(vec3f(textureLoad(target_mask, p, 0).r, 0.0, 0.0));
+                highlight *= seen.value.x;
+            } else if (unspecialised(params.has_shadow_share) != ABSENT) {
                 highlight *= 1.0 + textureLoad(shadow_share, p, 0).rgb;
             }
             let color = sanitize_color(textureLoad(frame, p).rgb + highlight);

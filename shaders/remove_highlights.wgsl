@@ -4,7 +4,11 @@
 // over modulation factor f (gbuffer.wgsl `demodulated`, which may have scaled f up):
 //   s' = s - visibility * specular / f.
 // The result may be negative where the engine's reflection differs from the model: the warp
-// carries it as it is, and the target's highlight adds back what was taken.
+// carries it as it is, and the target's highlight adds back what was taken. With the shadows
+// separated (separate_shadows.wgsl), the shadow layer is the share of the light without the
+// highlight that the shadows take away: from F' = F - mask * h and U' = U - h, for highlight h
+// through static casters, so that it takes from the warped shading only what the shadows took
+// from it.
 // #import gbuffer
 // #import sun_specular
 // #import tallies
@@ -12,9 +16,13 @@
 struct Params {
     extent: vec2u,
     has_material: u32,
-    // With a shadow input whose shadows stay in the shading (not separated): its visibility
-    // (static casters) times the dynamic casters' mask is the term the shading holds.
-    times_dynamic_mask: u32,
+    // With a shadow input: the visibility given is the static casters'. Where the shading
+    // holds the dynamic casters' shadows too (dynamic objects, or every pixel when the shadows
+    // are not separated), the term it holds is that times the mask.
+    has_shadow_input: u32,
+    // With the shadows separated: static pixels hold the colour without the dynamic shadows,
+    // and the shadow layer is made again without the highlight.
+    separated: u32,
     // Frame t's camera as rays through its pixel centres (`Cameras`, without the position).
     ray_at_origin: vec3f,
     ray_per_x: vec3f,
@@ -33,8 +41,12 @@ var<immediate> params: Params;
 @group(0) @binding(5) var source_normal_id: texture_2d<u32>;
 @group(0) @binding(6) var kept_visibility: texture_storage_2d<r16float, write>;
 @group(0) @binding(7) var<storage, read_write> counters: SanitizeCounters;
-// PatchexShadowInput.mask, with `times_dynamic_mask` (its sanitising is the separation's to count).
+// PatchexShadowInput's mask, with `times_dynamic_mask` or `separated` (its sanitising is the
+// separation's to count), and with `separated` its colours and the layer made from them.
 @group(0) @binding(8) var dynamic_mask: texture_2d<f32>;
+@group(0) @binding(9) var color: texture_2d<f32>;
+@group(0) @binding(10) var color_without_dynamic_shadows: texture_2d<f32>;
+@group(0) @binding(11) var shadow_layer: texture_storage_2d<rgba16float, read_write>;
 
 // A setting as this pass branches on it: tied to an image's size, which the driver cannot inline,
 // so that lavapipe does not compile the shader again for every value at every dispatch
@@ -49,12 +61,15 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
     let p = id.xy;
     if (all(p < params.extent)) {
         let seen = sanitize_unit(vec3f(textureLoad(visibility, p, 0).r, 0.0, 0.0));
+        let packed = textureLoad(source_normal_id, p, 0).r;
+        // Static pixels of separated shadows hold the colour without them.
+        let separated = unspecialised(params.separated) != ABSENT && object_id(packed) == 0u;
         var lit = seen.value.x;
-        if (unspecialised(params.times_dynamic_mask) != ABSENT) {
+        if (unspecialised(params.has_shadow_input) != ABSENT && !separated) {
             lit *= sanitize_unit(vec3f(textureLoad(dynamic_mask, p, 0).r, 0.0, 0.0)).value.x;
         }
         textureStore(kept_visibility, p, vec4f(lit, 0.0, 0.0, 1.0));
-        let normal = unpack_normal(textureLoad(source_normal_id, p, 0).r);
+        let normal = unpack_normal(packed);
         let depth = textureLoad(source_depth, p, 0).r;
         var changed = seen.changed;
         if (lit > 0.0 && !is_sky(depth) && any(normal != vec3f(0.0))) {
@@ -70,6 +85,15 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
             let factor = pixel_modulation(base_color, material, p, has_material).factor;
             let scale = max(1.0, s.a / largest(factor));
             textureStore(shading, p, vec4f(to_half(s.rgb - highlight / (factor * scale)), s.a));
+            if (separated) {
+                let mask = sanitize_unit(vec3f(textureLoad(dynamic_mask, p, 0).r, 0.0, 0.0)).value.x;
+                let lit_color = sanitize_input_color(textureLoad(color, p, 0).rgb).value;
+                let unshadowed = sanitize_input_color(textureLoad(color_without_dynamic_shadows, p, 0).rgb).value;
+                let layer = textureLoad(shadow_layer, p);
+                let share = share_lost_to_shadows(max(lit_color - mask * highlight, vec3f(0.0)),
+                    max(unshadowed - highlight, vec3f(0.0)));
+                textureStore(shadow_layer, p, vec4f(to_half(share), layer.a));
+            }
         }
         if (changed) {
             atomicAdd(&group_tallies[0u], 1u);

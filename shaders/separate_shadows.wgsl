@@ -27,9 +27,6 @@ struct Params {
 }
 var<immediate> params: Params;
 
-// Below this unshadowed colour a receiver has no light to lose.
-const BLACK: f32 = 1e-6;
-
 @group(0) @binding(0) var color: texture_2d<f32>;
 @group(0) @binding(1) var color_without_dynamic_shadows: texture_2d<f32>;
 @group(0) @binding(2) var shadow_mask: texture_2d<f32>;
@@ -39,12 +36,6 @@ const BLACK: f32 = 1e-6;
 @group(0) @binding(6) var shadow_layer: texture_storage_2d<rgba16float, write>;
 @group(0) @binding(8) var<storage, read_write> counters: SanitizeCounters;
 @group(0) @binding(9) var source_normal_id: texture_2d<u32>;
-
-// The share of the unshadowed light U that the dynamic shadows take away from F, per channel.
-fn shadow_share(lit: vec3f, unshadowed: vec3f) -> vec3f {
-    let lost = min(lit, unshadowed) - unshadowed;
-    return select(vec3f(0.0), lost / unshadowed, unshadowed > vec3f(BLACK));
-}
 
 @compute @workgroup_size(8, 8, 1)
 fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_index) lane: u32) {
@@ -60,7 +51,7 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
         textureStore(shading, p, demodulated(select(lit.value, unshadowed.value, separates), m.factor));
         var layer = vec4f(0.0);
         if (separates) {
-            layer = vec4f(shadow_share(lit.value, unshadowed.value), 1.0 - visibility.value.x);
+            layer = vec4f(share_lost_to_shadows(lit.value, unshadowed.value), 1.0 - visibility.value.x);
         }
         textureStore(shadow_layer, p, layer);
         let changed = m.changed || lit.changed || unshadowed.changed || visibility.changed;

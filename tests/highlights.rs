@@ -47,6 +47,8 @@ fn rendered_frames(width: u32, height: u32) -> ([Frame; 3], SunInfo) {
 struct Inputs<'a> {
     /// Frame t-1 and frame t's shadow inputs (a context with the shadow sub-task).
     shadows: [bool; 2],
+    /// The target's shadow mask as a target shadow input.
+    target_mask: bool,
     sun: Option<&'a SunInfo>,
 }
 
@@ -84,6 +86,12 @@ fn run([previous, source, target]: [&Frame; 3], with: Inputs) -> Outcome {
             ..frames[index].sun_light(sun, with.shadows[index])
         })
     });
+    let target_mask = PatchexTargetShadowInput {
+        header: PatchexStructHeader::of::<PatchexTargetShadowInput>(
+            PATCHEX_STRUCT_TYPE_TARGET_SHADOW_INPUT,
+        ),
+        mask: gpu_target.shadow_input().mask,
+    };
     for (index, frame) in frames.iter().enumerate() {
         let mut desc = frame.frame_desc(1 + index as u64, family);
         desc.header.next = match (&suns[index], with.shadows[index]) {
@@ -99,7 +107,10 @@ fn run([previous, source, target]: [&Frame; 3], with: Inputs) -> Outcome {
                 rig.last_error()
             );
             if index == 1 {
-                let extrapolate = gpu_target.extrapolate_desc(&output, 0.5, family);
+                let mut extrapolate = gpu_target.extrapolate_desc(&output, 0.5, family);
+                if with.target_mask {
+                    extrapolate.header.next = &target_mask as *const _ as *const c_void;
+                }
                 assert_eq!(
                     rig.extrapolate(cmd, &extrapolate),
                     PatchexResult::Success,
@@ -158,7 +169,7 @@ fn reference_run(
             width: source.color.width as u32,
             height: source.color.height as u32,
         }),
-        target_mask: None,
+        target_mask: with.target_mask.then_some(&target.shadow_mask),
     });
     reference::extrapolate(
         &source_inputs,
@@ -216,18 +227,26 @@ fn highlight_passes_match_their_references_under_a_moving_camera() {
 }
 
 /// With the shadow sub-task: on the first frame with a shadow input, whose shadows stay in its
-/// shading (the visibility it holds is the static casters' times the dynamic mask), and on the
-/// second, whose shadows are separated and whose share at the target takes the highlights'
-/// part away.
+/// shading (the visibility it holds is the static casters' times the dynamic mask); on the
+/// second, whose shadows are separated (the layer made again without the highlight) and whose
+/// share at the target takes the highlights' part away; and with the target's mask, which
+/// takes it in the share's place.
 #[test]
 fn highlight_passes_match_their_references_with_the_shadow_sub_task() {
     let (frames, sun) = rendered_frames(128, 72);
-    for shadows in [[false, true], [true, true]] {
+    for (shadows, target_mask) in [
+        ([false, true], false),
+        ([true, true], false),
+        ([true, true], true),
+    ] {
         let with = Inputs {
             shadows,
+            target_mask,
             sun: Some(&sun),
         };
-        assert_matches_reference(frames.each_ref(), with);
+        let outcome = assert_matches_reference(frames.each_ref(), with);
+        let ran = outcome.stats.extrapolations[0].stages_run & 1 << PATCHEX_STAGE_TARGET_SHADOWS;
+        assert_eq!(ran != 0, target_mask);
     }
 }
 

@@ -192,6 +192,16 @@ fn demodulated(color: vec3f, factor: vec3f) -> vec4f {
     return vec4f(to_half(min(shading / scale, vec3f(FITTED_SHADING))), largest(factor) * scale);
 }
 
+// Below this unshadowed colour a receiver has no light to lose.
+const BLACK: f32 = 1e-6;
+
+// The shadow layer (separate_shadows.wgsl): the share of the unshadowed light U that the
+// dynamic shadows take away from F, per channel, in [-1, 0].
+fn share_lost_to_shadows(lit: vec3f, unshadowed: vec3f) -> vec3f {
+    let lost = min(lit, unshadowed) - unshadowed;
+    return select(vec3f(0.0), lost / unshadowed, unshadowed > vec3f(BLACK));
+}
+
 // The largest of the three channels.
 fn largest(v: vec3f) -> f32 {
     return max(v.r, max(v.g, v.b));

@@ -612,6 +612,8 @@ fn place_highlights(rec: &mut Recorder, plan: &ExtrapolationPlan) {
             plan.extent,
             highlights,
             &plan.cameras,
+            plan.target_shadow_mask
+                .filter(|_| plan.places_target_shadows()),
             plan.frame,
         )
     });

@@ -8,7 +8,7 @@ use crate::context::{Context, SourceFrame};
 use crate::error::{bail, Result};
 use crate::frame::counters;
 use crate::frame::images::Growth;
-use crate::frame::images::WorkImages;
+use crate::frame::images::{ShadowImages, WorkImages};
 use crate::frame::plan::{self, SubmitPlan};
 use crate::frame::settings::{Extensions, NEEDS_SHADOW_PRESET};
 use crate::inputs::{self, GeometryInputs, SourceInputs};
@@ -143,11 +143,18 @@ impl Context {
             let highlights = highlights::SourceHighlights {
                 sun,
                 visibility,
-                // Shadows left in the shading: the visibility it holds is through every caster.
-                dynamic_mask: separation_inputs
-                    .as_ref()
-                    .filter(|_| !separates)
-                    .map(|separation| separation.mask),
+                shadows: separation_inputs.as_ref().map(|separation| {
+                    let layer = &self.images.shadows.as_ref().expect("allocated above")
+                        [ShadowImages::LAYER];
+                    highlights::ShadowsInShading {
+                        mask: separation.mask,
+                        separated: separates.then_some((
+                            separation.color,
+                            separation.color_without_dynamic_shadows,
+                            layer,
+                        )),
+                    }
+                }),
                 base_color,
                 material,
                 placeholder,

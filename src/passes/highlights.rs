@@ -24,9 +24,8 @@ pub struct SourceHighlights<'a> {
     pub sun: Sun,
     /// `PatchexSunLight.visibility`.
     pub visibility: Texture,
-    /// With a shadow input whose shadows stay in frame t's shading: its mask, which the
-    /// visibility (through static casters) is multiplied by.
-    pub dynamic_mask: Option<Texture>,
+    /// With a shadow input, how its shadows are in frame t's shading.
+    pub shadows: Option<ShadowsInShading<'a>>,
     pub base_color: Texture,
     pub material: Option<Texture>,
     pub placeholder: Texture,
@@ -36,6 +35,17 @@ pub struct SourceHighlights<'a> {
     pub source_normal_id: &'a OwnedImage,
     /// Where the sanitised pixels are counted (frame t's).
     pub sanitized: CounterRange,
+}
+
+/// Frame t's shadow input as its highlights' removal reads it.
+pub struct ShadowsInShading<'a> {
+    /// `PatchexShadowInput.mask`.
+    pub mask: Texture,
+    /// Separated (`submit::shadows_separated`): the input's colours, and the shadow layer the
+    /// separation made of them, which is made again without the highlight. Where the shading
+    /// holds the dynamic shadows (dynamic objects; every pixel when not separated), the
+    /// visibility (through static casters) is multiplied by the mask.
+    pub separated: Option<(Texture, Texture, &'a OwnedImage)>,
 }
 
 /// Takes frame t's highlights out of `shading`, and keeps its visibility of the sun in
@@ -49,9 +59,20 @@ pub fn record_removal(
     kept_visibility: &OwnedImage,
 ) {
     let material = inputs.material.unwrap_or(inputs.placeholder);
-    let dynamic_mask = inputs.dynamic_mask.unwrap_or(inputs.placeholder);
+    let shadows = inputs.shadows.as_ref();
+    let separated = shadows.and_then(|s| s.separated);
+    let placeholder = inputs.placeholder;
+    let (color, color_without_dynamic_shadows) = separated
+        .map_or((placeholder, placeholder), |(lit, unshadowed, _)| {
+            (lit, unshadowed)
+        });
     let bound = rec.bind(pass, |writes| {
         use remove_highlights::binding;
+        let writes = match separated {
+            Some((_, _, layer)) => writes.image(binding::SHADOW_LAYER, layer),
+            // Unread: a storage image of the format, which the placeholders are not.
+            None => writes.image(binding::SHADOW_LAYER, shading),
+        };
         writes
             .image(binding::SHADING, shading)
             .image(binding::VISIBILITY, inputs.visibility)
@@ -60,13 +81,22 @@ pub fn record_removal(
             .image(binding::SOURCE_DEPTH, inputs.source_depth)
             .image(binding::SOURCE_NORMAL_ID, inputs.source_normal_id)
             .image(binding::KEPT_VISIBILITY, kept_visibility)
-            .image(binding::DYNAMIC_MASK, dynamic_mask)
+            .image(
+                binding::DYNAMIC_MASK,
+                shadows.map_or(placeholder, |s| s.mask),
+            )
+            .image(binding::COLOR, color)
+            .image(
+                binding::COLOR_WITHOUT_DYNAMIC_SHADOWS,
+                color_without_dynamic_shadows,
+            )
             .buffer(binding::COUNTERS, &inputs.sanitized)
     });
     let params = remove_highlights::Params {
         extent: [extent.width, extent.height],
         has_material: inputs.material.is_some() as u32,
-        times_dynamic_mask: inputs.dynamic_mask.is_some() as u32,
+        has_shadow_input: shadows.is_some() as u32,
+        separated: separated.is_some() as u32,
         ray_at_origin: inputs.rays.at_origin.into(),
         ray_per_x: inputs.rays.per_x.into(),
         ray_per_y: inputs.rays.per_y.into(),
@@ -104,13 +134,14 @@ pub struct TargetHighlights<'a> {
 }
 
 /// Adds the target's highlights to `frame`, the extrapolated colour. `cameras`: both instants'
-/// (`warp::cameras`).
+/// (`warp::cameras`); `target_mask`: a target shadow input's mask, where it places the shadows.
 pub fn record_placement(
     rec: &mut Recorder,
     pass: Pass,
     extent: vk::Extent2D,
     inputs: &TargetHighlights,
     cameras: &CounterRange,
+    target_mask: Option<Texture>,
     frame: Texture,
 ) {
     let material = inputs.material.unwrap_or(inputs.placeholder);
@@ -134,6 +165,10 @@ pub fn record_placement(
                 binding::TARGET_STENCIL,
                 inputs.stencil.unwrap_or(inputs.placeholder_uint),
             )
+            .image(
+                binding::TARGET_MASK,
+                target_mask.unwrap_or(inputs.placeholder),
+            )
     });
     let params = place_highlights::Params {
         extent: [extent.width, extent.height],
@@ -141,6 +176,7 @@ pub fn record_placement(
         jitter_delta: inputs.jitter_delta,
         has_material: inputs.material.is_some() as u32,
         has_shadow_share: inputs.shadow_share.is_some() as u32,
+        has_target_mask: target_mask.is_some() as u32,
         inv_sigma_depth: inputs.warp.inv_sigma_depth,
         inv_sigma_normal: inputs.warp.inv_sigma_normal,
         inv_sigma_position: inputs.warp.inv_sigma_position,

@@ -1,10 +1,13 @@
 //! Mirror of `shaders/include/sun_specular.wgsl`, `shaders/remove_highlights.wgsl` and
 //! `shaders/place_highlights.wgsl`.
 
-use glam::{Vec2, Vec3, Vec4};
+use glam::{IVec2, Vec2, Vec3, Vec4};
 
-use super::gbuffer::{is_sky, pixel_modulation, round_vec3_to_f16, sanitize, sanitize_color};
-use super::warp::{AGREEMENT_THRESHOLD, BILINEAR_ACCEPT};
+use super::gbuffer::{
+    is_sky, pixel_modulation, round_vec3_to_f16, sanitize, sanitize_color, sanitize_input_color,
+};
+use super::separate_shadows::share_lost_to_shadows;
+use super::warp::{fill_value, WarpSources, WarpTarget, AGREEMENT_THRESHOLD, BILINEAR_ACCEPT};
 use super::{round_to_f16, Image};
 use crate::camera::PixelRays;
 use crate::passes::highlights::Sun;
@@ -58,8 +61,8 @@ fn sun_specular(sun: &Sun, normal: Vec3, view: Vec3, glossy: &Glossy) -> Vec3 {
 pub struct SourceHighlights<'a> {
     pub sun: Sun,
     pub visibility: &'a Image,
-    /// With a shadow input whose shadows stay in the shading: its mask.
-    pub dynamic_mask: Option<&'a Image>,
+    /// With a shadow input, how its shadows are in the shading.
+    pub shadows: Option<ShadowsInShading<'a>>,
     pub base_color: &'a Image,
     pub material: Option<&'a Image>,
     /// Frame t's camera.
@@ -69,15 +72,37 @@ pub struct SourceHighlights<'a> {
     pub normal_id: &'a Image,
 }
 
-/// Frame t's shading less its highlights, its visibility of the sun (one channel, rounded to
-/// f16 as kept), and the pixels sanitised.
-pub fn remove(shading: &Image, inputs: &SourceHighlights) -> (Image, Image, u32) {
+/// Frame t's shadow input as the removal reads it (`ShadowsInShading`).
+pub struct ShadowsInShading<'a> {
+    pub mask: &'a Image,
+    /// Separated: the input's colours (lit, without dynamic shadows) and the separation's layer.
+    pub separated: Option<(&'a Image, &'a Image, &'a Image)>,
+}
+
+/// What `remove` gives back.
+pub struct Removed {
+    /// Frame t's shading less its highlights.
+    pub shading: Image,
+    /// Its visibility of the sun, one channel, rounded to f16 as kept.
+    pub visibility: Image,
+    /// With the shadows separated: the layer made again without the highlight.
+    pub shadow_layer: Option<Image>,
+    pub sanitized: u32,
+}
+
+pub fn remove(shading: &Image, inputs: &SourceHighlights) -> Removed {
     let (width, height) = (shading.width, shading.height);
     let unit = |image: &Image, x, y| sanitize(Vec3::new(image.at(x, y)[0], 0.0, 0.0), 0.0, 1.0);
+    let separated = inputs.shadows.as_ref().and_then(|s| s.separated);
     // The visibility the shading holds, and whether the engine's needed sanitising.
+    // Static pixels of separated shadows hold the colour without them.
+    let separated_at = |x, y| separated.is_some() && inputs.normal_id.at(x, y)[3] == 0.0;
     let lit_at = |x, y| {
         let (seen, changed) = unit(inputs.visibility, x, y);
-        let dynamic = inputs.dynamic_mask.map_or(1.0, |mask| unit(mask, x, y).0.x);
+        let dynamic = match &inputs.shadows {
+            Some(shadows) if !separated_at(x, y) => unit(shadows.mask, x, y).0.x,
+            _ => 1.0,
+        };
         (seen.x * dynamic, changed)
     };
     let has_highlight = |x, y, lit: f32| {
@@ -85,6 +110,7 @@ pub fn remove(shading: &Image, inputs: &SourceHighlights) -> (Image, Image, u32)
         lit > 0.0 && !is_sky(inputs.geometry.at(x, y)[3]) && normal != Vec3::ZERO
     };
     let visibility = Image::from_fn(width, height, 1, |x, y| vec![round_to_f16(lit_at(x, y).0)]);
+    let mut shadow_layer = separated.map(|(_, _, layer)| layer.clone());
     let mut sanitized = 0;
     let output = Image::from_fn(width, height, 4, |x, y| {
         let s = Vec4::from_slice(shading.at(x, y));
@@ -102,9 +128,29 @@ pub fn remove(shading: &Image, inputs: &SourceHighlights) -> (Image, Image, u32)
         let (factor, _) = pixel_modulation(inputs.base_color, inputs.material, x, y);
         let scale = (s.w / factor.max_element()).max(1.0);
         let rgb = round_vec3_to_f16(s.truncate() - highlight / (factor * scale));
+        if let (Some((color, unshadowed, _)), Some(layer), true) =
+            (separated, shadow_layer.as_mut(), separated_at(x, y))
+        {
+            let mask = unit(inputs.shadows.as_ref().expect("separated").mask, x, y)
+                .0
+                .x;
+            let lit_color = sanitize_input_color(Vec3::from_slice(&color.at(x, y)[..3])).0;
+            let unshadowed = sanitize_input_color(Vec3::from_slice(&unshadowed.at(x, y)[..3])).0;
+            let share = share_lost_to_shadows(
+                (lit_color - mask * highlight).max(Vec3::ZERO),
+                (unshadowed - highlight).max(Vec3::ZERO),
+            );
+            let alpha = layer.at(x, y)[3];
+            layer.set(x, y, &round_vec3_to_f16(share).extend(alpha).to_array());
+        }
         rgb.extend(s.w).to_array().to_vec()
     });
-    (output, visibility, sanitized)
+    Removed {
+        shading: output,
+        visibility,
+        shadow_layer,
+        sanitized,
+    }
 }
 
 /// What the target's highlights are placed with, as `TargetHighlights` binds it.
@@ -127,6 +173,8 @@ pub struct TargetHighlights<'a> {
     pub warp: &'a crate::passes::warp::Params,
     /// With a shadow input: the dynamic shadows' share at the target.
     pub shadow_share: Option<&'a Image>,
+    /// With a target shadow input placing the shadows: its mask.
+    pub target_mask: Option<&'a Image>,
     /// The target's camera.
     pub rays: PixelRays,
 }
@@ -141,7 +189,6 @@ struct Surface {
 }
 
 const MIN_FACING: f32 = 0.25;
-const UNSEEN_VISIBILITY: f32 = 0.0;
 
 /// `agrees`: frame t's texel (x, y) shows surface `t`.
 fn agrees(inputs: &TargetHighlights, t: &Surface, x: i32, y: i32) -> bool {
@@ -162,20 +209,19 @@ fn agrees(inputs: &TargetHighlights, t: &Surface, x: i32, y: i32) -> bool {
     normal_term + e * e <= -AGREEMENT_THRESHOLD.ln()
 }
 
-/// `visibility_at`: frame t's visibility where it saw surface `t` around `q`.
-fn visibility_at(inputs: &TargetHighlights, t: &Surface, q: Vec2) -> f32 {
+/// `visibility_at`: frame t's visibility where it saw surface `t` around `q`; where no texel
+/// around q shows it, `unseen`, the visibility as the fill spreads it.
+fn visibility_at(inputs: &TargetHighlights, t: &Surface, q: Vec2, unseen: impl Fn() -> f32) -> f32 {
     let kept = inputs.kept_visibility;
     let corner = (q - 0.5).floor();
     let f = q - 0.5 - corner;
     let (cx, cy) = (corner.x as i32, corner.y as i32);
-    let (mut blend, mut weight, mut agreeing) = (0.0, 0.0, 0.0);
+    let (mut weight, mut agreeing) = (0.0, 0.0);
     for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
         let w = if dx == 1 { f.x } else { 1.0 - f.x } * if dy == 1 { f.y } else { 1.0 - f.y };
-        let v = kept.clamped(cx + dx, cy + dy)[0];
-        blend += w * v;
         if agrees(inputs, t, cx + dx, cy + dy) {
             weight += w;
-            agreeing += w * v;
+            agreeing += w * kept.clamped(cx + dx, cy + dy)[0];
         }
     }
     if weight >= BILINEAR_ACCEPT {
@@ -195,18 +241,21 @@ fn visibility_at(inputs: &TargetHighlights, t: &Surface, q: Vec2) -> f32 {
     if count > 0.0 {
         return sum / count;
     }
-    let size = Vec2::new(kept.width as f32, kept.height as f32);
-    let onscreen = q.cmpge(Vec2::ZERO).all() && q.cmplt(size).all();
-    if onscreen {
-        UNSEEN_VISIBILITY
-    } else {
-        blend
-    }
+    unseen()
 }
 
 /// The colour with the target's highlights added, and the pixels sanitised.
 pub fn place(color: &Image, inputs: &TargetHighlights) -> (Image, u32) {
     let mut sanitized = 0;
+    // Frame t's visibility as the fill reads shading, in four channels.
+    let kept = inputs.kept_visibility;
+    let spread_visibility =
+        Image::from_fn(kept.width, kept.height, 4, |x, y| vec![kept.at(x, y)[0]; 4]);
+    let sources = WarpSources {
+        shading: &spread_visibility,
+        geometry: inputs.source_geometry,
+        normal_id: inputs.source_normal_id,
+    };
     let output = Image::from_fn(color.width, color.height, 4, |x, y| {
         let c = Vec4::from_slice(color.at(x, y));
         let motion = Vec2::from_slice(&inputs.motion.at(x, y)[..2]);
@@ -235,11 +284,28 @@ pub fn place(color: &Image, inputs: &TargetHighlights) -> (Image, u32) {
             id: normal_id[3],
             footprint: depth * inputs.warp.pixel_angle / normal.dot(view).abs().max(MIN_FACING),
         };
-        let lit = visibility_at(inputs, &surface, q);
+        let spread = || {
+            let target = WarpTarget {
+                geometry: inputs.geometry,
+                normal_id: inputs.normal_id,
+                motion: inputs.motion,
+                camera_position: rays.position,
+                valid: inputs.valid,
+            };
+            let p = IVec2::new(x as i32, y as i32);
+            fill_value(inputs.warp, &sources, &target, p, q).x
+        };
+        let lit = visibility_at(inputs, &surface, q, spread);
         let glossy = glossy_material(inputs.base_color, inputs.material, x, y);
         let mut highlight = lit * sun_specular(&inputs.sun, normal, view, &glossy);
-        if let Some(share) = inputs.shadow_share {
-            highlight *= Vec3::ONE + Vec3::from_slice(&share.at(x, y)[..3]);
+        match (inputs.target_mask, inputs.shadow_share) {
+            (Some(mask), _) if surface.id == 0.0 => {
+                highlight *= sanitize(Vec3::new(mask.at(x, y)[0], 0.0, 0.0), 0.0, 1.0)
+                    .0
+                    .x;
+            }
+            (_, Some(share)) => highlight *= Vec3::ONE + Vec3::from_slice(&share.at(x, y)[..3]),
+            _ => {}
         }
         let (sum, changed) = sanitize_color(c.truncate() + highlight);
         sanitized += (glossy.roughness_changed || changed) as u32;

@@ -130,7 +130,7 @@ pub fn extrapolate(
     // Frame t's shadows are separated for frame t-1's flow to move, or with the flow off for a
     // target mask to place.
     let separates = |shadow: &ShadowInputs| !shadow.flow.runs() || shadow.previous.is_some();
-    let separated = shadow_inputs.map(|shadow| {
+    let mut separated = shadow_inputs.map(|shadow| {
         separate_shadows::separate(
             color,
             shadow.color_without_dynamic_shadows,
@@ -147,14 +147,21 @@ pub fn extrapolate(
     };
     // With a sun: its highlights out of the shading, its visibility kept for the target.
     let kept_visibility = source.sun.map(|(sun, visibility)| {
-        let (without, kept, sanitized) = highlights::remove(
+        let removed = highlights::remove(
             &shading,
             &highlights::SourceHighlights {
                 sun,
                 visibility,
-                dynamic_mask: shadow_inputs
-                    .filter(|shadow| !separates(shadow))
-                    .map(|shadow| shadow.mask),
+                shadows: shadow_inputs
+                    .zip(separated.as_ref())
+                    .map(|(shadow, separation)| highlights::ShadowsInShading {
+                        mask: shadow.mask,
+                        separated: separates(shadow).then_some((
+                            color,
+                            shadow.color_without_dynamic_shadows,
+                            &separation.shadow_layer,
+                        )),
+                    }),
                 base_color: source.base_color,
                 material: source.material,
                 rays: source.camera.pixel_rays(extent, source.camera.position()),
@@ -162,9 +169,12 @@ pub fn extrapolate(
                 normal_id: &source_packed.normal_id,
             },
         );
-        shading = without;
-        source_sanitized += sanitized;
-        (sun, kept)
+        shading = removed.shading;
+        source_sanitized += removed.sanitized;
+        if let (Some(separation), Some(layer)) = (separated.as_mut(), removed.shadow_layer) {
+            separation.shadow_layer = layer;
+        }
+        (sun, removed.visibility)
     });
     stages.push(PATCHEX_STAGE_DEMODULATE);
     // The shadows' flow to frame t-1, in frame t's submit: none without frame t-1's mask or
@@ -323,6 +333,9 @@ pub fn extrapolate(
                     motion,
                     warp: &params,
                     shadow_share: shadows.as_ref().map(|s| &s.share),
+                    target_mask: shadow_inputs
+                        .filter(|shadow| separates(shadow))
+                        .and_then(|shadow| shadow.target_mask),
                     rays: target.camera.pixel_rays(extent, origin),
                 },
             );

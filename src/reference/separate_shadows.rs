@@ -47,7 +47,7 @@ pub fn separate(
             let separates = tracked && !dynamic;
             let shading = demodulated(if separates { unshadowed } else { lit }, factor);
             let layer = if separates {
-                shadow_share(lit, unshadowed).extend(1.0 - visibility.x)
+                share_lost_to_shadows(lit, unshadowed).extend(1.0 - visibility.x)
             } else {
                 Vec4::ZERO
             };
@@ -63,8 +63,8 @@ pub fn separate(
 }
 
 /// The share of the unshadowed light that the dynamic shadows take away, per channel
-/// (`shadow_share`).
-fn shadow_share(lit: Vec3, unshadowed: Vec3) -> Vec3 {
+/// (`share_lost_to_shadows` in gbuffer.wgsl).
+pub fn share_lost_to_shadows(lit: Vec3, unshadowed: Vec3) -> Vec3 {
     let lost = lit.min(unshadowed) - unshadowed;
     Vec3::select(
         unshadowed.cmpgt(Vec3::splat(BLACK)),

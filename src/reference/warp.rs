@@ -87,6 +87,27 @@ fn texel(image: &Image, s: IVec2) -> Vec4 {
     Vec4::from_slice(image.clamped(s.x, s.y))
 }
 
+/// `fill_hole` of `include/fill.wgsl` for a value other than the shading: `sources.shading`'s
+/// texels spread to target pixel `p` from source point `q` as the fill spreads shading there.
+pub fn fill_value(
+    params: &Params,
+    sources: &WarpSources,
+    target: &WarpTarget,
+    p: IVec2,
+    q: Vec2,
+) -> Vec4 {
+    let (x, y) = (p.x as usize, p.y as usize);
+    PixelWarp {
+        params,
+        source: sources,
+        target,
+        p,
+        target_geo: Vec4::from_slice(target.geometry.at(x, y)),
+        target_nid: Vec4::from_slice(target.normal_id.at(x, y)),
+    }
+    .fill_hole(q)
+}
+
 impl PixelWarp<'_> {
     fn extent(&self) -> IVec2 {
         IVec2::new(self.params.extent[0] as i32, self.params.extent[1] as i32)
