@@ -41,8 +41,8 @@ var<immediate> params: Params;
 @group(0) @binding(5) var source_normal_id: texture_2d<u32>;
 @group(0) @binding(6) var kept_visibility: texture_storage_2d<r16float, write>;
 @group(0) @binding(7) var<storage, read_write> counters: SanitizeCounters;
-// PatchexShadowInput's mask, with `times_dynamic_mask` or `separated` (its sanitising is the
-// separation's to count), and with `separated` its colours and the layer made from them.
+// PatchexShadowInput's mask, with `has_shadow_input` (its sanitising is the separation's to
+// count), and with `separated` its colours and the layer made from them.
 @group(0) @binding(8) var dynamic_mask: texture_2d<f32>;
 @group(0) @binding(9) var color: texture_2d<f32>;
 @group(0) @binding(10) var color_without_dynamic_shadows: texture_2d<f32>;

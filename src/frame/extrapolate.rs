@@ -7,14 +7,13 @@ use ash::vk;
 use crate::abi::*;
 use crate::context::Context;
 use crate::error::{bail, PatchexResult, Result};
-use crate::frame::counters;
-use crate::frame::images::{Growth, HighlightImages, OutputStaging, ShadowImages, WorkImages};
+use crate::frame::images::{Growth, OutputStaging};
 use crate::frame::plan::{self, ExtrapolationPlan};
 use crate::frame::settings::Extensions;
 use crate::frame::submit::{engine_gbuffer, shadows_separated};
 use crate::inputs::{self, TargetInputs};
 use crate::passes::pack_gbuffer::EngineGbuffer;
-use crate::passes::{highlights, warp, RegionPasses, Texture, SANITIZE_COUNTER_BYTES};
+use crate::passes::{warp, RegionPasses, Texture};
 use crate::vk::barriers::EngineImageAccess;
 use crate::vk::frame_ring::RegionRecord;
 use crate::vk::image::{ImageRole, ImportedImage, MASK_FORMATS};
@@ -82,32 +81,6 @@ impl Context {
             .shadows
             .as_ref()
             .filter(|_| source.has_shadows());
-        let warp_params = warp_settings.params(
-            inputs.extent,
-            camera,
-            jitter_delta,
-            inputs.geometry.motion_vector_scale,
-        );
-        let highlights = source.sun.map(|sun| highlights::TargetHighlights {
-            sun,
-            kept_visibility: &self.images.highlights.as_ref().expect("made with the sun")
-                [HighlightImages::VISIBILITY],
-            source_depth: &work[WorkImages::SOURCE_DEPTH],
-            source_normal_id: &work[WorkImages::SOURCE_NORMAL_ID],
-            stencil: engine.target_gbuffer.stencil,
-            placeholder_uint: placeholders.1,
-            depth: engine.target_gbuffer.depth,
-            normal: engine.target_gbuffer.normal,
-            base_color: engine.base_color,
-            material: engine.material,
-            motion: engine.motion,
-            motion_scale: inputs.geometry.motion_vector_scale,
-            jitter_delta,
-            warp: warp_params,
-            shadow_share: shadows.map(|s| (&s[ShadowImages::SHADOW_SHARE]).into()),
-            placeholder: placeholders.0,
-            sanitized: passes.counters(counters::SANITIZE, SANITIZE_COUNTER_BYTES),
-        });
         let plan = ExtrapolationPlan {
             extent: inputs.extent,
             passes,
@@ -131,7 +104,12 @@ impl Context {
             },
             placeholders,
             warp: warp_settings,
-            warp_params,
+            warp_params: warp_settings.params(
+                inputs.extent,
+                camera,
+                jitter_delta,
+                inputs.geometry.motion_vector_scale,
+            ),
             shadow_params: warp_settings.shadow_params(inputs.extent, camera, inputs.alpha),
             segmentation: extensions
                 .segmentation
@@ -140,7 +118,7 @@ impl Context {
             deferred_holes,
             diagnostics: engine.diagnostics,
             shadow_diagnostics: engine.shadow_diagnostics,
-            highlights,
+            sun: source.sun.zip(self.images.highlights.as_ref()),
         };
         plan::record(&mut rec, &plan);
         let stages = rec.finish(

@@ -199,8 +199,8 @@ pub struct ExtrapolationPlan<'a> {
     pub deferred_holes: [CounterRange; 2],
     pub diagnostics: Option<Texture>,
     pub shadow_diagnostics: Option<Texture>,
-    /// Frame t came with a sun: its highlights as the target sees them.
-    pub highlights: Option<highlights::TargetHighlights<'a>>,
+    /// Frame t came with a sun (`PatchexSunLight`): it, and its kept visibility.
+    pub sun: Option<(highlights::Sun, &'a HighlightImages)>,
 }
 
 /// Records the extrapolation's stages in order.
@@ -602,18 +602,37 @@ fn remodulate(rec: &mut Recorder, plan: &ExtrapolationPlan) {
 
 /// The sun's highlights as the target sees them, added to the remodulated frame.
 fn place_highlights(rec: &mut Recorder, plan: &ExtrapolationPlan) {
-    let Some(highlights) = &plan.highlights else {
+    let Some((sun, images)) = plan.sun else {
         return;
+    };
+    let inputs = highlights::TargetHighlights {
+        sun,
+        kept_visibility: &images[HighlightImages::VISIBILITY],
+        source_depth: &plan.work[WorkImages::SOURCE_DEPTH],
+        source_normal_id: &plan.work[WorkImages::SOURCE_NORMAL_ID],
+        target: plan.target,
+        base_color: plan.remodulation.base_color,
+        material: plan.remodulation.material,
+        motion: plan.motion,
+        warp: &plan.warp_params,
+        cameras: &plan.cameras,
+        shadow_share: plan
+            .shadows
+            .map(|s| (&s[ShadowImages::SHADOW_SHARE]).into()),
+        target_mask: plan
+            .target_shadow_mask
+            .filter(|_| plan.places_target_shadows()),
+        placeholders: plan.placeholders,
+        sanitized: plan
+            .passes
+            .counters(counters::SANITIZE, SANITIZE_COUNTER_BYTES),
     };
     rec.stage(PATCHEX_STAGE_HIGHLIGHTS, |rec| {
         highlights::record_placement(
             rec,
             plan.passes.get(PipelineId::PlaceHighlights),
             plan.extent,
-            highlights,
-            &plan.cameras,
-            plan.target_shadow_mask
-                .filter(|_| plan.places_target_shadows()),
+            &inputs,
             plan.frame,
         )
     });

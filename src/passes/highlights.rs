@@ -7,7 +7,8 @@ use ash::vk;
 use glam::Vec3;
 
 use crate::camera::PixelRays;
-use crate::passes::{CounterRange, Texture};
+use crate::passes::pack_gbuffer::EngineGbuffer;
+use crate::passes::{warp, CounterRange, Texture};
 use crate::shaders::{place_highlights, remove_highlights};
 use crate::vk::image::OwnedImage;
 use crate::vk::recorder::{Pass, Recorder};
@@ -70,8 +71,14 @@ pub fn record_removal(
         use remove_highlights::binding;
         let writes = match separated {
             Some((_, _, layer)) => writes.image(binding::SHADOW_LAYER, layer),
-            // Unread: a storage image of the format, which the placeholders are not.
-            None => writes.image(binding::SHADOW_LAYER, shading),
+            // Never touched: any storage image of the format, which the placeholders are not.
+            None => writes.image(
+                binding::SHADOW_LAYER,
+                Texture {
+                    bytes: 0,
+                    ..shading.into()
+                },
+            ),
         };
         writes
             .image(binding::SHADING, shading)
@@ -114,73 +121,73 @@ pub struct TargetHighlights<'a> {
     /// Frame t's packed G-buffer, which says where frame t saw the target's surface.
     pub source_depth: &'a OwnedImage,
     pub source_normal_id: &'a OwnedImage,
-    /// The target's object ids; `None`: every pixel is static.
-    pub stencil: Option<Texture>,
-    pub placeholder_uint: Texture,
-    pub depth: Texture,
-    pub normal: Texture,
+    pub target: &'a EngineGbuffer,
     pub base_color: Texture,
     pub material: Option<Texture>,
     pub motion: Texture,
-    pub motion_scale: [f32; 2],
-    pub jitter_delta: [f32; 2],
-    /// The call's warp, whose agreement test finds where frame t saw each target pixel.
-    pub warp: crate::passes::warp::Params,
+    /// The call's warp: its motion scale and jitter, and its agreement test, which finds where
+    /// frame t saw each target pixel.
+    pub warp: &'a warp::Params,
+    /// Both instants' `Cameras` (`warp::cameras`).
+    pub cameras: &'a CounterRange,
     /// With a shadow input: the dynamic shadows' share at the target.
     pub shadow_share: Option<Texture>,
-    pub placeholder: Texture,
+    /// With a target shadow input placing the shadows: its mask.
+    pub target_mask: Option<Texture>,
+    /// Bound where a pass reads nothing: a float and an integer image.
+    pub placeholders: (Texture, Texture),
     /// Where the sanitised pixels are counted (the target's).
     pub sanitized: CounterRange,
 }
 
-/// Adds the target's highlights to `frame`, the extrapolated colour. `cameras`: both instants'
-/// (`warp::cameras`); `target_mask`: a target shadow input's mask, where it places the shadows.
+/// Adds the target's highlights to `frame`, the extrapolated colour.
 pub fn record_placement(
     rec: &mut Recorder,
     pass: Pass,
     extent: vk::Extent2D,
     inputs: &TargetHighlights,
-    cameras: &CounterRange,
-    target_mask: Option<Texture>,
     frame: Texture,
 ) {
-    let material = inputs.material.unwrap_or(inputs.placeholder);
-    let shadow_share = inputs.shadow_share.unwrap_or(inputs.placeholder);
+    let (placeholder, placeholder_uint) = inputs.placeholders;
     let bound = rec.bind(pass, |writes| {
         use place_highlights::binding;
         writes
             .image(binding::FRAME, frame)
-            .image(binding::TARGET_DEPTH, inputs.depth)
-            .image(binding::TARGET_NORMAL, inputs.normal)
+            .image(binding::TARGET_DEPTH, inputs.target.depth)
+            .image(binding::TARGET_NORMAL, inputs.target.normal)
+            .image(
+                binding::TARGET_STENCIL,
+                inputs.target.stencil.unwrap_or(placeholder_uint),
+            )
             .image(binding::BASE_COLOR, inputs.base_color)
-            .image(binding::MATERIAL, material)
+            .image(binding::MATERIAL, inputs.material.unwrap_or(placeholder))
             .image(binding::MOTION, inputs.motion)
             .image(binding::KEPT_VISIBILITY, inputs.kept_visibility)
-            .image(binding::SHADOW_SHARE, shadow_share)
-            .buffer(binding::CAMERAS, cameras)
-            .buffer(binding::COUNTERS, &inputs.sanitized)
             .image(binding::SOURCE_DEPTH, inputs.source_depth)
             .image(binding::SOURCE_NORMAL_ID, inputs.source_normal_id)
             .image(
-                binding::TARGET_STENCIL,
-                inputs.stencil.unwrap_or(inputs.placeholder_uint),
+                binding::SHADOW_SHARE,
+                inputs.shadow_share.unwrap_or(placeholder),
             )
             .image(
                 binding::TARGET_MASK,
-                target_mask.unwrap_or(inputs.placeholder),
+                inputs.target_mask.unwrap_or(placeholder),
             )
+            .buffer(binding::CAMERAS, inputs.cameras)
+            .buffer(binding::COUNTERS, &inputs.sanitized)
     });
+    let warp = inputs.warp;
     let params = place_highlights::Params {
         extent: [extent.width, extent.height],
-        motion_scale: inputs.motion_scale,
-        jitter_delta: inputs.jitter_delta,
+        motion_scale: warp.motion_scale,
+        jitter_delta: warp.jitter_delta,
         has_material: inputs.material.is_some() as u32,
         has_shadow_share: inputs.shadow_share.is_some() as u32,
-        has_target_mask: target_mask.is_some() as u32,
-        inv_sigma_depth: inputs.warp.inv_sigma_depth,
-        inv_sigma_normal: inputs.warp.inv_sigma_normal,
-        inv_sigma_position: inputs.warp.inv_sigma_position,
-        pixel_angle: inputs.warp.pixel_angle,
+        has_target_mask: inputs.target_mask.is_some() as u32,
+        inv_sigma_depth: warp.inv_sigma_depth,
+        inv_sigma_normal: warp.inv_sigma_normal,
+        inv_sigma_position: warp.inv_sigma_position,
+        pixel_angle: warp.pixel_angle,
         sun_direction: inputs.sun.direction.into(),
         sun_illuminance: inputs.sun.illuminance.into(),
         ..Default::default()

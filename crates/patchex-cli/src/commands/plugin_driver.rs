@@ -81,9 +81,9 @@ impl NetworkChoice {
 }
 
 /// What a context is made with: its preset, the weights' folder, FP32 tensors, the tensors'
-/// patch side (`whole_frame`, the divisor and the blend are chosen per call), and whether its
-/// frames come with target shadow masks and no flow.
-type ContextKey = (PatchexPreset, Option<PathBuf>, bool, Option<u32>, bool);
+/// patch side (`whole_frame`, the divisor and the blend are chosen per call), whether its
+/// frames come with target shadow masks and no flow, and whether they come with the sun.
+type ContextKey = (PatchexPreset, Option<PathBuf>, bool, Option<u32>, bool, bool);
 
 /// How the driver stores a frame's layers in engine images.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
@@ -210,14 +210,15 @@ impl PluginDriver {
         self
     }
 
-    /// The context that runs `networks` with or without `shadows`, made on first use.
-    /// The context for `networks` and `shadows`; with the target's shadow mask (`target_mask`)
-    /// one of its own, which never runs the flow, so that its memory is its own.
+    /// The context for `networks` and `shadows`, made on first use; with the target's shadow
+    /// mask (`target_mask`) one of its own, which never runs the flow, and with the sun (`sun`)
+    /// one of its own, which holds the sun's visibility, so that each one's memory is its own.
     fn context_for(
         &self,
         networks: Option<&NetworkChoice>,
         shadows: bool,
         target_mask: bool,
+        sun: bool,
     ) -> Result<*mut PatchexContext, String> {
         let preset = match (networks.is_some(), shadows) {
             (false, false) => PATCHEX_PRESET_WARP_ONLY,
@@ -231,6 +232,7 @@ impl PluginDriver {
             networks.is_some_and(|n| n.fp32_tensors),
             networks.and_then(|n| n.max_patch_side),
             target_mask,
+            sun,
         );
         let mut contexts = self.contexts.borrow_mut();
         if let Some((_, context)) = contexts.iter().find(|(k, _)| *k == key) {
@@ -414,7 +416,7 @@ impl PluginDriver {
             (true, Some(sun)) => Some(sun),
             (true, None) => return Err("the scene's manifest has no sun".to_owned()),
         };
-        let context = self.context_for(networks, with_shadows, with_target_mask)?;
+        let context = self.context_for(networks, with_shadows, with_target_mask, sun.is_some())?;
         let earlier = shadows
             .and_then(|s| s.earlier)
             .map(|(layers, info)| self.upload(layers, info, true, true, sun.is_some()));
