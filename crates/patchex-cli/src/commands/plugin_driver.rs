@@ -83,7 +83,14 @@ impl NetworkChoice {
 /// What a context is made with: its preset, the weights' folder, FP32 tensors, the tensors'
 /// patch side (`whole_frame`, the divisor and the blend are chosen per call), whether its
 /// frames come with target shadow masks and no flow, and whether they come with the sun.
-type ContextKey = (PatchexPreset, Option<PathBuf>, bool, Option<u32>, bool, bool);
+type ContextKey = (
+    PatchexPreset,
+    Option<PathBuf>,
+    bool,
+    Option<u32>,
+    bool,
+    bool,
+);
 
 /// How the driver stores a frame's layers in engine images.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
