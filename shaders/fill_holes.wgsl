@@ -9,6 +9,7 @@
 // runs no workgroup. src/reference/warp.rs (`fill_hole`) mirrors it.
 // #import gbuffer
 // #import cameras
+// #import surface
 // #import warp
 // #import fill
 // #import tallies

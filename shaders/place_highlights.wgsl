@@ -8,6 +8,7 @@
 // shadow input gives it, else the share of light the shadows leave there (remodulate.wgsl).
 // #import gbuffer
 // #import cameras
+// #import surface
 // #import fill
 // #import sun_specular
 // #import tallies
@@ -27,6 +28,7 @@ struct Params {
     inv_sigma_depth: f32,
     inv_sigma_normal: f32,
     inv_sigma_position: f32,
+    in_plane_weight: f32,
     pixel_angle: f32,
     sun_direction: vec3f,
     sun_illuminance: vec3f,
@@ -52,12 +54,8 @@ var<immediate> params: Params;
 @group(0) @binding(12) var target_stencil: texture_2d<u32>;
 @group(0) @binding(13) var target_mask: texture_2d<f32>;
 
-// -ln of the G-buffer warp's agreement threshold (include/warp.wgsl).
-const LN_AGREEMENT_THRESHOLD: f32 = 0.6931472;
 // The share of q's bilinear footprint agreeing texels must hold, as the warp's (BILINEAR_ACCEPT).
 const BILINEAR_ACCEPT: f32 = 0.5;
-// Grazing surfaces stretch a pixel's footprint by 1 / cos(angle), up to this cosine.
-const MIN_FACING: f32 = 0.25;
 
 // A setting as this pass branches on it: tied to an image's size, which the driver cannot inline,
 // so that lavapipe does not compile the shader again for every value at every dispatch
@@ -66,35 +64,9 @@ fn unspecialised(setting: u32) -> u32 {
     return select(0u, setting, textureDimensions(kept_visibility).x != 0u);
 }
 
-// The target pixel's surface, as frame t's texels are compared with it.
-struct Surface {
-    position: vec3f,
-    depth: f32,
-    normal: vec3f,
-    id: u32,
-    // A pixel's size on the surface.
-    footprint: f32,
-}
-
-// Whether frame t's texel `s` shows surface `t`: the G-buffer warp's agreement test
-// (include/warp.wgsl `agreement_at`), with the call's warp settings.
+// Whether frame t's texel `s` shows surface `t`, as the G-buffer warp decides it.
 fn agrees(t: Surface, s: vec2i) -> bool {
-    let packed = textureLoad(source_normal_id, s, 0).r;
-    let depth = textureLoad(source_depth, s, 0).r;
-    if (object_id(packed) != t.id || is_sky(depth)) {
-        return false;
-    }
-    let normal_term = (1.0 - dot(t.normal, unpack_normal(packed))) * params.inv_sigma_normal;
-    var e: f32;
-    if (t.id == 0u) {
-        let ray = cameras.source_at_origin + f32(s.x) * cameras.source_per_x
-            + f32(s.y) * cameras.source_per_y;
-        let offset = cameras.source_position + depth * ray - t.position;
-        e = length(offset) / t.footprint * params.inv_sigma_position;
-    } else {
-        e = abs(t.depth - depth) / max(t.depth, depth) * params.inv_sigma_depth;
-    }
-    return normal_term + e * e <= LN_AGREEMENT_THRESHOLD;
+    return agreement_at(t, s) >= AGREEMENT_THRESHOLD;
 }
 
 // What the fill spreads (fill.wgsl): frame t's visibility.
@@ -146,34 +118,22 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
     open_tallies(lane);
     let p = id.xy;
     if (all(p < params.extent)) {
-        let stored_depth = textureLoad(target_depth, p, 0).r;
-        let convention = unspecialised(cameras.target_depth_convention);
-        let depth = linear_depth(stored_depth, p, cameras.target_depth_curve, cameras.target_far,
-            convention);
-        let stored_normal = textureLoad(target_normal, p, 0).xyz;
-        let normal = unit_normal(stored_normal, unspecialised(cameras.target_normal_encoding));
+        let t = target_surface(p);
         let q = vec2f(p) + 0.5 + textureLoad(motion, p, 0).xy * params.motion_scale + params.jitter_delta;
         // Invalid geometry (the warp counts it) and NaN motion get no highlight.
-        let usable = valid_geometry(stored_depth, stored_normal, convention)
-            && !is_sky(depth) && any(normal != vec3f(0.0)) && all(q == q);
+        let usable = t.valid && !is_sky(t.depth) && any(t.normal != vec3f(0.0)) && all(q == q);
         var changed = false;
         if (usable) {
-            var object = 0u;
-            if (unspecialised(cameras.target_has_stencil) != ABSENT) {
-                object = textureLoad(target_stencil, p, 0).r;
-            }
             let ray = cameras.target_at_origin + f32(p.x) * cameras.target_per_x
                 + f32(p.y) * cameras.target_per_y;
-            let position = cameras.target_position + depth * ray;
             let view = -normalize(ray);
-            let footprint = depth * params.pixel_angle / max(abs(dot(normal, view)), MIN_FACING);
-            let lit = visibility_at(Surface(position, depth, normal, object, footprint), q);
+            let lit = visibility_at(t, q);
             let glossy = glossy_material(base_color, material, p, unspecialised(params.has_material));
             let sun = Sun(params.sun_direction, params.sun_illuminance);
-            var highlight = lit * sun_specular(sun, normal, view, glossy);
+            var highlight = lit * sun_specular(sun, t.normal, view, glossy);
             // The dynamic shadows at the target: a highlight is the sun's alone, so the mask
             // takes it where there is one; the share, the part of all light they take, elsewhere.
-            if (unspecialised(params.has_target_mask) != ABSENT && object == 0u) {
+            if (unspecialised(params.has_target_mask) != ABSENT && t.id == 0u) {
                 let seen = sanitize_unit(vec3f(textureLoad(target_mask, p, 0).r, 0.0, 0.0));
                 highlight *= seen.value.x;
             } else if (unspecialised(params.has_shadow_share) != ABSENT) {

@@ -9,6 +9,7 @@
 // a hole on screen is filled from the side the disocclusion uncovers, by fill_holes.wgsl.
 // #import gbuffer
 // #import cameras
+// #import surface
 // #import warp
 // #import warp_entry
 // #import tallies

@@ -4,6 +4,7 @@
 // those whose source leaves the screen, are counted as holes.
 // #import gbuffer
 // #import cameras
+// #import surface
 // #import warp
 // #import warp_entry
 // #import tallies

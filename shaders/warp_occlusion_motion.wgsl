@@ -6,6 +6,7 @@
 // which fetches the background beside the occluder in frame t instead of the occluder.
 // #import gbuffer
 // #import cameras
+// #import surface
 // #import warp
 // #import warp_entry
 // #import tallies

@@ -187,6 +187,7 @@ pub fn record_placement(
         inv_sigma_depth: warp.inv_sigma_depth,
         inv_sigma_normal: warp.inv_sigma_normal,
         inv_sigma_position: warp.inv_sigma_position,
+        in_plane_weight: warp.in_plane_weight,
         pixel_angle: warp.pixel_angle,
         sun_direction: inputs.sun.direction.into(),
         sun_illuminance: inputs.sun.illuminance.into(),

@@ -7,7 +7,7 @@ use super::gbuffer::{
     is_sky, pixel_modulation, round_vec3_to_f16, sanitize, sanitize_color, sanitize_input_color,
 };
 use super::separate_shadows::share_lost_to_shadows;
-use super::warp::{fill_value, WarpSources, WarpTarget, AGREEMENT_THRESHOLD, BILINEAR_ACCEPT};
+use super::warp::{TargetPixel, WarpSources, WarpTarget, AGREEMENT_THRESHOLD, BILINEAR_ACCEPT};
 use super::{round_to_f16, Image};
 use crate::camera::PixelRays;
 use crate::passes::highlights::Sun;
@@ -179,47 +179,17 @@ pub struct TargetHighlights<'a> {
     pub rays: PixelRays,
 }
 
-/// The target pixel's surface (`Surface` in place_highlights.wgsl).
-struct Surface {
-    position: Vec3,
-    depth: f32,
-    normal: Vec3,
-    id: f32,
-    footprint: f32,
-}
-
-const MIN_FACING: f32 = 0.25;
-
-/// `agrees`: frame t's texel (x, y) shows surface `t`.
-fn agrees(inputs: &TargetHighlights, t: &Surface, x: i32, y: i32) -> bool {
-    let packed = inputs.source_normal_id.clamped(x, y);
-    let geometry = inputs.source_geometry.clamped(x, y);
-    let depth = geometry[3];
-    if packed[3] != t.id || is_sky(depth) {
-        return false;
-    }
-    let warp = inputs.warp;
-    let normal_term = (1.0 - t.normal.dot(Vec3::from_slice(&packed[..3]))) * warp.inv_sigma_normal;
-    let e = if t.id == 0.0 {
-        let offset = Vec3::from_slice(&geometry[..3]) - t.position;
-        offset.length() / t.footprint * warp.inv_sigma_position
-    } else {
-        (t.depth - depth).abs() / t.depth.max(depth) * warp.inv_sigma_depth
-    };
-    normal_term + e * e <= -AGREEMENT_THRESHOLD.ln()
-}
-
-/// `visibility_at`: frame t's visibility where it saw surface `t` around `q`; where no texel
-/// around q shows it, `unseen`, the visibility as the fill spreads it.
-fn visibility_at(inputs: &TargetHighlights, t: &Surface, q: Vec2, unseen: impl Fn() -> f32) -> f32 {
-    let kept = inputs.kept_visibility;
+/// `visibility_at`: frame t's visibility where it saw the surface of target pixel `pixel`
+/// around `q`; where no texel around q shows it, the visibility as the fill spreads it.
+fn visibility_at(kept: &Image, pixel: &TargetPixel, q: Vec2) -> f32 {
+    let agrees = |x: i32, y: i32| pixel.agreement_at(IVec2::new(x, y)) >= AGREEMENT_THRESHOLD;
     let corner = (q - 0.5).floor();
     let f = q - 0.5 - corner;
     let (cx, cy) = (corner.x as i32, corner.y as i32);
     let (mut weight, mut agreeing) = (0.0, 0.0);
     for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
         let w = if dx == 1 { f.x } else { 1.0 - f.x } * if dy == 1 { f.y } else { 1.0 - f.y };
-        if agrees(inputs, t, cx + dx, cy + dy) {
+        if agrees(cx + dx, cy + dy) {
             weight += w;
             agreeing += w * kept.clamped(cx + dx, cy + dy)[0];
         }
@@ -233,7 +203,7 @@ fn visibility_at(inputs: &TargetHighlights, t: &Surface, q: Vec2, unseen: impl F
     let (mut count, mut sum) = (0.0, 0.0);
     for i in 0..9 {
         let (x, y) = (centre_x + i % 3 - 1, centre_y + i / 3 - 1);
-        if agrees(inputs, t, x, y) {
+        if agrees(x, y) {
             count += 1.0;
             sum += kept.clamped(x, y)[0];
         }
@@ -241,7 +211,7 @@ fn visibility_at(inputs: &TargetHighlights, t: &Surface, q: Vec2, unseen: impl F
     if count > 0.0 {
         return sum / count;
     }
-    unseen()
+    pixel.fill_hole(q).x
 }
 
 /// The colour with the target's highlights added, and the pixels sanitised.
@@ -255,6 +225,13 @@ pub fn place(color: &Image, inputs: &TargetHighlights) -> (Image, u32) {
         shading: &spread_visibility,
         geometry: inputs.source_geometry,
         normal_id: inputs.source_normal_id,
+    };
+    let target = WarpTarget {
+        geometry: inputs.geometry,
+        normal_id: inputs.normal_id,
+        motion: inputs.motion,
+        camera_position: inputs.rays.position,
+        valid: inputs.valid,
     };
     let output = Image::from_fn(color.width, color.height, 4, |x, y| {
         let c = Vec4::from_slice(color.at(x, y));
@@ -275,31 +252,17 @@ pub fn place(color: &Image, inputs: &TargetHighlights) -> (Image, u32) {
         }
         let rays = &inputs.rays;
         let ray = rays.at_origin + x as f32 * rays.per_x + y as f32 * rays.per_y;
-        let view = -ray.normalize();
-        let depth = geometry[3];
-        let surface = Surface {
-            position: rays.position + depth * ray,
-            depth,
-            normal,
-            id: normal_id[3],
-            footprint: depth * inputs.warp.pixel_angle / normal.dot(view).abs().max(MIN_FACING),
-        };
-        let spread = || {
-            let target = WarpTarget {
-                geometry: inputs.geometry,
-                normal_id: inputs.normal_id,
-                motion: inputs.motion,
-                camera_position: rays.position,
-                valid: inputs.valid,
-            };
-            let p = IVec2::new(x as i32, y as i32);
-            fill_value(inputs.warp, &sources, &target, p, q).x
-        };
-        let lit = visibility_at(inputs, &surface, q, spread);
+        let pixel = TargetPixel::new(
+            inputs.warp,
+            &sources,
+            &target,
+            IVec2::new(x as i32, y as i32),
+        );
+        let lit = visibility_at(kept, &pixel, q);
         let glossy = glossy_material(inputs.base_color, inputs.material, x, y);
-        let mut highlight = lit * sun_specular(&inputs.sun, normal, view, &glossy);
+        let mut highlight = lit * sun_specular(&inputs.sun, normal, -ray.normalize(), &glossy);
         match (inputs.target_mask, inputs.shadow_share) {
-            (Some(mask), _) if surface.id == 0.0 => {
+            (Some(mask), _) if normal_id[3] == 0.0 => {
                 highlight *= sanitize(Vec3::new(mask.at(x, y)[0], 0.0, 0.0), 0.0, 1.0)
                     .0
                     .x;

@@ -87,28 +87,55 @@ fn texel(image: &Image, s: IVec2) -> Vec4 {
     Vec4::from_slice(image.clamped(s.x, s.y))
 }
 
-/// `fill_hole` of `include/fill.wgsl` for a value other than the shading: `sources.shading`'s
-/// texels spread to target pixel `p` from source point `q` as the fill spreads shading there.
-pub fn fill_value(
-    params: &Params,
-    sources: &WarpSources,
-    target: &WarpTarget,
-    p: IVec2,
-    q: Vec2,
-) -> Vec4 {
-    let (x, y) = (p.x as usize, p.y as usize);
-    PixelWarp {
-        params,
-        source: sources,
-        target,
-        p,
-        target_geo: Vec4::from_slice(target.geometry.at(x, y)),
-        target_nid: Vec4::from_slice(target.normal_id.at(x, y)),
+/// One target pixel of a warp, as `include/surface.wgsl` and `include/fill.wgsl` see it: for
+/// the passes beside the warps that test agreement and spread values as the warps do.
+pub struct TargetPixel<'a>(PixelWarp<'a>);
+
+impl<'a> TargetPixel<'a> {
+    pub fn new(
+        params: &'a Params,
+        sources: &'a WarpSources<'a>,
+        target: &'a WarpTarget<'a>,
+        p: IVec2,
+    ) -> Self {
+        Self(PixelWarp::new(params, sources, target, p))
     }
-    .fill_hole(q)
+
+    /// `agreement_at`: the agreement of frame t's texel `s` with the target's surface.
+    pub fn agreement_at(&self, s: IVec2) -> f32 {
+        self.0.agreement_at(s)
+    }
+
+    /// `fill_hole` of `include/fill.wgsl`: `sources.shading`'s texels spread to the pixel from
+    /// source point `q` as the fill spreads shading there.
+    pub fn fill_hole(&self, q: Vec2) -> Vec4 {
+        self.0.fill_hole(q)
+    }
 }
 
-impl PixelWarp<'_> {
+impl<'a> PixelWarp<'a> {
+    fn new(
+        params: &'a Params,
+        source: &'a WarpSources<'a>,
+        target: &'a WarpTarget<'a>,
+        p: IVec2,
+    ) -> Self {
+        let (x, y) = (p.x as usize, p.y as usize);
+        let normal_id = Vec4::from_slice(target.normal_id.at(x, y));
+        Self {
+            params,
+            source,
+            target,
+            p,
+            target_geo: Vec4::from_slice(target.geometry.at(x, y)),
+            target_nid: if target.valid[x + y * target.geometry.width] {
+                normal_id
+            } else {
+                normal_id.with_w(NO_OBJECT)
+            },
+        }
+    }
+
     fn extent(&self) -> IVec2 {
         IVec2::new(self.params.extent[0] as i32, self.params.extent[1] as i32)
     }
@@ -440,18 +467,7 @@ pub fn warp(
     let mut divisor = Vec::with_capacity(width * height);
     let mut largest_motion = 0.0f32;
     let warped = Image::from_fn(width, height, 4, |x, y| {
-        let pixel = PixelWarp {
-            params,
-            source,
-            target,
-            p: IVec2::new(x as i32, y as i32),
-            target_geo: Vec4::from_slice(target.geometry.at(x, y)),
-            target_nid: if target.valid[x + y * width] {
-                Vec4::from_slice(target.normal_id.at(x, y))
-            } else {
-                Vec4::from_slice(target.normal_id.at(x, y)).with_w(NO_OBJECT)
-            },
-        };
+        let pixel = PixelWarp::new(params, source, target, IVec2::new(x as i32, y as i32));
         let result = match kind {
             PATCHEX_WARP_MOTION_VECTOR => pixel.motion_vector(),
             PATCHEX_WARP_OCCLUSION_MOTION_VECTOR => pixel.occlusion_motion_vector(),
