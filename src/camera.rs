@@ -167,7 +167,7 @@ impl Camera {
     }
 
     /// The rays through the pixel centres of an `extent` frame, scaled to unit linear depth
-    /// (`Cameras` in shaders/include/warp.wgsl): the surface at linear depth d seen through pixel
+    /// (`Cameras` in shaders/include/cameras.wgsl): the surface at linear depth d seen through pixel
     /// (x, y) lies at position + d * (at_origin + x * per_x + y * per_y). Linear depth runs along
     /// the perspective axis, so the scaled ray is affine in the pixel, for any perspective
     /// projection. Computed in f64 from the inverse projection; `position` is relative to

@@ -1,4 +1,5 @@
-//! Mirror of the backward warps: `shaders/include/warp.wgsl` and the three warp passes.
+//! Mirror of the backward warps: `shaders/include/surface.wgsl`, `shaders/include/warp.wgsl`,
+//! `shaders/include/fill.wgsl` and the three warp passes.
 
 use glam::{IVec2, Vec2, Vec3, Vec4};
 
