@@ -92,7 +92,7 @@
 #include <vulkan/vulkan.h>
 
 // Version of this ABI, returned by `patchex_abi_version`; bumped on any incompatible change.
-#define PATCHEX_ABI_VERSION 14
+#define PATCHEX_ABI_VERSION 15
 
 // The warp settings a context uses unless told otherwise: a 3x3 gather; a texel keeps most of
 // its weight within ~5% relative depth, ~0.1 of (1 - cos) of normal angle (about 25 degrees),
@@ -143,7 +143,7 @@
 #define PATCHEX_MAX_EXTRAPOLATIONS_PER_FRAME 4
 
 // Size of the `gpu_ms` arrays; stages added later take indices below it.
-#define PATCHEX_STAGE_SLOTS 16
+#define PATCHEX_STAGE_SLOTS 17
 
 // Rectangles reported per extrapolation; the GPU segments every object id regardless.
 #define PATCHEX_MAX_REPORTED_OBJECTS 16
@@ -347,7 +347,8 @@ typedef struct PatchexFrameDesc {
   // PATCHEX_STRUCT_TYPE_FRAME_DESC, sizeof(PatchexFrameDesc), optional chain
   // (PatchexShadowInput turns the shadow sub-task on for this frame; PatchexShadowFlowSettings
   // overrides the context's flow settings for it; PatchexSunLight moves the sun's highlights
-  // with the view).
+  // with the view; PatchexTranslucencyInput moves what is drawn over the surfaces by its own
+  // motion).
   struct PatchexStructHeader header;
   // The engine's frame number. Without `reset` it must exceed the previous submit's
   // (PATCHEX_RESULT_ERROR_OUT_OF_ORDER otherwise); a gap (not previous + 1) drops history as
@@ -509,7 +510,8 @@ typedef struct PatchexFrameStats {
   // input, a colour without dynamic shadows) that is NaN, negative, infinite or beyond the
   // largest half float (65504), or a base colour, metallic, specular or shadow-mask value
   // that is NaN or outside [0, 1] (with a PatchexSunLight, also the sun's visibility, and the
-  // roughness of pixels the sun reaches). NaN becomes 0, everything else the nearest usable
+  // roughness of pixels the sun reaches; with a PatchexTranslucencyInput, also its mask, and
+  // its motion vectors where not finite). NaN becomes 0, everything else the nearest usable
   // value. Bright colour within the half-float range is never changed, whatever its base
   // colour. A pixel is counted once by each pass that sanitised it.
   uint32_t source_sanitized_pixels;
@@ -684,6 +686,43 @@ typedef struct PatchexSunLight {
   struct PatchexImage visibility;
 } PatchexSunLight;
 
+// Chainable on PatchexFrameDesc: where frame t's colour holds something drawn over the opaque
+// surface of the G-buffer after lighting: alpha-blended glass and foliage, particles (smoke,
+// sparks, fire), emissive effects composited over the scene. Without it, patchex takes every
+// pixel's colour for the light of the surface in the G-buffer: it divides a smoke puff by the
+// albedo of the wall behind it and moves it with the wall.
+//
+// How patchex uses it: in frame t, where the mask covers a pixel, it takes the opaque surface
+// behind (the shading of nearby uncovered texels of the same surface) for the shading it warps,
+// and keeps the rest as a premultiplied layer over it: colour = layer + (1 - mask) * surface.
+// At the target, it moves that layer by its own motion, extrapolated at constant velocity to
+// the target instant, or, without motion vectors of its own, as the target's motion vectors say
+// the surface behind it moves; then blends it over the extrapolated frame. A fully covered
+// region far from any uncovered texel keeps its colour as the surface's.
+//
+// What an engine provides, after the conventions of FSR's transparency-and-composition mask:
+// the mask's first channel is the opacity with which everything drawn after the G-buffer's
+// lighting covers the pixel: 1 - the product of (1 - alpha) over the translucent draws there
+// (additive draws: their luminance over the pixel's, held to 1). A forward pass writes it with
+// the blend state it draws colour with, into one more render target. The motion vectors are
+// those draws' own, written the same way (alpha-weighted), in the convention of the geometry's.
+//
+// It costs patchex one pass over frame t's covered pixels in the submit and one over the
+// target's in each extrapolation, and 12 bytes a pixel of memory from the first frame with it.
+typedef struct PatchexTranslucencyInput {
+  // PATCHEX_STRUCT_TYPE_TRANSLUCENCY_INPUT, sizeof(PatchexTranslucencyInput), chain.
+  struct PatchexStructHeader header;
+  // Coverage of frame t's pixels by translucency, in [0, 1], in the first channel: 0 shows the
+  // G-buffer's surface alone. Float or UNORM formats. Values outside [0, 1] or NaN are
+  // sanitised and counted.
+  struct PatchexImage mask;
+  // Optional: the translucency's own motion to the previous instant, read where the mask is
+  // above 0; formats, meaning and scale as PatchexGeometry.motion_vectors. Non-finite vectors
+  // are taken as zero and counted.
+  struct PatchexImage motion_vectors;
+  float motion_vector_scale[2];
+} PatchexTranslucencyInput;
+
 // Chainable on PatchexCreateInfo (context default) or PatchexFrameDesc (this frame), with a
 // shadows preset (PATCHEX_PRESET_WARP_AND_SHADOWS or FULL): the dense optical flow that
 // tracks the dynamic-caster shadow mask between frames t-1 and t.
@@ -822,6 +861,8 @@ typedef struct PatchexShadowDiagnostics {
 
 #define PATCHEX_STRUCT_TYPE_SUN_LIGHT 16
 
+#define PATCHEX_STRUCT_TYPE_TRANSLUCENCY_INPUT 17
+
 // Demodulate, warp (PatchexWarpSettings), remodulate. Holes keep the warp's nearest colour.
 #define PATCHEX_PRESET_WARP_ONLY 0
 
@@ -954,6 +995,11 @@ typedef struct PatchexShadowDiagnostics {
 // highlights, evaluated for the target's view. (Frame t's are taken out of its shading in
 // PATCHEX_STAGE_DEMODULATE.)
 #define PATCHEX_STAGE_HIGHLIGHTS 15
+
+// Extrapolation of a frame that came with a PatchexTranslucencyInput, last before the output's
+// packing: frame t's translucency moved by its own motion and blended over the extrapolated
+// frame. (It is taken apart from the opaque surface behind it in PATCHEX_STAGE_DEMODULATE.)
+#define PATCHEX_STAGE_TRANSLUCENCY 16
 
 #define PATCHEX_RESET_NONE 0
 

@@ -26,7 +26,7 @@ pub type PFN_vkGetInstanceProcAddr = Option<vk::PFN_vkGetInstanceProcAddr>;
 pub type PFN_vkGetDeviceProcAddr = Option<vk::PFN_vkGetDeviceProcAddr>;
 
 /// Version of this ABI, returned by `patchex_abi_version`; bumped on any incompatible change.
-pub const PATCHEX_ABI_VERSION: u32 = 14;
+pub const PATCHEX_ABI_VERSION: u32 = 15;
 
 /// 0 or 1; any other value is rejected as an invalid argument.
 pub type PatchexBool = u32;
@@ -49,6 +49,7 @@ pub const PATCHEX_STRUCT_TYPE_NETWORK_PRECISION: PatchexStructType = 13;
 pub const PATCHEX_STRUCT_TYPE_NETWORK_MEMORY: PatchexStructType = 14;
 pub const PATCHEX_STRUCT_TYPE_TARGET_SHADOW_INPUT: PatchexStructType = 15;
 pub const PATCHEX_STRUCT_TYPE_SUN_LIGHT: PatchexStructType = 16;
+pub const PATCHEX_STRUCT_TYPE_TRANSLUCENCY_INPUT: PatchexStructType = 17;
 
 /// The first fields of every versioned struct, read before the rest.
 #[repr(C)]
@@ -259,7 +260,8 @@ pub struct PatchexFrameDesc {
     /// PATCHEX_STRUCT_TYPE_FRAME_DESC, sizeof(PatchexFrameDesc), optional chain
     /// (PatchexShadowInput turns the shadow sub-task on for this frame; PatchexShadowFlowSettings
     /// overrides the context's flow settings for it; PatchexSunLight moves the sun's highlights
-    /// with the view).
+    /// with the view; PatchexTranslucencyInput moves what is drawn over the surfaces by its own
+    /// motion).
     pub header: PatchexStructHeader,
     /// The engine's frame number. Without `reset` it must exceed the previous submit's
     /// (PATCHEX_RESULT_ERROR_OUT_OF_ORDER otherwise); a gap (not previous + 1) drops history as
@@ -497,6 +499,45 @@ pub struct PatchexSunLight {
     pub visibility: PatchexImage,
 }
 
+/// Chainable on PatchexFrameDesc: where frame t's colour holds something drawn over the opaque
+/// surface of the G-buffer after lighting: alpha-blended glass and foliage, particles (smoke,
+/// sparks, fire), emissive effects composited over the scene. Without it, patchex takes every
+/// pixel's colour for the light of the surface in the G-buffer: it divides a smoke puff by the
+/// albedo of the wall behind it and moves it with the wall.
+///
+/// How patchex uses it: in frame t, where the mask covers a pixel, it takes the opaque surface
+/// behind (the shading of nearby uncovered texels of the same surface) for the shading it warps,
+/// and keeps the rest as a premultiplied layer over it: colour = layer + (1 - mask) * surface.
+/// At the target, it moves that layer by its own motion, extrapolated at constant velocity to
+/// the target instant, or, without motion vectors of its own, as the target's motion vectors say
+/// the surface behind it moves; then blends it over the extrapolated frame. A fully covered
+/// region far from any uncovered texel keeps its colour as the surface's.
+///
+/// What an engine provides, after the conventions of FSR's transparency-and-composition mask:
+/// the mask's first channel is the opacity with which everything drawn after the G-buffer's
+/// lighting covers the pixel: 1 - the product of (1 - alpha) over the translucent draws there
+/// (additive draws: their luminance over the pixel's, held to 1). A forward pass writes it with
+/// the blend state it draws colour with, into one more render target. The motion vectors are
+/// those draws' own, written the same way (alpha-weighted), in the convention of the geometry's.
+///
+/// It costs patchex one pass over frame t's covered pixels in the submit and one over the
+/// target's in each extrapolation, and 12 bytes a pixel of memory from the first frame with it.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct PatchexTranslucencyInput {
+    /// PATCHEX_STRUCT_TYPE_TRANSLUCENCY_INPUT, sizeof(PatchexTranslucencyInput), chain.
+    pub header: PatchexStructHeader,
+    /// Coverage of frame t's pixels by translucency, in [0, 1], in the first channel: 0 shows the
+    /// G-buffer's surface alone. Float or UNORM formats. Values outside [0, 1] or NaN are
+    /// sanitised and counted.
+    pub mask: PatchexImage,
+    /// Optional: the translucency's own motion to the previous instant, read where the mask is
+    /// above 0; formats, meaning and scale as PatchexGeometry.motion_vectors. Non-finite vectors
+    /// are taken as zero and counted.
+    pub motion_vectors: PatchexImage,
+    pub motion_vector_scale: [f32; 2],
+}
+
 /// Farneback optical-flow settings a context uses unless told otherwise: three pyramid levels
 /// (motion up to about 4 * window_radius pixels), three iterations per level, a 15x15 window,
 /// and a 5x5 polynomial fit with sigma 1.1 (Farneback's own choice for that size).
@@ -688,8 +729,12 @@ pub const PATCHEX_STAGE_TARGET_SHADOWS: PatchexStage = 14;
 /// highlights, evaluated for the target's view. (Frame t's are taken out of its shading in
 /// PATCHEX_STAGE_DEMODULATE.)
 pub const PATCHEX_STAGE_HIGHLIGHTS: PatchexStage = 15;
+/// Extrapolation of a frame that came with a PatchexTranslucencyInput, last before the output's
+/// packing: frame t's translucency moved by its own motion and blended over the extrapolated
+/// frame. (It is taken apart from the opaque surface behind it in PATCHEX_STAGE_DEMODULATE.)
+pub const PATCHEX_STAGE_TRANSLUCENCY: PatchexStage = 16;
 /// Size of the `gpu_ms` arrays; stages added later take indices below it.
-pub const PATCHEX_STAGE_SLOTS: usize = 16;
+pub const PATCHEX_STAGE_SLOTS: usize = 17;
 
 /// Why the history before a submitted frame was dropped.
 pub type PatchexResetReason = u32;
@@ -801,7 +846,8 @@ pub struct PatchexFrameStats {
     /// input, a colour without dynamic shadows) that is NaN, negative, infinite or beyond the
     /// largest half float (65504), or a base colour, metallic, specular or shadow-mask value
     /// that is NaN or outside [0, 1] (with a PatchexSunLight, also the sun's visibility, and the
-    /// roughness of pixels the sun reaches). NaN becomes 0, everything else the nearest usable
+    /// roughness of pixels the sun reaches; with a PatchexTranslucencyInput, also its mask, and
+    /// its motion vectors where not finite). NaN becomes 0, everything else the nearest usable
     /// value. Bright colour within the half-float range is never changed, whatever its base
     /// colour. A pixel is counted once by each pass that sanitised it.
     pub source_sanitized_pixels: u32,

@@ -42,6 +42,9 @@ pub(crate) struct SourceFrame {
     /// Its `PatchexSunLight`: its highlights were taken out of its shading, and its visibility
     /// of the sun is in the highlight images.
     pub sun: Option<crate::passes::highlights::Sun>,
+    /// It came with a `PatchexTranslucencyInput`: its layer is in the translucency images;
+    /// `Some(true)` with motion vectors of its own.
+    pub translucency: Option<bool>,
 }
 
 impl SourceFrame {

@@ -184,6 +184,14 @@ unsafe fn read_chain(
                     read_versioned(next.cast::<PatchexSunLight>(), kind, "PatchexSunLight")?;
                 extensions.sun = Some(input);
             }
+            PATCHEX_STRUCT_TYPE_TRANSLUCENCY_INPUT => {
+                let input = read_versioned(
+                    next.cast::<PatchexTranslucencyInput>(),
+                    kind,
+                    "PatchexTranslucencyInput",
+                )?;
+                extensions.translucency = Some(input);
+            }
             PATCHEX_STRUCT_TYPE_SHADOW_FLOW_SETTINGS => {
                 let settings = read_versioned(
                     next.cast::<PatchexShadowFlowSettings>(),
@@ -491,6 +499,7 @@ pub unsafe extern "C" fn patchex_submit_gbuffers(
                 PATCHEX_STRUCT_TYPE_SHADOW_INPUT,
                 PATCHEX_STRUCT_TYPE_SHADOW_FLOW_SETTINGS,
                 PATCHEX_STRUCT_TYPE_SUN_LIGHT,
+                PATCHEX_STRUCT_TYPE_TRANSLUCENCY_INPUT,
             ],
             "PatchexFrameDesc",
         )?;

@@ -96,6 +96,42 @@ pub fn sun(gpu: &Gpu, input: &PatchexSunLight, extent: vk::Extent2D) -> Result<S
     })
 }
 
+/// A frame's optional translucency input (`PatchexTranslucencyInput`), checked.
+pub struct TranslucencyInputs {
+    pub mask: ImportedImage,
+    pub motion_vectors: Option<ImportedImage>,
+    pub motion_vector_scale: [f32; 2],
+}
+
+pub fn translucency(
+    gpu: &Gpu,
+    input: &PatchexTranslucencyInput,
+    extent: vk::Extent2D,
+) -> Result<TranslucencyInputs> {
+    let motion_vectors = ImportedImage::import(
+        gpu,
+        &input.motion_vectors,
+        &ImageRole::input("PatchexTranslucencyInput.motion_vectors", MOTION_FORMATS),
+        extent,
+    )?;
+    if motion_vectors.is_some() && !Vec2::from(input.motion_vector_scale).is_finite() {
+        bail!(
+            ErrorInvalidArgument,
+            "PatchexTranslucencyInput.motion_vector_scale must be finite"
+        );
+    }
+    Ok(TranslucencyInputs {
+        mask: ImportedImage::import_required(
+            gpu,
+            &input.mask,
+            &ImageRole::input("PatchexTranslucencyInput.mask", MASK_FORMATS),
+            extent,
+        )?,
+        motion_vectors,
+        motion_vector_scale: input.motion_vector_scale,
+    })
+}
+
 pub struct TargetInputs {
     pub alpha: f32,
     pub extent: vk::Extent2D,

@@ -150,6 +150,21 @@ fn c11_engine_meets_the_values_real_frames_hold() {
     assert!(printed.contains("ok (0 failures, 0 validation messages)"));
 }
 
+/// A puff of smoke over the frame, drifting up and to the right: a translucency mask (a soft
+/// disc) and its motion to the previous instant.
+fn smoke_over(width: usize, height: usize) -> (Image, Image) {
+    let (centre_x, centre_y, radius) =
+        (0.6 * width as f32, 0.4 * height as f32, 0.3 * height as f32);
+    let mask = Image::from_fn(width, height, 1, |x, y| {
+        let dx = (x as f32 + 0.5 - centre_x) / radius;
+        let dy = (y as f32 + 0.5 - centre_y) / radius;
+        let r2 = (dx * dx + dy * dy).min(1.0);
+        vec![0.6 * (1.0 - r2) * (1.0 - r2)]
+    });
+    let motion = Image::from_fn(width, height, 2, |_, _| vec![-3.0, 2.0]);
+    (mask, motion)
+}
+
 #[test]
 fn c11_engine_reaches_every_feature_and_matches_the_rust_path() {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
@@ -172,6 +187,14 @@ fn c11_engine_reaches_every_feature_and_matches_the_rust_path() {
         .flat_map(|v| v.to_ne_bytes())
         .collect();
     std::fs::write(data.join("sun.bin"), sun_floats).unwrap();
+    let (mask, motion) = smoke_over(WIDTH as usize, HEIGHT as usize);
+    let translucency: Vec<u8> = mask
+        .data
+        .iter()
+        .chain(&motion.data)
+        .flat_map(|v| v.to_ne_bytes())
+        .collect();
+    std::fs::write(data.join("translucency.bin"), translucency).unwrap();
     // The shipped weights, read from their files (PatchexNetworkWeights).
     let fi = root.join("assets/networks/fi.safetensors");
     let near_be = root.join("assets/networks/near_be.safetensors");
@@ -269,13 +292,25 @@ fn c11_engine_reaches_every_feature_and_matches_the_rust_path() {
     let diagnostics = output_image(engine, WIDTH, HEIGHT);
     let shadow_diagnostics = output_image(engine, WIDTH, HEIGHT);
     let target_shadows = output_image(engine, WIDTH, HEIGHT);
+    let gpu_mask = upload(engine, &mask, vk::Format::R32_SFLOAT, GBUFFER_LAYOUT);
+    let gpu_motion = upload(engine, &motion, vk::Format::R32G32_SFLOAT, GBUFFER_LAYOUT);
+    // Frame t goes lit by the sun and with its translucency; frame t-1 with neither.
     let submit = |cmd, frame: &GpuFrame, index, flow: Option<&PatchexShadowFlowSettings>, lit| {
         let mut shadow = frame.shadow_input();
         shadow.header.next = flow.map_or(std::ptr::null(), link);
         let mut light = frame.sun_light(&sun, true);
         light.header.next = link(&shadow);
+        let over = PatchexTranslucencyInput {
+            header: header_of::<PatchexTranslucencyInput>(
+                PATCHEX_STRUCT_TYPE_TRANSLUCENCY_INPUT,
+                link(&light),
+            ),
+            mask: gpu_mask.describe(GBUFFER_LAYOUT),
+            motion_vectors: gpu_motion.describe(GBUFFER_LAYOUT),
+            motion_vector_scale: [1.0, 1.0],
+        };
         let mut desc = frame.frame_desc(index, family);
-        desc.header.next = if lit { link(&light) } else { link(&shadow) };
+        desc.header.next = if lit { link(&over) } else { link(&shadow) };
         assert_eq!(
             rig.submit(cmd, &desc),
             PatchexResult::Success,
@@ -417,7 +452,7 @@ fn c11_engine_reaches_every_feature_and_matches_the_rust_path() {
     assert!(second
         .extrapolations
         .iter()
-        .all(|s| ran(s, PATCHEX_STAGE_HIGHLIGHTS)));
+        .all(|s| ran(s, PATCHEX_STAGE_HIGHLIGHTS) && ran(s, PATCHEX_STAGE_TRANSLUCENCY)));
     assert!(ran(guided, PATCHEX_STAGE_INFERENCE) && guided.repaired_fraction > 0.0);
     assert!(!ran(motion, PATCHEX_STAGE_DIAGNOSTICS));
     assert!(ran(occlusion, PATCHEX_STAGE_PACK_OUTPUT) && occlusion.repaired_fraction == 1.0);

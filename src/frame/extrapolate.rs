@@ -119,6 +119,8 @@ impl Context {
             diagnostics: engine.diagnostics,
             shadow_diagnostics: engine.shadow_diagnostics,
             sun: source.sun.zip(self.images.highlights.as_ref()),
+            translucency: self.images.translucency.as_ref().zip(source.translucency),
+            alpha: inputs.alpha,
         };
         plan::record(&mut rec, &plan);
         let stages = rec.finish(

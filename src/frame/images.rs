@@ -229,6 +229,26 @@ impl HighlightImages {
     )];
 }
 
+/// What frame t's translucency needs between the submit and the extrapolations, made at the
+/// first frame with a translucency input.
+pub type TranslucencyImages = ImageSet<2, Translucency>;
+pub struct Translucency;
+
+impl TranslucencyImages {
+    /// What is drawn over the surfaces: premultiplied colour, and its coverage in alpha.
+    pub const LAYER: usize = 0;
+    /// Its own motion in pixels, zero where it has none.
+    pub const MOTION: usize = 1;
+
+    const SPECS: [ImageSpec; 2] = [
+        frame_image(
+            "patchex translucency layer",
+            vk::Format::R16G16B16A16_SFLOAT,
+        ),
+        frame_image("patchex translucency motion", vk::Format::R16G16_SFLOAT),
+    ];
+}
+
 /// The shadow flow's pyramid atlases, made at the first frame whose flow runs: a context whose
 /// flow is off never holds them.
 pub type FlowAtlases = ImageSet<10, Flow>;
@@ -300,6 +320,8 @@ pub struct FrameImages {
     pub flow: Option<FlowAtlases>,
     /// Made at the first frame with a sun.
     pub highlights: Option<HighlightImages>,
+    /// Made at the first frame with a translucency input.
+    pub translucency: Option<TranslucencyImages>,
     pub output_staging: Option<OutputStaging>,
     /// 1x1 images bound where an optional input is absent; the shaders never read them.
     placeholder_float: OwnedImage,
@@ -314,7 +336,8 @@ impl FrameImages {
         OutputStaging::check_formats(gpu, &OutputStaging::SPECS)?;
         ShadowImages::check_formats(gpu, &ShadowImages::SPECS)?;
         FlowAtlases::check_formats(gpu, &FlowAtlases::SPECS)?;
-        HighlightImages::check_formats(gpu, &HighlightImages::SPECS)
+        HighlightImages::check_formats(gpu, &HighlightImages::SPECS)?;
+        TranslucencyImages::check_formats(gpu, &TranslucencyImages::SPECS)
     }
 
     /// The placeholders; every other set waits for its first frame.
@@ -355,6 +378,7 @@ impl FrameImages {
             shadows: None,
             flow: None,
             highlights: None,
+            translucency: None,
             output_staging: None,
             placeholder_float: float,
             placeholder_uint: uint,
@@ -388,6 +412,18 @@ impl FrameImages {
             &mut self.highlights,
             extent,
             &HighlightImages::SPECS,
+        )
+        .map(drop)
+    }
+
+    /// Makes or grows the translucency's images to the working images' extent.
+    pub fn ensure_translucency(&mut self, growth: &mut Growth) -> Result<()> {
+        let extent = self.work_extent();
+        grow(
+            growth,
+            &mut self.translucency,
+            extent,
+            &TranslucencyImages::SPECS,
         )
         .map(drop)
     }
@@ -434,9 +470,14 @@ impl FrameImages {
         let shadows = self.shadows.iter_mut().flat_map(|s| s.images.iter_mut());
         let flow = self.flow.iter_mut().flat_map(|f| f.images.iter_mut());
         let highlights = self.highlights.iter_mut().flat_map(|h| h.images.iter_mut());
+        let translucency = self
+            .translucency
+            .iter_mut()
+            .flat_map(|t| t.images.iter_mut());
         work.chain(shadows)
             .chain(flow)
             .chain(highlights)
+            .chain(translucency)
             .chain([&mut self.placeholder_float, &mut self.placeholder_uint])
     }
 
@@ -446,6 +487,7 @@ impl FrameImages {
             + self.shadows.as_ref().map_or(0, |s| s.size_bytes())
             + self.flow.as_ref().map_or(0, |f| f.size_bytes())
             + self.highlights.as_ref().map_or(0, |h| h.size_bytes())
+            + self.translucency.as_ref().map_or(0, |t| t.size_bytes())
             + self.output_staging.as_ref().map_or(0, |s| s.size_bytes())
             + self.placeholder_float.size_bytes()
             + self.placeholder_uint.size_bytes()
@@ -457,6 +499,7 @@ impl FrameImages {
         let shadows = self.shadows.take().map(|s| s.images);
         let flow = self.flow.take().map(|f| f.images);
         let highlights = self.highlights.take().map(|h| h.images);
+        let translucency = self.translucency.take().map(|t| t.images);
         let staging = self.output_staging.take().map(|s| s.images);
         for mut image in work
             .into_iter()
@@ -465,6 +508,7 @@ impl FrameImages {
             .chain(shadows.into_iter().flatten())
             .chain(flow.into_iter().flatten())
             .chain(highlights.into_iter().flatten())
+            .chain(translucency.into_iter().flatten())
             .chain(staging.into_iter().flatten())
         {
             image.destroy(gpu, allocator);
@@ -521,7 +565,8 @@ mod tests {
             .chain(&OutputStaging::SPECS)
             .chain(&ShadowImages::SPECS)
             .chain(&FlowAtlases::SPECS)
-            .chain(&HighlightImages::SPECS);
+            .chain(&HighlightImages::SPECS)
+            .chain(&TranslucencyImages::SPECS);
         for spec in specs {
             assert!(
                 texel_bytes(spec.format, vk::ImageAspectFlags::COLOR) > 0,

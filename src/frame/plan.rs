@@ -10,7 +10,8 @@ use crate::abi::*;
 use crate::camera::PixelRays;
 use crate::frame::counters;
 use crate::frame::images::{
-    AnalysisImages, FlowAtlases, HighlightImages, OutputStaging, ShadowImages, WorkImages,
+    AnalysisImages, FlowAtlases, HighlightImages, OutputStaging, ShadowImages, TranslucencyImages,
+    WorkImages,
 };
 use crate::frame::settings::NetworkSwitches;
 use crate::passes::inpaint::{self, Inpainting};
@@ -20,8 +21,8 @@ use crate::passes::shadow_flow::{self, FlowSettings};
 use crate::passes::warp::{self, Remodulation, Store, WarpSettings};
 use crate::passes::{
     demodulate, diagnostics, fill_holes, highlights, lbp, pack_gbuffer, pack_output, remodulate,
-    separate_shadows, target_shadows, CounterRange, PipelineId, Pipelines, RegionPasses, Texture,
-    SANITIZE_COUNTER_BYTES,
+    separate_shadows, target_shadows, translucency, CounterRange, PipelineId, Pipelines,
+    RegionPasses, Texture, SANITIZE_COUNTER_BYTES,
 };
 use crate::vk::image::ImportedImage;
 use crate::vk::recorder::Recorder;
@@ -46,6 +47,11 @@ pub struct SubmitPlan<'a> {
     pub separates: bool,
     /// With a sun: what frame t's highlights are taken out with, and where its visibility is kept.
     pub highlights: Option<(&'a highlights::SourceHighlights<'a>, &'a HighlightImages)>,
+    /// With a translucency input: what it is taken apart with, and where its layer is kept.
+    pub translucency: Option<(
+        &'a translucency::SourceTranslucency<'a>,
+        &'a TranslucencyImages,
+    )>,
     pub placeholder_uint: Texture,
 }
 
@@ -76,7 +82,7 @@ fn pack_source(rec: &mut Recorder, plan: &SubmitPlan) {
 }
 
 /// Frame t's colour over its modulation; with a shadow input, also the shadow layer apart; with
-/// a sun, less its highlights.
+/// a sun, less its highlights; with a translucency input, less what is drawn over its surfaces.
 fn demodulate(rec: &mut Recorder, plan: &SubmitPlan) {
     let sanitized = plan
         .passes
@@ -120,6 +126,16 @@ fn demodulate(rec: &mut Recorder, plan: &SubmitPlan) {
                 highlights,
                 shading,
                 &images[HighlightImages::VISIBILITY],
+            );
+        }
+        if let Some((translucency, kept)) = plan.translucency {
+            translucency::record_separation(
+                rec,
+                plan.passes.get(PipelineId::SeparateTranslucency),
+                plan.extent,
+                translucency,
+                shading,
+                kept,
             );
         }
     });
@@ -201,6 +217,11 @@ pub struct ExtrapolationPlan<'a> {
     pub shadow_diagnostics: Option<Texture>,
     /// Frame t came with a sun (`PatchexSunLight`): it, and its kept visibility.
     pub sun: Option<(highlights::Sun, &'a HighlightImages)>,
+    /// Frame t came with a translucency input: its kept layer, and whether it has its own
+    /// motion.
+    pub translucency: Option<(&'a TranslucencyImages, bool)>,
+    /// The target's place between frame t and frame t+1.
+    pub alpha: f32,
 }
 
 /// Records the extrapolation's stages in order.
@@ -215,6 +236,7 @@ pub fn record(rec: &mut Recorder, plan: &ExtrapolationPlan) {
     diagnostics(rec, plan);
     remodulate(rec, plan);
     place_highlights(rec, plan);
+    place_translucency(rec, plan);
     pack_output(rec, plan);
 }
 
@@ -631,6 +653,32 @@ fn place_highlights(rec: &mut Recorder, plan: &ExtrapolationPlan) {
         highlights::record_placement(
             rec,
             plan.passes.get(PipelineId::PlaceHighlights),
+            plan.extent,
+            &inputs,
+            plan.frame,
+        )
+    });
+}
+
+/// Frame t's translucency, moved to the target, over the finished frame.
+fn place_translucency(rec: &mut Recorder, plan: &ExtrapolationPlan) {
+    let Some((kept, has_motion)) = plan.translucency else {
+        return;
+    };
+    let inputs = translucency::TargetTranslucency {
+        kept,
+        has_motion,
+        target_motion: plan.motion,
+        warp: &plan.warp_params,
+        alpha: plan.alpha,
+        sanitized: plan
+            .passes
+            .counters(counters::SANITIZE, SANITIZE_COUNTER_BYTES),
+    };
+    rec.stage(PATCHEX_STAGE_TRANSLUCENCY, |rec| {
+        translucency::record_placement(
+            rec,
+            plan.passes.get(PipelineId::PlaceTranslucency),
             plan.extent,
             &inputs,
             plan.frame,

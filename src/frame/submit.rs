@@ -14,7 +14,7 @@ use crate::frame::settings::{Extensions, NEEDS_SHADOW_PRESET};
 use crate::inputs::{self, GeometryInputs, SourceInputs};
 use crate::passes::highlights::{self, Sun};
 use crate::passes::{
-    demodulate, pack_gbuffer, separate_shadows, RegionPasses, SANITIZE_COUNTER_BYTES,
+    demodulate, pack_gbuffer, separate_shadows, translucency, RegionPasses, SANITIZE_COUNTER_BYTES,
 };
 use crate::vk::barriers::EngineImageAccess;
 use crate::vk::frame_ring::{FrameRecord, RegionRecord};
@@ -46,6 +46,10 @@ impl Context {
             .sun
             .map(|input| inputs::sun(&self.gpu, &input, inputs.extent))
             .transpose()?;
+        let translucency_inputs = extensions
+            .translucency
+            .map(|input| inputs::translucency(&self.gpu, &input, inputs.extent))
+            .transpose()?;
         let flow_settings = extensions.flow.unwrap_or(self.defaults.flow);
         let reset_reason = self.reset_reason(&inputs)?;
         let (placeholder, placeholder_uint) = self.images.placeholders();
@@ -70,6 +74,16 @@ impl Context {
             .as_ref()
             .map(|sun| access.read(&sun.visibility))
             .transpose()?;
+        let translucency_images = match &translucency_inputs {
+            Some(input) => Some((
+                access.read(&input.mask)?,
+                match &input.motion_vectors {
+                    Some(motion) => Some((access.read(motion)?, input.motion_vector_scale)),
+                    None => None,
+                },
+            )),
+            None => None,
+        };
 
         let serial = self.source.as_ref().map_or(1, |s| s.serial + 1);
         self.ring.collect(&self.gpu, &mut self.allocator, serial);
@@ -82,6 +96,9 @@ impl Context {
         self.images.ensure_work(&mut growth, inputs.extent)?;
         if sun_inputs.is_some() {
             self.images.ensure_highlights(&mut growth)?;
+        }
+        if translucency_inputs.is_some() {
+            self.images.ensure_translucency(&mut growth)?;
         }
         // Frame t-1's expansion is usable when its flow made it, unbroken, on the same images;
         // this frame's flow, switched off, needs none.
@@ -169,6 +186,18 @@ impl Context {
             let images = self.images.highlights.as_ref().expect("allocated above");
             (highlights, images)
         });
+        let translucency =
+            translucency_images.map(|(mask, motion)| translucency::SourceTranslucency {
+                color,
+                base_color,
+                material,
+                mask,
+                motion,
+                placeholder,
+                source_depth: &work[WorkImages::SOURCE_DEPTH],
+                source_normal_id: &work[WorkImages::SOURCE_NORMAL_ID],
+                sanitized: passes.counters(counters::SANITIZE, SANITIZE_COUNTER_BYTES),
+            });
         let plan = SubmitPlan {
             extent: inputs.extent,
             passes,
@@ -187,6 +216,10 @@ impl Context {
             reprojection,
             separates,
             highlights: highlights.as_ref().map(|(h, images)| (h, *images)),
+            translucency: translucency.as_ref().map(|t| {
+                let kept = self.images.translucency.as_ref().expect("allocated above");
+                (t, kept)
+            }),
             placeholder_uint,
         };
         plan::record_submit(&mut rec, &plan);
@@ -217,6 +250,9 @@ impl Context {
             camera: inputs.geometry.camera,
             shadow_history,
             sun,
+            translucency: translucency_inputs
+                .as_ref()
+                .map(|input| input.motion_vectors.is_some()),
         });
         Ok(())
     }

@@ -16,6 +16,7 @@ pub mod segmentation;
 pub mod separate_shadows;
 pub mod shadow_flow;
 pub mod target_shadows;
+pub mod translucency;
 pub mod warp;
 
 use std::sync::{Arc, Mutex, Weak};
@@ -88,7 +89,7 @@ const fn stage(id: PatchexStage, name: &'static str, group: RuntimeGroup) -> Sta
 /// Every stage a frame can run, in the order they are recorded: the submit's, then each
 /// extrapolation's. The recorder holds every call to this order (`Recorder::stage`) and the
 /// reference follows it (`reference::extrapolate`).
-pub const STAGES: [Stage; 15] = {
+pub const STAGES: [Stage; 16] = {
     use RuntimeGroup::*;
     [
         stage(PATCHEX_STAGE_PACK_SOURCE_GBUFFER, "pack source", Gbuffer),
@@ -105,6 +106,7 @@ pub const STAGES: [Stage; 15] = {
         stage(PATCHEX_STAGE_DIAGNOSTICS, "diagnostics", Output),
         stage(PATCHEX_STAGE_REMODULATE, "remodulate", Blending),
         stage(PATCHEX_STAGE_HIGHLIGHTS, "highlights", Warping),
+        stage(PATCHEX_STAGE_TRANSLUCENCY, "translucency", Warping),
         stage(PATCHEX_STAGE_PACK_OUTPUT, "pack output", Output),
     ]
 };
@@ -137,6 +139,10 @@ pipeline_table! {
     /// With a sun: frame t's highlights out of its shading, in the submit; the target's in.
     RemoveHighlights: remove_highlights, 1;
     PlaceHighlights: place_highlights, 1;
+    /// With a translucency input: frame t's taken apart from its surfaces, in the submit; moved
+    /// and blended over the target.
+    SeparateTranslucency: separate_translucency, 1;
+    PlaceTranslucency: place_translucency, 1;
     /// Frame t's G-buffer, in the submit.
     PackGbuffer: pack_gbuffer, 1;
     SeparateShadows: separate_shadows, 1;

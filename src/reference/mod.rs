@@ -15,6 +15,7 @@ pub mod remodulate;
 pub mod segmentation;
 pub mod separate_shadows;
 pub mod target_shadows;
+pub mod translucency;
 pub mod warp;
 
 /// One instant's inputs, as plain images: the reference side of what an engine submits.
@@ -31,6 +32,8 @@ pub struct FrameInputs<'a> {
     pub motion_vector_scale: [f32; 2],
     /// Frame t's `PatchexSunLight`: the sun, and its visibility image.
     pub sun: Option<(crate::passes::highlights::Sun, &'a Image)>,
+    /// Frame t's `PatchexTranslucencyInput`.
+    pub translucency: Option<translucency::Input<'a>>,
 }
 
 /// Frame t's shadow input, and frame t-1's when it had one (and no reset came between).
@@ -175,6 +178,24 @@ pub fn extrapolate(
             separation.shadow_layer = layer;
         }
         (sun, removed.visibility)
+    });
+    // With a translucency input: what is drawn over the surfaces out of the shading.
+    let translucency = source.translucency.map(|input| {
+        let separated = translucency::separate(
+            &shading,
+            &translucency::SourceTranslucency {
+                color,
+                base_color: source.base_color,
+                material: source.material,
+                mask: input.mask,
+                motion: input.motion,
+                geometry: &source_packed.geometry,
+                normal_id: &source_packed.normal_id,
+            },
+        );
+        source_sanitized += separated.sanitized;
+        shading = separated.shading.clone();
+        (separated, input.motion.is_some())
     });
     stages.push(PATCHEX_STAGE_DEMODULATE);
     // The shadows' flow to frame t-1, in frame t's submit: none without frame t-1's mask or
@@ -340,6 +361,25 @@ pub fn extrapolate(
                 },
             );
             target_sanitized += sanitized;
+            output
+        }
+        None => output,
+    };
+    let output = match &translucency {
+        Some((separated, has_motion)) => {
+            stages.push(PATCHEX_STAGE_TRANSLUCENCY);
+            let mut output = output;
+            target_sanitized += translucency::place(
+                &mut output,
+                &translucency::TargetTranslucency {
+                    layer: &separated.layer,
+                    motion: has_motion.then_some(&separated.motion),
+                    target_motion: motion,
+                    motion_scale: params.motion_scale,
+                    jitter_delta: params.jitter_delta,
+                    alpha,
+                },
+            );
             output
         }
         None => output,

@@ -11,9 +11,10 @@
  * halfway to the next frame at 1 and 3), each: a PatchexCamera, then colour, base colour,
  * material, normal and colour without dynamic shadows as RGBA32F, depth, shadow mask and the
  * sun's visibility through static casters as R32F, motion vectors as RG32F and stencil ids as
- * R8_UINT; and sun.bin, the sun's direction and illuminance (six floats). The program creates a
+ * R8_UINT; sun.bin, the sun's direction and illuminance (six floats); and translucency.bin,
+ * frame 2's translucency mask as R32F and its motion as RG32F. The program creates a
  * FULL context with every create-time chained struct, submits frames 0 and 2 with their shadow
- * input (frame 2 also with the sun), and extrapolates: frame 1 with diagnostics; frame 3 three times, once per warp kind, with
+ * input (frame 2 also with the sun and its translucency), and extrapolates: frame 1 with diagnostics; frame 3 three times, once per warp kind, with
  * segmentation and network settings, both diagnostics and, last, an A2B10G10R10 output; then
  * frame 3 once more with its own shadow mask as the target shadow input. It
  * writes each output image and both frames' statistics to OUT_DIR, and exits 0 only when every
@@ -101,10 +102,11 @@ static PatchexGeometry geometry(const Frame *f) {
   return g;
 }
 
-/* Frame `f` as frame `index`, with its shadow input, and optionally flow settings and the sun
-   (direction, then illuminance). */
+/* Frame `f` as frame `index`, with its shadow input, and optionally flow settings, the sun
+   (direction, then illuminance) and a translucency mask and motion (`translucency[0]`, `[1]`). */
 static void submit(PatchexContext *ctx, const Frame *f, uint64_t index,
-                   const PatchexShadowFlowSettings *flow, const float *sun) {
+                   const PatchexShadowFlowSettings *flow, const float *sun,
+                   const Image *translucency) {
   PatchexShadowInput shadow;
   shadow.header = header(PATCHEX_STRUCT_TYPE_SHADOW_INPUT, sizeof shadow, flow);
   shadow.mask = describe(&f->shadow_mask);
@@ -117,10 +119,18 @@ static void submit(PatchexContext *ctx, const Frame *f, uint64_t index,
     /* With a shadow input: the visibility through static casters. */
     light.visibility = describe(&f->static_visibility);
   }
+  const void *chain = sun ? (const void *)&light : &shadow;
+  PatchexTranslucencyInput over;
+  over.header = header(PATCHEX_STRUCT_TYPE_TRANSLUCENCY_INPUT, sizeof over, chain);
+  if (translucency) {
+    over.mask = describe(&translucency[0]);
+    over.motion_vectors = describe(&translucency[1]);
+    over.motion_vector_scale[0] = over.motion_vector_scale[1] = 1.0f;
+    chain = &over;
+  }
   PatchexFrameDesc desc;
   memset(&desc, 0, sizeof desc);
-  desc.header = header(PATCHEX_STRUCT_TYPE_FRAME_DESC, sizeof desc,
-                       sun ? (const void *)&light : &shadow);
+  desc.header = header(PATCHEX_STRUCT_TYPE_FRAME_DESC, sizeof desc, chain);
   desc.frame_index = index;
   desc.queue_family_index = gpu.family;
   desc.width = width;
@@ -252,6 +262,21 @@ int main(int argc, char **argv) {
     return 2;
   }
   fclose(sun_file);
+  char translucency_path[4096];
+  snprintf(translucency_path, sizeof translucency_path, "%s/translucency.bin", data);
+  FILE *translucency_file = fopen(translucency_path, "rb");
+  size_t pixels = (size_t)width * height;
+  unsigned char *translucency_bytes = malloc(pixels * 12);
+  if (!translucency_file || !translucency_bytes ||
+      fread(translucency_bytes, pixels * 12, 1, translucency_file) != 1) {
+    fprintf(stderr, "cannot read %s\n", translucency_path);
+    return 2;
+  }
+  fclose(translucency_file);
+  Image translucency[2] = {
+      input_image(VK_FORMAT_R32_SFLOAT, 4, translucency_bytes),
+      input_image(VK_FORMAT_R32G32_SFLOAT, 8, translucency_bytes + pixels * 4)};
+  free(translucency_bytes);
   const VkImageUsageFlags storage = VK_IMAGE_USAGE_STORAGE_BIT;
   Image first = output_image(VK_FORMAT_R16G16B16A16_SFLOAT, 8, storage);
   Image first_diagnostics = output_image(VK_FORMAT_R16G16B16A16_SFLOAT, 8, storage);
@@ -269,7 +294,7 @@ int main(int argc, char **argv) {
   frame_flow.header.next = NULL;
   frame_flow.iterations = 2;
   begin();
-  submit(ctx, &frames[0], 1, &frame_flow, NULL);
+  submit(ctx, &frames[0], 1, &frame_flow, NULL, NULL);
   PatchexDiagnostics first_diag;
   first_diag.header = header(PATCHEX_STRUCT_TYPE_DIAGNOSTICS, sizeof first_diag, NULL);
   first_diag.image = describe(&first_diagnostics);
@@ -277,9 +302,10 @@ int main(int argc, char **argv) {
   expect(patchex_extrapolate(ctx, gpu.cmd, &desc), PATCHEX_RESULT_SUCCESS, "extrapolate 1", ctx);
   submit_and_wait();
 
-  /* Frame t (index 2), with the sun: three extrapolations of its halfway instant, one per warp. */
+  /* Frame t (index 2), with the sun and its translucency: three extrapolations of its halfway
+     instant, one per warp. */
   begin();
-  submit(ctx, &frames[2], 2, NULL, sun);
+  submit(ctx, &frames[2], 2, NULL, sun, translucency);
 
   const PatchexWarpKind kinds[3] = {PATCHEX_WARP_GBUFFER_GUIDED, PATCHEX_WARP_MOTION_VECTOR,
                                     PATCHEX_WARP_OCCLUSION_MOTION_VECTOR};
@@ -341,6 +367,8 @@ int main(int argc, char **argv) {
   CHECK(vkDeviceWaitIdle(gpu.device));
   patchex_destroy(ctx);
   for (int i = 0; i < 4; ++i) destroy_frame(&frames[i]);
+  destroy_image(&translucency[0]);
+  destroy_image(&translucency[1]);
   Image *images[] = {&first, &first_diagnostics, &outputs[0], &outputs[1], &outputs[2],
                      &diagnostics, &shadow_diagnostics, &target_shadows};
   for (size_t i = 0; i < sizeof images / sizeof images[0]; ++i) destroy_image(images[i]);

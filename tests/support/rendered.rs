@@ -9,7 +9,7 @@ use patchex::reference::Image;
 use patchex_scene::dataset::{
     render_sequence, SequenceOptions, BASE_COLOR, CUSTOM_STENCIL, FINAL_IMAGE,
     FINAL_IMAGE_NO_DYNAMIC_SHADOWS, METALLIC, MOTION_VECTOR, ROUGHNESS, SCENE_DEPTH, SHADOW_MASK,
-    SPECULAR, STATIC_SHADOW_MASK, WORLD_NORMAL,
+    SPECULAR, STATIC_SHADOW_MASK, TRANSLUCENCY_MASK, TRANSLUCENCY_MOTION, WORLD_NORMAL,
 };
 use patchex_scene::{Dataset, FrameLayers, Gpu, GpuOptions, Manifest, World};
 
@@ -18,6 +18,8 @@ use super::scene::Frame;
 pub struct RenderedSequence {
     pub manifest: Manifest,
     pub frames: Vec<Frame>,
+    /// Each frame's translucency mask (1 channel) and motion (2), in a scene with particles.
+    pub translucency: Vec<Option<(Image, Image)>>,
 }
 
 /// Renders `frames` frames of `scenes/<scene_file>` at `width` x `height` under validation.
@@ -37,15 +39,25 @@ pub fn render(scene_file: &str, frames: usize, width: u32, height: u32) -> Rende
     let messages = gpu.take_validation_messages();
     assert!(messages.is_empty(), "renderer validation: {messages:?}");
     let dataset = Dataset::open(dir.path()).expect("dataset opens");
-    let frames = (0..frames)
+    let (frames, translucency) = (0..frames)
         .map(|index| {
             let layers = dataset.read_frame(index).expect("frame reads");
-            frame(&layers, &dataset.manifest, index)
+            let translucency = layers.get(TRANSLUCENCY_MASK).is_some().then(|| {
+                (
+                    gather(&layers, &[(TRANSLUCENCY_MASK, 0)]),
+                    gather(
+                        &layers,
+                        &[(TRANSLUCENCY_MOTION, 0), (TRANSLUCENCY_MOTION, 1)],
+                    ),
+                )
+            });
+            (frame(&layers, &dataset.manifest, index), translucency)
         })
-        .collect();
+        .unzip();
     RenderedSequence {
         manifest: dataset.manifest,
         frames,
+        translucency,
     }
 }
 

@@ -31,7 +31,7 @@ use serde_json::json;
 use super::costs::{self, Costs};
 use super::metrics::{error_maps, Pooled};
 use super::picture::tone_map;
-use super::plugin_driver::{InputFormats, NetworkChoice, PluginDriver, ShadowRun};
+use super::plugin_driver::{FrameExtras, InputFormats, NetworkChoice, PluginDriver, ShadowRun};
 use super::render::parse_size;
 use super::CommandResult;
 
@@ -335,7 +335,10 @@ fn measure(
                 earlier: Some((earlier, &manifest.frames[index - 3])),
                 target_mask: configuration == Configuration::GbufferTargetShadows,
             }),
-            configuration == Configuration::GbufferHighlights,
+            FrameExtras {
+                sun: configuration == Configuration::GbufferHighlights,
+                translucency: false,
+            },
         )
     };
     // One unmeasured run of each configuration: the driver compiles shaders lazily.

@@ -15,7 +15,7 @@ use patchex_scene::dataset::{render_sequence, Dataset, FrameRole, SequenceOption
 use patchex_scene::{Gpu, GpuOptions, World};
 
 use super::picture::{psnr, tone_map, write_strip};
-use super::plugin_driver::{NetworkChoice, PluginDriver, ShadowRun};
+use super::plugin_driver::{FrameExtras, NetworkChoice, PluginDriver, ShadowRun};
 use super::render::parse_size;
 use super::CommandResult;
 
@@ -54,6 +54,10 @@ pub struct DemoArgs {
     /// glossy surfaces move with the view instead of sticking to the surface.
     #[arg(long)]
     highlights: bool,
+    /// Hand the plugin each frame's translucency mask and motion (PatchexTranslucencyInput), in
+    /// scenes with particles, so that smoke and sparks move by their own motion.
+    #[arg(long)]
+    translucency: bool,
     /// Run the inpainting networks on the FI and near-BE patches (with --shadows,
     /// PATCHEX_PRESET_FULL; the built-in weights). Off by default: the shipped weights barely change the frame yet
     /// (docs/quality.md).
@@ -142,7 +146,10 @@ pub fn run(args: DemoArgs) -> CommandResult {
                 earlier,
                 target_mask: args.target_shadows,
             }),
-            args.highlights,
+            FrameExtras {
+                sun: args.highlights,
+                translucency: args.translucency,
+            },
         )?;
         let (width, height) = (manifest.width, manifest.height);
         let frame_t = tone_map(&source_layers.layer(FINAL_IMAGE).data, 3);

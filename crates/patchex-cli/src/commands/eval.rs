@@ -23,14 +23,14 @@ use patchex::passes::warp::WarpSettings;
 use patchex::passes::{RuntimeGroup, STAGES};
 use patchex_scene::dataset::{
     write_exr, Dataset, FrameLayers, FrameRole, LayerImage, FINAL_IMAGE, ROUGHNESS, SHADOW_MASK,
-    SPECULAR_LIGHT,
+    SPECULAR_LIGHT, TRANSLUCENCY_MASK,
 };
 use serde_json::json;
 
 use super::interpolate::interpolate;
 use super::metrics::{error_maps, luma, ErrorMaps, Pooled};
 use super::picture::{to_rgb8, tone_map, write_grid};
-use super::plugin_driver::{NetworkChoice, PluginDriver, ShadowRun};
+use super::plugin_driver::{FrameExtras, NetworkChoice, PluginDriver, ShadowRun};
 use super::{shipped_path, CommandResult};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, ValueEnum)]
@@ -54,6 +54,9 @@ pub enum Method {
     /// The default warp given the scene's sun (`PatchexSunLight`): its highlights taken out of
     /// frame t and evaluated for the target's view.
     GbufferHighlights,
+    /// The default warp given each frame's translucency mask and motion
+    /// (`PatchexTranslucencyInput`): what is drawn over the surfaces moved by its own motion.
+    GbufferTranslucency,
     /// The shadow sub-task and the sun's highlights: every input an engine has today.
     GbufferShadowsHighlights,
     /// The target shadow mask and the sun's highlights.
@@ -95,6 +98,7 @@ impl Method {
             Method::GbufferShadows => "G-buffer-guided warp + shadow sub-task",
             Method::GbufferTargetShadows => "G-buffer-guided warp + target shadow mask",
             Method::GbufferHighlights => "G-buffer-guided warp + sun highlights",
+            Method::GbufferTranslucency => "G-buffer-guided warp + translucency mask",
             Method::GbufferShadowsHighlights => {
                 "G-buffer-guided warp + shadow sub-task + sun highlights"
             }
@@ -132,6 +136,7 @@ impl Method {
             | Method::GbufferShadows
             | Method::GbufferTargetShadows
             | Method::GbufferHighlights
+            | Method::GbufferTranslucency
             | Method::GbufferShadowsHighlights
             | Method::GbufferTargetShadowsHighlights
             | Method::Patchex
@@ -161,14 +166,17 @@ impl Method {
         }
     }
 
-    /// Whether frame t goes with the scene's sun (`PatchexSunLight`).
-    fn sun(self) -> bool {
-        matches!(
-            self,
-            Method::GbufferHighlights
-                | Method::GbufferShadowsHighlights
-                | Method::GbufferTargetShadowsHighlights
-        )
+    /// What frame t goes with besides the shadow sub-task's inputs.
+    fn extras(self) -> FrameExtras {
+        FrameExtras {
+            sun: matches!(
+                self,
+                Method::GbufferHighlights
+                    | Method::GbufferShadowsHighlights
+                    | Method::GbufferTargetShadowsHighlights
+            ),
+            translucency: self == Method::GbufferTranslucency,
+        }
     }
 
     /// The inpainting networks the method runs, if any.
@@ -234,11 +242,24 @@ const SHADOWED: f32 = 0.95;
 const HIGHLIGHT_ROUGHNESS: f32 = 0.5;
 const HIGHLIGHT_SHARE: f32 = 0.3;
 
+/// A pixel is covered by translucency where its mask is above this.
+const TRANSLUCENT: f32 = 0.02;
+
 /// Regions every score is pooled over. "shadows": where frame t or the target has a shadow of
 /// a dynamic object (mask below 0.95), the pixels the shadow sub-task is for. "highlights": the
 /// target's highlights, where the shading depends on the view (none in a dataset without the
 /// SpecularLight layer).
-const REGIONS: [&str; 6] = ["frame", "holes", "FI", "near-BE", "shadows", "highlights"];
+const REGIONS: [&str; 7] = [
+    "frame",
+    "holes",
+    "FI",
+    "near-BE",
+    "shadows",
+    "highlights",
+    "translucency",
+];
+/// The regions after FI and near-BE: each a mask of its own (`RegionMasks`).
+const MASKED_REGIONS: std::ops::Range<usize> = 4..REGION_COUNT;
 const REGION_COUNT: usize = REGIONS.len();
 
 /// Scores and times of one method on one dataset (or on all).
@@ -258,8 +279,7 @@ impl MethodResult {
         maps: &ErrorMaps,
         holes: &[bool],
         regions: &[u32],
-        shadows: &[bool],
-        highlights: &[bool],
+        masks: &RegionMasks,
         alpha: (usize, usize),
     ) {
         let by_alpha = self.by_alpha.entry(alpha).or_default();
@@ -269,11 +289,10 @@ impl MethodResult {
             if holes[pixel] {
                 self.pooled[1].add(maps, pixel);
             }
-            if shadows[pixel] {
-                self.pooled[4].add(maps, pixel);
-            }
-            if highlights[pixel] {
-                self.pooled[5].add(maps, pixel);
+            for (region, mask) in MASKED_REGIONS.zip(masks) {
+                if mask[pixel] {
+                    self.pooled[region].add(maps, pixel);
+                }
             }
             match regions[pixel] {
                 REGION_FI => self.pooled[2].add(maps, pixel),
@@ -439,12 +458,16 @@ fn evaluate(
             .zip(&current.layer(SHADOW_MASK).data)
             .map(|(before, after)| *before < SHADOWED || *after < SHADOWED)
             .collect();
-        let highlights = highlights(&current);
+        let masks: RegionMasks = [
+            shadows,
+            highlights(&current),
+            translucency(&previous, &current),
+        ];
         let mut run_plugin = |warp,
                               networks: Option<NetworkChoice>,
                               with_diagnostics,
                               shadows: Option<bool>,
-                              sun| {
+                              extras| {
             // Two indices a run: frame t-1 and frame t when shadows are tracked.
             frame_index += 2;
             driver.extrapolate(
@@ -461,11 +484,17 @@ fn evaluate(
                         .map(|(layers, index)| (layers, &manifest.frames[*index])),
                     target_mask,
                 }),
-                sun,
+                extras,
             )
         };
         // The default warp's diagnostics give every method's regions and holes.
-        let reference = run_plugin(WarpSettings::default(), None, true, None, false)?;
+        let reference = run_plugin(
+            WarpSettings::default(),
+            None,
+            true,
+            None,
+            FrameExtras::default(),
+        )?;
         let diagnostics = reference.diagnostics.as_ref().expect("asked for");
         let holes: Vec<bool> = diagnostics.chunks(4).map(|d| d[0] > 0.5).collect();
         let regions: Vec<u32> = diagnostics
@@ -476,8 +505,9 @@ fn evaluate(
         result.region_pixels[1] += holes.iter().filter(|h| **h).count() as u64;
         result.region_pixels[2] += regions.iter().filter(|r| **r == REGION_FI).count() as u64;
         result.region_pixels[3] += regions.iter().filter(|r| **r == REGION_NEAR_BE).count() as u64;
-        result.region_pixels[4] += shadows.iter().filter(|s| **s).count() as u64;
-        result.region_pixels[5] += highlights.iter().filter(|h| **h).count() as u64;
+        for (region, mask) in MASKED_REGIONS.zip(&masks) {
+            result.region_pixels[region] += mask.iter().filter(|m| **m).count() as u64;
+        }
 
         let mut strip_outputs = Vec::new();
         for &method in methods {
@@ -488,7 +518,7 @@ fn evaluate(
                 }
                 Some(warp) => {
                     let networks = method.networks(args);
-                    let run = run_plugin(warp, networks, false, method.shadows(), method.sun())?;
+                    let run = run_plugin(warp, networks, false, method.shadows(), method.extras())?;
                     (run.color, 4, Some(run.stats))
                 }
                 None if method == Method::Copy => {
@@ -514,14 +544,7 @@ fn evaluate(
                 .methods
                 .get_mut(&method)
                 .expect("every method has a result");
-            method_result.add(
-                &maps,
-                &holes,
-                &regions,
-                &shadows,
-                &highlights,
-                (target - source, stride),
-            );
+            method_result.add(&maps, &holes, &regions, &masks, (target - source, stride));
             // The first target's times include the driver's lazy shader compilation.
             if let (Some(stats), true) = (stats, n > 0) {
                 method_result.add_time(&stats);
@@ -536,7 +559,7 @@ fn evaluate(
                 &manifest.scene,
                 width,
                 &truth,
-                &shadows,
+                &masks[0],
                 &strip_outputs,
             )?;
             let strip_outputs: Vec<_> = strip_outputs
@@ -741,7 +764,8 @@ fn all_scenes(results: &[DatasetResult], methods: &[Method]) -> BTreeMap<Method,
 fn method_table(out: &mut String, methods: &BTreeMap<Method, MethodResult>) {
     writeln!(
         out,
-        "| method | PSNR dB: frame / holes / FI / near-BE / shadows / highlights | SSIM: same regions | \
+        "| method | PSNR dB: frame / holes / FI / near-BE / shadows / highlights / translucency | \
+         SSIM: same regions | \
          FLIP: same regions | detail: same regions | GPU ms |\n|---|---|---|---|---|---|"
     )
     .unwrap();
@@ -797,12 +821,14 @@ fn stage_table(out: &mut String, methods: &BTreeMap<Method, MethodResult>) {
 fn coverage(region_pixels: &[u64; REGION_COUNT]) -> String {
     let share = |i: usize| 100.0 * region_pixels[i] as f64 / region_pixels[0].max(1) as f64;
     format!(
-        "holes {:.2}%, FI {:.2}%, near-BE {:.2}%, shadows {:.2}%, highlights {:.2}% of the pixels",
+        "holes {:.2}%, FI {:.2}%, near-BE {:.2}%, shadows {:.2}%, highlights {:.2}%, \
+         translucency {:.2}% of the pixels",
         share(1),
         share(2),
         share(3),
         share(4),
-        share(5)
+        share(5),
+        share(6)
     )
 }
 
@@ -939,6 +965,27 @@ fn report_json(results: &[DatasetResult], methods: &[Method]) -> serde_json::Val
 /// JSON has no infinity: a perfect PSNR is written as null.
 fn finite(value: f64) -> Option<f64> {
     value.is_finite().then_some(value)
+}
+
+/// A mask per region of `MASKED_REGIONS`, row by row.
+type RegionMasks = [Vec<bool>; REGION_COUNT - 4];
+
+/// Where frame t or the target is covered by translucency (TRANSLUCENT), row by row; nowhere in
+/// a dataset without it.
+fn translucency(source: &FrameLayers, target: &FrameLayers) -> Vec<bool> {
+    let covered = |frame: &FrameLayers| {
+        frame.get(TRANSLUCENCY_MASK).map(|mask| {
+            mask.data
+                .iter()
+                .map(|&a| a > TRANSLUCENT)
+                .collect::<Vec<_>>()
+        })
+    };
+    let pixels = source.width * source.height;
+    match (covered(source), covered(target)) {
+        (Some(source), Some(target)) => source.iter().zip(target).map(|(s, t)| *s || t).collect(),
+        _ => vec![false; pixels],
+    }
 }
 
 /// The target's highlights (HIGHLIGHT_ROUGHNESS, HIGHLIGHT_SHARE), row by row.

@@ -21,7 +21,7 @@ use patchex_harness::{Engine, EngineImage, EngineOptions};
 use patchex_scene::dataset::{
     FrameInfo, FrameLayers, Manifest, SunInfo, BASE_COLOR, CUSTOM_STENCIL, FINAL_IMAGE,
     FINAL_IMAGE_NO_DYNAMIC_SHADOWS, METALLIC, MOTION_VECTOR, ROUGHNESS, SCENE_DEPTH, SHADOW_MASK,
-    SPECULAR, STATIC_SHADOW_MASK, WORLD_NORMAL,
+    SPECULAR, STATIC_SHADOW_MASK, TRANSLUCENCY_MASK, TRANSLUCENCY_MOTION, WORLD_NORMAL,
 };
 
 /// The layout the driver keeps every engine image in between calls.
@@ -82,14 +82,14 @@ impl NetworkChoice {
 
 /// What a context is made with: its preset, the weights' folder, FP32 tensors, the tensors'
 /// patch side (`whole_frame`, the divisor and the blend are chosen per call), whether its
-/// frames come with target shadow masks and no flow, and whether they come with the sun.
+/// frames come with target shadow masks and no flow, and the extras they come with.
 type ContextKey = (
     PatchexPreset,
     Option<PathBuf>,
     bool,
     Option<u32>,
     bool,
-    bool,
+    FrameExtras,
 );
 
 /// How the driver stores a frame's layers in engine images.
@@ -145,7 +145,20 @@ struct UploadedFrame {
     shadow: Option<(EngineImage, EngineImage)>,
     /// The sun's visibility (`PatchexSunLight.visibility`), when asked for.
     sun_visibility: Option<EngineImage>,
+    /// The translucency's mask and motion (`PatchexTranslucencyInput`), when asked for and the
+    /// frame has them.
+    translucency: Option<(EngineImage, EngineImage)>,
     camera: PatchexCamera,
+}
+
+/// The optional inputs frame t (and frame t-1) go with, besides the shadow sub-task's.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct FrameExtras {
+    /// The scene's sun (`PatchexSunLight`).
+    pub sun: bool,
+    /// The translucency mask and motion of frames whose scene has particles
+    /// (`PatchexTranslucencyInput`); frames without them go without.
+    pub translucency: bool,
 }
 
 /// The shadow sub-task's inputs of one extrapolation.
@@ -218,14 +231,14 @@ impl PluginDriver {
     }
 
     /// The context for `networks` and `shadows`, made on first use; with the target's shadow
-    /// mask (`target_mask`) one of its own, which never runs the flow, and with the sun (`sun`)
-    /// one of its own, which holds the sun's visibility, so that each one's memory is its own.
+    /// mask (`target_mask`) one of its own, which never runs the flow, and with each set of
+    /// `extras` one of its own, which holds their images, so that each one's memory is its own.
     fn context_for(
         &self,
         networks: Option<&NetworkChoice>,
         shadows: bool,
         target_mask: bool,
-        sun: bool,
+        extras: FrameExtras,
     ) -> Result<*mut PatchexContext, String> {
         let preset = match (networks.is_some(), shadows) {
             (false, false) => PATCHEX_PRESET_WARP_ONLY,
@@ -239,7 +252,7 @@ impl PluginDriver {
             networks.is_some_and(|n| n.fp32_tensors),
             networks.and_then(|n| n.max_patch_side),
             target_mask,
-            sun,
+            extras,
         );
         let mut contexts = self.contexts.borrow_mut();
         if let Some((_, context)) = contexts.iter().find(|(k, _)| *k == key) {
@@ -263,7 +276,7 @@ impl PluginDriver {
         info: &FrameInfo,
         with_color: bool,
         with_shadow: bool,
-        with_sun: bool,
+        extras: FrameExtras,
     ) -> UploadedFrame {
         let (w, h) = (self.width, self.height);
         let (wu, hu) = (w as usize, h as usize);
@@ -323,7 +336,7 @@ impl PluginDriver {
                 )
             }),
             // The term the colour was lit with: with a shadow input, the static casters' alone.
-            sun_visibility: with_sun.then(|| {
+            sun_visibility: extras.sun.then(|| {
                 let mut visibility = layers.layer(STATIC_SHADOW_MASK).plane(0);
                 if !with_shadow {
                     let dynamic = layers.layer(SHADOW_MASK).plane(0);
@@ -334,6 +347,16 @@ impl PluginDriver {
                 }
                 image(F::R32_SFLOAT, &visibility)
             }),
+            translucency: layers
+                .get(TRANSLUCENCY_MASK)
+                .zip(layers.get(TRANSLUCENCY_MOTION))
+                .filter(|_| extras.translucency)
+                .map(|(mask, motion)| {
+                    (
+                        image(F::R32_SFLOAT, &mask.data),
+                        image(pick(F::R32G32_SFLOAT, F::R16G16_SFLOAT), &motion.data),
+                    )
+                }),
             camera: PatchexCamera {
                 view: info.view,
                 projection: info.proj,
@@ -401,8 +424,8 @@ impl PluginDriver {
     /// with the context's default warp or `warp`, the inpainting `networks` if given, and the
     /// diagnostics image if asked. With `shadows`, both frames go with their shadow input, frame
     /// t-1 (when there is one) is submitted first as frame `frame_index - 1`, so the shadow's
-    /// motion is tracked, and the target's mask goes with the extrapolation if asked. With
-    /// `sun`, frame t (and frame t-1) go with the scene's sun.
+    /// motion is tracked, and the target's mask goes with the extrapolation if asked. Frame t
+    /// (and frame t-1) go with the `extras` asked for.
     #[allow(clippy::too_many_arguments)]
     pub fn extrapolate(
         &self,
@@ -414,21 +437,27 @@ impl PluginDriver {
         networks: Option<&NetworkChoice>,
         with_diagnostics: bool,
         shadows: Option<ShadowRun>,
-        sun: bool,
+        extras: FrameExtras,
     ) -> Result<Extrapolated, String> {
         let with_shadows = shadows.is_some();
         let with_target_mask = shadows.is_some_and(|s| s.target_mask);
-        let sun = match (sun, self.sun) {
+        let sun = match (extras.sun, self.sun) {
             (false, _) => None,
             (true, Some(sun)) => Some(sun),
             (true, None) => return Err("the scene's manifest has no sun".to_owned()),
         };
-        let context = self.context_for(networks, with_shadows, with_target_mask, sun.is_some())?;
+        let context = self.context_for(networks, with_shadows, with_target_mask, extras)?;
         let earlier = shadows
             .and_then(|s| s.earlier)
-            .map(|(layers, info)| self.upload(layers, info, true, true, sun.is_some()));
-        let source = self.upload(source.0, source.1, true, with_shadows, sun.is_some());
-        let target = self.upload(target.0, target.1, false, with_target_mask, false);
+            .map(|(layers, info)| self.upload(layers, info, true, true, extras));
+        let source = self.upload(source.0, source.1, true, with_shadows, extras);
+        let target = self.upload(
+            target.0,
+            target.1,
+            false,
+            with_target_mask,
+            FrameExtras::default(),
+        );
         let output = self.output_image();
         let diagnostics_image = with_diagnostics.then(|| self.output_image());
         let network_settings = networks.map(|networks| PatchexNetworkSettings {
@@ -502,6 +531,22 @@ impl PluginDriver {
                     color_without_dynamic_shadows: color.describe(LAYOUT),
                 })
         };
+        let translucency_input = |frame: &UploadedFrame, next| {
+            frame
+                .translucency
+                .as_ref()
+                .map(|(mask, motion)| PatchexTranslucencyInput {
+                    header: PatchexStructHeader {
+                        next,
+                        ..PatchexStructHeader::of::<PatchexTranslucencyInput>(
+                            PATCHEX_STRUCT_TYPE_TRANSLUCENCY_INPUT,
+                        )
+                    },
+                    mask: mask.describe(LAYOUT),
+                    motion_vectors: motion.describe(LAYOUT),
+                    motion_vector_scale: [1.0, 1.0],
+                })
+        };
         let sun_light = |frame: &UploadedFrame, next| {
             sun.zip(frame.sun_visibility.as_ref())
                 .map(|(sun, visibility)| PatchexSunLight {
@@ -514,37 +559,43 @@ impl PluginDriver {
                     visibility: visibility.describe(LAYOUT),
                 })
         };
-        let chain_of = |input: &Option<PatchexShadowInput>| {
-            input.as_ref().map_or(ptr::null(), |input| {
-                input as *const PatchexShadowInput as *const c_void
-            })
-        };
-        // A frame's chain: its sun, then its shadow input.
-        let with_inputs = |mut desc: PatchexFrameDesc,
-                           shadow: &Option<PatchexShadowInput>,
-                           sun: &Option<PatchexSunLight>| {
-            desc.header.next = match sun {
-                Some(sun) => sun as *const PatchexSunLight as *const c_void,
-                None => chain_of(shadow),
-            };
-            desc
-        };
+        fn link<T>(input: &Option<T>, otherwise: *const c_void) -> *const c_void {
+            input
+                .as_ref()
+                .map_or(otherwise, |input| input as *const T as *const c_void)
+        }
         let warm_until = Instant::now() + self.warm_up;
         let (index, results) = loop {
             let index = frame_index + self.repeats.get();
+            // A frame's chain: its translucency, its sun, then its shadow input.
             let source_shadow = shadow_input(&source);
-            let source_sun = sun_light(&source, chain_of(&source_shadow));
-            let frame = with_inputs(self.frame_desc(index, &source), &source_shadow, &source_sun);
+            let source_sun = sun_light(&source, link(&source_shadow, ptr::null()));
+            let source_translucency = translucency_input(
+                &source,
+                link(&source_sun, link(&source_shadow, ptr::null())),
+            );
+            let mut frame = self.frame_desc(index, &source);
+            frame.header.next = link(
+                &source_translucency,
+                link(&source_sun, link(&source_shadow, ptr::null())),
+            );
             let earlier_shadow = earlier.as_ref().and_then(shadow_input);
             let earlier_sun = earlier
                 .as_ref()
-                .and_then(|earlier| sun_light(earlier, chain_of(&earlier_shadow)));
-            let earlier_frame = earlier.as_ref().map(|earlier| {
-                with_inputs(
-                    self.frame_desc(index - 1, earlier),
-                    &earlier_shadow,
-                    &earlier_sun,
+                .and_then(|earlier| sun_light(earlier, link(&earlier_shadow, ptr::null())));
+            let earlier_translucency = earlier.as_ref().and_then(|earlier| {
+                translucency_input(
+                    earlier,
+                    link(&earlier_sun, link(&earlier_shadow, ptr::null())),
                 )
+            });
+            let earlier_frame = earlier.as_ref().map(|earlier| {
+                let mut desc = self.frame_desc(index - 1, earlier);
+                desc.header.next = link(
+                    &earlier_translucency,
+                    link(&earlier_sun, link(&earlier_shadow, ptr::null())),
+                );
+                desc
             });
             let mut extrapolate = PatchexExtrapolateDesc {
                 header: PatchexStructHeader::of::<PatchexExtrapolateDesc>(

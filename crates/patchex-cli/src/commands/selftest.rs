@@ -19,7 +19,7 @@ use patchex::reference::{self, inpaint::Networks, FrameInputs, ShadowInputs};
 use patchex_scene::dataset::{render_sequence, Dataset, SequenceOptions, SunInfo};
 use patchex_scene::{Gpu, GpuOptions, World};
 
-use super::plugin_driver::{NetworkChoice, PluginDriver, ShadowRun};
+use super::plugin_driver::{FrameExtras, NetworkChoice, PluginDriver, ShadowRun};
 use super::reference_frames::{from_layers, inputs, Frame};
 use super::render::parse_size;
 use super::{shipped_path, CommandResult};
@@ -228,7 +228,10 @@ fn check(args: &SelftestArgs, work: &std::path::Path) -> Result<bool, Box<dyn st
                 earlier: Some((&layers[0], &manifest.frames[earlier_index])),
                 target_mask: configuration.target_shadows,
             }),
-            configuration.sun,
+            FrameExtras {
+                sun: configuration.sun,
+                translucency: false,
+            },
         )?;
         let want = expected(&frames, configuration, alpha, &warp, &shipped, manifest.sun);
         let messages = driver.validation_messages();

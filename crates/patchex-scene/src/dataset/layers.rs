@@ -32,6 +32,15 @@ pub const SPECULAR_LIGHT: &str = "SpecularLight";
 /// ShadowMask (dynamic casters).
 pub const STATIC_SHADOW_MASK: &str = "StaticShadowMask";
 
+/// Coverage of the translucency drawn after lighting (particles), in [0, 1]: the mask an engine
+/// hands a frame generator. Written, with TranslucencyMotion, only by scenes with particles, and
+/// not among the resolve pass's planes.
+pub const TRANSLUCENCY_MASK: &str = "TranslucencyMask";
+/// The translucency's own backward motion in pixels, where TranslucencyMask is above 0.
+pub const TRANSLUCENCY_MOTION: &str = "TranslucencyMotion";
+/// The layers the particles' pass adds.
+pub const PARTICLE_LAYERS: [&str; 2] = [TRANSLUCENCY_MASK, TRANSLUCENCY_MOTION];
+
 pub const LAYERS: &[LayerSpec] = &[
     LayerSpec {
         name: FINAL_IMAGE,

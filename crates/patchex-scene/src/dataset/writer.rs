@@ -3,6 +3,7 @@
 use super::reader::frame_file_name;
 use super::{
     write_exr, DynamicObject, FrameInfo, FrameRole, Manifest, SunInfo, LAYERS, MOTION_VECTOR,
+    PARTICLE_LAYERS,
 };
 use crate::error::{io_error, Result};
 use crate::gpu::Gpu;
@@ -100,7 +101,17 @@ pub fn render_sequence(
                 asset: character.description.asset.clone(),
             })
             .collect(),
-        layers: LAYERS.iter().map(|layer| layer.name.to_owned()).collect(),
+        layers: LAYERS
+            .iter()
+            .map(|layer| layer.name)
+            .chain(
+                PARTICLE_LAYERS
+                    .iter()
+                    .copied()
+                    .filter(|_| !world.description.particles.is_empty()),
+            )
+            .map(str::to_owned)
+            .collect(),
         sun: Some(SunInfo {
             direction: world.sun.direction.to_array(),
             illuminance: world.sun.radiance.to_array(),

@@ -4,6 +4,7 @@
 mod gbuffer_pass;
 mod gpu_batch;
 mod materials;
+mod particle_pass;
 mod pipelines;
 mod renderer;
 mod resolve_pass;

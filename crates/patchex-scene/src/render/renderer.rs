@@ -3,6 +3,7 @@
 use super::gbuffer_pass::{record_gbuffer_pass, GBufferInputs};
 use super::gpu_batch::GpuBatch;
 use super::materials::GpuMaterials;
+use super::particle_pass::draw_particles;
 use super::pipelines::Pipelines;
 use super::resolve_pass::record_resolve_pass;
 use super::shadow_pass::record_shadow_pass;
@@ -288,12 +289,21 @@ impl Renderer {
         self.last_timings = self.timer.as_ref().map(PassTimer::read).transpose()?;
         let pixels = self.width as usize * self.height as usize;
         let planes = self.planes.read_f32(PLANE_COUNT * pixels);
-        Ok(FrameLayers::from_planes(
+        let mut layers = FrameLayers::from_planes(
             &planes,
             self.width as usize,
             self.height as usize,
             request.lighting,
-        ))
+        );
+        if request.lighting && !world.description.particles.is_empty() {
+            draw_particles(
+                &mut layers,
+                &world.particles(request.time, request.previous_time),
+                &request.camera,
+                &request.previous_camera,
+            );
+        }
+        Ok(layers)
     }
 }
 

@@ -3,6 +3,8 @@
 
 use serde::Deserialize;
 
+use super::particles::EmitterDescription;
+
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SceneDescription {
@@ -23,6 +25,8 @@ pub struct SceneDescription {
     pub scatter: Vec<ScatterDescription>,
     #[serde(default)]
     pub character: Vec<CharacterDescription>,
+    #[serde(default)]
+    pub particles: Vec<EmitterDescription>,
 }
 
 fn default_fps() -> f32 {

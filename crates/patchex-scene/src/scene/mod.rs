@@ -7,6 +7,7 @@ mod camera_rig;
 mod description;
 mod ground;
 mod ground_plane;
+mod particles;
 mod path;
 mod placement;
 mod projection;
@@ -21,6 +22,7 @@ pub use description::{
     ScatterDescription, SceneDescription, ShakeDescription, SunDescription, TilesDescription,
 };
 pub use ground::GroundSurface;
+pub use particles::{EmitterDescription, Particle};
 pub use path::PathMotion;
 pub use sun::SunLight;
 pub use world::{Character, World};

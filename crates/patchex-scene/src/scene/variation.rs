@@ -165,22 +165,85 @@ const FAMILIES: [Family; 5] = [
     },
 ];
 
+/// Scenes of each family, after its `count`, that also hold particle emitters: every split has
+/// translucency to be scored on, and the scenes before them stay as they were.
+const PARTICLE_SCENES: usize = 1;
+
 /// The whole set for `seed`: the same seed always gives the same files.
 pub fn generate_set(seed: u64) -> Vec<GeneratedScene> {
     let mut scenes = Vec::new();
     for (f, family) in FAMILIES.iter().enumerate() {
-        for i in 0..family.count {
+        for i in 0..family.count + PARTICLE_SCENES {
             let mut rng = SplitMix64(seed ^ ((f as u64) << 32 | i as u64).wrapping_mul(0x9E37));
-            let camera = family.cameras[i % family.cameras.len()];
+            let with_particles = i >= family.count;
+            let camera = if with_particles {
+                // A camera on the action, where the emitters are.
+                *family
+                    .cameras
+                    .iter()
+                    .find(|kind| !matches!(kind, CameraKind::Follow | CameraKind::Pan))
+                    .expect("every family has a camera on the action")
+            } else {
+                family.cameras[i % family.cameras.len()]
+            };
             let name = format!("{}_{:02}", family.name, i + 1);
+            let mut text = scene_text(&mut rng, &name, family, camera, seed);
+            if with_particles {
+                particles(&mut rng, &mut text);
+            }
             scenes.push(GeneratedScene {
-                text: scene_text(&mut rng, &name, family, camera, seed),
+                text,
                 name,
                 split: family.split,
             });
         }
     }
     scenes
+}
+
+/// A smoke column in a gusty wind, and sparks or embers, among the characters around the action.
+fn particles(rng: &mut SplitMix64, text: &mut String) {
+    let near = |rng: &mut SplitMix64| {
+        let angle = range(rng, 0.0, std::f32::consts::TAU);
+        let distance = range(rng, 0.3, 2.0);
+        [distance * angle.cos(), 0.1, distance * angle.sin()]
+    };
+    let wind = [
+        sign(rng) * range(rng, 0.8, 2.0),
+        0.15,
+        range(rng, -1.0, 1.0),
+    ];
+    let grey = range(rng, 0.12, 0.5);
+    *text += &format!(
+        "\n[[particles]]\norigin = {}\norigin_spread = 0.3\nrate = {:.1}\nlifetime = {:.2}\n\
+         velocity = [0.0, {:.2}, 0.0]\nvelocity_spread = 0.25\nacceleration = {}\n\
+         radius = [0.25, {:.2}]\ncolor = {}\nopacity = {:.2}\nseed = {}\n",
+        point(near(rng)),
+        range(rng, 10.0, 18.0),
+        range(rng, 2.0, 3.0),
+        range(rng, 0.6, 1.2),
+        point(wind),
+        range(rng, 0.7, 1.1),
+        point([grey, grey, grey * 1.05]),
+        range(rng, 0.4, 0.7),
+        rng.next_u64() % 1_000_000,
+    );
+    // Sparks fly up and fall; embers drift with the smoke.
+    let (velocity, spread, acceleration, color) = if rng.next_u64() & 1 == 0 {
+        (2.5, 0.8, [0.0, -2.0, 0.0], [6.0, 2.5, 0.6])
+    } else {
+        (0.8, 0.3, wind, [3.0, 0.9, 0.2])
+    };
+    *text += &format!(
+        "\n[[particles]]\norigin = {}\norigin_spread = 0.2\nrate = {:.1}\nlifetime = 1.20\n\
+         velocity = [0.0, {velocity:.2}, 0.0]\nvelocity_spread = {spread:.2}\nacceleration = {}\n\
+         radius = [0.05, 0.02]\ncolor = {}\nopacity = 1.0\nseed = {}\n",
+        point(near(rng)),
+        range(rng, 20.0, 40.0),
+        point(acceleration),
+        point(color),
+        rng.next_u64() % 1_000_000,
+    );
 }
 
 fn scene_text(

@@ -254,6 +254,15 @@ impl World {
         Pose::new(model, self.character_transform(character, time), clip).vertices(model, out);
     }
 
+    /// Every emitter's particles alive at `time`, with their positions at `previous_time`.
+    pub fn particles(&self, time: f32, previous_time: f32) -> Vec<super::Particle> {
+        self.description
+            .particles
+            .iter()
+            .flat_map(|emitter| emitter.particles(time, previous_time))
+            .collect()
+    }
+
     /// Vertices of all characters at `time`, with their positions at `previous_time` for
     /// motion vectors, in the order of `dynamic_batch`'s triangles.
     pub fn dynamic_vertices(&self, time: f32, previous_time: f32) -> Vec<Vertex> {

@@ -1,0 +1,101 @@
+// With a PatchexTranslucencyInput on frame t: blends frame t's translucency layer
+// (separate_translucency.wgsl) over the extrapolated frame, moved to the target instant:
+//   c' = max(layer.rgb + (1 - layer.a) * c, 0)
+// The layer is read where its content at the target was in frame t: with its own motion, the
+// point x with x = p + alpha * motion(x) (constant velocity), found by two steps from where the
+// surface behind p was; without, where the target's motion vectors say that surface was. Each
+// step reads the motion of the most covered texel around x, so that the edge of a puff moving
+// ahead of its texels still finds them; with none around, x stays where the surface was.
+// #import gbuffer
+// #import tallies
+
+struct Params {
+    extent: vec2u,
+    // Turns the engine's target motion vectors into backward motion in pixels.
+    motion_scale: vec2f,
+    // Target jitter minus frame t's jitter, in pixels.
+    jitter_delta: vec2f,
+    // The target's place between frame t and frame t+1.
+    alpha: f32,
+    has_motion: u32,
+}
+var<immediate> params: Params;
+
+@group(0) @binding(0) var frame: texture_storage_2d<rgba16float, read_write>;
+@group(0) @binding(1) var target_motion: texture_2d<f32>;
+@group(0) @binding(2) var layer: texture_2d<f32>;
+@group(0) @binding(3) var layer_motion: texture_2d<f32>;
+@group(0) @binding(4) var<storage, read_write> counters: SanitizeCounters;
+
+// Texels apart of the 3x3 taps the motion is looked for in.
+const MOTION_SEARCH_STEP: i32 = 2;
+
+fn unspecialised(setting: u32) -> u32 {
+    return select(0u, setting, textureDimensions(layer).x != 0u);
+}
+
+fn clamped(s: vec2i) -> vec2i {
+    return clamp(s, vec2i(0), vec2i(params.extent) - 1);
+}
+
+// The next guess after x: where the motion of the most covered of the 3x3 texels around x
+// leads from p, or x itself where none is covered.
+fn step_from(x: vec2f, centre: vec2f) -> vec2f {
+    let around = vec2i(floor(clamp(x, vec2f(0.0), vec2f(params.extent))));
+    var best = 0.0;
+    var found = x;
+    for (var i = 0; i < 9; i++) {
+        let s = clamped(around + MOTION_SEARCH_STEP * vec2i(i % 3 - 1, i / 3 - 1));
+        let a = textureLoad(layer, s, 0).a;
+        if (a > best) {
+            best = a;
+            found = centre + params.alpha * textureLoad(layer_motion, s, 0).xy;
+        }
+    }
+    return found;
+}
+
+// The layer at x, bilinear (it is premultiplied); nothing off screen.
+fn layer_at(x: vec2f) -> vec4f {
+    if (any(x < vec2f(0.0)) || any(x > vec2f(params.extent))) {
+        return vec4f(0.0);
+    }
+    let corner = vec2i(floor(x - 0.5));
+    let f = x - 0.5 - floor(x - 0.5);
+    let l00 = textureLoad(layer, clamped(corner), 0);
+    let l10 = textureLoad(layer, clamped(corner + vec2i(1, 0)), 0);
+    let l01 = textureLoad(layer, clamped(corner + vec2i(0, 1)), 0);
+    let l11 = textureLoad(layer, clamped(corner + vec2i(1, 1)), 0);
+    return mix(mix(l00, l10, f.x), mix(l01, l11, f.x), f.y);
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_index) lane: u32) {
+    open_tallies(lane);
+    let p = id.xy;
+    if (all(p < params.extent)) {
+        let centre = vec2f(p) + 0.5 + params.jitter_delta;
+        var x = centre + textureLoad(target_motion, p, 0).xy * params.motion_scale;
+        // Non-finite target motion reads no layer (the warp counts it).
+        var over = vec4f(0.0);
+        if (all(abs(x) <= vec2f(MAX_FINITE))) {
+            if (unspecialised(params.has_motion) != ABSENT) {
+                for (var step = 0; step < 2; step++) {
+                    x = step_from(x, centre);
+                }
+            }
+            over = layer_at(x);
+        }
+        if (over.a > 0.0) {
+            let c = textureLoad(frame, p);
+            let blended = sanitize_color(max(over.rgb + (1.0 - over.a) * c.rgb, vec3f(0.0)));
+            textureStore(frame, p, vec4f(to_half(blended.value), c.a));
+            if (blended.changed) {
+                atomicAdd(&group_tallies[0u], 1u);
+            }
+        }
+    }
+    if (close_tallies(lane)) {
+        atomicAdd(&counters.sanitized_pixels, atomicLoad(&group_tallies[0u]));
+    }
+}

@@ -1,0 +1,151 @@
+// With a PatchexTranslucencyInput on frame t: takes what is drawn over the opaque surface apart
+// from it, where the mask covers a pixel:
+//   colour = layer + (1 - a) * surface
+// The surface is estimated from the nearby texels the mask leaves uncovered that show the same
+// surface (same object, depth and normal), weighted as the hole fill weights its texels
+// (fill.wgsl) over a wider, sparser window, since a puff of smoke covers more than a hole; its
+// shading replaces the covered texel's, so the warp carries the surface alone. The layer is what
+// remains of the colour, premultiplied by a, kept with a and with the translucency's own motion
+// for place_translucency.wgsl. A covered texel with no uncovered one of its surface in reach
+// keeps its shading, and its layer is a times its colour.
+// #import gbuffer
+// #import tallies
+
+struct Params {
+    extent: vec2u,
+    has_material: u32,
+    has_motion: u32,
+    // Turns the engine's translucency motion vectors into backward motion in pixels.
+    motion_scale: vec2f,
+}
+var<immediate> params: Params;
+
+@group(0) @binding(0) var color: texture_2d<f32>;
+@group(0) @binding(1) var base_color: texture_2d<f32>;
+@group(0) @binding(2) var material: texture_2d<f32>;
+@group(0) @binding(3) var mask: texture_2d<f32>;
+@group(0) @binding(4) var motion: texture_2d<f32>;
+// Frame t's demodulated shading: read at uncovered texels, written at covered ones only.
+@group(0) @binding(5) var shading: texture_storage_2d<rgba16float, read_write>;
+// The layer over the surface: premultiplied colour, and a.
+@group(0) @binding(6) var layer: texture_storage_2d<rgba16float, write>;
+// Its own motion in pixels, zero where it has none.
+@group(0) @binding(7) var layer_motion: texture_storage_2d<rg16float, write>;
+// Frame t's packed G-buffer (pack_gbuffer.wgsl).
+@group(0) @binding(8) var source_depth: texture_2d<f32>;
+@group(0) @binding(9) var source_normal_id: texture_2d<u32>;
+@group(0) @binding(10) var<storage, read_write> counters: SanitizeCounters;
+
+// The window's radius and tap spacing, in pixels, and the widths of the weights' terms (the
+// fill's): relative depth difference and normal difference.
+const BEHIND_RADIUS: i32 = 48;
+const BEHIND_STEP: i32 = 8;
+const BEHIND_SIGMA_DEPTH: f32 = 0.03;
+const BEHIND_SIGMA_NORMAL: f32 = 0.15;
+// A texel this far off in those terms shows another surface, and is not taken: the layer keeps
+// every error of the surface behind, so no surface is better than a wrong one.
+const BEHIND_MAX_COST: f32 = 9.0;
+// Coverage below this is left in the surface's shading: so faint a layer is not worth an
+// estimate of the surface that may be off by more than it.
+const MIN_COVERAGE: f32 = 0.05;
+
+// A setting as this pass branches on it, tied to an image's size so that lavapipe does not
+// compile the shader again for each value (include/warp.wgsl `unspecialised`).
+fn unspecialised(setting: u32) -> u32 {
+    return select(0u, setting, textureDimensions(mask).x != 0u);
+}
+
+// The mask, sanitised, and 0 below MIN_COVERAGE.
+fn coverage(s: vec2i) -> Sanitized {
+    let a = sanitize_unit(vec3f(textureLoad(mask, s, 0).r, 0.0, 0.0));
+    return Sanitized(select(vec3f(0.0), a.value, a.value.x >= MIN_COVERAGE), a.changed);
+}
+
+// The shading of the surface behind covered texel `p`: a weighted mean over the uncovered texels
+// of its object around it, or vec4(-1) where there is none.
+fn shading_behind(p: vec2i) -> vec4f {
+    let last = vec2i(params.extent) - 1;
+    let depth = textureLoad(source_depth, p, 0).r;
+    let packed = textureLoad(source_normal_id, p, 0).r;
+    let normal = unpack_normal(packed);
+    let id = object_id(packed);
+    // The weights are exp(least - cost), rescaled as a cheaper texel appears (fill.wgsl).
+    var least = 3.4e38;
+    var sum = vec3f(0.0);
+    var total = 0.0;
+    for (var dy = -BEHIND_RADIUS; dy <= BEHIND_RADIUS; dy += BEHIND_STEP) {
+        for (var dx = -BEHIND_RADIUS; dx <= BEHIND_RADIUS; dx += BEHIND_STEP) {
+            let offset = vec2i(dx, dy);
+            let s = p + offset;
+            if (any(s < vec2i(0)) || any(s > last) || coverage(s).value.x > 0.0) {
+                continue;
+            }
+            let s_packed = textureLoad(source_normal_id, s, 0).r;
+            if (object_id(s_packed) != id) {
+                continue;
+            }
+            let s_depth = textureLoad(source_depth, s, 0).r;
+            let relative = abs(s_depth - depth) / max(max(s_depth, depth), 1e-30);
+            let depth_term = select(1.0, relative, relative <= 1.0) / BEHIND_SIGMA_DEPTH;
+            let normal_delta = unpack_normal(s_packed) - normal;
+            let cost = depth_term * depth_term
+                + dot(normal_delta, normal_delta) / (BEHIND_SIGMA_NORMAL * BEHIND_SIGMA_NORMAL)
+                + f32(dot(offset, offset)) / f32(BEHIND_RADIUS * BEHIND_RADIUS);
+            if (cost > BEHIND_MAX_COST) {
+                continue;
+            }
+            if (cost < least) {
+                let rescale = exp(cost - least);
+                sum *= rescale;
+                total *= rescale;
+                least = cost;
+            }
+            let w = exp(least - cost);
+            sum += w * textureLoad(shading, s).rgb;
+            total += w;
+        }
+    }
+    if (total == 0.0) {
+        return vec4f(-1.0);
+    }
+    return vec4f(sum / total, 1.0);
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_index) lane: u32) {
+    open_tallies(lane);
+    let p = id.xy;
+    if (all(p < params.extent)) {
+        let a = coverage(vec2i(p));
+        var changed = a.changed;
+        var own = vec2f(0.0);
+        if (unspecialised(params.has_motion) != ABSENT) {
+            // Kept in half floats, as motion vectors come: what a half cannot hold is no motion.
+            let stored = textureLoad(motion, p, 0).xy * params.motion_scale;
+            let usable = all(abs(stored) <= vec2f(MAX_HALF));
+            own = select(vec2f(0.0), to_half(vec3f(stored, 0.0)).xy, usable);
+            changed = changed || (a.value.x > 0.0 && !usable);
+        }
+        var over = vec4f(0.0);
+        if (a.value.x > 0.0) {
+            let c = sanitize_input_color(textureLoad(color, p, 0).rgb);
+            changed = changed || c.changed;
+            var surface = c.value;
+            let behind = shading_behind(vec2i(p));
+            if (behind.a > 0.0) {
+                let m = pixel_modulation(base_color, material, p, unspecialised(params.has_material));
+                surface = min(behind.rgb * m.factor, vec3f(MAX_HALF));
+                textureStore(shading, p, demodulated(surface, m.factor));
+            }
+            over = vec4f(to_half(c.value - (1.0 - a.value.x) * surface), to_half(a.value).x);
+        }
+        textureStore(layer, p, over);
+        textureStore(layer_motion, p, vec4f(select(vec2f(0.0), own, a.value.x > 0.0), 0.0, 0.0));
+        if (changed) {
+            atomicAdd(&group_tallies[0u], 1u);
+        }
+    }
+    if (close_tallies(lane)) {
+        atomicAdd(&counters.sanitized_pixels, atomicLoad(&group_tallies[0u]));
+    }
+}

@@ -1,0 +1,220 @@
+//! Mirror of `shaders/separate_translucency.wgsl` and `shaders/place_translucency.wgsl`.
+
+use glam::{IVec2, Vec2, Vec3, Vec4};
+
+use super::gbuffer::{
+    demodulated, pixel_modulation, sanitize, sanitize_color, sanitize_input_color, MAX_HALF,
+};
+use super::{round_to_f16, Image};
+
+const BEHIND_RADIUS: i32 = 48;
+const BEHIND_STEP: usize = 8;
+const BEHIND_SIGMA_DEPTH: f32 = 0.03;
+const BEHIND_SIGMA_NORMAL: f32 = 0.15;
+const BEHIND_MAX_COST: f32 = 9.0;
+const MIN_COVERAGE: f32 = 0.05;
+const MOTION_SEARCH_STEP: i32 = 2;
+
+/// A `PatchexTranslucencyInput`: the mask, and the motion vectors with their scale.
+#[derive(Clone, Copy)]
+pub struct Input<'a> {
+    pub mask: &'a Image,
+    pub motion: Option<(&'a Image, [f32; 2])>,
+}
+
+/// Frame t's inputs to the separation.
+pub struct SourceTranslucency<'a> {
+    pub color: &'a Image,
+    pub base_color: &'a Image,
+    pub material: Option<&'a Image>,
+    pub mask: &'a Image,
+    /// The motion vectors and their scale.
+    pub motion: Option<(&'a Image, [f32; 2])>,
+    /// Frame t's packed G-buffer: (position, linear depth) and (normal, object id).
+    pub geometry: &'a Image,
+    pub normal_id: &'a Image,
+}
+
+/// What the separation leaves: the shading with covered texels replaced, the layer (premultiplied
+/// colour, coverage), its motion, and the pixels sanitised.
+pub struct Separated {
+    pub shading: Image,
+    pub layer: Image,
+    pub motion: Image,
+    pub sanitized: u32,
+}
+
+/// `coverage`: the mask, sanitised, and 0 below MIN_COVERAGE.
+fn coverage(mask: &Image, x: usize, y: usize) -> (f32, bool) {
+    let (v, changed) = sanitize(Vec3::new(mask.at(x, y)[0], 0.0, 0.0), 0.0, 1.0);
+    (if v.x >= MIN_COVERAGE { v.x } else { 0.0 }, changed)
+}
+
+/// `shading_behind`: the weighted mean shading of the uncovered texels of p's object around it.
+fn shading_behind(shading: &Image, inputs: &SourceTranslucency, p: IVec2) -> Option<Vec3> {
+    let at = |image: &Image, s: IVec2| Vec4::from_slice(image.at(s.x as usize, s.y as usize));
+    let (depth, own) = (at(inputs.geometry, p).w, at(inputs.normal_id, p));
+    let last = IVec2::new(shading.width as i32, shading.height as i32) - 1;
+    let mut least = 3.4e38f32;
+    let (mut sum, mut total) = (Vec3::ZERO, 0.0f32);
+    for dy in (-BEHIND_RADIUS..=BEHIND_RADIUS).step_by(BEHIND_STEP) {
+        for dx in (-BEHIND_RADIUS..=BEHIND_RADIUS).step_by(BEHIND_STEP) {
+            let offset = IVec2::new(dx, dy);
+            let s = p + offset;
+            if s.cmplt(IVec2::ZERO).any() || s.cmpgt(last).any() {
+                continue;
+            }
+            if coverage(inputs.mask, s.x as usize, s.y as usize).0 > 0.0 {
+                continue;
+            }
+            let theirs = at(inputs.normal_id, s);
+            if theirs.w != own.w {
+                continue;
+            }
+            let s_depth = at(inputs.geometry, s).w;
+            let relative = (s_depth - depth).abs() / s_depth.max(depth).max(1e-30);
+            let depth_term = if relative <= 1.0 { relative } else { 1.0 } / BEHIND_SIGMA_DEPTH;
+            let normal_delta = theirs.truncate() - own.truncate();
+            let cost = depth_term * depth_term
+                + normal_delta.dot(normal_delta) / (BEHIND_SIGMA_NORMAL * BEHIND_SIGMA_NORMAL)
+                + offset.dot(offset) as f32 / (BEHIND_RADIUS * BEHIND_RADIUS) as f32;
+            if cost > BEHIND_MAX_COST {
+                continue;
+            }
+            if cost < least {
+                let rescale = (cost - least).exp();
+                sum *= rescale;
+                total *= rescale;
+                least = cost;
+            }
+            let w = (least - cost).exp();
+            sum += w * at(shading, s).truncate();
+            total += w;
+        }
+    }
+    (total != 0.0).then(|| sum / total)
+}
+
+/// Takes frame t's translucency apart from the surfaces in `shading` (its demodulated shading).
+pub fn separate(shading: &Image, inputs: &SourceTranslucency) -> Separated {
+    let (width, height) = (shading.width, shading.height);
+    let mut out = Separated {
+        shading: shading.clone(),
+        layer: Image::new(width, height, 4),
+        motion: Image::new(width, height, 2),
+        sanitized: 0,
+    };
+    for y in 0..height {
+        for x in 0..width {
+            let (a, mut changed) = coverage(inputs.mask, x, y);
+            let mut own = Vec2::ZERO;
+            if let Some((motion, scale)) = inputs.motion {
+                let stored = Vec2::from_slice(motion.at(x, y)) * Vec2::from(scale);
+                let usable = stored.abs().cmple(Vec2::splat(MAX_HALF)).all();
+                if usable {
+                    own = Vec2::new(round_to_f16(stored.x), round_to_f16(stored.y));
+                }
+                changed |= a > 0.0 && !usable;
+            }
+            if a > 0.0 {
+                let (c, color_changed) =
+                    sanitize_input_color(Vec3::from_slice(&inputs.color.at(x, y)[..3]));
+                changed |= color_changed;
+                let mut surface = c;
+                if let Some(behind) =
+                    shading_behind(shading, inputs, IVec2::new(x as i32, y as i32))
+                {
+                    let (factor, _) = pixel_modulation(inputs.base_color, inputs.material, x, y);
+                    surface = (behind * factor).min(Vec3::splat(MAX_HALF));
+                    out.shading
+                        .set(x, y, &demodulated(surface, factor).to_array());
+                }
+                let over = c - (1.0 - a) * surface;
+                let rounded = over.to_array().map(round_to_f16);
+                out.layer
+                    .set(x, y, &[rounded[0], rounded[1], rounded[2], round_to_f16(a)]);
+                out.motion.set(x, y, &own.to_array());
+            }
+            out.sanitized += changed as u32;
+        }
+    }
+    out
+}
+
+/// What the layer is placed at the target with.
+pub struct TargetTranslucency<'a> {
+    pub layer: &'a Image,
+    /// The layer's own motion, when frame t gave one.
+    pub motion: Option<&'a Image>,
+    pub target_motion: &'a Image,
+    pub motion_scale: [f32; 2],
+    pub jitter_delta: [f32; 2],
+    pub alpha: f32,
+}
+
+/// `step_from`: where the motion of the most covered texel around `x` leads from `centre`.
+fn step_from(inputs: &TargetTranslucency, motion: &Image, x: Vec2, centre: Vec2) -> Vec2 {
+    let layer = inputs.layer;
+    let extent = Vec2::new(layer.width as f32, layer.height as f32);
+    let around = x.clamp(Vec2::ZERO, extent).floor().as_ivec2();
+    let (mut best, mut found) = (0.0f32, x);
+    for i in 0..9 {
+        let s = around + MOTION_SEARCH_STEP * IVec2::new(i % 3 - 1, i / 3 - 1);
+        let a = layer.clamped(s.x, s.y)[3];
+        if a > best {
+            best = a;
+            found = centre + inputs.alpha * Vec2::from_slice(motion.clamped(s.x, s.y));
+        }
+    }
+    found
+}
+
+fn layer_at(layer: &Image, x: Vec2) -> Vec4 {
+    let extent = Vec2::new(layer.width as f32, layer.height as f32);
+    if x.cmplt(Vec2::ZERO).any() || x.cmpgt(extent).any() {
+        return Vec4::ZERO;
+    }
+    let corner = (x - 0.5).floor().as_ivec2();
+    let f = x - 0.5 - (x - 0.5).floor();
+    let at = |offset: IVec2| {
+        let s = corner + offset;
+        Vec4::from_slice(layer.clamped(s.x, s.y))
+    };
+    // WGSL's mix, term for term.
+    let mix = |a: Vec4, b: Vec4, t: f32| a * (1.0 - t) + b * t;
+    mix(
+        mix(at(IVec2::ZERO), at(IVec2::X), f.x),
+        mix(at(IVec2::Y), at(IVec2::ONE), f.x),
+        f.y,
+    )
+}
+
+/// Blends the layer, moved to the target instant, over `frame`; returns the pixels sanitised.
+pub fn place(frame: &mut Image, inputs: &TargetTranslucency) -> u32 {
+    let mut sanitized = 0;
+    for y in 0..frame.height {
+        for x in 0..frame.width {
+            let centre = Vec2::new(x as f32, y as f32) + 0.5 + Vec2::from(inputs.jitter_delta);
+            let mut point = centre
+                + Vec2::from_slice(inputs.target_motion.at(x, y)) * Vec2::from(inputs.motion_scale);
+            let mut over = Vec4::ZERO;
+            if point.abs().cmple(Vec2::splat(f32::MAX)).all() {
+                if let Some(motion) = inputs.motion {
+                    for _ in 0..2 {
+                        point = step_from(inputs, motion, point, centre);
+                    }
+                }
+                over = layer_at(inputs.layer, point);
+            }
+            if over.w > 0.0 {
+                let c = Vec4::from_slice(frame.at(x, y));
+                let blended = (over.truncate() + (1.0 - over.w) * c.truncate()).max(Vec3::ZERO);
+                let (value, changed) = sanitize_color(blended);
+                let rounded = value.to_array().map(round_to_f16);
+                frame.set(x, y, &[rounded[0], rounded[1], rounded[2], c.w]);
+                sanitized += changed as u32;
+            }
+        }
+    }
+    sanitized
+}

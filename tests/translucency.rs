@@ -1,0 +1,305 @@
+//! What is drawn over the surfaces (`PatchexTranslucencyInput`) on lavapipe through the C ABI:
+//! taken apart from frame t's surfaces and placed at the target by its own motion, against the
+//! plain-Rust reference on frames of the scene renderer (smoke and sparks over a moving camera
+//! and animated characters), with and without the particles' own motion; the gain where they
+//! are; the extremes of the mask; and bad inputs sanitised and counted or refused.
+//!
+//! Tolerance: the colour tolerance of `support/pipeline.rs` (2e-3 relative plus 1e-4),
+//! loosened to 1e-3 absolute: the surface behind is a weighted mean of exponentials whose last
+//! bits differ between the GPU and the reference, on top of the warp's.
+
+mod support;
+
+use std::ffi::c_void;
+
+use ash::vk;
+use glam::Vec2;
+use patchex::abi::*;
+use patchex::camera::Camera;
+use patchex::error::PatchexResult;
+use patchex::passes::warp::WarpSettings;
+use patchex::reference::{self, Image};
+use support::pipeline::{inputs, psnr, read_image};
+use support::scene::{Frame, Scene};
+use support::*;
+
+/// A generated validation scene with a smoke column and sparks among its characters, under a
+/// moving camera.
+const SCENE: &str = "generated/autumn_07.toml";
+
+/// Frame t and the instant halfway to t+1 (frames 2 and 3 of the doubled stream), with frame t's
+/// translucency mask and motion and the target's mask.
+struct Frames {
+    source: Frame,
+    target: Frame,
+    mask: Image,
+    motion: Image,
+    target_mask: Image,
+}
+
+fn rendered_frames(width: u32, height: u32) -> Frames {
+    let sequence = support::rendered::render(SCENE, 4, width, height);
+    let mut translucency = sequence.translucency.into_iter().skip(2);
+    let (mask, motion) = translucency
+        .next()
+        .flatten()
+        .expect("the scene has particles");
+    let (target_mask, _) = translucency
+        .next()
+        .flatten()
+        .expect("the scene has particles");
+    let mut frames = sequence.frames.into_iter().skip(2);
+    Frames {
+        source: frames.next().expect("frame 2"),
+        target: frames.next().expect("frame 3"),
+        mask,
+        motion,
+        target_mask,
+    }
+}
+
+/// How frame t goes.
+#[derive(Clone, Copy)]
+enum With {
+    Nothing,
+    /// The mask alone.
+    Mask,
+    /// The mask and the particles' motion.
+    MaskAndMotion,
+}
+
+struct Outcome {
+    output: Image,
+    stats: PatchexFrameStats,
+}
+
+/// Submits `source` with `mask` and `motion` as `with` says, and extrapolates the target at
+/// alpha 1/2, on a fresh rig under validation that must stay silent.
+fn run(frames: &Frames, mask: &Image, motion: &Image, with: With) -> Outcome {
+    let (width, height) = (frames.source.color.width, frames.source.color.height);
+    let rig = Rig::new(width as u32, height as u32);
+    let engine = &rig.engine;
+    let family = engine.queue_family_index;
+    let source = GpuFrame::upload(engine, &frames.source);
+    let target = GpuFrame::upload(engine, &frames.target);
+    let output = output_image(engine, width as u32, height as u32);
+    let gpu_mask = upload(engine, mask, vk::Format::R32_SFLOAT, GBUFFER_LAYOUT);
+    let gpu_motion = upload(engine, motion, vk::Format::R32G32_SFLOAT, MOTION_LAYOUT);
+    let input = PatchexTranslucencyInput {
+        header: PatchexStructHeader::of::<PatchexTranslucencyInput>(
+            PATCHEX_STRUCT_TYPE_TRANSLUCENCY_INPUT,
+        ),
+        mask: gpu_mask.describe(GBUFFER_LAYOUT),
+        motion_vectors: match with {
+            With::MaskAndMotion => gpu_motion.describe(MOTION_LAYOUT),
+            _ => PatchexImage::default(),
+        },
+        motion_vector_scale: [1.0, 1.0],
+    };
+    let mut desc = source.frame_desc(1, family);
+    if !matches!(with, With::Nothing) {
+        desc.header.next = &input as *const _ as *const c_void;
+    }
+    engine.run(|cmd| {
+        assert_eq!(
+            rig.submit(cmd, &desc),
+            PatchexResult::Success,
+            "{}",
+            rig.last_error()
+        );
+        let extrapolate = target.extrapolate_desc(&output, 0.5, family);
+        assert_eq!(
+            rig.extrapolate(cmd, &extrapolate),
+            PatchexResult::Success,
+            "{}",
+            rig.last_error()
+        );
+    });
+    let (result, stats) = rig.stats(1);
+    assert_eq!(result, PatchexResult::Success, "{}", rig.last_error());
+    let messages = engine.take_validation_messages();
+    assert!(messages.is_empty(), "validation: {messages:?}");
+    Outcome {
+        output: read_image(engine, &output, width, height),
+        stats,
+    }
+}
+
+fn reference_run(
+    frames: &Frames,
+    mask: &Image,
+    motion: &Image,
+    with: With,
+) -> reference::Extrapolation {
+    let source_camera = Camera::from_abi(&frames.source.camera, "source").unwrap();
+    let target_camera = Camera::from_abi(&frames.target.camera, "target").unwrap();
+    let translucency = match with {
+        With::Nothing => None,
+        With::Mask => Some(reference::translucency::Input { mask, motion: None }),
+        With::MaskAndMotion => Some(reference::translucency::Input {
+            mask,
+            motion: Some((motion, [1.0, 1.0])),
+        }),
+    };
+    reference::extrapolate(
+        &reference::FrameInputs {
+            translucency,
+            ..inputs(&frames.source, &source_camera)
+        },
+        &inputs(&frames.target, &target_camera),
+        None,
+        0.5,
+        &WarpSettings::default(),
+        &Default::default(),
+        Default::default(),
+    )
+}
+
+/// Worst error of an output image against another in units of the tolerance.
+fn worst_output_error(got: &Image, want: &Image) -> f32 {
+    got.data
+        .iter()
+        .zip(&want.data)
+        .map(|(&g, &w)| (g - w).abs() / (1e-3 + 2e-3 * w.abs()))
+        .fold(0.0, f32::max)
+}
+
+/// The plugin against the reference: the same output, stages and counts.
+fn assert_matches_reference(frames: &Frames, mask: &Image, motion: &Image, with: With) -> Outcome {
+    let outcome = run(frames, mask, motion, with);
+    let expected = reference_run(frames, mask, motion, with);
+    let worst = worst_output_error(&outcome.output, &expected.output);
+    assert!(worst <= 1.0, "output differs from the reference ({worst})");
+    assert_eq!(
+        outcome.stats.source_sanitized_pixels,
+        expected.source_sanitized
+    );
+    assert_eq!(
+        outcome.stats.extrapolations[0].sanitized_pixels,
+        expected.target_sanitized
+    );
+    outcome
+}
+
+#[test]
+fn translucency_passes_match_their_references_with_and_without_their_motion() {
+    let frames = rendered_frames(128, 72);
+    for with in [With::Mask, With::MaskAndMotion] {
+        let outcome = assert_matches_reference(&frames, &frames.mask, &frames.motion, with);
+        let ran = outcome.stats.extrapolations[0].stages_run & 1 << PATCHEX_STAGE_TRANSLUCENCY;
+        assert_ne!(ran, 0);
+    }
+}
+
+/// Where the particles are, in frame t or at the target, the mask and their motion bring the
+/// output closer to the rendered target than smoke carried as the surfaces behind it.
+#[test]
+fn the_mask_brings_the_particles_closer_to_the_rendered_target() {
+    let frames = rendered_frames(320, 180);
+    let covered: Vec<usize> = (0..frames.mask.data.len())
+        .filter(|&i| frames.mask.data[i] > 0.02 || frames.target_mask.data[i] > 0.02)
+        .collect();
+    // Tone-mapped as the eval scores, so that the sparks' HDR does not outweigh the smoke.
+    let region = |image: &Image| Image {
+        width: covered.len(),
+        height: 1,
+        channels: 4,
+        data: covered
+            .iter()
+            .flat_map(|&i| image.data[4 * i..4 * i + 4].iter().map(|v| v / (1.0 + v)))
+            .collect(),
+    };
+    let truth = region(&frames.target.color);
+    let score = |with| {
+        psnr(
+            &region(&run(&frames, &frames.mask, &frames.motion, with).output),
+            &truth,
+        )
+    };
+    let (without, with) = (score(With::Nothing), score(With::MaskAndMotion));
+    eprintln!(
+        "{} covered pixels: {without:.2} dB without the mask, {with:.2} dB with it",
+        covered.len()
+    );
+    assert!(covered.len() > 200, "only {} covered pixels", covered.len());
+    assert!(
+        with > without + 0.5,
+        "{with} dB with the mask against {without} dB without"
+    );
+}
+
+/// An empty mask changes nothing: the frame is the one without the input, bit for bit. A full
+/// mask, which leaves no uncovered texel to see the surfaces by, keeps the colour as the
+/// surfaces' and matches the reference.
+#[test]
+fn an_empty_mask_changes_nothing_and_a_full_one_keeps_the_colour() {
+    let frames = rendered_frames(96, 54);
+    let (width, height) = (frames.mask.width, frames.mask.height);
+    let empty = Image::new(width, height, 1);
+    assert_eq!(
+        run(&frames, &empty, &frames.motion, With::MaskAndMotion).output,
+        run(&frames, &empty, &frames.motion, With::Nothing).output
+    );
+    let mut full = Image::new(width, height, 1);
+    full.data.fill(1.0);
+    assert_matches_reference(&frames, &full, &frames.motion, With::MaskAndMotion);
+}
+
+/// NaN, infinite and out-of-range coverage and motion are sanitised and counted as the
+/// reference counts them, and the output stays finite.
+#[test]
+fn bad_mask_and_motion_are_sanitised_and_counted() {
+    let frames = rendered_frames(96, 54);
+    let (mut mask, mut motion) = (frames.mask.clone(), frames.motion.clone());
+    let bad = [f32::NAN, f32::INFINITY, -0.5, 1.5, f32::NEG_INFINITY];
+    let covered: Vec<usize> = (0..mask.data.len())
+        .filter(|&i| mask.data[i] > 0.1)
+        .collect();
+    assert!(covered.len() > 2 * bad.len(), "too few covered pixels");
+    for (i, value) in bad.iter().enumerate() {
+        mask.data[7 * i + 3] = *value;
+        motion.data[2 * covered[2 * i]] = *value;
+        motion.data[2 * covered[2 * i + 1] + 1] = 1e6;
+    }
+    let outcome = assert_matches_reference(&frames, &mask, &motion, With::MaskAndMotion);
+    assert!(outcome.stats.source_sanitized_pixels >= bad.len() as u32);
+    assert!(outcome.output.data.iter().all(|v| v.is_finite()));
+}
+
+/// A mask of another size than the frame, or none at all, is refused by name.
+#[test]
+fn a_missing_or_unusable_mask_is_refused() {
+    let rig = Rig::new(64, 36);
+    let engine = &rig.engine;
+    let frame = Scene::new(64, 36).render(0.0, Vec2::ZERO, 0.0);
+    let source = GpuFrame::upload(engine, &frame);
+    let small = upload(
+        engine,
+        &Image::new(32, 18, 1),
+        vk::Format::R32_SFLOAT,
+        GBUFFER_LAYOUT,
+    );
+    for (mask, expected) in [
+        (PatchexImage::default(), "PatchexTranslucencyInput.mask"),
+        (
+            small.describe(GBUFFER_LAYOUT),
+            "PatchexTranslucencyInput.mask",
+        ),
+    ] {
+        let input = PatchexTranslucencyInput {
+            header: PatchexStructHeader::of::<PatchexTranslucencyInput>(
+                PATCHEX_STRUCT_TYPE_TRANSLUCENCY_INPUT,
+            ),
+            mask,
+            motion_vectors: PatchexImage::default(),
+            motion_vector_scale: [1.0, 1.0],
+        };
+        let mut desc = source.frame_desc(1, engine.queue_family_index);
+        desc.header.next = &input as *const _ as *const c_void;
+        engine.run(|cmd| {
+            assert_ne!(rig.submit(cmd, &desc), PatchexResult::Success);
+        });
+        let error = rig.last_error();
+        assert!(error.contains(expected), "{error}");
+    }
+}
