@@ -11,7 +11,7 @@ scripts/install-deps.sh
 cargo build --release -p patchex -p patchex-cli
 source scripts/lib/scenes.sh
 source scripts/lib/results.sh
-methods=copy,occlusion-motion,gbuffer,gbuffer-bilinear,gbuffer-highlights,gbuffer-shadows,gbuffer-shadows-highlights,gbuffer-target-shadows,gbuffer-target-shadows-highlights,patchex,patchex-every-pixel,interpolation
+methods=copy,occlusion-motion,gbuffer,gbuffer-bilinear,gbuffer-highlights,gbuffer-translucency,gbuffer-shadows,gbuffer-shadows-highlights,gbuffer-target-shadows,gbuffer-target-shadows-highlights,patchex,patchex-every-pixel,interpolation
 for which in validation test; do
     datasets=()
     for scene in $(split "$which"); do
@@ -26,3 +26,4 @@ publish out/eval_generated/validation/eval.md eval_generated_validation.md
 publish out/eval_generated/test/eval.md eval_generated_test.md
 publish out/eval_generated/test/eval.json eval_generated_test.json
 publish out/eval_generated/test/strips/desert_02.png eval_generated_strip.png
+publish out/eval_generated/test/strips/desert_04.png eval_generated_particles_strip.png
