@@ -276,7 +276,7 @@ fn mostly<T>(
 fn unknown_struct_type(u: &mut Unstructured) -> Result<u32> {
     let struct_type: u32 = u.arbitrary()?;
     Ok(
-        if (1..=PATCHEX_STRUCT_TYPE_SUN_LIGHT).contains(&struct_type) {
+        if (1..=PATCHEX_STRUCT_TYPE_TRANSLUCENCY_INPUT).contains(&struct_type) {
             0
         } else {
             struct_type
@@ -364,6 +364,7 @@ enum Link {
     Diagnostics(Box<PatchexDiagnostics>),
     TargetShadows(Box<PatchexTargetShadowInput>),
     Sun(Box<PatchexSunLight>),
+    Translucency(Box<PatchexTranslucencyInput>),
     Unknown(Box<PatchexStructHeader>),
 }
 
@@ -375,6 +376,7 @@ impl Link {
             Link::Diagnostics(s) => &mut s.header,
             Link::TargetShadows(s) => &mut s.header,
             Link::Sun(s) => &mut s.header,
+            Link::Translucency(s) => &mut s.header,
             Link::Unknown(h) => h,
         }
     }
@@ -386,6 +388,7 @@ impl Link {
             Link::Diagnostics(s) => &**s as *const _ as *const c_void,
             Link::TargetShadows(s) => &**s as *const _ as *const c_void,
             Link::Sun(s) => &**s as *const _ as *const c_void,
+            Link::Translucency(s) => &**s as *const _ as *const c_void,
             Link::Unknown(h) => &**h as *const _ as *const c_void,
         }
     }
@@ -395,7 +398,7 @@ impl Link {
 fn chain(u: &mut Unstructured, world: &World) -> Result<(Vec<Link>, *const c_void)> {
     let mut links = Vec::new();
     for _ in 0..u.int_in_range(0..=3)? {
-        let link = match u.int_in_range(0..=5)? {
+        let link = match u.int_in_range(0..=6)? {
             0 => Link::Warp(Box::new(PatchexWarpSettings {
                 header: header(
                     u,
@@ -448,6 +451,17 @@ fn chain(u: &mut Unstructured, world: &World) -> Result<(Vec<Link>, *const c_voi
                 illuminance: mostly(u, [3.0, 3.0, 2.8], |u| u.arbitrary())?,
                 // A depth image: R32_SFLOAT, a visibility's format.
                 visibility: image(u, world, DEPTH)?,
+            })),
+            5 => Link::Translucency(Box::new(PatchexTranslucencyInput {
+                header: header(
+                    u,
+                    PATCHEX_STRUCT_TYPE_TRANSLUCENCY_INPUT,
+                    size_of::<PatchexTranslucencyInput>(),
+                )?,
+                // A depth image: R32_SFLOAT, a mask's format.
+                mask: image(u, world, DEPTH)?,
+                motion_vectors: image(u, world, MOTION)?,
+                motion_vector_scale: mostly(u, [1.0, 1.0], |u| u.arbitrary())?,
             })),
             _ => Link::Unknown(Box::new(PatchexStructHeader {
                 struct_type: unknown_struct_type(u)?,
