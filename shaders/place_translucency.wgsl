@@ -6,7 +6,15 @@
 // surface behind p was; without, where the target's motion vectors say that surface was. Each
 // step reads the motion of the most covered texel around x, so that the edge of a puff moving
 // ahead of its texels still finds them; with none around, x stays where the surface was.
+// Where frame t did not see the target's surface (a disocclusion, which the warp fills from the
+// uncovered side), what lay over it was hidden too: the layer is spread there as the fill
+// spreads the shading, from the texels whose surface matches. A dynamic object takes the layer
+// only where frame t's layer lay over it: one that moved in front of the translucency (whose
+// depth no input gives) must not be covered by it.
 // #import gbuffer
+// #import cameras
+// #import surface
+// #import fill
 // #import tallies
 
 struct Params {
@@ -18,6 +26,12 @@ struct Params {
     // The target's place between frame t and frame t+1.
     alpha: f32,
     has_motion: u32,
+    // The call's warp settings, for its agreement test (include/surface.wgsl).
+    inv_sigma_depth: f32,
+    inv_sigma_normal: f32,
+    inv_sigma_position: f32,
+    in_plane_weight: f32,
+    pixel_angle: f32,
 }
 var<immediate> params: Params;
 
@@ -26,6 +40,14 @@ var<immediate> params: Params;
 @group(0) @binding(2) var layer: texture_2d<f32>;
 @group(0) @binding(3) var layer_motion: texture_2d<f32>;
 @group(0) @binding(4) var<storage, read_write> counters: SanitizeCounters;
+@group(0) @binding(5) var target_depth: texture_2d<f32>;
+@group(0) @binding(6) var target_normal: texture_2d<f32>;
+@group(0) @binding(7) var target_stencil: texture_2d<u32>;
+// Frame t's packed G-buffer (pack_gbuffer.wgsl), which says which texels show the target's
+// surface.
+@group(0) @binding(8) var source_depth: texture_2d<f32>;
+@group(0) @binding(9) var source_normal_id: texture_2d<u32>;
+@group(0) @binding(10) var<uniform> cameras: Cameras;
 
 // Texels apart of the 3x3 taps the motion is looked for in.
 const MOTION_SEARCH_STEP: i32 = 2;
@@ -55,6 +77,22 @@ fn step_from(x: vec2f, centre: vec2f) -> vec2f {
     return found;
 }
 
+// What the fill spreads (fill.wgsl): the layer.
+fn fill_value(s: vec2i) -> vec4f {
+    return textureLoad(layer, s, 0);
+}
+
+// Whether frame t saw target surface `t` at one of the 3x3 texels around q.
+fn seen_around(t: Surface, q: vec2f) -> bool {
+    let centre = clamped(vec2i(floor(q)));
+    var seen = false;
+    for (var i = 0; i < 9; i++) {
+        let s = clamped(centre + vec2i(i % 3 - 1, i / 3 - 1));
+        seen = seen || agreement_at(t, s) >= AGREEMENT_THRESHOLD;
+    }
+    return seen;
+}
+
 // The layer at x, bilinear (it is premultiplied); nothing off screen.
 fn layer_at(x: vec2f) -> vec4f {
     if (any(x < vec2f(0.0)) || any(x > vec2f(params.extent))) {
@@ -78,7 +116,12 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
         var x = centre + textureLoad(target_motion, p, 0).xy * params.motion_scale;
         // Non-finite target motion reads no layer (the warp counts it).
         var over = vec4f(0.0);
-        if (all(abs(x) <= vec2f(MAX_FINITE))) {
+        let t = target_surface(p);
+        if (!all(abs(x) <= vec2f(MAX_FINITE))) {
+            // No layer.
+        } else if (t.valid && !seen_around(t, clamp(x, vec2f(0.0), vec2f(params.extent)))) {
+            over = fill_hole(x, t);
+        } else if (t.id == 0u || layer_at(x).a > 0.0) {
             if (unspecialised(params.has_motion) != ABSENT) {
                 for (var step = 0; step < 2; step++) {
                     x = step_from(x, centre);

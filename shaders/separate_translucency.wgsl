@@ -5,8 +5,8 @@
 // surface (same object, depth and normal), weighted as the hole fill weights its texels
 // (fill.wgsl) over a wider, sparser window, since a puff of smoke covers more than a hole; its
 // shading replaces the covered texel's, so the warp carries the surface alone. The layer is what
-// remains of the colour, premultiplied by a, kept with a and with the translucency's own motion
-// for place_translucency.wgsl. A covered texel with no uncovered one of its surface in reach
+// remains of the colour, premultiplied by a (held to [0, colour]), kept with a and with the
+// translucency's own motion for place_translucency.wgsl. A covered texel with no uncovered one of its surface in reach
 // keeps its shading, and its layer is a times its colour.
 // #import gbuffer
 // #import tallies
@@ -137,7 +137,10 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
                 surface = min(behind.rgb * m.factor, vec3f(MAX_HALF));
                 textureStore(shading, p, demodulated(surface, m.factor));
             }
-            over = vec4f(to_half(c.value - (1.0 - a.value.x) * surface), to_half(a.value).x);
+            // Light the layer adds, so never below 0, nor above the colour it is part of: an
+            // estimate of the surface off by more than that is not carried with the layer.
+            let added = clamp(c.value - (1.0 - a.value.x) * surface, vec3f(0.0), c.value);
+            over = vec4f(to_half(added), to_half(a.value).x);
         }
         textureStore(layer, p, over);
         textureStore(layer_motion, p, vec4f(select(vec2f(0.0), own, a.value.x > 0.0), 0.0, 0.0));

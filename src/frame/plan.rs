@@ -668,8 +668,13 @@ fn place_translucency(rec: &mut Recorder, plan: &ExtrapolationPlan) {
     let inputs = translucency::TargetTranslucency {
         kept,
         has_motion,
+        target: plan.target,
         target_motion: plan.motion,
+        source_depth: &plan.work[WorkImages::SOURCE_DEPTH],
+        source_normal_id: &plan.work[WorkImages::SOURCE_NORMAL_ID],
+        cameras: &plan.cameras,
         warp: &plan.warp_params,
+        placeholder_uint: plan.placeholders.1,
         alpha: plan.alpha,
         sanitized: plan
             .passes

@@ -5,6 +5,7 @@
 use ash::vk;
 
 use crate::frame::images::TranslucencyImages;
+use crate::passes::pack_gbuffer::EngineGbuffer;
 use crate::passes::{warp, CounterRange, Texture};
 use crate::shaders::{place_translucency, separate_translucency};
 use crate::vk::image::OwnedImage;
@@ -73,9 +74,16 @@ pub struct TargetTranslucency<'a> {
     pub kept: &'a TranslucencyImages,
     /// Frame t's layer came with motion of its own.
     pub has_motion: bool,
+    pub target: &'a EngineGbuffer,
     pub target_motion: Texture,
-    /// The call's warp: its motion scale and jitter.
+    /// Frame t's packed G-buffer, which says where frame t saw the target's surface.
+    pub source_depth: &'a OwnedImage,
+    pub source_normal_id: &'a OwnedImage,
+    /// Both instants' `Cameras` (`warp::cameras`).
+    pub cameras: &'a CounterRange,
+    /// The call's warp: its motion scale and jitter, and its agreement test.
     pub warp: &'a warp::Params,
+    pub placeholder_uint: Texture,
     pub alpha: f32,
     /// Where the sanitised pixels are counted (the target's).
     pub sanitized: CounterRange,
@@ -94,6 +102,15 @@ pub fn record_placement(
         writes
             .image(binding::FRAME, frame)
             .image(binding::TARGET_MOTION, inputs.target_motion)
+            .image(binding::TARGET_DEPTH, inputs.target.depth)
+            .image(binding::TARGET_NORMAL, inputs.target.normal)
+            .image(
+                binding::TARGET_STENCIL,
+                inputs.target.stencil.unwrap_or(inputs.placeholder_uint),
+            )
+            .image(binding::SOURCE_DEPTH, inputs.source_depth)
+            .image(binding::SOURCE_NORMAL_ID, inputs.source_normal_id)
+            .buffer(binding::CAMERAS, inputs.cameras)
             .image(binding::LAYER, &inputs.kept[TranslucencyImages::LAYER])
             .image(
                 binding::LAYER_MOTION,
@@ -101,12 +118,19 @@ pub fn record_placement(
             )
             .buffer(binding::COUNTERS, &inputs.sanitized)
     });
+    let warp = inputs.warp;
     let params = place_translucency::Params {
         extent: [extent.width, extent.height],
-        motion_scale: inputs.warp.motion_scale,
-        jitter_delta: inputs.warp.jitter_delta,
+        motion_scale: warp.motion_scale,
+        jitter_delta: warp.jitter_delta,
         alpha: inputs.alpha,
         has_motion: inputs.has_motion as u32,
+        inv_sigma_depth: warp.inv_sigma_depth,
+        inv_sigma_normal: warp.inv_sigma_normal,
+        inv_sigma_position: warp.inv_sigma_position,
+        in_plane_weight: warp.in_plane_weight,
+        pixel_angle: warp.pixel_angle,
+        ..Default::default()
     };
     rec.dispatch(&bound, &params, extent);
 }

@@ -374,9 +374,16 @@ pub fn extrapolate(
                 &translucency::TargetTranslucency {
                     layer: &separated.layer,
                     motion: has_motion.then_some(&separated.motion),
-                    target_motion: motion,
-                    motion_scale: params.motion_scale,
-                    jitter_delta: params.jitter_delta,
+                    source_geometry: &source_packed.geometry,
+                    source_normal_id: &source_packed.normal_id,
+                    target: warp::WarpTarget {
+                        geometry: &target_packed.geometry,
+                        normal_id: &target_packed.normal_id,
+                        motion,
+                        camera_position: target_packed.camera_position,
+                        valid: &target_packed.valid,
+                    },
+                    warp: &params,
                     alpha,
                 },
             );

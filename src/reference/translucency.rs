@@ -5,7 +5,9 @@ use glam::{IVec2, Vec2, Vec3, Vec4};
 use super::gbuffer::{
     demodulated, pixel_modulation, sanitize, sanitize_color, sanitize_input_color, MAX_HALF,
 };
+use super::warp::{TargetPixel, WarpSources, WarpTarget, AGREEMENT_THRESHOLD};
 use super::{round_to_f16, Image};
+use crate::passes::warp::Params;
 
 const BEHIND_RADIUS: i32 = 48;
 const BEHIND_STEP: usize = 8;
@@ -129,7 +131,7 @@ pub fn separate(shading: &Image, inputs: &SourceTranslucency) -> Separated {
                     out.shading
                         .set(x, y, &demodulated(surface, factor).to_array());
                 }
-                let over = c - (1.0 - a) * surface;
+                let over = (c - (1.0 - a) * surface).clamp(Vec3::ZERO, c);
                 let rounded = over.to_array().map(round_to_f16);
                 out.layer
                     .set(x, y, &[rounded[0], rounded[1], rounded[2], round_to_f16(a)]);
@@ -146,9 +148,13 @@ pub struct TargetTranslucency<'a> {
     pub layer: &'a Image,
     /// The layer's own motion, when frame t gave one.
     pub motion: Option<&'a Image>,
-    pub target_motion: &'a Image,
-    pub motion_scale: [f32; 2],
-    pub jitter_delta: [f32; 2],
+    /// Frame t's packed G-buffer (`Packed::geometry` and `normal_id`).
+    pub source_geometry: &'a Image,
+    pub source_normal_id: &'a Image,
+    /// The target's packed G-buffer and motion vectors, as the warp reads them.
+    pub target: WarpTarget<'a>,
+    /// The call's warp (`WarpSettings::params`): motion scale, jitter and agreement test.
+    pub warp: &'a Params,
     pub alpha: f32,
 }
 
@@ -189,16 +195,47 @@ fn layer_at(layer: &Image, x: Vec2) -> Vec4 {
     )
 }
 
+/// `seen_around`: whether frame t saw the pixel's surface at one of the 3x3 texels around q.
+fn seen_around(pixel: &TargetPixel, q: Vec2, extent: IVec2) -> bool {
+    let centre = q.floor().as_ivec2().clamp(IVec2::ZERO, extent - 1);
+    (0..9).any(|i| {
+        let s = (centre + IVec2::new(i % 3 - 1, i / 3 - 1)).clamp(IVec2::ZERO, extent - 1);
+        pixel.agreement_at(s) >= AGREEMENT_THRESHOLD
+    })
+}
+
 /// Blends the layer, moved to the target instant, over `frame`; returns the pixels sanitised.
 pub fn place(frame: &mut Image, inputs: &TargetTranslucency) -> u32 {
     let mut sanitized = 0;
+    let sources = WarpSources {
+        shading: inputs.layer,
+        geometry: inputs.source_geometry,
+        normal_id: inputs.source_normal_id,
+    };
+    let extent = IVec2::new(frame.width as i32, frame.height as i32);
     for y in 0..frame.height {
         for x in 0..frame.width {
-            let centre = Vec2::new(x as f32, y as f32) + 0.5 + Vec2::from(inputs.jitter_delta);
+            let warp = inputs.warp;
+            let centre = Vec2::new(x as f32, y as f32) + 0.5 + Vec2::from(warp.jitter_delta);
             let mut point = centre
-                + Vec2::from_slice(inputs.target_motion.at(x, y)) * Vec2::from(inputs.motion_scale);
+                + Vec2::from_slice(inputs.target.motion.at(x, y)) * Vec2::from(warp.motion_scale);
+            let pixel = TargetPixel::new(
+                warp,
+                &sources,
+                &inputs.target,
+                IVec2::new(x as i32, y as i32),
+            );
+            let valid = inputs.target.valid[x + y * frame.width];
             let mut over = Vec4::ZERO;
-            if point.abs().cmple(Vec2::splat(f32::MAX)).all() {
+            if !point.abs().cmple(Vec2::splat(f32::MAX)).all() {
+                // No layer.
+            } else if valid
+                && !seen_around(&pixel, point.clamp(Vec2::ZERO, extent.as_vec2()), extent)
+            {
+                over = pixel.fill_hole(point);
+            } else if (valid && inputs.target.normal_id.at(x, y)[3] == 0.0)
+                || layer_at(inputs.layer, point).w > 0.0
+            {
                 if let Some(motion) = inputs.motion {
                     for _ in 0..2 {
                         point = step_from(inputs, motion, point, centre);

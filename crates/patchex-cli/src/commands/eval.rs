@@ -22,8 +22,8 @@ use patchex::passes::segmentation::{REGION_FI, REGION_NEAR_BE};
 use patchex::passes::warp::WarpSettings;
 use patchex::passes::{RuntimeGroup, STAGES};
 use patchex_scene::dataset::{
-    write_exr, Dataset, FrameLayers, FrameRole, LayerImage, FINAL_IMAGE, ROUGHNESS, SHADOW_MASK,
-    SPECULAR_LIGHT, TRANSLUCENCY_MASK,
+    write_exr, Dataset, FrameLayers, FrameRole, LayerImage, FINAL_IMAGE,
+    FINAL_IMAGE_NO_DYNAMIC_SHADOWS, ROUGHNESS, SHADOW_MASK, SPECULAR_LIGHT, TRANSLUCENCY_MASK,
 };
 use serde_json::json;
 
@@ -32,6 +32,7 @@ use super::metrics::{error_maps, luma, ErrorMaps, Pooled};
 use super::picture::{to_rgb8, tone_map, write_grid};
 use super::plugin_driver::{FrameExtras, NetworkChoice, PluginDriver, ShadowRun};
 use super::{shipped_path, CommandResult};
+use patchex_scene::render::post::post_process;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, ValueEnum)]
 pub enum Method {
@@ -227,11 +228,39 @@ pub struct EvalArgs {
     /// methods on patches; the library's default without it.
     #[arg(long)]
     max_patch_side: Option<u32>,
+    /// The engine's post-processing (bloom, then tone mapping), and where patchex sits in it:
+    /// every frame is scored as the player sees it after post.
+    #[arg(long, value_enum, default_value_t)]
+    post: PostPlacement,
     /// Also write every method's output, linear as scored, to
     /// OUT/frames/SCENE/METHOD/TARGET.exr (one "FinalImage" layer, R G B), so that other tools
     /// can score them.
     #[arg(long)]
     write_frames: bool,
+}
+
+/// Where patchex sits relative to the engine's post-processing (`patchex_scene::render::post`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
+pub enum PostPlacement {
+    /// No post-processing: frames are scored after the eval's own tone mapping.
+    #[default]
+    None,
+    /// On HDR colour before post, as the header asks: the engine runs its post-processing on the
+    /// generated frame.
+    Before,
+    /// On the colour after post-processing, display values: the engine hands over what it
+    /// would show.
+    After,
+}
+
+/// Replaces a frame's colours by what the engine's post-processing makes of them.
+fn post_process_colour(layers: &mut FrameLayers) {
+    let (width, height) = (layers.width, layers.height);
+    for name in [FINAL_IMAGE, FINAL_IMAGE_NO_DYNAMIC_SHADOWS] {
+        if let Some(layer) = layers.get_mut(name) {
+            layer.data = post_process(&layer.data, 3, width, height);
+        }
+    }
 }
 
 /// A pixel is in a dynamic object's shadow where the mask is below this.
@@ -438,19 +467,41 @@ fn evaluate(
         // Frame t, the rendered frame the target is extrapolated from (named `previous` as the
         // frame before the target), and the target's instant between it and the next.
         let (source, alpha) = manifest.source_of(target);
-        let previous = dataset.read_frame(source)?;
+        // The frames the methods are given: after the engine's post-processing, when patchex
+        // sits there.
+        let given = |index| {
+            dataset.read_frame(index).map(|mut layers| {
+                if args.post == PostPlacement::After {
+                    post_process_colour(&mut layers);
+                }
+                layers
+            })
+        };
+        let previous = given(source)?;
         let current = dataset.read_frame(target)?;
         let next = if stride == 2 {
-            Some(dataset.read_frame(target + 1)?)
+            Some(given(target + 1)?)
         } else {
             None
         };
         // Frame t-1, whose shadow mask the shadow sub-task tracks from.
         let earlier = source
             .checked_sub(stride)
-            .map(|index| dataset.read_frame(index).map(|layers| (layers, index)))
+            .map(|index| given(index).map(|layers| (layers, index)))
             .transpose()?;
-        let truth = tone_map(&current.layer(FINAL_IMAGE).data, 3);
+        // What the player sees of a frame of linear colour (or, after post, of display values).
+        let display = |colour: &[f32], channels: usize| match args.post {
+            PostPlacement::None => tone_map(colour, channels),
+            PostPlacement::Before => post_process(colour, channels, width, height),
+            PostPlacement::After => colour
+                .chunks(channels)
+                .flat_map(|pixel| pixel[..3].to_vec())
+                .collect(),
+        };
+        let truth = match args.post {
+            PostPlacement::None => tone_map(&current.layer(FINAL_IMAGE).data, 3),
+            _ => post_process(&current.layer(FINAL_IMAGE).data, 3, width, height),
+        };
         let shadows: Vec<bool> = previous
             .layer(SHADOW_MASK)
             .data
@@ -538,7 +589,7 @@ fn evaluate(
                     .join(format!("{target:04}.exr"));
                 write_frame_exr(&path, &linear, channels, width, height)?;
             }
-            let output = tone_map(&linear, channels);
+            let output = display(&linear, channels);
             let maps = error_maps(&truth, &output, width, height);
             let method_result = result
                 .methods

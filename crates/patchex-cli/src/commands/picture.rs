@@ -4,21 +4,7 @@ use std::path::Path;
 
 /// Reinhard tone mapping and sRGB encoding of linear HDR values with `channels` per pixel; the
 /// result is RGB in [0, 1], the space the demo's PSNR is measured in.
-pub fn tone_map(linear: &[f32], channels: usize) -> Vec<f32> {
-    linear
-        .chunks(channels)
-        .flat_map(|pixel| {
-            pixel[..3].iter().map(|&v| {
-                let mapped = (v.max(0.0) / (1.0 + v.max(0.0))).min(1.0);
-                if mapped <= 0.003_130_8 {
-                    mapped * 12.92
-                } else {
-                    1.055 * mapped.powf(1.0 / 2.4) - 0.055
-                }
-            })
-        })
-        .collect()
-}
+pub use patchex_scene::render::post::tone_map;
 
 /// Peak signal-to-noise ratio of two RGB images in [0, 1], in dB.
 pub fn psnr(a: &[f32], b: &[f32]) -> f64 {

@@ -6,6 +6,7 @@ mod gpu_batch;
 mod materials;
 mod particle_pass;
 mod pipelines;
+pub mod post;
 mod renderer;
 mod resolve_pass;
 mod shadow_pass;
