@@ -26,4 +26,7 @@ publish out/eval_generated/validation/eval.md eval_generated_validation.md
 publish out/eval_generated/test/eval.md eval_generated_test.md
 publish out/eval_generated/test/eval.json eval_generated_test.json
 publish out/eval_generated/test/strips/desert_02.png eval_generated_strip.png
-publish out/eval_generated/test/strips/desert_04.png eval_generated_particles_strip.png
+# The test scenes with particles, with the methods their strip compares.
+target/release/patchex eval out/eval_generated/datasets/tokyo_04 out/eval_generated/datasets/desert_04 \
+    --methods copy,gbuffer,gbuffer-translucency,interpolation --out out/eval_generated/particles
+publish out/eval_generated/particles/strips/tokyo_04.png eval_generated_particles_strip.png

@@ -493,9 +493,10 @@ fn evaluate(
         let display = |colour: &[f32], channels: usize| match args.post {
             PostPlacement::None => tone_map(colour, channels),
             PostPlacement::Before => post_process(colour, channels, width, height),
+            // Display values: the screen shows what passes 1 as 1.
             PostPlacement::After => colour
                 .chunks(channels)
-                .flat_map(|pixel| pixel[..3].to_vec())
+                .flat_map(|pixel| pixel[..3].iter().map(|v| v.clamp(0.0, 1.0)))
                 .collect(),
         };
         let truth = match args.post {
