@@ -6,7 +6,8 @@ use patchex::camera::Camera;
 use patchex::reference::{FrameInputs, Image};
 use patchex_scene::dataset::{
     Dataset, BASE_COLOR, CUSTOM_STENCIL, FINAL_IMAGE, FINAL_IMAGE_NO_DYNAMIC_SHADOWS, METALLIC,
-    MOTION_VECTOR, ROUGHNESS, SCENE_DEPTH, SHADOW_MASK, SPECULAR, STATIC_SHADOW_MASK, WORLD_NORMAL,
+    MOTION_VECTOR, ROUGHNESS, SCENE_DEPTH, SHADOW_MASK, SPECULAR, STATIC_SHADOW_MASK,
+    TRANSLUCENCY_MASK, TRANSLUCENCY_MOTION, WORLD_NORMAL,
 };
 use patchex_scene::FrameLayers;
 
@@ -27,6 +28,9 @@ pub struct Frame {
     /// The sun's visibility through every caster (`PatchexSunLight.visibility` without a
     /// shadow input).
     pub sun_visibility: Image,
+    /// In a scene with particles, the translucency input an engine would give: its mask and
+    /// motion.
+    pub translucency: Option<(Image, Image)>,
 }
 
 fn gather(layers: &FrameLayers, names: &[(&str, usize)]) -> Image {
@@ -79,6 +83,15 @@ pub fn from_layers(
         sun_visibility: Image::from_fn(layers.width, layers.height, 1, |x, y| {
             let through = |name| layers.layer(name).value(x, y, 0);
             vec![through(STATIC_SHADOW_MASK) * through(SHADOW_MASK)]
+        }),
+        translucency: layers.get(TRANSLUCENCY_MASK).is_some().then(|| {
+            (
+                gather(layers, &[(TRANSLUCENCY_MASK, 0)]),
+                gather(
+                    layers,
+                    &[(TRANSLUCENCY_MOTION, 0), (TRANSLUCENCY_MOTION, 1)],
+                ),
+            )
         }),
     })
 }

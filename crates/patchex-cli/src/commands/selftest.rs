@@ -10,13 +10,15 @@
 use std::path::PathBuf;
 
 use clap::Args;
+use glam::Vec3;
 use patchex::abi::*;
 use patchex::network::{Network, SHIPPED_FI, SHIPPED_NEAR_BE};
 use patchex::passes::highlights::Sun;
 use patchex::passes::shadow_flow::{mask_step, FlowSettings};
 use patchex::passes::warp::WarpSettings;
-use patchex::reference::{self, inpaint::Networks, FrameInputs, ShadowInputs};
+use patchex::reference::{self, inpaint::Networks, translucency, FrameInputs, ShadowInputs};
 use patchex_scene::dataset::{render_sequence, Dataset, SequenceOptions, SunInfo};
+use patchex_scene::scene::EmitterDescription;
 use patchex_scene::{Gpu, GpuOptions, World};
 
 use super::plugin_driver::{FrameExtras, NetworkChoice, PluginDriver, ShadowRun};
@@ -59,9 +61,11 @@ struct Configuration {
     networks: bool,
     /// Frame t goes with the scene's sun (`PatchexSunLight`).
     sun: bool,
+    /// Frame t goes with its particles' mask and motion (`PatchexTranslucencyInput`).
+    translucency: bool,
 }
 
-const CONFIGURATIONS: [Configuration; 8] = [
+const CONFIGURATIONS: [Configuration; 9] = [
     Configuration {
         name: "G-buffer-guided warp (WARP_ONLY)",
         warp: PATCHEX_WARP_GBUFFER_GUIDED,
@@ -69,6 +73,7 @@ const CONFIGURATIONS: [Configuration; 8] = [
         target_shadows: false,
         networks: false,
         sun: false,
+        translucency: false,
     },
     Configuration {
         name: "motion-vector warp",
@@ -77,6 +82,7 @@ const CONFIGURATIONS: [Configuration; 8] = [
         target_shadows: false,
         networks: false,
         sun: false,
+        translucency: false,
     },
     Configuration {
         name: "occlusion-motion-vector warp",
@@ -85,6 +91,7 @@ const CONFIGURATIONS: [Configuration; 8] = [
         target_shadows: false,
         networks: false,
         sun: false,
+        translucency: false,
     },
     Configuration {
         name: "warp + shadows (WARP_AND_SHADOWS)",
@@ -93,6 +100,7 @@ const CONFIGURATIONS: [Configuration; 8] = [
         target_shadows: false,
         networks: false,
         sun: false,
+        translucency: false,
     },
     Configuration {
         name: "warp + target shadow mask, no flow",
@@ -101,6 +109,7 @@ const CONFIGURATIONS: [Configuration; 8] = [
         target_shadows: true,
         networks: false,
         sun: false,
+        translucency: false,
     },
     Configuration {
         name: "warp + sun highlights",
@@ -109,6 +118,16 @@ const CONFIGURATIONS: [Configuration; 8] = [
         target_shadows: false,
         networks: false,
         sun: true,
+        translucency: false,
+    },
+    Configuration {
+        name: "warp + translucency",
+        warp: PATCHEX_WARP_GBUFFER_GUIDED,
+        shadows: false,
+        target_shadows: false,
+        networks: false,
+        sun: false,
+        translucency: true,
     },
     Configuration {
         name: "warp + networks (NETWORKS)",
@@ -117,6 +136,7 @@ const CONFIGURATIONS: [Configuration; 8] = [
         target_shadows: false,
         networks: true,
         sun: false,
+        translucency: false,
     },
     Configuration {
         name: "PatchEX (FULL)",
@@ -125,6 +145,7 @@ const CONFIGURATIONS: [Configuration; 8] = [
         target_shadows: false,
         networks: true,
         sun: false,
+        translucency: false,
     },
 ];
 
@@ -138,7 +159,14 @@ pub fn run(args: SelftestArgs) -> CommandResult {
     let work = args.work.clone().unwrap_or_else(|| {
         std::env::temp_dir().join(format!("patchex-selftest-{}", std::process::id()))
     });
-    let world = World::load(&args.scene, None)?;
+    let mut world = World::load(&args.scene, None)?;
+    if world.description.particles.is_empty() {
+        // Smoke where the camera looks, for the translucency passes to take apart and move.
+        world
+            .description
+            .particles
+            .push(smoke_in_view(&world, width, height));
+    }
     let renderer = std::sync::Arc::new(Gpu::new(GpuOptions { validation: false })?);
     render_sequence(
         &renderer,
@@ -230,7 +258,7 @@ fn check(args: &SelftestArgs, work: &std::path::Path) -> Result<bool, Box<dyn st
             }),
             FrameExtras {
                 sun: configuration.sun,
-                translucency: false,
+                translucency: configuration.translucency,
             },
         )?;
         let want = expected(&frames, configuration, alpha, &warp, &shipped, manifest.sun);
@@ -328,9 +356,18 @@ fn expected(
         };
         (sun, &source.sun_visibility)
     });
+    let translucency = source
+        .translucency
+        .as_ref()
+        .filter(|_| configuration.translucency)
+        .map(|(mask, motion)| translucency::Input {
+            mask,
+            motion: Some((motion, [1.0, 1.0])),
+        });
     reference::extrapolate(
         &FrameInputs {
             sun,
+            translucency,
             ..inputs(source)
         },
         &inputs(target),
@@ -340,4 +377,29 @@ fn expected(
         &Default::default(),
         networks,
     )
+}
+
+/// A smoke column drifting through the view: five metres ahead of the camera at the scene's
+/// start, a metre below its line of sight.
+fn smoke_in_view(world: &World, width: u32, height: u32) -> EmitterDescription {
+    let camera = world.camera(world.description.start_time, width as f32 / height as f32);
+    let forward = camera
+        .view
+        .inverse()
+        .transform_vector3(Vec3::NEG_Z)
+        .normalize();
+    let origin = camera.position + 5.0 * forward - Vec3::Y;
+    EmitterDescription {
+        origin: origin.into(),
+        origin_spread: 0.3,
+        rate: 14.0,
+        lifetime: 2.5,
+        velocity: [0.3, 0.9, 0.0],
+        velocity_spread: 0.25,
+        acceleration: [0.8, 0.1, 0.0],
+        radius: [0.3, 0.9],
+        color: [0.3, 0.3, 0.32],
+        opacity: 0.6,
+        seed: 1,
+    }
 }
