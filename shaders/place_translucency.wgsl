@@ -115,13 +115,12 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
         let centre = vec2f(p) + 0.5 + params.jitter_delta;
         var x = centre + textureLoad(target_motion, p, 0).xy * params.motion_scale;
         // Non-finite target motion reads no layer (the warp counts it).
+        let finite = all(abs(x) <= vec2f(MAX_FINITE));
         var over = vec4f(0.0);
         let t = target_surface(p);
-        if (!all(abs(x) <= vec2f(MAX_FINITE))) {
-            // No layer.
-        } else if (t.valid && !seen_around(t, clamp(x, vec2f(0.0), vec2f(params.extent)))) {
+        if (finite && t.valid && !seen_around(t, clamp(x, vec2f(0.0), vec2f(params.extent)))) {
             over = fill_hole(x, t);
-        } else if (t.id == 0u || layer_at(x).a > 0.0) {
+        } else if (finite && (t.id == 0u || layer_at(x).a > 0.0)) {
             if (unspecialised(params.has_motion) != ABSENT) {
                 for (var step = 0; step < 2; step++) {
                     x = step_from(x, centre);

@@ -6,8 +6,8 @@
 // (fill.wgsl) over a wider, sparser window, since a puff of smoke covers more than a hole; its
 // shading replaces the covered texel's, so the warp carries the surface alone. The layer is what
 // remains of the colour, premultiplied by a (held to [0, colour]), kept with a and with the
-// translucency's own motion for place_translucency.wgsl. A covered texel with no uncovered one of its surface in reach
-// keeps its shading, and its layer is a times its colour.
+// translucency's own motion for place_translucency.wgsl. A covered texel with no uncovered one
+// of its surface in reach keeps its shading, and its layer is a times its colour.
 // #import gbuffer
 // #import tallies
 

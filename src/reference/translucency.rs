@@ -226,16 +226,15 @@ pub fn place(frame: &mut Image, inputs: &TargetTranslucency) -> u32 {
                 IVec2::new(x as i32, y as i32),
             );
             let valid = inputs.target.valid[x + y * frame.width];
+            let finite = point.abs().cmple(Vec2::splat(f32::MAX)).all();
+            let static_surface = valid && inputs.target.normal_id.at(x, y)[3] == 0.0;
             let mut over = Vec4::ZERO;
-            if !point.abs().cmple(Vec2::splat(f32::MAX)).all() {
-                // No layer.
-            } else if valid
+            if finite
+                && valid
                 && !seen_around(&pixel, point.clamp(Vec2::ZERO, extent.as_vec2()), extent)
             {
                 over = pixel.fill_hole(point);
-            } else if (valid && inputs.target.normal_id.at(x, y)[3] == 0.0)
-                || layer_at(inputs.layer, point).w > 0.0
-            {
+            } else if finite && (static_surface || layer_at(inputs.layer, point).w > 0.0) {
                 if let Some(motion) = inputs.motion {
                     for _ in 0..2 {
                         point = step_from(inputs, motion, point, centre);
