@@ -11,6 +11,7 @@
 // #import cameras
 // #import surface
 // #import warp
+// #import surface_match
 // #import fill
 // #import tallies
 

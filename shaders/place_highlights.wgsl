@@ -9,6 +9,7 @@
 // #import gbuffer
 // #import cameras
 // #import surface
+// #import surface_match
 // #import fill
 // #import sun_specular
 // #import tallies

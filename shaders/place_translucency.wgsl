@@ -14,6 +14,7 @@
 // #import gbuffer
 // #import cameras
 // #import surface
+// #import surface_match
 // #import fill
 // #import tallies
 

@@ -3,12 +3,13 @@
 //   colour = layer + (1 - a) * surface
 // The surface is estimated from the nearby texels the mask leaves uncovered that show the same
 // surface (same object, depth and normal), weighted as the hole fill weights its texels
-// (fill.wgsl) over a wider, sparser window, since a puff of smoke covers more than a hole; its
+// (surface_match.wgsl) over a wider, sparser window, since a puff of smoke covers more than a hole; its
 // shading replaces the covered texel's, so the warp carries the surface alone. The layer is what
 // remains of the colour, premultiplied by a (held to [0, colour]), kept with a and with the
 // translucency's own motion for place_translucency.wgsl. A covered texel with no uncovered one
 // of its surface in reach keeps its shading, and its layer is a times its colour.
 // #import gbuffer
+// #import surface_match
 // #import tallies
 
 struct Params {
@@ -36,14 +37,11 @@ var<immediate> params: Params;
 @group(0) @binding(9) var source_normal_id: texture_2d<u32>;
 @group(0) @binding(10) var<storage, read_write> counters: SanitizeCounters;
 
-// The window's radius and tap spacing, in pixels, and the widths of the weights' terms (the
-// fill's): relative depth difference and normal difference.
+// The window's radius and tap spacing, in pixels.
 const BEHIND_RADIUS: i32 = 48;
 const BEHIND_STEP: i32 = 8;
-const BEHIND_SIGMA_DEPTH: f32 = 0.03;
-const BEHIND_SIGMA_NORMAL: f32 = 0.15;
-// A texel this far off in those terms shows another surface, and is not taken: the layer keeps
-// every error of the surface behind, so no surface is better than a wrong one.
+// A texel this far off (surface_match.wgsl) shows another surface, and is not taken: the layer
+// keeps every error of the surface behind, so no surface is better than a wrong one.
 const BEHIND_MAX_COST: f32 = 9.0;
 // Coverage below this is left in the surface's shading: so faint a layer is not worth an
 // estimate of the surface that may be off by more than it.
@@ -84,13 +82,7 @@ fn shading_behind(p: vec2i) -> vec4f {
             if (object_id(s_packed) != id) {
                 continue;
             }
-            let s_depth = textureLoad(source_depth, s, 0).r;
-            let relative = abs(s_depth - depth) / max(max(s_depth, depth), 1e-30);
-            let depth_term = select(1.0, relative, relative <= 1.0) / BEHIND_SIGMA_DEPTH;
-            let normal_delta = unpack_normal(s_packed) - normal;
-            let cost = depth_term * depth_term
-                + dot(normal_delta, normal_delta) / (BEHIND_SIGMA_NORMAL * BEHIND_SIGMA_NORMAL)
-                + f32(dot(offset, offset)) / f32(BEHIND_RADIUS * BEHIND_RADIUS);
+            let cost = surface_cost(depth, normal, s, s_packed, offset, BEHIND_RADIUS);
             if (cost > BEHIND_MAX_COST) {
                 continue;
             }

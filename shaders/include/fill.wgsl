@@ -3,29 +3,19 @@
 // well its surface matches the target pixel's surface `t` and by its distance. The pass defines
 // `fill_value(s: vec2i) -> vec4f`, the value at texel s, and binds `source_depth` and
 // `source_normal_id` (frame t's packed G-buffer); `t` has the target's depth, normal and id.
-// Needs gbuffer.wgsl. src/reference/warp.rs (`fill_hole`) mirrors it.
+// Needs gbuffer.wgsl and surface_match.wgsl. src/reference/warp.rs (`fill_hole`) mirrors it.
 
-// The window's radius and tap spacing, and the widths of the weights' terms (chosen on the
-// validation scenes): normal difference (length of the vectors' difference), relative depth
-// difference, and the cost of another object's texel.
+// The window's radius and tap spacing, and the cost of another object's texel (chosen on the
+// validation scenes).
 const FILL_RADIUS: i32 = 12;
 const FILL_STEP: i32 = 3;
-const FILL_SIGMA_NORMAL: f32 = 0.15;
-const FILL_SIGMA_DEPTH: f32 = 0.03;
 const FILL_OTHER_OBJECT: f32 = 20.0;
 
-// -log of texel `s`'s weight for the target surface `t` at window offset `offset`. A
-// non-finite depth on either side counts as relative difference 1.
+// -log of texel `s`'s weight for the target surface `t` at window offset `offset`.
 fn fill_cost(t: Surface, s: vec2i, offset: vec2i) -> f32 {
     let packed = textureLoad(source_normal_id, s, 0).r;
-    let source_w = textureLoad(source_depth, s, 0).r;
-    let relative = abs(source_w - t.depth) / max(max(source_w, t.depth), 1e-30);
-    let depth_term = select(1.0, relative, relative <= 1.0) / FILL_SIGMA_DEPTH;
-    let normal_delta = unpack_normal(packed) - t.normal;
-    let normal_term = dot(normal_delta, normal_delta) / (FILL_SIGMA_NORMAL * FILL_SIGMA_NORMAL);
-    let distance_term = f32(dot(offset, offset)) / f32(FILL_RADIUS * FILL_RADIUS);
     let other_object = select(0.0, FILL_OTHER_OBJECT, object_id(packed) != t.id);
-    return depth_term * depth_term + normal_term + distance_term + other_object;
+    return surface_cost(t.depth, t.normal, s, packed, offset, FILL_RADIUS) + other_object;
 }
 
 fn fill_hole(q: vec2f, t: Surface) -> vec4f {

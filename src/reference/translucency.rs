@@ -5,14 +5,12 @@ use glam::{IVec2, Vec2, Vec3, Vec4};
 use super::gbuffer::{
     demodulated, pixel_modulation, sanitize, sanitize_color, sanitize_input_color, MAX_HALF,
 };
-use super::warp::{TargetPixel, WarpSources, WarpTarget, AGREEMENT_THRESHOLD};
+use super::warp::{surface_cost, TargetPixel, WarpSources, WarpTarget, AGREEMENT_THRESHOLD};
 use super::{round_to_f16, Image};
 use crate::passes::warp::Params;
 
 const BEHIND_RADIUS: i32 = 48;
 const BEHIND_STEP: usize = 8;
-const BEHIND_SIGMA_DEPTH: f32 = 0.03;
-const BEHIND_SIGMA_NORMAL: f32 = 0.15;
 const BEHIND_MAX_COST: f32 = 9.0;
 const MIN_COVERAGE: f32 = 0.05;
 const MOTION_SEARCH_STEP: i32 = 2;
@@ -73,13 +71,8 @@ fn shading_behind(shading: &Image, inputs: &SourceTranslucency, p: IVec2) -> Opt
             if theirs.w != own.w {
                 continue;
             }
-            let s_depth = at(inputs.geometry, s).w;
-            let relative = (s_depth - depth).abs() / s_depth.max(depth).max(1e-30);
-            let depth_term = if relative <= 1.0 { relative } else { 1.0 } / BEHIND_SIGMA_DEPTH;
-            let normal_delta = theirs.truncate() - own.truncate();
-            let cost = depth_term * depth_term
-                + normal_delta.dot(normal_delta) / (BEHIND_SIGMA_NORMAL * BEHIND_SIGMA_NORMAL)
-                + offset.dot(offset) as f32 / (BEHIND_RADIUS * BEHIND_RADIUS) as f32;
+            let source = (at(inputs.geometry, s).w, theirs.truncate());
+            let cost = surface_cost((depth, own.truncate()), source, offset, BEHIND_RADIUS);
             if cost > BEHIND_MAX_COST {
                 continue;
             }

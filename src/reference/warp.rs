@@ -12,11 +12,9 @@ pub const AGREEMENT_THRESHOLD: f32 = 0.5;
 const MIN_FACING: f32 = 0.25;
 pub const BILINEAR_ACCEPT: f32 = 0.5;
 const MIN_TOTAL_WEIGHT: f32 = 1e-6;
-/// The hole fill's window radius and tap spacing, and the widths of its weights' terms.
+/// The hole fill's window radius and tap spacing, and the cost of another object's texel.
 const FILL_RADIUS: i32 = 12;
 const FILL_STEP: usize = 3;
-const FILL_SIGMA_NORMAL: f32 = 0.15;
-const FILL_SIGMA_DEPTH: f32 = 0.03;
 const FILL_OTHER_OBJECT: f32 = 20.0;
 /// The object id of a target pixel whose geometry is unusable: no 8-bit stencil holds it.
 const NO_OBJECT: f32 = 256.0;
@@ -86,6 +84,23 @@ fn catmull_rom_weights(f: f32) -> [f32; 4] {
 
 fn texel(image: &Image, s: IVec2) -> Vec4 {
     Vec4::from_slice(image.clamped(s.x, s.y))
+}
+
+/// The widths of `surface_cost`'s terms (`include/surface_match.wgsl`).
+const MATCH_SIGMA_DEPTH: f32 = 0.03;
+const MATCH_SIGMA_NORMAL: f32 = 0.15;
+
+/// Mirror of `surface_cost` (`include/surface_match.wgsl`): how far a texel of frame t with
+/// (linear depth, unit normal) `source` is from showing the surface `surface`, seen from `offset`
+/// in a window of `radius`, as -log of a weight.
+pub fn surface_cost(surface: (f32, Vec3), source: (f32, Vec3), offset: IVec2, radius: i32) -> f32 {
+    let ((depth, normal), (source_w, source_normal)) = (surface, source);
+    let relative = (source_w - depth).abs() / source_w.max(depth).max(1e-30);
+    let depth_term = if relative <= 1.0 { relative } else { 1.0 } / MATCH_SIGMA_DEPTH;
+    let normal_delta = source_normal - normal;
+    let normal_term = normal_delta.dot(normal_delta) / (MATCH_SIGMA_NORMAL * MATCH_SIGMA_NORMAL);
+    let distance_term = offset.dot(offset) as f32 / (radius * radius) as f32;
+    depth_term * depth_term + normal_term + distance_term
 }
 
 /// One target pixel of a warp, as `include/surface.wgsl` and `include/fill.wgsl` see it: for
@@ -264,19 +279,14 @@ impl<'a> PixelWarp<'a> {
     /// Mirror of `fill_cost`: -log of texel `s`'s weight at window offset `offset`.
     fn fill_cost(&self, s: IVec2, offset: IVec2) -> f32 {
         let source_nid = texel(self.source.normal_id, s);
-        let source_w = texel(self.source.geometry, s).w;
-        let target_w = self.target_geo.w;
-        let relative = (source_w - target_w).abs() / source_w.max(target_w).max(1e-30);
-        let depth_term = if relative <= 1.0 { relative } else { 1.0 } / FILL_SIGMA_DEPTH;
-        let normal_delta = source_nid.truncate() - self.target_nid.truncate();
-        let normal_term = normal_delta.dot(normal_delta) / (FILL_SIGMA_NORMAL * FILL_SIGMA_NORMAL);
-        let distance_term = offset.dot(offset) as f32 / (FILL_RADIUS * FILL_RADIUS) as f32;
         let other_object = if source_nid.w != self.target_nid.w {
             FILL_OTHER_OBJECT
         } else {
             0.0
         };
-        depth_term * depth_term + normal_term + distance_term + other_object
+        let source = (texel(self.source.geometry, s).w, source_nid.truncate());
+        let target = (self.target_geo.w, self.target_nid.truncate());
+        surface_cost(target, source, offset, FILL_RADIUS) + other_object
     }
 
     fn bilinear_shading(&self, q: Vec2) -> Vec4 {
