@@ -311,22 +311,12 @@ fn c11_engine_reaches_every_feature_and_matches_the_rust_path() {
         };
         let mut desc = frame.frame_desc(index, family);
         desc.header.next = if lit { link(&over) } else { link(&shadow) };
-        assert_eq!(
-            rig.submit(cmd, &desc),
-            PatchexResult::Success,
-            "{}",
-            rig.last_error()
-        );
+        rig.submit_ok(cmd, &desc);
     };
     let extrapolate = |cmd, target: &GpuFrame, output: &EngineImage, chain: *const c_void| {
         let mut desc = target.extrapolate_desc(output, 0.5, family);
         desc.header.next = chain;
-        assert_eq!(
-            rig.extrapolate(cmd, &desc),
-            PatchexResult::Success,
-            "{}",
-            rig.last_error()
-        );
+        rig.extrapolate_ok(cmd, &desc);
     };
     let frame_flow = PatchexShadowFlowSettings {
         header: header_of::<PatchexShadowFlowSettings>(

@@ -23,7 +23,7 @@ use patchex::passes::warp::WarpSettings;
 use patchex::reference::{self, Image, ShadowInputs};
 use patchex_harness::EngineImage;
 use patchex_scene::dataset::SunInfo;
-use support::pipeline::{assert_stages_agree, inputs, psnr, read_image};
+use support::pipeline::{assert_stages_agree, inputs, psnr, read_image, worst_output_error};
 use support::scene::Frame;
 use support::*;
 
@@ -100,23 +100,13 @@ fn run([previous, source, target]: [&Frame; 3], with: Inputs) -> Outcome {
             (None, false) => std::ptr::null(),
         };
         engine.run(|cmd| {
-            assert_eq!(
-                rig.submit(cmd, &desc),
-                PatchexResult::Success,
-                "{}",
-                rig.last_error()
-            );
+            rig.submit_ok(cmd, &desc);
             if index == 1 {
                 let mut extrapolate = gpu_target.extrapolate_desc(&output, 0.5, family);
                 if with.target_mask {
                     extrapolate.header.next = &target_mask as *const _ as *const c_void;
                 }
-                assert_eq!(
-                    rig.extrapolate(cmd, &extrapolate),
-                    PatchexResult::Success,
-                    "{}",
-                    rig.last_error()
-                );
+                rig.extrapolate_ok(cmd, &extrapolate);
             }
         });
     }
@@ -180,15 +170,6 @@ fn reference_run(
         &Default::default(),
         Default::default(),
     )
-}
-
-/// Worst error of an output image against another in units of the tolerance.
-fn worst_output_error(got: &Image, want: &Image) -> f32 {
-    got.data
-        .iter()
-        .zip(&want.data)
-        .map(|(&g, &w)| (g - w).abs() / (1e-3 + 2e-3 * w.abs()))
-        .fold(0.0, f32::max)
 }
 
 /// The plugin against the reference for the frames with `with`: the same output, stages and

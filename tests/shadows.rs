@@ -22,7 +22,7 @@ use patchex::error::PatchexResult;
 use patchex::passes::shadow_flow::{mask_step, FlowSettings, MAX_WINDOW_RADIUS};
 use patchex::passes::warp::WarpSettings;
 use patchex::reference::{self, round_to_f16, Image, ShadowInputs};
-use support::pipeline::{inputs, psnr, read_image};
+use support::pipeline::{inputs, psnr, read_image, worst_output_error};
 use support::scene::{Frame, Scene};
 use support::*;
 
@@ -111,12 +111,7 @@ fn run_with_shadows_warped(
             desc.header.next = &shadow_inputs[index] as *const _ as *const c_void;
         }
         engine.run(|cmd| {
-            assert_eq!(
-                rig.submit(cmd, &desc),
-                PatchexResult::Success,
-                "{}",
-                rig.last_error()
-            );
+            rig.submit_ok(cmd, &desc);
             if index == 1 {
                 let mut extrapolate = gpu_target.extrapolate_desc(&output, alpha, family);
                 extrapolate.header.next = if target_shadows {
@@ -124,12 +119,7 @@ fn run_with_shadows_warped(
                 } else {
                     &diagnostics as *const _ as *const c_void
                 };
-                assert_eq!(
-                    rig.extrapolate(cmd, &extrapolate),
-                    PatchexResult::Success,
-                    "{}",
-                    rig.last_error()
-                );
+                rig.extrapolate_ok(cmd, &extrapolate);
             }
         });
     }
@@ -183,15 +173,6 @@ fn luminance(pixel: &[f32]) -> f32 {
 /// Worst error of `got` against `want` in units of `absolute + relative * |want|`.
 fn worst_error(got: f32, want: f32, absolute: f32, relative: f32) -> f32 {
     (got - want).abs() / (absolute + relative * want.abs())
-}
-
-/// Worst error of an output image against another in units of the colour tolerance.
-fn worst_output_error(got: &Image, want: &Image) -> f32 {
-    got.data
-        .iter()
-        .zip(&want.data)
-        .map(|(&g, &w)| worst_error(g, w, 1e-3, 2e-3))
-        .fold(0.0, f32::max)
 }
 
 /// Frames t-1 and t of `scene` (frames 0 and 2 of its doubled stream) and the instant halfway
@@ -987,19 +968,9 @@ fn shadow_history_survives_resizes_resets_and_gaps() {
             desc.header.next = &shadow as *const _ as *const c_void;
         }
         engine.run(|cmd| {
-            assert_eq!(
-                rig.submit(cmd, &desc),
-                PatchexResult::Success,
-                "{}",
-                rig.last_error()
-            );
+            rig.submit_ok(cmd, &desc);
             let extrapolate = target.extrapolate_desc(&output, 0.5, family);
-            assert_eq!(
-                rig.extrapolate(cmd, &extrapolate),
-                PatchexResult::Success,
-                "{}",
-                rig.last_error()
-            );
+            rig.extrapolate_ok(cmd, &extrapolate);
         });
         let (_, stats) = rig.stats(1 + index as u64);
         assert_eq!(stats.shadow_history, history, "frame {index}");

@@ -19,7 +19,7 @@ use patchex::camera::Camera;
 use patchex::error::PatchexResult;
 use patchex::passes::warp::WarpSettings;
 use patchex::reference::{self, Image};
-use support::pipeline::{inputs, psnr, read_image};
+use support::pipeline::{inputs, psnr, read_image, worst_output_error};
 use support::scene::{Frame, Scene};
 use support::*;
 
@@ -101,19 +101,9 @@ fn run(frames: &Frames, mask: &Image, motion: &Image, with: With) -> Outcome {
         desc.header.next = &input as *const _ as *const c_void;
     }
     engine.run(|cmd| {
-        assert_eq!(
-            rig.submit(cmd, &desc),
-            PatchexResult::Success,
-            "{}",
-            rig.last_error()
-        );
+        rig.submit_ok(cmd, &desc);
         let extrapolate = target.extrapolate_desc(&output, 0.5, family);
-        assert_eq!(
-            rig.extrapolate(cmd, &extrapolate),
-            PatchexResult::Success,
-            "{}",
-            rig.last_error()
-        );
+        rig.extrapolate_ok(cmd, &extrapolate);
     });
     let (result, stats) = rig.stats(1);
     assert_eq!(result, PatchexResult::Success, "{}", rig.last_error());
@@ -153,15 +143,6 @@ fn reference_run(
         &Default::default(),
         Default::default(),
     )
-}
-
-/// Worst error of an output image against another in units of the tolerance.
-fn worst_output_error(got: &Image, want: &Image) -> f32 {
-    got.data
-        .iter()
-        .zip(&want.data)
-        .map(|(&g, &w)| (g - w).abs() / (1e-3 + 2e-3 * w.abs()))
-        .fold(0.0, f32::max)
 }
 
 /// The plugin against the reference: the same output, stages and counts.

@@ -150,6 +150,26 @@ impl Rig {
         unsafe { (self.library.extrapolate)(self.context, cmd, desc) }
     }
 
+    /// `submit`, which must succeed; the library's message otherwise.
+    pub fn submit_ok(&self, cmd: vk::CommandBuffer, desc: &PatchexFrameDesc) {
+        assert_eq!(
+            self.submit(cmd, desc),
+            PatchexResult::Success,
+            "{}",
+            self.last_error()
+        );
+    }
+
+    /// `extrapolate`, which must succeed; the library's message otherwise.
+    pub fn extrapolate_ok(&self, cmd: vk::CommandBuffer, desc: &PatchexExtrapolateDesc) {
+        assert_eq!(
+            self.extrapolate(cmd, desc),
+            PatchexResult::Success,
+            "{}",
+            self.last_error()
+        );
+    }
+
     pub fn stats(&self, frame_index: u64) -> (PatchexResult, PatchexFrameStats) {
         // SAFETY: zeroed stats are a valid PatchexFrameStats bit pattern.
         let mut stats: PatchexFrameStats = unsafe { std::mem::zeroed() };

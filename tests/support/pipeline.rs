@@ -51,6 +51,17 @@ pub fn inputs<'a>(frame: &'a Frame, camera: &'a Camera) -> FrameInputs<'a> {
     }
 }
 
+/// Worst error of an output image against another in units of 1e-3 + 2e-3 x |want|: the colour
+/// tolerance loosened for passes whose sums of exponentials and powers differ in their last bits
+/// between the GPU and the reference, on top of the warp's.
+pub fn worst_output_error(got: &Image, want: &Image) -> f32 {
+    got.data
+        .iter()
+        .zip(&want.data)
+        .map(|(&g, &w)| (g - w).abs() / (1e-3 + 2e-3 * w.abs()))
+        .fold(0.0, f32::max)
+}
+
 /// PSNR of the RGB channels, for values in [0, 1].
 pub fn psnr(a: &Image, b: &Image) -> f64 {
     let mut squared = 0.0;
