@@ -567,34 +567,23 @@ impl PluginDriver {
         let warm_until = Instant::now() + self.warm_up;
         let (index, results) = loop {
             let index = frame_index + self.repeats.get();
-            // A frame's chain: its translucency, its sun, then its shadow input.
+            // A frame's chain, built back to front: its translucency, its sun, then its shadow
+            // input. Each link points at a local that lives until the frame is submitted.
             let source_shadow = shadow_input(&source);
-            let source_sun = sun_light(&source, link(&source_shadow, ptr::null()));
-            let source_translucency = translucency_input(
-                &source,
-                link(&source_sun, link(&source_shadow, ptr::null())),
-            );
+            let mut chain = link(&source_shadow, ptr::null());
+            let source_sun = sun_light(&source, chain);
+            chain = link(&source_sun, chain);
+            let source_translucency = translucency_input(&source, chain);
             let mut frame = self.frame_desc(index, &source);
-            frame.header.next = link(
-                &source_translucency,
-                link(&source_sun, link(&source_shadow, ptr::null())),
-            );
+            frame.header.next = link(&source_translucency, chain);
             let earlier_shadow = earlier.as_ref().and_then(shadow_input);
-            let earlier_sun = earlier
-                .as_ref()
-                .and_then(|earlier| sun_light(earlier, link(&earlier_shadow, ptr::null())));
-            let earlier_translucency = earlier.as_ref().and_then(|earlier| {
-                translucency_input(
-                    earlier,
-                    link(&earlier_sun, link(&earlier_shadow, ptr::null())),
-                )
-            });
+            let mut chain = link(&earlier_shadow, ptr::null());
+            let earlier_sun = earlier.as_ref().and_then(|e| sun_light(e, chain));
+            chain = link(&earlier_sun, chain);
+            let earlier_translucency = earlier.as_ref().and_then(|e| translucency_input(e, chain));
             let earlier_frame = earlier.as_ref().map(|earlier| {
                 let mut desc = self.frame_desc(index - 1, earlier);
-                desc.header.next = link(
-                    &earlier_translucency,
-                    link(&earlier_sun, link(&earlier_shadow, ptr::null())),
-                );
+                desc.header.next = link(&earlier_translucency, chain);
                 desc
             });
             let mut extrapolate = PatchexExtrapolateDesc {
