@@ -1,11 +1,9 @@
 // Resolve pass: lights the G-buffer with the sun and the sky, and writes every dataset layer
 // into one planar f32 buffer (one plane per channel, in the order of `layers.rs`), which the
-// host copies straight into the EXR channels.
-//
-// Shading is split the way Unreal does it: DiffuseColor = BaseColor * (1 - Metallic),
-// SpecularColor = lerp(0.08 * Specular, BaseColor, Metallic); emissive is added unlit.
+// host copies straight into the EXR channels. Emissive is added unlit.
 
 // #import frame
+// #import lighting
 
 struct Options {
     // 1 = light the frame, 0 = G-buffer only (the lit layers are left as zeros)
@@ -22,8 +20,6 @@ struct Options {
 @group(0) @binding(7) var dynamic_shadow_map: texture_depth_2d;
 @group(0) @binding(8) var<storage, read_write> planes: array<f32>;
 var<immediate> options: Options;
-
-const PI: f32 = 3.14159265;
 
 const PLANE_FINAL: u32 = 0u;
 const PLANE_BASE_COLOR: u32 = 3u;
@@ -50,41 +46,6 @@ fn store3(plane: u32, pixel: u32, value: vec3<f32>) {
     store(plane, pixel, value.x);
     store(plane + 1u, pixel, value.y);
     store(plane + 2u, pixel, value.z);
-}
-
-// 3x3 percentage-closer filter over a depth map; the map stores the nearest caster depth.
-fn sun_visibility(shadow_map: texture_depth_2d, light_clip: vec3<f32>, bias: f32) -> f32 {
-    let size = vec2<i32>(textureDimensions(shadow_map));
-    let texel = (light_clip.xy * 0.5 + 0.5) * vec2<f32>(size) - 0.5;
-    let base = vec2<i32>(floor(texel));
-    // Outside the map's square or depth range nothing is known to cast a shadow.
-    if any(abs(light_clip.xy) > vec2<f32>(1.0)) || light_clip.z > 1.0 || light_clip.z < 0.0 {
-        return 1.0;
-    }
-    var lit = 0.0;
-    for (var dy = -1; dy <= 1; dy++) {
-        for (var dx = -1; dx <= 1; dx++) {
-            let coord = clamp(base + vec2<i32>(dx, dy), vec2<i32>(0), size - 1);
-            let occluder = textureLoad(shadow_map, coord, 0);
-            lit += select(0.0, 1.0, light_clip.z - bias <= occluder);
-        }
-    }
-    return lit / 9.0;
-}
-
-fn sky_radiance(direction: vec3<f32>) -> vec3<f32> {
-    let up = clamp(direction.y, 0.0, 1.0);
-    return mix(frame.sky_horizon.rgb, frame.sky_zenith.rgb, sqrt(up));
-}
-
-// Karis' analytic fit of the split-sum environment BRDF ("Physically Based Shading on Mobile").
-fn environment_brdf(specular_color: vec3<f32>, roughness: f32, n_dot_v: f32) -> vec3<f32> {
-    let c0 = vec4<f32>(-1.0, -0.0275, -0.572, 0.022);
-    let c1 = vec4<f32>(1.0, 0.0425, 1.04, -0.04);
-    let r = roughness * c0 + c1;
-    let a004 = min(r.x * r.x, exp2(-9.28 * n_dot_v)) * r.x + r.y;
-    let ab = vec2<f32>(-1.04, 1.04) * a004 + r.zw;
-    return specular_color * ab.x + ab.y;
 }
 
 fn project_to_pixel(view_proj: mat4x4<f32>, world: vec3<f32>) -> vec2<f32> {
@@ -159,12 +120,8 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     store(PLANE_MOTION + 1u, pixel, motion_s.y);
     store(PLANE_NOV, pixel, n_dot_v);
 
-    // Shadow lookups offset along the normal by a few texels to avoid acne on lit slopes.
-    let sun = frame.sun_direction.xyz;
-    let n_dot_l = clamp(dot(normal, sun), 0.0, 1.0);
-    let offset_world = world + normal * frame.shadow_params.y;
-    let light_clip4 = frame.light_view_proj * vec4<f32>(offset_world, 1.0);
-    let light_clip = light_clip4.xyz / light_clip4.w;
+    let n_dot_l = clamp(dot(normal, frame.sun_direction.xyz), 0.0, 1.0);
+    let light_clip = shadow_coordinates(world, normal);
     let static_visibility = sun_visibility(static_shadow_map, light_clip, frame.shadow_params.x);
     let dynamic_visibility = sun_visibility(dynamic_shadow_map, light_clip, frame.shadow_params.x);
     store(PLANE_SHADOW_MASK, pixel, dynamic_visibility);
@@ -176,39 +133,12 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
 
-    let diffuse_color = base_color * (1.0 - metallic);
-    let specular_color = mix(vec3<f32>(0.08 * specular), base_color, metallic);
-
-    // Direct sun: Lambert plus GGX with height-correlated Smith visibility and Schlick Fresnel.
-    let half_vector = normalize(sun + to_camera);
-    let n_dot_h = clamp(dot(normal, half_vector), 0.0, 1.0);
-    let v_dot_h = clamp(dot(to_camera, half_vector), 0.0, 1.0);
-    let alpha = roughness * roughness;
-    let alpha2 = alpha * alpha;
-    let d_denominator = n_dot_h * n_dot_h * (alpha2 - 1.0) + 1.0;
-    let distribution = alpha2 / (PI * d_denominator * d_denominator);
-    let n_dot_v_safe = max(n_dot_v, 1e-4);
-    let smith_v = n_dot_l * sqrt(n_dot_v_safe * n_dot_v_safe * (1.0 - alpha2) + alpha2);
-    let smith_l = n_dot_v_safe * sqrt(n_dot_l * n_dot_l * (1.0 - alpha2) + alpha2);
-    let visibility_term = 0.5 / max(smith_v + smith_l, 1e-6);
-    let fresnel_weight = pow(1.0 - v_dot_h, 5.0);
-    let fresnel = specular_color * (1.0 - fresnel_weight) + vec3<f32>(fresnel_weight);
-    let sun_specular_brdf = distribution * visibility_term * fresnel;
-    let sun_brdf = diffuse_color / PI + sun_specular_brdf;
-    let sun_light = frame.sun_radiance.rgb * sun_brdf * n_dot_l;
-
-    // Sky: hemisphere irradiance for diffuse, the reflected sky for specular; not shadowed.
-    let up = normal.y * 0.5 + 0.5;
-    let ambient_irradiance = mix(frame.ground_ambient.rgb, frame.sky_zenith.rgb, up);
-    let reflected = reflect(-to_camera, normal);
-    let sky_specular = sky_radiance(reflected) * environment_brdf(specular_color, roughness, n_dot_v);
-    let ambient_light = diffuse_color * ambient_irradiance + sky_specular;
-
+    let light = light_surface(base_color, metallic, specular, roughness, normal, to_camera, n_dot_v, n_dot_l);
     let emissive = emissive_cov.rgb;
-    let unshadowed_by_dynamic = ambient_light + sun_light * static_visibility + emissive;
-    let lit = ambient_light + sun_light * static_visibility * dynamic_visibility + emissive;
+    let unshadowed_by_dynamic = light.ambient + light.sun * static_visibility + emissive;
+    let lit = light.ambient + light.sun * static_visibility * dynamic_visibility + emissive;
     store3(PLANE_FINAL, pixel, lit);
     store3(PLANE_FINAL_NO_DYNAMIC_SHADOWS, pixel, unshadowed_by_dynamic);
-    let sun_specular = frame.sun_radiance.rgb * sun_specular_brdf * n_dot_l * static_visibility * dynamic_visibility;
-    store3(PLANE_SPECULAR_LIGHT, pixel, sun_specular + sky_specular);
+    let sun_specular = light.sun_specular * static_visibility * dynamic_visibility;
+    store3(PLANE_SPECULAR_LIGHT, pixel, sun_specular + light.sky_specular);
 }
