@@ -10,7 +10,12 @@ mod wgsl;
 
 use wgsl::{assemble, located_error};
 
-const SHADERS: &[&str] = &["gbuffer.wgsl", "shadow.wgsl", "resolve.wgsl"];
+const SHADERS: &[&str] = &[
+    "gbuffer.wgsl",
+    "shadow.wgsl",
+    "resolve.wgsl",
+    "forward.wgsl",
+];
 /// The structs the host writes, by the shader that declares them: the frame's uniforms
 /// (`shaders/include/frame.wgsl`, which every shader that reads them imports) and the G-buffer
 /// pass's material push constants.

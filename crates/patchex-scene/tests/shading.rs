@@ -1,10 +1,11 @@
 //! Final colour against an independent CPU evaluation of the lighting model from the frame's
 //! own G-buffers: scene `shading` (one character on a flat plane, so the only shadow casters
-//! are dynamic and the ShadowMask is the whole sun visibility).
+//! are dynamic and the ShadowMask is the whole sun visibility), and scene `glass` (the same,
+//! partly behind a pane of tinted glass, blended over it by the forward pass).
 
 mod common;
 
-use common::{render, HEIGHT, WIDTH};
+use common::{assets_dir, project, render, render_world, HEIGHT, WIDTH};
 use glam::Vec3;
 use patchex_scene::dataset::*;
 use std::f32::consts::PI;
@@ -75,22 +76,28 @@ impl Lighting {
     }
 }
 
+impl Lighting {
+    fn of(world: &patchex_scene::World) -> Self {
+        assert!(
+            world.materials.iter().all(|m| m.emissive == Vec3::ZERO),
+            "the oracle has no emissive term"
+        );
+        let sky = &world.description.sun;
+        Self {
+            sun_direction: world.sun.direction,
+            sun_radiance: world.sun.radiance,
+            sky_zenith: Vec3::from(sky.sky_zenith),
+            sky_horizon: Vec3::from(sky.sky_horizon),
+            ground_ambient: Vec3::from(sky.ground_ambient),
+        }
+    }
+}
+
 #[test]
 fn final_colour_equals_the_lighting_of_the_gbuffers() {
     let sequence = render("shading.toml", 2);
     let world = &sequence.world;
-    assert!(
-        world.materials.iter().all(|m| m.emissive == Vec3::ZERO),
-        "the oracle has no emissive term"
-    );
-    let sky = &world.description.sun;
-    let lighting = Lighting {
-        sun_direction: world.sun.direction,
-        sun_radiance: world.sun.radiance,
-        sky_zenith: Vec3::from(sky.sky_zenith),
-        sky_horizon: Vec3::from(sky.sky_horizon),
-        ground_ambient: Vec3::from(sky.ground_ambient),
-    };
+    let lighting = Lighting::of(world);
     let info = &sequence.dataset.manifest.frames[1];
     let camera = Vec3::from(info.camera_position);
     let far = sequence.dataset.manifest.far;
@@ -148,5 +155,113 @@ fn final_colour_equals_the_lighting_of_the_gbuffers() {
     assert!(
         shadowed_ground > 20,
         "the character casts a shadow on the ground ({shadowed_ground} pixels)"
+    );
+}
+
+/// The pane is drawn over the lit surface behind it by its coverage, lit by the same model, and
+/// leaves the G-buffer, the shadows and the light behind it as they were; the mask is its
+/// coverage, and the translucency's motion is the pane's own, not that of what lies behind it.
+#[test]
+fn glass_is_blended_over_the_lighting_of_what_lies_behind() {
+    let sequence = render("glass.toml", 2);
+    let mut description = sequence.world.description.clone();
+    description.glass.clear();
+    let without = render_world(
+        patchex_scene::World::from_description(description, &assets_dir()).unwrap(),
+        2,
+    );
+    let world = &sequence.world;
+    let lighting = Lighting::of(world);
+    let glass = &world.description.glass[0];
+    let opacity = glass.opacity;
+    let plane_z = glass.position[2];
+    let frames = &sequence.dataset.manifest.frames;
+    let camera = Vec3::from(frames[1].camera_position);
+    let previous_view_proj = frames[0].view_proj_matrix();
+    let frame = sequence.dataset.read_frame(1).unwrap();
+    let behind = without.dataset.read_frame(1).unwrap();
+    let v3 = |frame: &FrameLayers, name: &str, x: usize, y: usize| {
+        Vec3::from_slice(frame.layer(name).pixel(x, y))
+    };
+    let (mut covered, mut parallax) = (0, 0);
+    for y in 0..HEIGHT as usize {
+        for x in 0..WIDTH as usize {
+            for layer in [
+                WORLD_POSITION,
+                WORLD_NORMAL,
+                BASE_COLOR,
+                MOTION_VECTOR,
+                SHADOW_MASK,
+            ] {
+                assert_eq!(
+                    frame.layer(layer).pixel(x, y),
+                    behind.layer(layer).pixel(x, y),
+                    "{layer} at ({x},{y}): the glass is not in the G-buffer and casts no shadow"
+                );
+            }
+            let mask = frame.layer(TRANSLUCENCY_MASK).pixel(x, y)[0];
+            let lit_behind = v3(&behind, FINAL_IMAGE, x, y);
+            let final_image = v3(&frame, FINAL_IMAGE, x, y);
+            let position = v3(&frame, WORLD_POSITION, x, y);
+            // Where the pixel's ray crosses the pane's plane in front of what it shows.
+            let ray = position - camera;
+            let t = (plane_z - camera.z) / ray.z;
+            let hit = camera + t * ray;
+            let half_width = 0.5 * glass.size[0];
+            let inside = t > 0.0
+                && t < 1.0
+                && (hit.x - glass.position[0]).abs() < half_width - 0.02
+                && hit.y > glass.position[1] + 0.02;
+            let on_edge = t > 0.0
+                && t < 1.0
+                && ((hit.x - glass.position[0]).abs() - half_width).abs() <= 0.02;
+            if on_edge {
+                continue;
+            }
+            if !inside {
+                assert_eq!(mask, 0.0, "({x},{y}) is not behind the pane");
+                assert_eq!(final_image, lit_behind, "({x},{y}) is not behind the pane");
+                continue;
+            }
+            covered += 1;
+            assert!(
+                (mask - opacity).abs() < 1e-6,
+                "({x},{y}): mask {mask}, opacity {opacity}"
+            );
+            let centre = glam::Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
+            let pane_motion = project(previous_view_proj, hit) - centre;
+            let motion = glam::Vec2::from_slice(frame.layer(TRANSLUCENCY_MOTION).pixel(x, y));
+            assert!(
+                motion.abs_diff_eq(pane_motion, 0.02),
+                "({x},{y}): translucency motion {motion}, the pane's {pane_motion}"
+            );
+            let surface_motion = glam::Vec2::from_slice(frame.layer(MOTION_VECTOR).pixel(x, y));
+            parallax += usize::from(surface_motion.distance(pane_motion) > 0.1);
+            let to_camera = (camera - hit).normalize();
+            let pane = Surface {
+                base_color: Vec3::from(glass.color),
+                metallic: 0.0,
+                specular: 0.5,
+                roughness: glass.roughness,
+                // Double-sided: the normal faces the viewer.
+                normal: Vec3::Z * to_camera.z.signum(),
+                to_camera,
+            };
+            let (radiance, _) = lighting.shade(&pane, 1.0);
+            let expected = opacity * radiance + (1.0 - opacity) * lit_behind;
+            let tolerance = 1e-3 * expected.max_element().max(1.0);
+            assert!(
+                final_image.abs_diff_eq(expected, tolerance),
+                "({x},{y}): FinalImage {final_image}, the pane over the surface gives {expected}"
+            );
+        }
+    }
+    assert!(
+        covered > 1000,
+        "the pane covers part of the frame ({covered} pixels)"
+    );
+    assert!(
+        parallax > 500,
+        "what lies behind the pane moves otherwise than the pane ({parallax} pixels)"
     );
 }

@@ -192,8 +192,7 @@ fn read_material(material: &gltf::Material<'_>, textures: &mut TextureTable<'_>)
     let alpha_mode = match material.alpha_mode() {
         gltf::material::AlphaMode::Opaque => AlphaMode::Opaque,
         gltf::material::AlphaMode::Mask => AlphaMode::Mask(material.alpha_cutoff().unwrap_or(0.5)),
-        // A deferred renderer has no blending; blended surfaces are cut at half coverage.
-        gltf::material::AlphaMode::Blend => AlphaMode::Mask(0.5),
+        gltf::material::AlphaMode::Blend => AlphaMode::Blend,
     };
     Material {
         base_color: Vec4::from(pbr.base_color_factor()),

@@ -86,6 +86,8 @@ pub enum AlphaMode {
     Opaque,
     /// Fragments below the cutoff are discarded.
     Mask(f32),
+    /// Blended over what lies behind by its alpha: drawn after lighting, in the forward pass.
+    Blend,
 }
 
 /// PBR metallic-roughness material. Texture indices point into [`Model::textures`].

@@ -32,14 +32,14 @@ pub const SPECULAR_LIGHT: &str = "SpecularLight";
 /// ShadowMask (dynamic casters).
 pub const STATIC_SHADOW_MASK: &str = "StaticShadowMask";
 
-/// Coverage of the translucency drawn after lighting (particles), in [0, 1]: the mask an engine
-/// hands a frame generator. Written, with TranslucencyMotion, only by scenes with particles, and
-/// not among the resolve pass's planes.
+/// Coverage of the translucency drawn after lighting (blended surfaces and particles), in
+/// [0, 1]: the mask an engine hands a frame generator. Written, with TranslucencyMotion, only by
+/// scenes that draw translucency, and not among the resolve pass's planes.
 pub const TRANSLUCENCY_MASK: &str = "TranslucencyMask";
 /// The translucency's own backward motion in pixels, where TranslucencyMask is above 0.
 pub const TRANSLUCENCY_MOTION: &str = "TranslucencyMotion";
-/// The layers the particles' pass adds.
-pub const PARTICLE_LAYERS: [&str; 2] = [TRANSLUCENCY_MASK, TRANSLUCENCY_MOTION];
+/// The layers a scene that draws translucency adds.
+pub const TRANSLUCENCY_LAYERS: [&str; 2] = [TRANSLUCENCY_MASK, TRANSLUCENCY_MOTION];
 
 pub const LAYERS: &[LayerSpec] = &[
     LayerSpec {

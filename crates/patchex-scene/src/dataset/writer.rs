@@ -3,7 +3,7 @@
 use super::reader::frame_file_name;
 use super::{
     write_exr, DynamicObject, FrameInfo, FrameRole, Manifest, SunInfo, LAYERS, MOTION_VECTOR,
-    PARTICLE_LAYERS,
+    TRANSLUCENCY_LAYERS,
 };
 use crate::error::{io_error, Result};
 use crate::gpu::Gpu;
@@ -105,10 +105,10 @@ pub fn render_sequence(
             .iter()
             .map(|layer| layer.name)
             .chain(
-                PARTICLE_LAYERS
+                TRANSLUCENCY_LAYERS
                     .iter()
                     .copied()
-                    .filter(|_| !world.description.particles.is_empty()),
+                    .filter(|_| world.draws_translucency()),
             )
             .map(str::to_owned)
             .collect(),

@@ -116,7 +116,7 @@ pub(crate) fn record_gbuffer_pass(
             &[],
         );
         for batch in inputs.batches {
-            batch.draw(gpu, command_buffer, |draw| {
+            batch.draw_opaque(gpu, command_buffer, |draw| {
                 let material = draw.material as usize;
                 device.cmd_bind_descriptor_sets(
                     command_buffer,

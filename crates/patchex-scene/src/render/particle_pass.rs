@@ -1,16 +1,11 @@
-//! The particles' forward pass, drawn after lighting as an engine draws its translucency: each
-//! particle a camera-facing soft disc, blended back to front over the lit colour, faded where it
-//! nears the opaque surface behind it. It writes what an engine hands a frame generator beside
-//! the colour: the mask of how much of each pixel the particles cover, and their own motion.
-//! Drawn on the CPU from the frame's read-back layers: particles cast no shadow and write no
+//! The particles, drawn after lighting as an engine draws its translucency: each particle a
+//! camera-facing soft disc, blended back to front over the translucent layer, faded where it
+//! nears the opaque surface behind it. Drawn on the CPU: particles cast no shadow and write no
 //! G-buffer, so nothing on the GPU needs them.
 
 use glam::{Vec3, Vec4Swizzles};
 
-use crate::dataset::{
-    FrameLayers, LayerImage, FINAL_IMAGE, FINAL_IMAGE_NO_DYNAMIC_SHADOWS, SCENE_DEPTH,
-    SPECULAR_LIGHT, TRANSLUCENCY_MASK, TRANSLUCENCY_MOTION,
-};
+use super::translucent_layer::TranslucentLayer;
 use crate::scene::{CameraState, Particle};
 
 /// A particle as the screen sees it.
@@ -59,15 +54,16 @@ fn sprite(
     })
 }
 
-/// Blends `particles` over the frame's lit layers, back to front, and adds the translucency
-/// mask and motion layers.
-pub fn draw_particles(
-    layers: &mut FrameLayers,
+/// Draws `particles` over `layer`, back to front, where they lie in front of the opaque surface
+/// at `scene_depth`.
+pub(crate) fn draw_particles(
+    layer: &mut TranslucentLayer,
+    scene_depth: &[f32],
     particles: &[Particle],
     camera: &CameraState,
     previous_camera: &CameraState,
 ) {
-    let (width, height) = (layers.width, layers.height);
+    let (width, height) = (layer.width(), layer.height());
     let size = [width as f32, height as f32];
     let mut sprites: Vec<Sprite> = particles
         .iter()
@@ -76,15 +72,6 @@ pub fn draw_particles(
         .collect();
     sprites.sort_by(|a, b| b.depth.total_cmp(&a.depth));
 
-    let scene_depth = layers.layer(SCENE_DEPTH).plane(0);
-    let mut coverage = vec![0f32; width * height];
-    // Each particle's motion weighted by what it shows of itself in the final pixel.
-    let mut weighted_motion = vec![[0f32; 2]; width * height];
-    let mut colors: Vec<&mut LayerImage> = layers
-        .layers
-        .iter_mut()
-        .filter(|l| l.name == FINAL_IMAGE || l.name == FINAL_IMAGE_NO_DYNAMIC_SHADOWS)
-        .collect();
     for s in &sprites {
         let x0 = (s.centre[0] - s.radius).floor().max(0.0) as usize;
         let y0 = (s.centre[1] - s.radius).floor().max(0.0) as usize;
@@ -105,47 +92,8 @@ pub fn draw_particles(
                 if a <= 0.0 {
                     continue;
                 }
-                for layer in colors.iter_mut() {
-                    let c = &mut layer.data[pixel * 3..pixel * 3 + 3];
-                    for (channel, own) in c.iter_mut().zip(s.color.to_array()) {
-                        *channel = a * own + (1.0 - a) * *channel;
-                    }
-                }
-                coverage[pixel] = a + (1.0 - a) * coverage[pixel];
-                let m = &mut weighted_motion[pixel];
-                m[0] = a * s.motion[0] + (1.0 - a) * m[0];
-                m[1] = a * s.motion[1] + (1.0 - a) * m[1];
+                layer.draw_over(pixel, s.color, a, s.motion);
             }
         }
     }
-    // The view-dependent part of the colour is hidden as much as the rest of it.
-    if let Some(specular) = layers.get_mut(SPECULAR_LIGHT) {
-        for (pixel, c) in specular.data.chunks_mut(3).enumerate() {
-            c.iter_mut().for_each(|v| *v *= 1.0 - coverage[pixel]);
-        }
-    }
-    let motion = weighted_motion
-        .iter()
-        .zip(&coverage)
-        .flat_map(|(m, &a)| {
-            if a > 0.0 {
-                [m[0] / a, m[1] / a]
-            } else {
-                [0.0; 2]
-            }
-        })
-        .collect();
-    let layer = |name: &str, channels: &[&str], data| LayerImage {
-        name: name.to_owned(),
-        channels: channels.iter().map(|c| (*c).to_owned()).collect(),
-        width,
-        height,
-        data,
-    };
-    layers
-        .layers
-        .push(layer(TRANSLUCENCY_MASK, &["R"], coverage));
-    layers
-        .layers
-        .push(layer(TRANSLUCENCY_MOTION, &["R", "G"], motion));
 }

@@ -1,6 +1,8 @@
-//! Descriptor set layouts, pipeline layouts and the three pipelines.
+//! Descriptor set layouts, pipeline layouts and the four pipelines.
 
-use super::targets::{DEPTH_FORMAT, GBUFFER_FORMAT, GBUFFER_TARGETS};
+use super::targets::{
+    DEPTH_FORMAT, FORWARD_FORMAT, FORWARD_TARGETS, GBUFFER_FORMAT, GBUFFER_TARGETS,
+};
 use super::uniforms::MaterialConstants;
 use crate::error::{Result, VkContext};
 use crate::gpu::{shaders, Gpu};
@@ -15,12 +17,16 @@ pub(crate) struct Pipelines {
     pub material_layout: vk::DescriptorSetLayout,
     /// Set 0 of the resolve pass.
     pub resolve_layout: vk::DescriptorSetLayout,
+    /// Set 2 of the forward pass: the two shadow maps.
+    pub shadow_maps_layout: vk::DescriptorSetLayout,
     pub gbuffer_layout: vk::PipelineLayout,
     pub shadow_layout: vk::PipelineLayout,
     pub resolve_pipeline_layout: vk::PipelineLayout,
+    pub forward_layout: vk::PipelineLayout,
     pub gbuffer: vk::Pipeline,
     pub shadow: vk::Pipeline,
     pub resolve: vk::Pipeline,
+    pub forward: vk::Pipeline,
     gpu: Arc<Gpu>,
 }
 
@@ -86,6 +92,13 @@ impl Pipelines {
         resolve_bindings.extend((1..=7).map(|i| binding(i, D::SAMPLED_IMAGE, S::COMPUTE)));
         resolve_bindings.push(binding(8, D::STORAGE_BUFFER, S::COMPUTE));
         let resolve_layout = set_layout(gpu, &resolve_bindings)?;
+        let shadow_maps_layout = set_layout(
+            gpu,
+            &[
+                binding(0, D::SAMPLED_IMAGE, S::FRAGMENT),
+                binding(1, D::SAMPLED_IMAGE, S::FRAGMENT),
+            ],
+        )?;
 
         let gbuffer_layout = pipeline_layout(
             gpu,
@@ -95,20 +108,30 @@ impl Pipelines {
         )?;
         let shadow_layout = pipeline_layout(gpu, &[], S::VERTEX, 64)?;
         let resolve_pipeline_layout = pipeline_layout(gpu, &[resolve_layout], S::COMPUTE, 4)?;
+        let forward_layout = pipeline_layout(
+            gpu,
+            &[frame_layout, material_layout, shadow_maps_layout],
+            S::FRAGMENT,
+            std::mem::size_of::<MaterialConstants>() as u32,
+        )?;
 
-        let gbuffer = graphics_pipeline(gpu, gbuffer_layout, shaders::GBUFFER, true)?;
-        let shadow = graphics_pipeline(gpu, shadow_layout, shaders::SHADOW, false)?;
+        let gbuffer = graphics_pipeline(gpu, gbuffer_layout, shaders::GBUFFER, Raster::GBuffer)?;
+        let shadow = graphics_pipeline(gpu, shadow_layout, shaders::SHADOW, Raster::ShadowDepth)?;
+        let forward = graphics_pipeline(gpu, forward_layout, shaders::FORWARD, Raster::Forward)?;
         let resolve = compute_pipeline(gpu, resolve_pipeline_layout, shaders::RESOLVE)?;
         Ok(Self {
             frame_layout,
             material_layout,
             resolve_layout,
+            shadow_maps_layout,
             gbuffer_layout,
             shadow_layout,
             resolve_pipeline_layout,
+            forward_layout,
             gbuffer,
             shadow,
             resolve,
+            forward,
             gpu: gpu.clone(),
         })
     }
@@ -119,17 +142,23 @@ impl Drop for Pipelines {
         // SAFETY: the renderer waits for the GPU before dropping its parts.
         unsafe {
             let device = &self.gpu.device;
-            for pipeline in [self.gbuffer, self.shadow, self.resolve] {
+            for pipeline in [self.gbuffer, self.shadow, self.resolve, self.forward] {
                 device.destroy_pipeline(pipeline, None);
             }
             for layout in [
                 self.gbuffer_layout,
                 self.shadow_layout,
                 self.resolve_pipeline_layout,
+                self.forward_layout,
             ] {
                 device.destroy_pipeline_layout(layout, None);
             }
-            for layout in [self.frame_layout, self.material_layout, self.resolve_layout] {
+            for layout in [
+                self.frame_layout,
+                self.material_layout,
+                self.resolve_layout,
+                self.shadow_maps_layout,
+            ] {
                 device.destroy_descriptor_set_layout(layout, None);
             }
         }
@@ -149,14 +178,25 @@ fn vertex_attribute(
     }
 }
 
-/// The G-buffer pipeline (all vertex attributes, five colour targets) or the depth-only
-/// shadow pipeline (positions only), both with dynamic rendering.
+/// What a graphics pipeline rasterises into, all with dynamic rendering.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Raster {
+    /// Depth only, from positions alone: the shadow maps.
+    ShadowDepth,
+    /// The five G-buffer targets, writing depth.
+    GBuffer,
+    /// The forward targets, blended back to front ("over", premultiplied), testing the
+    /// G-buffer's depth without writing it.
+    Forward,
+}
+
 fn graphics_pipeline(
     gpu: &Gpu,
     layout: vk::PipelineLayout,
     spirv: &[u8],
-    gbuffer: bool,
+    raster: Raster,
 ) -> Result<vk::Pipeline> {
+    let shaded = raster != Raster::ShadowDepth;
     use std::mem::offset_of;
     use vk::Format as F;
     let module = gpu.create_shader_module(spirv)?;
@@ -164,7 +204,7 @@ fn graphics_pipeline(
         .stage(vk::ShaderStageFlags::VERTEX)
         .module(module)
         .name(c"vs_main")];
-    if gbuffer {
+    if shaded {
         stages.push(
             vk::PipelineShaderStageCreateInfo::default()
                 .stage(vk::ShaderStageFlags::FRAGMENT)
@@ -182,7 +222,7 @@ fn graphics_pipeline(
         F::R32G32B32_SFLOAT,
         offset_of!(Vertex, position),
     )];
-    if gbuffer {
+    if shaded {
         attributes.extend([
             vertex_attribute(1, F::R32G32B32_SFLOAT, offset_of!(Vertex, prev_position)),
             vertex_attribute(2, F::R32G32B32_SFLOAT, offset_of!(Vertex, normal)),
@@ -210,19 +250,34 @@ fn graphics_pipeline(
         .rasterization_samples(vk::SampleCountFlags::TYPE_1);
     let depth_stencil = vk::PipelineDepthStencilStateCreateInfo::default()
         .depth_test_enable(true)
-        .depth_write_enable(true)
+        .depth_write_enable(raster != Raster::Forward)
         .depth_compare_op(vk::CompareOp::LESS);
-    let color_count = if gbuffer { GBUFFER_TARGETS } else { 0 };
-    let blend_attachments = vec![
-        vk::PipelineColorBlendAttachmentState::default()
-            .color_write_mask(vk::ColorComponentFlags::RGBA);
-        color_count
-    ];
+    let (color_format, color_count) = match raster {
+        Raster::ShadowDepth => (GBUFFER_FORMAT, 0),
+        Raster::GBuffer => (GBUFFER_FORMAT, GBUFFER_TARGETS),
+        Raster::Forward => (FORWARD_FORMAT, FORWARD_TARGETS),
+    };
+    let write_all = vk::PipelineColorBlendAttachmentState::default()
+        .color_write_mask(vk::ColorComponentFlags::RGBA);
+    let over = write_all
+        .blend_enable(true)
+        .src_color_blend_factor(vk::BlendFactor::ONE)
+        .dst_color_blend_factor(vk::BlendFactor::ONE_MINUS_SRC_ALPHA)
+        .color_blend_op(vk::BlendOp::ADD)
+        .src_alpha_blend_factor(vk::BlendFactor::ONE)
+        .dst_alpha_blend_factor(vk::BlendFactor::ONE_MINUS_SRC_ALPHA)
+        .alpha_blend_op(vk::BlendOp::ADD);
+    let blend = if raster == Raster::Forward {
+        over
+    } else {
+        write_all
+    };
+    let blend_attachments = vec![blend; color_count];
     let color_blend =
         vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
     let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
     let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
-    let color_formats = vec![GBUFFER_FORMAT; color_count];
+    let color_formats = vec![color_format; color_count];
     let mut rendering = vk::PipelineRenderingCreateInfo::default()
         .color_attachment_formats(&color_formats)
         .depth_attachment_format(DEPTH_FORMAT);

@@ -1,16 +1,20 @@
 //! Owns the GPU side of one world at one resolution and renders frames from it.
 
+use super::forward_pass::{record_forward_pass, ForwardInputs};
 use super::gbuffer_pass::{record_gbuffer_pass, GBufferInputs};
 use super::gpu_batch::GpuBatch;
 use super::materials::GpuMaterials;
 use super::particle_pass::draw_particles;
 use super::pipelines::Pipelines;
 use super::resolve_pass::record_resolve_pass;
-use super::shadow_pass::record_shadow_pass;
-use super::targets::{shadow_map, GBufferTargets, GBUFFER_TARGETS};
+use super::shadow_pass::{record_shadow_pass, SHADOW_READERS};
+use super::targets::{
+    shadow_map, ForwardTargets, GBufferTargets, FORWARD_TARGETS, GBUFFER_TARGETS,
+};
 use super::timings::{Mark, PassTimer, PassTimings};
+use super::translucent_layer::TranslucentLayer;
 use super::uniforms::FrameUniforms;
-use crate::dataset::{FrameLayers, PLANE_COUNT};
+use crate::dataset::{FrameLayers, PLANE_COUNT, SCENE_DEPTH};
 use crate::error::{Result, VkContext};
 use crate::gpu::{Buffer, Gpu, Image};
 use crate::scene::{CameraState, World};
@@ -46,12 +50,15 @@ pub struct Renderer {
     descriptor_pool: vk::DescriptorPool,
     frame_set: vk::DescriptorSet,
     resolve_set: vk::DescriptorSet,
+    shadow_maps_set: vk::DescriptorSet,
     frame_uniforms: Buffer,
     planes: Buffer,
     static_batch: GpuBatch,
     dynamic_batch: GpuBatch,
     materials: GpuMaterials,
     targets: GBufferTargets,
+    /// Made only for worlds with blended surfaces.
+    forward_targets: Option<ForwardTargets>,
     static_shadow: Image,
     dynamic_shadow: Image,
     pipelines: Pipelines,
@@ -69,9 +76,15 @@ impl Renderer {
             &world.materials,
             &world.textures,
         )?;
-        let static_batch = GpuBatch::new(gpu, &world.static_batch)?;
-        let dynamic_batch = GpuBatch::new(gpu, &world.dynamic_batch)?;
+        let static_batch = GpuBatch::new(gpu, &world.static_batch, &world.materials)?;
+        let dynamic_batch = GpuBatch::new(gpu, &world.dynamic_batch, &world.materials)?;
         let targets = GBufferTargets::new(gpu, width, height)?;
+        let forward_targets = if static_batch.blended.is_empty() && dynamic_batch.blended.is_empty()
+        {
+            None
+        } else {
+            Some(ForwardTargets::new(gpu, width, height)?)
+        };
         let static_shadow = shadow_map(gpu, world.sun.shadow_resolution)?;
         let dynamic_shadow = shadow_map(gpu, world.sun.shadow_resolution)?;
         let frame_uniforms = Buffer::new(
@@ -94,7 +107,7 @@ impl Renderer {
             },
             vk::DescriptorPoolSize {
                 ty: vk::DescriptorType::SAMPLED_IMAGE,
-                descriptor_count: 7,
+                descriptor_count: 9,
             },
             vk::DescriptorPoolSize {
                 ty: vk::DescriptorType::STORAGE_BUFFER,
@@ -107,12 +120,16 @@ impl Renderer {
                 .device
                 .create_descriptor_pool(
                     &vk::DescriptorPoolCreateInfo::default()
-                        .max_sets(2)
+                        .max_sets(3)
                         .pool_sizes(&pool_sizes),
                     None,
                 )
                 .vk("vkCreateDescriptorPool")?;
-            let layouts = [pipelines.frame_layout, pipelines.resolve_layout];
+            let layouts = [
+                pipelines.frame_layout,
+                pipelines.resolve_layout,
+                pipelines.shadow_maps_layout,
+            ];
             let sets = gpu
                 .device
                 .allocate_descriptor_sets(
@@ -130,12 +147,14 @@ impl Renderer {
             descriptor_pool,
             frame_set: sets[0],
             resolve_set: sets[1],
+            shadow_maps_set: sets[2],
             frame_uniforms,
             planes,
             static_batch,
             dynamic_batch,
             materials,
             targets,
+            forward_targets,
             static_shadow,
             dynamic_shadow,
             pipelines,
@@ -212,6 +231,15 @@ impl Renderer {
                     .image_info(info),
             );
         }
+        for (binding, info) in image_infos[GBUFFER_TARGETS..].iter().enumerate() {
+            writes.push(
+                vk::WriteDescriptorSet::default()
+                    .dst_set(self.shadow_maps_set)
+                    .dst_binding(binding as u32)
+                    .descriptor_type(vk::DescriptorType::SAMPLED_IMAGE)
+                    .image_info(info),
+            );
+        }
         // SAFETY: every referenced buffer and view is owned by `self`.
         unsafe { self.gpu.device.update_descriptor_sets(&writes, &[]) };
     }
@@ -259,7 +287,7 @@ impl Renderer {
                 &self.dynamic_shadow,
                 &[&self.dynamic_batch],
                 world.sun.light_view_proj,
-                vk::PipelineStageFlags::COMPUTE_SHADER,
+                SHADOW_READERS,
             );
             mark(Mark::ShadowDone);
             record_gbuffer_pass(
@@ -274,6 +302,23 @@ impl Renderer {
                     batches: [&self.static_batch, &self.dynamic_batch],
                 },
             );
+            if let (true, Some(forward)) = (request.lighting, &self.forward_targets) {
+                record_forward_pass(
+                    &gpu,
+                    command_buffer,
+                    &ForwardInputs {
+                        pipelines: &self.pipelines,
+                        gbuffer: &self.targets,
+                        targets: forward,
+                        frame_set: self.frame_set,
+                        shadow_maps_set: self.shadow_maps_set,
+                        gpu_materials: &self.materials,
+                        materials: &world.materials,
+                        batches: [&self.static_batch, &self.dynamic_batch],
+                        camera_position: request.camera.position,
+                    },
+                );
+            }
             mark(Mark::GBufferDone);
             record_resolve_pass(
                 &gpu,
@@ -295,15 +340,46 @@ impl Renderer {
             self.height as usize,
             request.lighting,
         );
-        if request.lighting && !world.description.particles.is_empty() {
+        if request.lighting {
+            if let Some(layer) = self.translucent_layer(world, request, &layers) {
+                layer.composite(&mut layers);
+            }
+        }
+        Ok(layers)
+    }
+}
+
+impl Renderer {
+    /// What the frame draws after lighting: the forward pass's blended surfaces, then the
+    /// particles over them; `None` for a world with neither.
+    fn translucent_layer(
+        &self,
+        world: &World,
+        request: &FrameRequest,
+        layers: &FrameLayers,
+    ) -> Option<TranslucentLayer> {
+        let (width, height) = (self.width as usize, self.height as usize);
+        let mut layer = match &self.forward_targets {
+            Some(targets) => TranslucentLayer::from_forward_targets(
+                &targets
+                    .readback
+                    .read_f32(FORWARD_TARGETS * 4 * width * height),
+                width,
+                height,
+            ),
+            None if world.description.particles.is_empty() => return None,
+            None => TranslucentLayer::new(width, height),
+        };
+        if !world.description.particles.is_empty() {
             draw_particles(
-                &mut layers,
+                &mut layer,
+                &layers.layer(SCENE_DEPTH).plane(0),
                 &world.particles(request.time, request.previous_time),
                 &request.camera,
                 &request.previous_camera,
             );
         }
-        Ok(layers)
+        Some(layer)
     }
 }
 

@@ -1,4 +1,5 @@
-//! Renders casters into a sun shadow map and leaves it readable by the resolve pass.
+//! Renders casters into a sun shadow map and leaves it readable by the resolve and forward
+//! passes.
 
 use super::gpu_batch::GpuBatch;
 use super::pipelines::Pipelines;
@@ -6,6 +7,12 @@ use super::uniforms::light_constants;
 use crate::gpu::{image_barrier, Gpu, Image, ImageTransition};
 use ash::vk;
 use glam::Mat4;
+
+/// The stages that read the shadow maps: the resolve pass and the forward pass.
+pub(crate) const SHADOW_READERS: vk::PipelineStageFlags = vk::PipelineStageFlags::from_raw(
+    vk::PipelineStageFlags::COMPUTE_SHADER.as_raw()
+        | vk::PipelineStageFlags::FRAGMENT_SHADER.as_raw(),
+);
 
 /// `previous_reader` is the stage that last read the map (its contents are discarded).
 pub(crate) fn record_shadow_pass(
@@ -75,7 +82,7 @@ pub(crate) fn record_shadow_pass(
             bytemuck::cast_slice(&constants),
         );
         for batch in casters {
-            batch.draw(gpu, command_buffer, |_| {});
+            batch.draw_opaque(gpu, command_buffer, |_| {});
         }
         device.cmd_end_rendering(command_buffer);
     }
@@ -91,7 +98,7 @@ pub(crate) fn record_shadow_pass(
             ),
             to: (
                 vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-                vk::PipelineStageFlags::COMPUTE_SHADER,
+                SHADOW_READERS,
                 vk::AccessFlags::SHADER_READ,
             ),
         },

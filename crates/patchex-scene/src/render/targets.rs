@@ -1,13 +1,17 @@
-//! Render targets: the five G-buffer colour targets, scene depth, and the two sun shadow maps.
+//! Render targets: the five G-buffer colour targets, scene depth, the two sun shadow maps, and
+//! the forward pass's two targets.
 
 use crate::error::Result;
-use crate::gpu::{Gpu, Image, ImageDesc};
+use crate::gpu::{Buffer, Gpu, Image, ImageDesc};
 use ash::vk;
 use std::sync::Arc;
 
 pub(crate) const GBUFFER_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
 pub(crate) const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 pub(crate) const GBUFFER_TARGETS: usize = 5;
+/// Read back as f32 by the host, like the resolve pass's planes.
+pub(crate) const FORWARD_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
+pub(crate) const FORWARD_TARGETS: usize = 2;
 
 pub(crate) struct GBufferTargets {
     /// base+metallic, normal+roughness, position+depth, motion+stencil+specular, emissive+coverage
@@ -55,4 +59,36 @@ pub(crate) fn shadow_map(gpu: &Arc<Gpu>, resolution: u32) -> Result<Image> {
         },
         "shadow map",
     )
+}
+
+/// The forward pass's targets (premultiplied colour and coverage; weighted motion and
+/// coverage) and the host buffer they are copied into, made only for worlds with blended
+/// surfaces.
+pub(crate) struct ForwardTargets {
+    pub color: Vec<Image>,
+    /// RGBA f32 texels of each target in turn.
+    pub readback: Buffer,
+}
+
+impl ForwardTargets {
+    pub fn new(gpu: &Arc<Gpu>, width: u32, height: u32) -> Result<Self> {
+        let desc = ImageDesc {
+            width,
+            height,
+            mip_levels: 1,
+            format: FORWARD_FORMAT,
+            usage: vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
+            aspect: vk::ImageAspectFlags::COLOR,
+        };
+        let color = (0..FORWARD_TARGETS)
+            .map(|_| Image::new(gpu, desc, "forward target"))
+            .collect::<Result<Vec<_>>>()?;
+        let readback = Buffer::new(
+            gpu,
+            (FORWARD_TARGETS * 16 * width as usize * height as usize) as u64,
+            vk::BufferUsageFlags::TRANSFER_DST,
+            "forward read-back",
+        )?;
+        Ok(Self { color, readback })
+    }
 }

@@ -50,7 +50,7 @@ impl MaterialConstants {
             roughness: material.roughness,
             normal_scale: material.normal_scale,
             alpha_cutoff: match material.alpha_mode {
-                AlphaMode::Opaque => 0.0,
+                AlphaMode::Opaque | AlphaMode::Blend => 0.0,
                 AlphaMode::Mask(cutoff) => cutoff,
             },
             specular: material.specular,

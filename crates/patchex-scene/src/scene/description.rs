@@ -3,6 +3,7 @@
 
 use serde::Deserialize;
 
+use super::glass::GlassDescription;
 use super::particles::EmitterDescription;
 
 #[derive(Clone, Debug, Deserialize)]
@@ -25,6 +26,8 @@ pub struct SceneDescription {
     pub scatter: Vec<ScatterDescription>,
     #[serde(default)]
     pub character: Vec<CharacterDescription>,
+    #[serde(default)]
+    pub glass: Vec<GlassDescription>,
     #[serde(default)]
     pub particles: Vec<EmitterDescription>,
 }

@@ -66,10 +66,20 @@ pub(crate) fn ground_model(ground: &GroundDescription) -> Model {
         // The texture holds the roughness itself.
         material.roughness = 1.0;
     }
+    one_primitive_model("ground", primitive, material, textures)
+}
+
+/// A model of one node holding one primitive of one material.
+pub(crate) fn one_primitive_model(
+    name: &str,
+    primitive: Primitive,
+    material: Material,
+    textures: Vec<TextureData>,
+) -> Model {
     Model {
-        name: "ground".into(),
+        name: name.into(),
         nodes: vec![Node {
-            name: "ground".into(),
+            name: name.into(),
             translation: Vec3::ZERO,
             rotation: Quat::IDENTITY,
             scale: Vec3::ONE,

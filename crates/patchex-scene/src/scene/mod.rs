@@ -5,6 +5,7 @@ mod batch;
 mod camera;
 mod camera_rig;
 mod description;
+mod glass;
 mod ground;
 mod ground_plane;
 mod particles;
@@ -21,6 +22,7 @@ pub use description::{
     CameraDescription, CameraRig, CharacterDescription, GroundDescription, PropDescription,
     ScatterDescription, SceneDescription, ShakeDescription, SunDescription, TilesDescription,
 };
+pub use glass::GlassDescription;
 pub use ground::GroundSurface;
 pub use particles::{EmitterDescription, Particle};
 pub use path::PathMotion;

@@ -165,8 +165,9 @@ const FAMILIES: [Family; 5] = [
     },
 ];
 
-/// Scenes of each family, after its `count`, that also hold particle emitters: every split has
-/// translucency to be scored on, and the scenes before them stay as they were.
+/// Scenes of each family, after its `count`, that also hold particle emitters and panes of
+/// glass: every split has translucency to be scored on, and the scenes before them stay as they
+/// were.
 const PARTICLE_SCENES: usize = 1;
 
 /// The whole set for `seed`: the same seed always gives the same files.
@@ -190,6 +191,7 @@ pub fn generate_set(seed: u64) -> Vec<GeneratedScene> {
             let mut text = scene_text(&mut rng, &name, family, camera, seed);
             if with_particles {
                 particles(&mut rng, &mut text);
+                glass(&mut rng, &mut text);
             }
             scenes.push(GeneratedScene {
                 text,
@@ -244,6 +246,33 @@ fn particles(rng: &mut SplitMix64, text: &mut String) {
         point(color),
         rng.next_u64() % 1_000_000,
     );
+}
+
+/// Three panes of tinted glass around the action, each facing it: the camera looks through some
+/// of them, and at others behind the characters. They reach below the ground so that uneven
+/// ground does not show their bottom edge.
+fn glass(rng: &mut SplitMix64, text: &mut String) {
+    for _ in 0..3 {
+        let angle = range(rng, 0.0, std::f32::consts::TAU);
+        let distance = range(rng, 2.2, 3.5);
+        let tint = [
+            range(rng, 0.55, 0.8),
+            range(rng, 0.7, 0.9),
+            range(rng, 0.75, 0.95),
+        ];
+        *text += &format!(
+            "\n[[glass]]\nposition = {}\nsize = [{:.2}, {:.2}]\nyaw_deg = {:.1}\ncolor = {}\n\
+             opacity = {:.2}\nroughness = {:.2}\n",
+            point([distance * angle.cos(), -0.5, distance * angle.sin()]),
+            range(rng, 1.5, 3.0),
+            range(rng, 2.5, 3.2),
+            // Facing the action: the pane's +z towards the origin.
+            (-angle.cos()).atan2(-angle.sin()).to_degrees(),
+            point(tint),
+            range(rng, 0.2, 0.45),
+            range(rng, 0.03, 0.15),
+        );
+    }
 }
 
 fn scene_text(

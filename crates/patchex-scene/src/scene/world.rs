@@ -9,7 +9,7 @@ use super::path::PathMotion;
 use super::placement::scatter_props;
 use super::sun::{shadow_region, SunLight};
 use super::Vertex;
-use crate::asset::{load_model, Material, Model, Pose, PosedVertex, TextureData};
+use crate::asset::{load_model, AlphaMode, Material, Model, Pose, PosedVertex, TextureData};
 use crate::error::{io_error, Error, Result};
 use glam::{Mat4, Quat, Vec3};
 use std::collections::HashMap;
@@ -138,6 +138,11 @@ impl World {
             let index = cache.insert("(ground)".into(), ground_model(ground));
             instances.push((index, Mat4::IDENTITY, false));
         }
+        for (index, glass) in description.glass.iter().enumerate() {
+            let (model, transform) = glass.model();
+            let index = cache.insert(format!("(glass {index})"), model);
+            instances.push((index, transform, false));
+        }
         for prop in &props {
             let model = cache.get(&prop.asset)?;
             let transform = Mat4::from_scale_rotation_translation(
@@ -252,6 +257,19 @@ impl World {
             )
         });
         Pose::new(model, self.character_transform(character, time), clip).vertices(model, out);
+    }
+
+    /// Whether frames draw anything after lighting: particles, or surfaces of blended materials.
+    pub fn draws_translucency(&self) -> bool {
+        let blended = |batch: &MeshBatch| {
+            batch
+                .draws
+                .iter()
+                .any(|d| self.materials[d.material as usize].alpha_mode == AlphaMode::Blend)
+        };
+        !self.description.particles.is_empty()
+            || blended(&self.static_batch)
+            || blended(&self.dynamic_batch)
     }
 
     /// Every emitter's particles alive at `time`, with their positions at `previous_time`.

@@ -50,8 +50,11 @@ pub struct RenderedSequence {
 }
 
 pub fn render(scene: &str, frames: usize) -> RenderedSequence {
+    render_world(load_world(scene), frames)
+}
+
+pub fn render_world(world: World, frames: usize) -> RenderedSequence {
     let gpu = validated_gpu();
-    let world = load_world(scene);
     let dir = tempfile::tempdir().expect("temporary folder");
     let options = SequenceOptions {
         targets_between: 1,
