@@ -8,6 +8,10 @@
 // remains of the colour, premultiplied by a (held to [0, colour]), kept with a and with the
 // translucency's own motion for place_translucency.wgsl. A covered texel with no uncovered one
 // of its surface in reach keeps its shading, and its layer is a times its colour.
+// A layer the same all around a texel (inside a pane of glass or a fog card) is left in the
+// colour: nothing in it moves that could show, so carried with the surface behind it is right
+// wherever the surface is, and taking it apart would only add the errors of the estimate. Only
+// where the mask changes (smoke, sparks, a pane's edges) is the layer taken apart.
 // #import gbuffer
 // #import surface_match
 // #import tallies
@@ -46,6 +50,10 @@ const BEHIND_MAX_COST: f32 = 9.0;
 // Coverage below this is left in the surface's shading: so faint a layer is not worth an
 // estimate of the surface that may be off by more than it.
 const MIN_COVERAGE: f32 = 0.05;
+// A layer is uniform at a texel where the coverage FLAT_REACH pixels away, in the 8 directions,
+// is within FLAT_TOLERANCE of its own (about two steps of an 8-bit mask).
+const FLAT_REACH: i32 = 8;
+const FLAT_TOLERANCE: f32 = 0.01;
 
 // A setting as this pass branches on it, tied to an image's size so that lavapipe does not
 // compile the shader again for each value (include/warp.wgsl `unspecialised`).
@@ -57,6 +65,21 @@ fn unspecialised(setting: u32) -> u32 {
 fn coverage(s: vec2i) -> Sanitized {
     let a = sanitize_unit(vec3f(textureLoad(mask, s, 0).r, 0.0, 0.0));
     return Sanitized(select(vec3f(0.0), a.value, a.value.x >= MIN_COVERAGE), a.changed);
+}
+
+// Whether the layer at `p`, of coverage `a`, is the same all around it.
+fn uniform_layer(p: vec2i, a: f32) -> bool {
+    let last = vec2i(params.extent) - 1;
+    for (var i = 0; i < 9; i++) {
+        let s = p + FLAT_REACH * vec2i(i % 3 - 1, i / 3 - 1);
+        if (any(s < vec2i(0)) || any(s > last)) {
+            continue;
+        }
+        if (abs(coverage(s).value.x - a) > FLAT_TOLERANCE) {
+            return false;
+        }
+    }
+    return true;
 }
 
 // The shading of the surface behind covered texel `p`: a weighted mean over the uncovered texels
@@ -108,7 +131,10 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
     open_tallies(lane);
     let p = id.xy;
     if (all(p < params.extent)) {
-        let a = coverage(vec2i(p));
+        var a = coverage(vec2i(p));
+        if (a.value.x > 0.0 && uniform_layer(vec2i(p), a.value.x)) {
+            a.value = vec3f(0.0);
+        }
         var changed = a.changed;
         var own = vec2f(0.0);
         if (unspecialised(params.has_motion) != ABSENT) {

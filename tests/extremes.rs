@@ -7,7 +7,8 @@
 //! origin, infinite and out-of-range depth, negative colour, and a near plane the projection
 //! disagrees with (tests/c/extremes_test.c makes the same calls from C). (Colour and material
 //! extremes, black and metallic surfaces, 1x1 and odd sizes and a camera cut are in
-//! `tests/extrapolate.rs`.)
+//! `tests/extrapolate.rs`; the translucency mask's, empty, full, uniform, without its motion and
+//! at every threshold, in `tests/translucency.rs`.)
 
 mod support;
 

@@ -1,8 +1,9 @@
 //! What is drawn over the surfaces (`PatchexTranslucencyInput`) on lavapipe through the C ABI:
 //! taken apart from frame t's surfaces and placed at the target by its own motion, against the
-//! plain-Rust reference on frames of the scene renderer (smoke and sparks over a moving camera
-//! and animated characters), with and without the particles' own motion; the gain where they
-//! are; the extremes of the mask; and bad inputs sanitised and counted or refused.
+//! plain-Rust reference on frames of the scene renderer (smoke, sparks and panes of glass over a
+//! moving camera and animated characters), with and without the translucency's own motion; the
+//! gain where the particles are; the extremes of the mask (empty, full, uniform, and values at
+//! every threshold); and bad inputs sanitised and counted or refused.
 //!
 //! Tolerance: the colour tolerance of `support/pipeline.rs` (2e-3 relative plus 1e-4),
 //! loosened to 1e-3 absolute: the surface behind is a weighted mean of exponentials whose last
@@ -23,9 +24,18 @@ use support::pipeline::{inputs, psnr, read_image, worst_output_error};
 use support::scene::{Frame, Scene};
 use support::*;
 
-/// A generated validation scene with a smoke column and sparks among its characters, under a
-/// moving camera.
+/// A generated validation scene with a smoke column, sparks and panes of glass among its
+/// characters, under a moving camera.
 const SCENE: &str = "generated/autumn_07.toml";
+
+/// What the frames show over the surfaces.
+#[derive(Clone, Copy)]
+enum Content {
+    /// The scene as it is: particles and glass.
+    Everything,
+    /// The particles alone, the scene's glass taken out.
+    Particles,
+}
 
 /// Frame t and the instant halfway to t+1 (frames 2 and 3 of the doubled stream), with frame t's
 /// translucency mask and motion and the target's mask.
@@ -37,17 +47,25 @@ struct Frames {
     target_mask: Image,
 }
 
-fn rendered_frames(width: u32, height: u32) -> Frames {
-    let sequence = support::rendered::render(SCENE, 4, width, height);
+fn rendered_frames(width: u32, height: u32, content: Content) -> Frames {
+    let mut world = support::rendered::load(SCENE);
+    if let Content::Particles = content {
+        let mut description = world.description.clone();
+        description.glass.clear();
+        world =
+            patchex_scene::World::from_description(description, &support::rendered::assets_dir())
+                .expect("the scene without its glass loads");
+    }
+    let sequence = support::rendered::render_world(&world, 4, width, height);
     let mut translucency = sequence.translucency.into_iter().skip(2);
     let (mask, motion) = translucency
         .next()
         .flatten()
-        .expect("the scene has particles");
+        .expect("the scene draws translucency");
     let (target_mask, _) = translucency
         .next()
         .flatten()
-        .expect("the scene has particles");
+        .expect("the scene draws translucency");
     let mut frames = sequence.frames.into_iter().skip(2);
     Frames {
         source: frames.next().expect("frame 2"),
@@ -164,7 +182,7 @@ fn assert_matches_reference(frames: &Frames, mask: &Image, motion: &Image, with:
 
 #[test]
 fn translucency_passes_match_their_references_with_and_without_their_motion() {
-    let frames = rendered_frames(128, 72);
+    let frames = rendered_frames(128, 72, Content::Everything);
     for with in [With::Mask, With::MaskAndMotion] {
         let outcome = assert_matches_reference(&frames, &frames.mask, &frames.motion, with);
         let ran = outcome.stats.extrapolations[0].stages_run & 1 << PATCHEX_STAGE_TRANSLUCENCY;
@@ -173,10 +191,11 @@ fn translucency_passes_match_their_references_with_and_without_their_motion() {
 }
 
 /// Where the particles are, in frame t or at the target, the mask and their motion bring the
-/// output closer to the rendered target than smoke carried as the surfaces behind it.
+/// output closer to the rendered target than smoke carried as the surfaces behind it. (Panes of
+/// glass, which the warp already carries well, gain less: the guides measure them.)
 #[test]
 fn the_mask_brings_the_particles_closer_to_the_rendered_target() {
-    let frames = rendered_frames(320, 180);
+    let frames = rendered_frames(320, 180, Content::Particles);
     let covered: Vec<usize> = (0..frames.mask.data.len())
         .filter(|&i| frames.mask.data[i] > 0.02 || frames.target_mask.data[i] > 0.02)
         .collect();
@@ -209,28 +228,48 @@ fn the_mask_brings_the_particles_closer_to_the_rendered_target() {
     );
 }
 
-/// An empty mask changes nothing: the frame is the one without the input, bit for bit. A full
-/// mask, which leaves no uncovered texel to see the surfaces by, keeps the colour as the
-/// surfaces' and matches the reference.
+/// An empty mask changes nothing: the frame is the one without the input, bit for bit; nor does a
+/// full mask or one as uniform as a pane of glass filling the view, which is left in the colour
+/// and carried with the surfaces behind it.
 #[test]
-fn an_empty_mask_changes_nothing_and_a_full_one_keeps_the_colour() {
-    let frames = rendered_frames(96, 54);
+fn an_empty_full_or_uniform_mask_changes_nothing() {
+    let frames = rendered_frames(96, 54, Content::Everything);
     let (width, height) = (frames.mask.width, frames.mask.height);
-    let empty = Image::new(width, height, 1);
-    assert_eq!(
-        run(&frames, &empty, &frames.motion, With::MaskAndMotion).output,
-        run(&frames, &empty, &frames.motion, With::Nothing).output
-    );
-    let mut full = Image::new(width, height, 1);
-    full.data.fill(1.0);
-    assert_matches_reference(&frames, &full, &frames.motion, With::MaskAndMotion);
+    let without = run(&frames, &frames.mask, &frames.motion, With::Nothing).output;
+    for coverage in [0.0, 1.0, 0.3] {
+        let mut mask = Image::new(width, height, 1);
+        mask.data.fill(coverage);
+        let with = assert_matches_reference(&frames, &mask, &frames.motion, With::MaskAndMotion);
+        assert_eq!(with.output, without, "a mask of {coverage} everywhere");
+    }
+}
+
+/// Coverage on each side of every threshold the passes hold it to (the least taken apart, the
+/// uniform test's tolerance, subnormal, 1 and just under), and motion at and past what a half
+/// float holds, match the reference and leave the output finite.
+#[test]
+fn mask_and_motion_at_their_thresholds_match_the_reference() {
+    let frames = rendered_frames(96, 54, Content::Everything);
+    let (mut mask, mut motion) = (frames.mask.clone(), frames.motion.clone());
+    let coverages = [0.05 - 1e-6, 0.05, 1e-40, 1.0 - 1e-7, 1.0, 0.3, 0.31, 0.2999];
+    let motions = [65504.0, -65504.0, 65520.0, 1e-8, -0.5];
+    for (i, value) in mask.data.iter_mut().enumerate().step_by(3) {
+        *value = coverages[(i / 3) % coverages.len()];
+    }
+    for (i, value) in motion.data.iter_mut().enumerate().step_by(5) {
+        *value = motions[(i / 5) % motions.len()];
+    }
+    let outcome = assert_matches_reference(&frames, &mask, &motion, With::MaskAndMotion);
+    assert!(outcome.output.data.iter().all(|v| v.is_finite()));
+    let outcome = assert_matches_reference(&frames, &mask, &motion, With::Mask);
+    assert!(outcome.output.data.iter().all(|v| v.is_finite()));
 }
 
 /// NaN, infinite and out-of-range coverage and motion are sanitised and counted as the
 /// reference counts them, and the output stays finite.
 #[test]
 fn bad_mask_and_motion_are_sanitised_and_counted() {
-    let frames = rendered_frames(96, 54);
+    let frames = rendered_frames(96, 54, Content::Everything);
     let (mut mask, mut motion) = (frames.mask.clone(), frames.motion.clone());
     let bad = [f32::NAN, f32::INFINITY, -0.5, 1.5, f32::NEG_INFINITY];
     let covered: Vec<usize> = (0..mask.data.len())

@@ -13,6 +13,8 @@ const BEHIND_RADIUS: i32 = 48;
 const BEHIND_STEP: usize = 8;
 const BEHIND_MAX_COST: f32 = 9.0;
 const MIN_COVERAGE: f32 = 0.05;
+const FLAT_REACH: i32 = 8;
+const FLAT_TOLERANCE: f32 = 0.01;
 const MOTION_SEARCH_STEP: i32 = 2;
 
 /// A `PatchexTranslucencyInput`: the mask, and the motion vectors with their scale.
@@ -48,6 +50,16 @@ pub struct Separated {
 fn coverage(mask: &Image, x: usize, y: usize) -> (f32, bool) {
     let (v, changed) = sanitize(Vec3::new(mask.at(x, y)[0], 0.0, 0.0), 0.0, 1.0);
     (if v.x >= MIN_COVERAGE { v.x } else { 0.0 }, changed)
+}
+
+/// `uniform_layer`: whether the coverage FLAT_REACH pixels away in every direction is `a`'s.
+fn uniform_layer(mask: &Image, p: IVec2, a: f32) -> bool {
+    let last = IVec2::new(mask.width as i32, mask.height as i32) - 1;
+    (0..9).all(|i| {
+        let s = p + FLAT_REACH * IVec2::new(i % 3 - 1, i / 3 - 1);
+        let outside = s.cmplt(IVec2::ZERO).any() || s.cmpgt(last).any();
+        outside || (coverage(mask, s.x as usize, s.y as usize).0 - a).abs() <= FLAT_TOLERANCE
+    })
 }
 
 /// `shading_behind`: the weighted mean shading of the uncovered texels of p's object around it.
@@ -101,7 +113,11 @@ pub fn separate(shading: &Image, inputs: &SourceTranslucency) -> Separated {
     };
     for y in 0..height {
         for x in 0..width {
-            let (a, mut changed) = coverage(inputs.mask, x, y);
+            let p = IVec2::new(x as i32, y as i32);
+            let (mut a, mut changed) = coverage(inputs.mask, x, y);
+            if a > 0.0 && uniform_layer(inputs.mask, p, a) {
+                a = 0.0;
+            }
             let mut own = Vec2::ZERO;
             if let Some((motion, scale)) = inputs.motion {
                 let stored = Vec2::from_slice(motion.at(x, y)) * Vec2::from(scale);
@@ -116,9 +132,7 @@ pub fn separate(shading: &Image, inputs: &SourceTranslucency) -> Separated {
                     sanitize_input_color(Vec3::from_slice(&inputs.color.at(x, y)[..3]));
                 changed |= color_changed;
                 let mut surface = c;
-                if let Some(behind) =
-                    shading_behind(shading, inputs, IVec2::new(x as i32, y as i32))
-                {
+                if let Some(behind) = shading_behind(shading, inputs, p) {
                     let (factor, _) = pixel_modulation(inputs.base_color, inputs.material, x, y);
                     surface = (behind * factor).min(Vec3::splat(MAX_HALF));
                     out.shading

@@ -18,14 +18,29 @@ use super::scene::Frame;
 pub struct RenderedSequence {
     pub manifest: Manifest,
     pub frames: Vec<Frame>,
-    /// Each frame's translucency mask (1 channel) and motion (2), in a scene with particles.
+    /// Each frame's translucency mask (1 channel) and motion (2), in a scene that draws
+    /// translucency.
     pub translucency: Vec<Option<(Image, Image)>>,
+}
+
+/// The repository's assets folder.
+pub fn assets_dir() -> std::path::PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("assets")
+}
+
+/// The world of `scenes/<scene_file>`.
+pub fn load(scene_file: &str) -> World {
+    let repo = Path::new(env!("CARGO_MANIFEST_DIR"));
+    World::load(&repo.join("scenes").join(scene_file), None).expect("scene loads")
 }
 
 /// Renders `frames` frames of `scenes/<scene_file>` at `width` x `height` under validation.
 pub fn render(scene_file: &str, frames: usize, width: u32, height: u32) -> RenderedSequence {
-    let repo = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let world = World::load(&repo.join("scenes").join(scene_file), None).expect("scene loads");
+    render_world(&load(scene_file), frames, width, height)
+}
+
+/// Renders `frames` frames of `world` at `width` x `height` under validation.
+pub fn render_world(world: &World, frames: usize, width: u32, height: u32) -> RenderedSequence {
     let gpu = Arc::new(Gpu::new(GpuOptions { validation: true }).expect("renderer device"));
     let dir = tempfile::tempdir().expect("temporary folder");
     let options = SequenceOptions {
@@ -35,7 +50,7 @@ pub fn render(scene_file: &str, frames: usize, width: u32, height: u32) -> Rende
         height,
         out_dir: dir.path().to_path_buf(),
     };
-    render_sequence(&gpu, &world, &options, &mut |_, _| {}).expect("scene renders");
+    render_sequence(&gpu, world, &options, &mut |_, _| {}).expect("scene renders");
     let messages = gpu.take_validation_messages();
     assert!(messages.is_empty(), "renderer validation: {messages:?}");
     let dataset = Dataset::open(dir.path()).expect("dataset opens");
