@@ -8,10 +8,12 @@
 // remains of the colour, premultiplied by a (held to [0, colour]), kept with a and with the
 // translucency's own motion for place_translucency.wgsl. A covered texel with no uncovered one
 // of its surface in reach keeps its shading, and its layer is a times its colour.
-// A layer the same all around a texel (inside a pane of glass or a fog card) is left in the
-// colour: nothing in it moves that could show, so carried with the surface behind it is right
-// wherever the surface is, and taking it apart would only add the errors of the estimate. Only
-// where the mask changes (smoke, sparks, a pane's edges) is the layer taken apart.
+// A layer is left in the colour, carried with the surface behind it, where that is right already
+// and taking it apart would only add the estimate's errors: where it is the same all around a
+// texel (inside a pane of glass or a fog card), since nothing in it moves that could show, and
+// where its own motion is the surface's to within half a pixel a frame. Only where the mask
+// changes (smoke, sparks, a pane's edges) and moves otherwise than the surface behind it is the
+// layer taken apart.
 // #import gbuffer
 // #import surface_match
 // #import tallies
@@ -22,6 +24,9 @@ struct Params {
     has_motion: u32,
     // Turns the engine's translucency motion vectors into backward motion in pixels.
     motion_scale: vec2f,
+    // The same for frame t's geometry motion vectors, when it came with them.
+    surface_motion_scale: vec2f,
+    has_surface_motion: u32,
 }
 var<immediate> params: Params;
 
@@ -40,6 +45,8 @@ var<immediate> params: Params;
 @group(0) @binding(8) var source_depth: texture_2d<f32>;
 @group(0) @binding(9) var source_normal_id: texture_2d<u32>;
 @group(0) @binding(10) var<storage, read_write> counters: SanitizeCounters;
+// Frame t's geometry motion vectors: where the surfaces behind the layer move.
+@group(0) @binding(11) var surface_motion: texture_2d<f32>;
 
 // The window's radius and tap spacing, in pixels.
 const BEHIND_RADIUS: i32 = 48;
@@ -54,6 +61,9 @@ const MIN_COVERAGE: f32 = 0.05;
 // is within FLAT_TOLERANCE of its own (about two steps of an 8-bit mask).
 const FLAT_REACH: i32 = 8;
 const FLAT_TOLERANCE: f32 = 0.01;
+// A layer moving with the surface behind it to within this many pixels a frame is left in the
+// colour (chosen on validation among 0.1, 0.25, 0.5 and 1).
+const SAME_MOTION: f32 = 0.5;
 
 // A setting as this pass branches on it, tied to an image's size so that lavapipe does not
 // compile the shader again for each value (include/warp.wgsl `unspecialised`).
@@ -143,6 +153,12 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
             let usable = all(abs(stored) <= vec2f(MAX_HALF));
             own = select(vec2f(0.0), to_half(vec3f(stored, 0.0)).xy, usable);
             changed = changed || (a.value.x > 0.0 && !usable);
+            if (unspecialised(params.has_surface_motion) != ABSENT) {
+                let surface = textureLoad(surface_motion, p, 0).xy * params.surface_motion_scale;
+                if (usable && length(own - surface) <= SAME_MOTION) {
+                    a.value = vec3f(0.0);
+                }
+            }
         }
         var over = vec4f(0.0);
         if (a.value.x > 0.0) {

@@ -510,8 +510,10 @@ pub struct PatchexSunLight {
 /// and keeps the rest as a premultiplied layer over it: colour = layer + (1 - mask) * surface.
 /// At the target, it moves that layer by its own motion, extrapolated at constant velocity to
 /// the target instant, or, without motion vectors of its own, as the target's motion vectors say
-/// the surface behind it moves; then blends it over the extrapolated frame. A fully covered
-/// region far from any uncovered texel keeps its colour as the surface's.
+/// the surface behind it moves; then blends it over the extrapolated frame. A layer the same all
+/// around a pixel (inside a pane of glass, a full-screen tint), one whose own motion is that of
+/// the surface behind it (given frame t's geometry motion vectors), and a fully covered region
+/// far from any uncovered texel stay in the colour and move with the surface behind them.
 ///
 /// What an engine provides, after the conventions of FSR's transparency-and-composition mask:
 /// the mask's first channel is the opacity with which everything drawn after the G-buffer's

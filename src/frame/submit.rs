@@ -81,6 +81,12 @@ impl Context {
                     Some(motion) => Some((access.read(motion)?, input.motion_vector_scale)),
                     None => None,
                 },
+                match &inputs.geometry.motion_vectors {
+                    Some(motion) => {
+                        Some((access.read(motion)?, inputs.geometry.motion_vector_scale))
+                    }
+                    None => None,
+                },
             )),
             None => None,
         };
@@ -186,18 +192,20 @@ impl Context {
             let images = self.images.highlights.as_ref().expect("allocated above");
             (highlights, images)
         });
-        let translucency =
-            translucency_images.map(|(mask, motion)| translucency::SourceTranslucency {
+        let translucency = translucency_images.map(|(mask, motion, surface_motion)| {
+            translucency::SourceTranslucency {
                 color,
                 base_color,
                 material,
                 mask,
                 motion,
+                surface_motion,
                 placeholder,
                 source_depth: &work[WorkImages::SOURCE_DEPTH],
                 source_normal_id: &work[WorkImages::SOURCE_NORMAL_ID],
                 sanitized: passes.counters(counters::SANITIZE, SANITIZE_COUNTER_BYTES),
-            });
+            }
+        });
         let plan = SubmitPlan {
             extent: inputs.extent,
             passes,

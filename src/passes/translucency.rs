@@ -20,6 +20,8 @@ pub struct SourceTranslucency<'a> {
     pub mask: Texture,
     /// `PatchexTranslucencyInput.motion_vectors`, with its scale.
     pub motion: Option<(Texture, [f32; 2])>,
+    /// Frame t's geometry motion vectors, with their scale, when it came with them.
+    pub surface_motion: Option<(Texture, [f32; 2])>,
     pub placeholder: Texture,
     pub source_depth: &'a OwnedImage,
     pub source_normal_id: &'a OwnedImage,
@@ -59,12 +61,21 @@ pub fn record_separation(
             .image(binding::SOURCE_DEPTH, inputs.source_depth)
             .image(binding::SOURCE_NORMAL_ID, inputs.source_normal_id)
             .buffer(binding::COUNTERS, &inputs.sanitized)
+            .image(
+                binding::SURFACE_MOTION,
+                inputs
+                    .surface_motion
+                    .map_or(inputs.placeholder, |(motion, _)| motion),
+            )
     });
     let params = separate_translucency::Params {
         extent: [extent.width, extent.height],
         has_material: inputs.material.is_some() as u32,
         has_motion: inputs.motion.is_some() as u32,
         motion_scale: inputs.motion.map_or([0.0; 2], |(_, scale)| scale),
+        surface_motion_scale: inputs.surface_motion.map_or([0.0; 2], |(_, scale)| scale),
+        has_surface_motion: inputs.surface_motion.is_some() as u32,
+        _pad_end: [0; 4],
     };
     rec.dispatch(&bound, &params, extent);
 }

@@ -189,6 +189,7 @@ pub fn extrapolate(
                 material: source.material,
                 mask: input.mask,
                 motion: input.motion,
+                surface_motion: source.motion.map(|m| (m, source.motion_vector_scale)),
                 geometry: &source_packed.geometry,
                 normal_id: &source_packed.normal_id,
             },

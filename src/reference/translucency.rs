@@ -15,6 +15,7 @@ const BEHIND_MAX_COST: f32 = 9.0;
 const MIN_COVERAGE: f32 = 0.05;
 const FLAT_REACH: i32 = 8;
 const FLAT_TOLERANCE: f32 = 0.01;
+const SAME_MOTION: f32 = 0.5;
 const MOTION_SEARCH_STEP: i32 = 2;
 
 /// A `PatchexTranslucencyInput`: the mask, and the motion vectors with their scale.
@@ -32,6 +33,8 @@ pub struct SourceTranslucency<'a> {
     pub mask: &'a Image,
     /// The motion vectors and their scale.
     pub motion: Option<(&'a Image, [f32; 2])>,
+    /// Frame t's geometry motion vectors and their scale, when it came with them.
+    pub surface_motion: Option<(&'a Image, [f32; 2])>,
     /// Frame t's packed G-buffer: (position, linear depth) and (normal, object id).
     pub geometry: &'a Image,
     pub normal_id: &'a Image,
@@ -126,6 +129,12 @@ pub fn separate(shading: &Image, inputs: &SourceTranslucency) -> Separated {
                     own = Vec2::new(round_to_f16(stored.x), round_to_f16(stored.y));
                 }
                 changed |= a > 0.0 && !usable;
+                if let Some((surface_motion, scale)) = inputs.surface_motion {
+                    let surface = Vec2::from_slice(surface_motion.at(x, y)) * Vec2::from(scale);
+                    if usable && (own - surface).length() <= SAME_MOTION {
+                        a = 0.0;
+                    }
+                }
             }
             if a > 0.0 {
                 let (c, color_changed) =
