@@ -6,8 +6,7 @@ use super::gpu_batch::{draw_indexed, GpuBatch};
 use super::materials::GpuMaterials;
 use super::pipelines::Pipelines;
 use super::shadow_pass::set_viewport;
-use super::targets::{ForwardTargets, GBufferTargets};
-use super::uniforms::MaterialConstants;
+use super::targets::{cleared_attachments, ForwardTargets, GBufferTargets};
 use crate::asset::Material;
 use crate::gpu::{image_barrier, Gpu, ImageTransition};
 use ash::vk;
@@ -74,19 +73,7 @@ pub(crate) fn record_forward_pass(
         width: depth.desc.width,
         height: depth.desc.height,
     };
-    let color_attachments: Vec<vk::RenderingAttachmentInfo> = targets
-        .iter()
-        .map(|image| {
-            vk::RenderingAttachmentInfo::default()
-                .image_view(image.view)
-                .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-                .load_op(vk::AttachmentLoadOp::CLEAR)
-                .store_op(vk::AttachmentStoreOp::STORE)
-                .clear_value(vk::ClearValue {
-                    color: vk::ClearColorValue { float32: [0.0; 4] },
-                })
-        })
-        .collect();
+    let color_attachments = cleared_attachments(&inputs.targets.color);
     let depth_attachment = vk::RenderingAttachmentInfo::default()
         .image_view(depth.view)
         .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
@@ -146,23 +133,9 @@ pub(crate) fn record_forward_pass(
                 inputs.batches[batch].bind(gpu, command_buffer);
                 bound = Some(batch);
             }
-            let material = draw.material as usize;
-            device.cmd_bind_descriptor_sets(
-                command_buffer,
-                vk::PipelineBindPoint::GRAPHICS,
-                layout,
-                1,
-                &[inputs.gpu_materials.sets[material]],
-                &[],
-            );
-            let constants = MaterialConstants::new(&inputs.materials[material], draw.stencil);
-            device.cmd_push_constants(
-                command_buffer,
-                layout,
-                vk::ShaderStageFlags::FRAGMENT,
-                0,
-                bytemuck::bytes_of(&constants),
-            );
+            inputs
+                .gpu_materials
+                .bind(gpu, command_buffer, layout, inputs.materials, draw);
             draw_indexed(gpu, command_buffer, draw);
         }
         device.cmd_end_rendering(command_buffer);

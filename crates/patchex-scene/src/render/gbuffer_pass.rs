@@ -4,8 +4,7 @@ use super::gpu_batch::GpuBatch;
 use super::materials::GpuMaterials;
 use super::pipelines::Pipelines;
 use super::shadow_pass::set_viewport;
-use super::targets::GBufferTargets;
-use super::uniforms::MaterialConstants;
+use super::targets::{cleared_attachments, GBufferTargets};
 use crate::asset::Material;
 use crate::gpu::{image_barrier, Gpu, ImageTransition};
 use ash::vk;
@@ -66,20 +65,7 @@ pub(crate) fn record_gbuffer_pass(
         width: targets.depth.desc.width,
         height: targets.depth.desc.height,
     };
-    let color_attachments: Vec<vk::RenderingAttachmentInfo> = targets
-        .color
-        .iter()
-        .map(|image| {
-            vk::RenderingAttachmentInfo::default()
-                .image_view(image.view)
-                .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-                .load_op(vk::AttachmentLoadOp::CLEAR)
-                .store_op(vk::AttachmentStoreOp::STORE)
-                .clear_value(vk::ClearValue {
-                    color: vk::ClearColorValue { float32: [0.0; 4] },
-                })
-        })
-        .collect();
+    let color_attachments = cleared_attachments(&targets.color);
     let depth_attachment = vk::RenderingAttachmentInfo::default()
         .image_view(targets.depth.view)
         .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
@@ -117,22 +103,12 @@ pub(crate) fn record_gbuffer_pass(
         );
         for batch in inputs.batches {
             batch.draw_opaque(gpu, command_buffer, |draw| {
-                let material = draw.material as usize;
-                device.cmd_bind_descriptor_sets(
-                    command_buffer,
-                    vk::PipelineBindPoint::GRAPHICS,
-                    pipelines.gbuffer_layout,
-                    1,
-                    &[inputs.gpu_materials.sets[material]],
-                    &[],
-                );
-                let constants = MaterialConstants::new(&inputs.materials[material], draw.stencil);
-                device.cmd_push_constants(
+                inputs.gpu_materials.bind(
+                    gpu,
                     command_buffer,
                     pipelines.gbuffer_layout,
-                    vk::ShaderStageFlags::FRAGMENT,
-                    0,
-                    bytemuck::bytes_of(&constants),
+                    inputs.materials,
+                    draw,
                 );
             });
         }

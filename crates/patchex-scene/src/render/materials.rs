@@ -1,8 +1,10 @@
 //! Material textures on the GPU and one descriptor set per material.
 
+use super::uniforms::MaterialConstants;
 use crate::asset::{Material, TextureData, TextureRole};
 use crate::error::{Result, VkContext};
 use crate::gpu::{image_barrier, Buffer, Gpu, Image, ImageDesc, ImageTransition};
+use crate::scene::Draw;
 use ash::vk;
 use std::sync::Arc;
 
@@ -123,6 +125,40 @@ impl GpuMaterials {
             _textures: images,
             gpu: gpu.clone(),
         })
+    }
+}
+
+impl GpuMaterials {
+    /// Binds `draw`'s material (set 1 and the push constants of `layout`, whose fragment stage
+    /// reads `Material` in shaders/include/material.wgsl).
+    pub fn bind(
+        &self,
+        gpu: &Gpu,
+        command_buffer: vk::CommandBuffer,
+        layout: vk::PipelineLayout,
+        materials: &[Material],
+        draw: &Draw,
+    ) {
+        let material = draw.material as usize;
+        let constants = MaterialConstants::new(&materials[material], draw.stencil);
+        // SAFETY: recording, with a pipeline of `layout` bound; the set is alive.
+        unsafe {
+            gpu.device.cmd_bind_descriptor_sets(
+                command_buffer,
+                vk::PipelineBindPoint::GRAPHICS,
+                layout,
+                1,
+                &[self.sets[material]],
+                &[],
+            );
+            gpu.device.cmd_push_constants(
+                command_buffer,
+                layout,
+                vk::ShaderStageFlags::FRAGMENT,
+                0,
+                bytemuck::bytes_of(&constants),
+            );
+        }
     }
 }
 

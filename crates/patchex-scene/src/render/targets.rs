@@ -92,3 +92,20 @@ impl ForwardTargets {
         Ok(Self { color, readback })
     }
 }
+
+/// Colour attachments of `images`, cleared to zero and stored.
+pub(crate) fn cleared_attachments(images: &[Image]) -> Vec<vk::RenderingAttachmentInfo<'static>> {
+    images
+        .iter()
+        .map(|image| {
+            vk::RenderingAttachmentInfo::default()
+                .image_view(image.view)
+                .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+                .load_op(vk::AttachmentLoadOp::CLEAR)
+                .store_op(vk::AttachmentStoreOp::STORE)
+                .clear_value(vk::ClearValue {
+                    color: vk::ClearColorValue { float32: [0.0; 4] },
+                })
+        })
+        .collect()
+}
