@@ -302,7 +302,8 @@ impl Renderer {
                     batches: [&self.static_batch, &self.dynamic_batch],
                 },
             );
-            if let (true, Some(forward)) = (request.lighting, &self.forward_targets) {
+            let forward = self.forward_targets.as_ref().filter(|_| request.lighting);
+            if let Some(forward) = forward {
                 record_forward_pass(
                     &gpu,
                     command_buffer,
@@ -347,9 +348,7 @@ impl Renderer {
         }
         Ok(layers)
     }
-}
 
-impl Renderer {
     /// What the frame draws after lighting: the forward pass's blended surfaces, then the
     /// particles over them; `None` for a world with neither.
     fn translucent_layer(
