@@ -101,14 +101,15 @@ impl TranslucentLayer {
                 }
             })
             .collect();
+        let (width, height) = (self.width, self.height);
         let layer = |name: &str, channels: &[&str], data| LayerImage {
             name: name.to_owned(),
             channels: channels.iter().map(|c| (*c).to_owned()).collect(),
-            width: self.width,
-            height: self.height,
+            width,
+            height,
             data,
         };
-        let mask = layer(TRANSLUCENCY_MASK, &["R"], self.coverage.clone());
+        let mask = layer(TRANSLUCENCY_MASK, &["R"], self.coverage);
         let motion = layer(TRANSLUCENCY_MOTION, &["R", "G"], motion);
         layers.layers.extend([mask, motion]);
     }
