@@ -4,13 +4,18 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
+use patchex::abi::PatchexFrameStats;
+
 use crate::frame_generation::Readback;
 
-/// One generated instant's scores, in dB.
+/// One generated instant's scores, in dB, and what patchex reported of it.
 pub struct Score {
     pub instant: u64,
     pub generated: f64,
     pub repeated: f64,
+    pub hole_fraction: f32,
+    /// GPU milliseconds of patchex's passes: the frame's submit and the extrapolation.
+    pub gpu_ms: f32,
 }
 
 #[derive(Default)]
@@ -33,6 +38,7 @@ impl Check {
         &mut self,
         instant: u64,
         images: Vec<(Readback, Image)>,
+        stats: Option<&PatchexFrameStats>,
         strip_instant: u64,
     ) -> Result<(), String> {
         let find = |what| {
@@ -46,10 +52,11 @@ impl Check {
             self.frame_t = Some(rendered.tone_mapped());
             return Ok(());
         }
-        let (Some(truth), Some(generated), Some(frame_t)) = (
+        let (Some(truth), Some(generated), Some(frame_t), Some(stats)) = (
             find(Readback::Truth),
             find(Readback::Generated),
             self.frame_t.as_ref(),
+            stats,
         ) else {
             return Err(format!(
                 "instant {instant}: no frame t, truth or generated frame to score"
@@ -65,6 +72,12 @@ impl Check {
             instant,
             generated: psnr(generated_error, truth.len() as f64),
             repeated: psnr(repeated_error, truth.len() as f64),
+            hole_fraction: stats.extrapolations[0].hole_fraction,
+            gpu_ms: stats
+                .submit_gpu_ms
+                .iter()
+                .chain(&stats.extrapolations[0].gpu_ms)
+                .sum(),
         });
         if instant == strip_instant {
             self.strip = Some([frame_t.clone(), generated, truth]);
@@ -81,17 +94,39 @@ impl Check {
     }
 
     pub fn report(&self) -> String {
-        let mut text =
-            String::from("| instant | patchex (dB) | repeating frame t (dB) |\n|---|---|---|\n");
+        let mut text = format!(
+            "Each generated instant against Bevy's own rendering of it, {}x{}, PSNR of tone-mapped \
+             colour; holes and patchex's GPU time (its submit and extrapolation, from timestamp \
+             queries) as patchex reports them.\n\n\
+             | instant | patchex (dB) | repeating frame t (dB) | holes | patchex GPU ms |\n\
+             |---|---|---|---|---|\n",
+            self.width, self.height
+        );
         for score in &self.scores {
             let _ = writeln!(
                 text,
-                "| {} | {:.2} | {:.2} |",
-                score.instant, score.generated, score.repeated
+                "| {} | {:.2} | {:.2} | {:.1}% | {:.2} |",
+                score.instant,
+                score.generated,
+                score.repeated,
+                100.0 * score.hole_fraction,
+                score.gpu_ms
             );
         }
         let (generated, repeated) = self.pooled();
-        let _ = writeln!(text, "| pooled | {generated:.2} | {repeated:.2} |");
+        let count = self.scores.len().max(1) as f32;
+        let holes = self
+            .scores
+            .iter()
+            .map(|score| score.hole_fraction)
+            .sum::<f32>()
+            / count;
+        let gpu_ms = self.scores.iter().map(|score| score.gpu_ms).sum::<f32>() / count;
+        let _ = writeln!(
+            text,
+            "| pooled (holes and time: mean) | {generated:.2} | {repeated:.2} | {:.1}% | {gpu_ms:.2} |",
+            100.0 * holes
+        );
         text
     }
 

@@ -27,8 +27,8 @@ use bevy::render::view::{ExtractedView, ViewTarget};
 use patchex::abi::*;
 use patchex::error::PatchexResult;
 use patchex::ffi::{
-    PatchexContext, patchex_create, patchex_destroy, patchex_extrapolate, patchex_last_error,
-    patchex_submit_gbuffers,
+    PatchexContext, patchex_create, patchex_destroy, patchex_extrapolate, patchex_get_frame_stats,
+    patchex_last_error, patchex_submit_gbuffers,
 };
 use wgpu::hal::api::Vulkan;
 use wgpu::util::DeviceExt;
@@ -509,6 +509,28 @@ impl FrameGenerator {
         }
         self.readbacks.extend(readbacks);
         Ok(())
+    }
+}
+
+impl FrameGenerator {
+    /// patchex's statistics of the last submitted frame and its extrapolation: call once the
+    /// GPU has finished them.
+    pub fn last_frame_stats(&self) -> Result<PatchexFrameStats, String> {
+        let context = self.context.as_ref().map_err(Clone::clone)?.0;
+        let frame_index = self
+            .submitted_frames
+            .checked_sub(1)
+            .ok_or("no frame submitted yet")?;
+        // SAFETY: every field is a number or a null pointer, for which zero is valid.
+        let mut stats: PatchexFrameStats = unsafe { std::mem::zeroed() };
+        stats.header =
+            PatchexStructHeader::of::<PatchexFrameStats>(PATCHEX_STRUCT_TYPE_FRAME_STATS);
+        // SAFETY: the context is live and `stats` writable.
+        checked(
+            unsafe { patchex_get_frame_stats(context, frame_index, &mut stats) },
+            context,
+        )?;
+        Ok(stats)
     }
 }
 

@@ -161,7 +161,17 @@ fn run(args: Args) -> Result<(), String> {
         app.update();
         let images = finish_frame(&mut app)?;
         if args.check {
-            check.add(instant, images, strip_instant)?;
+            let stats = if instant % 2 == 1 {
+                let render_world = app.sub_app(RenderApp).world();
+                Some(
+                    render_world
+                        .resource::<FrameGenerator>()
+                        .last_frame_stats()?,
+                )
+            } else {
+                None
+            };
+            check.add(instant, images, stats.as_ref(), strip_instant)?;
         }
     }
 
