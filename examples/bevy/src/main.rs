@@ -9,6 +9,8 @@
 
 mod check;
 mod frame_generation;
+mod gbuffer;
+mod interop;
 mod scene;
 mod validation;
 
