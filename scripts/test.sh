@@ -12,7 +12,7 @@ cargo build -p patchex
 cargo test --workspace
 # Bevy generating frames with patchex: an engine this project did not write, checked against its
 # own frames under validation (docs/integration-bevy.md). Its own workspace, so Bevy stays out of
-# the library's build; it adds about nine minutes, most of them compiling Bevy.
+# the library's build; it adds about twelve minutes, eleven of them compiling Bevy.
 (
     cd examples/bevy
     cargo fmt --check
