@@ -1,6 +1,7 @@
 //! Counts the Vulkan validation layer's messages. With `InstanceFlags::VALIDATION | DEBUG` wgpu
 //! turns on the Khronos layer, with synchronization validation, and logs each warning and error
-//! it reports under `wgpu_hal::vulkan`; this layer of Bevy's log keeps their text.
+//! it reports under `wgpu_hal::vulkan`; this layer of Bevy's log keeps their text. Every warning
+//! wgpu's Vulkan backend logs counts, so a missing validation layer fails the run too.
 //!
 //! One message is left out, and counted apart: with DEBUG, naga marks the SPIR-V of wgpu's
 //! shaders as written in WGSL, a source language validation layers before 1.3.250 (Debian 12
