@@ -148,6 +148,12 @@ fn run(args: Args) -> Result<(), String> {
     }
     app.finish();
     app.cleanup();
+    validation::require_layer(
+        app.sub_app(RenderApp)
+            .world()
+            .resource::<RenderDevice>()
+            .wgpu_device(),
+    )?;
 
     load(&mut app)?;
     let mut check = Check::default();

@@ -1,7 +1,8 @@
 //! Counts the Vulkan validation layer's messages. With `InstanceFlags::VALIDATION | DEBUG` wgpu
 //! turns on the Khronos layer, with synchronization validation, and logs each warning and error
-//! it reports under `wgpu_hal::vulkan`; this layer of Bevy's log keeps their text. Every warning
-//! wgpu's Vulkan backend logs counts, so a missing validation layer fails the run too.
+//! it reports under `wgpu_hal::vulkan`; this layer of Bevy's log keeps their text. wgpu runs
+//! without the Khronos layer when it is not installed, saying so only at debug level:
+//! `require_layer` makes that an error.
 //!
 //! One message is left out, and counted apart: with DEBUG, naga marks the SPIR-V of wgpu's
 //! shaders as written in WGSL, a source language validation layers before 1.3.250 (Debian 12
@@ -33,6 +34,34 @@ pub struct Reports {
     pub unknown_source_language: usize,
     /// Whether the lines that follow belong to a message left out.
     skipping: bool,
+}
+
+/// The name of the Khronos validation layer.
+const KHRONOS_VALIDATION: &std::ffi::CStr = c"VK_LAYER_KHRONOS_validation";
+
+/// Fails unless the Khronos validation layer is installed, so that wgpu has loaded it.
+pub fn require_layer(device: &wgpu::Device) -> Result<(), String> {
+    // SAFETY: only the loader's entry is used, to list the layers.
+    let layers = unsafe {
+        let hal = device
+            .as_hal::<wgpu::hal::api::Vulkan>()
+            .ok_or("Bevy is not rendering through Vulkan")?;
+        hal.shared_instance()
+            .entry()
+            .enumerate_instance_layer_properties()
+            .map_err(|e| format!("cannot list Vulkan layers: {e}"))?
+    };
+    if layers
+        .iter()
+        .any(|layer| layer.layer_name_as_c_str() == Ok(KHRONOS_VALIDATION))
+    {
+        Ok(())
+    } else {
+        Err(
+            "the Khronos validation layer is not installed (scripts/install-deps.sh installs it)"
+                .to_owned(),
+        )
+    }
 }
 
 /// For `LogPlugin::custom_layer`.
