@@ -41,25 +41,20 @@ struct Runner {
     phase: f32,
 }
 
+/// The size of the frames the camera renders.
+#[derive(Resource, Clone, Copy)]
+struct FrameSize(UVec2);
+
 impl Plugin for ScenePlugin {
     fn build(&self, app: &mut App) {
-        let (width, height) = (self.width, self.height);
         app.insert_resource(DefaultOpaqueRendererMethod::deferred())
             .insert_resource(GlobalAmbientLight {
                 color: Color::WHITE,
                 brightness: 150.0,
                 ..default()
             })
-            .add_systems(
-                Startup,
-                move |commands: Commands,
-                      meshes: ResMut<Assets<Mesh>>,
-                      materials: ResMut<Assets<StandardMaterial>>,
-                      images: ResMut<Assets<Image>>,
-                      assets: Res<AssetServer>| {
-                    setup(commands, meshes, materials, images, assets, width, height)
-                },
-            )
+            .insert_resource(FrameSize(UVec2::new(self.width, self.height)))
+            .add_systems(Startup, setup)
             .add_systems(Update, (spawn_loaded_runners, run_circles, move_camera));
     }
 }
@@ -70,12 +65,14 @@ fn setup(
     mut materials: ResMut<Assets<StandardMaterial>>,
     mut images: ResMut<Assets<Image>>,
     assets: Res<AssetServer>,
-    width: u32,
-    height: u32,
+    size: Res<FrameSize>,
 ) {
-    let mut target = Image::new_target_texture(width, height, TextureFormat::Rgba16Float, None);
-    target.texture_descriptor.usage |= TextureUsages::COPY_SRC;
-    let target = images.add(target);
+    let target = images.add(Image::new_target_texture(
+        size.0.x,
+        size.0.y,
+        TextureFormat::Rgba16Float,
+        None,
+    ));
 
     commands.spawn((
         Camera3d::default(),
