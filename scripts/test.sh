@@ -17,5 +17,5 @@ cargo test --workspace
     cd examples/bevy
     cargo fmt --check
     cargo clippy --locked --all-targets -- -D warnings
-    cargo run --locked -- --check --min-gain 8 --out ../../out/bevy
+    cargo run --locked -- --check --min-gain 8
 )

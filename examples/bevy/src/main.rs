@@ -38,7 +38,8 @@ const USAGE: &str = "usage: patchex-bevy [--check] [--frames N] [--size WIDTHxHE
                  against it beside repeating frame t, and the strip and scores are written
   --frames N     displayed instants after loading, half of them generated (default 24)
   --size WxH     the frame's size (default 480x270)
-  --out DIR      where --check writes bevy_strip.png and bevy_scores.md (default out/bevy)
+  --out DIR      where --check writes bevy_strip.png and bevy_scores.md (default: out/bevy
+                 at the repository's root)
   --min-gain DB  with --check, fail unless the pooled PSNR gain over repeating frame t is at
                  least DB";
 
@@ -61,7 +62,7 @@ impl Args {
             frames: 24,
             width: 480,
             height: 270,
-            out: PathBuf::from("out/bevy"),
+            out: PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../out/bevy")),
             min_gain: None,
         };
         while let Some(arg) = args.next() {
