@@ -267,6 +267,10 @@ impl FrameGenerator {
             })?
         };
         checked(result, context)?;
+        if result == PatchexResult::RenderInstead {
+            // A game would render this instant instead; the example's camera never cuts.
+            return Err("patchex asks for a generated instant to be rendered: a camera cut".into());
+        }
         render_context.add_command_buffer(commands);
         if !generated_instant {
             self.submitted_frames += 1;
