@@ -9,13 +9,13 @@ use patchex::abi::PatchexFrameStats;
 use crate::frame_generation::Readback;
 
 /// One generated instant's scores, in dB, and what patchex reported of it.
-pub struct Score {
-    pub instant: u64,
-    pub generated: f64,
-    pub repeated: f64,
-    pub hole_fraction: f32,
+struct Score {
+    instant: u64,
+    generated: f64,
+    repeated: f64,
+    hole_fraction: f32,
     /// GPU milliseconds of patchex's passes: the frame's submit and the extrapolation.
-    pub gpu_ms: f32,
+    gpu_ms: f32,
 }
 
 #[derive(Default)]
@@ -24,7 +24,7 @@ pub struct Check {
     height: usize,
     /// The last rendered frame, tone-mapped RGB.
     frame_t: Option<Vec<f32>>,
-    pub scores: Vec<Score>,
+    scores: Vec<Score>,
     squared_error_generated: f64,
     squared_error_repeated: f64,
     values: f64,
