@@ -19,7 +19,7 @@ use bevy::core_pipeline::schedule::{Core3d, Core3dSystems};
 use bevy::prelude::*;
 use bevy::render::RenderApp;
 use bevy::render::extract_resource::{ExtractResource, ExtractResourcePlugin};
-use bevy::render::renderer::{RenderContext, RenderDevice, ViewQuery};
+use bevy::render::renderer::{RenderAdapter, RenderContext, RenderDevice, ViewQuery};
 use bevy::render::texture::CachedTexture;
 use bevy::render::view::{ExtractedView, ViewTarget};
 use patchex::abi::*;
@@ -72,8 +72,10 @@ impl Plugin for FrameGenerationPlugin {
 
     fn finish(&self, app: &mut App) {
         let render_app = app.sub_app_mut(RenderApp);
-        let device = render_app.world().resource::<RenderDevice>().clone();
-        render_app.insert_resource(FrameGenerator::new(device, self.check));
+        let world = render_app.world();
+        let device = world.resource::<RenderDevice>().clone();
+        let adapter = world.resource::<RenderAdapter>().clone();
+        render_app.insert_resource(FrameGenerator::new(device, adapter, self.check));
     }
 }
 
@@ -113,6 +115,8 @@ pub struct FrameGenerator {
     /// The first failure: the main loop stops on it.
     pub failure: Option<String>,
     device: RenderDevice,
+    /// What patchex is told of wgpu's textures' formats is asked of it.
+    adapter: RenderAdapter,
 }
 
 /// A patchex context. Calls into it are made by the render world's system and by the main loop
@@ -157,7 +161,7 @@ impl Context {
 }
 
 impl FrameGenerator {
-    fn new(device: RenderDevice, check: bool) -> Self {
+    fn new(device: RenderDevice, adapter: RenderAdapter, check: bool) -> Self {
         let (context, queue_family_index) = match Context::new(device.wgpu_device()) {
             Ok((context, family)) => (Ok(context), family),
             Err(message) => (Err(message), 0),
@@ -172,6 +176,7 @@ impl FrameGenerator {
             readbacks: Vec::new(),
             failure: None,
             device,
+            adapter,
         }
     }
 
@@ -211,9 +216,12 @@ impl FrameGenerator {
         );
 
         // 2. patchex.
-        let owned = |image: &OwnedImage, layout| describe(&image.texture, &image.view, layout);
-        let cached =
-            |image: &CachedTexture, layout| describe(&image.texture, &image.default_view, layout);
+        let adapter = &self.adapter;
+        let owned =
+            |image: &OwnedImage, layout| describe(adapter, &image.texture, &image.view, layout);
+        let cached = |image: &CachedTexture, layout| {
+            describe(adapter, &image.texture, &image.default_view, layout)
+        };
         let geometry = PatchexGeometry {
             depth: cached(prepasses.depth, SAMPLED_DEPTH),
             normal: cached(prepasses.normals, SAMPLED),
@@ -251,7 +259,12 @@ impl FrameGenerator {
                 queue_family_index: self.queue_family_index,
                 width: size.x,
                 height: size.y,
-                color: describe(target.main_texture(), target.main_texture_view(), SAMPLED),
+                color: describe(
+                    adapter,
+                    target.main_texture(),
+                    target.main_texture_view(),
+                    SAMPLED,
+                ),
                 base_color: owned(&images.base_color, STORAGE),
                 material: owned(&images.material, STORAGE),
                 // A rendered frame's motion points at the generated instant before it, not at

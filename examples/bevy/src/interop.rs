@@ -16,6 +16,7 @@ pub const STORAGE: vk::ImageLayout = vk::ImageLayout::GENERAL;
 
 /// A wgpu texture as patchex imports it, in `layout` when patchex's commands run.
 pub fn describe(
+    adapter: &wgpu::Adapter,
     texture: &wgpu::Texture,
     view: &wgpu::TextureView,
     layout: vk::ImageLayout,
@@ -33,7 +34,7 @@ pub fn describe(
     PatchexImage {
         image,
         view,
-        format: vk_format(texture.format()),
+        format: vk_format(adapter, texture.format()),
         width: texture.width(),
         height: texture.height(),
         layout,
@@ -41,18 +42,14 @@ pub fn describe(
     }
 }
 
-/// The Vulkan formats wgpu gives the textures the example hands to patchex.
-fn vk_format(format: wgpu::TextureFormat) -> vk::Format {
-    match format {
-        wgpu::TextureFormat::Rgba16Float => vk::Format::R16G16B16A16_SFLOAT,
-        wgpu::TextureFormat::Rgba8Unorm => vk::Format::R8G8B8A8_UNORM,
-        wgpu::TextureFormat::R8Uint => vk::Format::R8_UINT,
-        wgpu::TextureFormat::Rgb10a2Unorm => vk::Format::A2B10G10R10_UNORM_PACK32,
-        wgpu::TextureFormat::Rg16Float => vk::Format::R16G16_SFLOAT,
-        wgpu::TextureFormat::Depth32Float => vk::Format::D32_SFLOAT,
-        // patchex answers an unsupported format with a clear error.
-        _ => vk::Format::UNDEFINED,
-    }
+/// The Vulkan format wgpu created a texture with, by wgpu-hal's own mapping (which also resolves
+/// the formats wgpu chooses per device, such as `Depth24Plus`). patchex answers a format it does
+/// not take with a clear error.
+fn vk_format(adapter: &wgpu::Adapter, format: wgpu::TextureFormat) -> vk::Format {
+    // SAFETY: the adapter is only asked for a mapping.
+    unsafe { adapter.as_hal::<Vulkan>() }.map_or(vk::Format::UNDEFINED, |adapter| {
+        adapter.texture_format_as_raw(format)
+    })
 }
 
 /// The Vulkan usage wgpu creates a texture with: what it was asked for, and an attachment usage
