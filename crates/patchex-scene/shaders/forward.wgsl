@@ -1,8 +1,9 @@
 // Forward pass: blended surfaces (glTF alphaMode BLEND: glass, thin cloth, decals), lit like
 // the resolve pass lights the G-buffer, and composited by the host over the lit frame. Drawn
 // back to front with premultiplied "over" blending into two targets: the translucent layer
-// (radiance times coverage, and coverage) and its motion weighted the same way, which is the
-// mask and the motion an engine hands a frame generator beside the colour.
+// (radiance times coverage, and coverage) and its motion and depth weighted the same way: the
+// mask and the motion an engine hands a frame generator beside the colour, and where particles
+// beyond the surfaces are seen through them.
 
 // #import frame
 // #import material
@@ -15,7 +16,7 @@
 struct Translucency {
     // premultiplied radiance, coverage
     @location(0) color_coverage: vec4<f32>,
-    // backward motion in pixels times coverage, 0, coverage
+    // backward motion in pixels and linear view depth, times coverage; coverage
     @location(1) motion_coverage: vec4<f32>,
 }
 
@@ -34,6 +35,7 @@ fn fs_main(input: VertexOutput, @builtin(front_facing) front_facing: bool) -> Tr
 
     var output: Translucency;
     output.color_coverage = vec4<f32>(radiance * coverage, coverage);
-    output.motion_coverage = vec4<f32>(surface_motion(input) * coverage, 0.0, coverage);
+    let view_depth = -(frame.view * vec4<f32>(input.world_position, 1.0)).z;
+    output.motion_coverage = vec4<f32>(vec3<f32>(surface_motion(input), view_depth) * coverage, coverage);
     return output;
 }

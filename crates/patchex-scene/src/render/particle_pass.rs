@@ -5,7 +5,7 @@
 
 use glam::{Vec3, Vec4Swizzles};
 
-use super::translucent_layer::TranslucentLayer;
+use super::translucent_layer::{Texel, TranslucentLayer};
 use crate::scene::{CameraState, Particle};
 
 /// A particle as the screen sees it.
@@ -92,7 +92,7 @@ pub(crate) fn draw_particles(
                 if a <= 0.0 {
                     continue;
                 }
-                layer.draw_over(pixel, s.color, a, s.motion);
+                layer.draw(pixel, Texel::new(s.color, s.motion, a), s.depth);
             }
         }
     }
