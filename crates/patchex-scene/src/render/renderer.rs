@@ -350,7 +350,7 @@ impl Renderer {
     }
 
     /// What the frame draws after lighting: the forward pass's blended surfaces, then the
-    /// particles over them; `None` for a world with neither.
+    /// particles among them; `None` for a world with neither.
     fn translucent_layer(
         &self,
         world: &World,

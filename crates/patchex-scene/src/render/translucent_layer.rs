@@ -1,5 +1,6 @@
 //! Everything drawn after lighting, gathered as one premultiplied layer (the forward pass's
-//! blended surfaces, then the particles over them) and composited over the lit frame. The layer
+//! blended surfaces, then the particles, seen through the surfaces they lie beyond) and
+//! composited over the lit frame. The layer
 //! is what an engine hands a frame generator beside the colour: its coverage is the mask, and
 //! its motion is the coverage-weighted motion of what it holds.
 
