@@ -54,7 +54,7 @@ fn sprite(
     })
 }
 
-/// Draws `particles` over `layer`, back to front, where they lie in front of the opaque surface
+/// Draws `particles` into `layer`, back to front, where they lie in front of the opaque surface
 /// at `scene_depth`.
 pub(crate) fn draw_particles(
     layer: &mut TranslucentLayer,
