@@ -1,7 +1,8 @@
 //! Final colour against an independent CPU evaluation of the lighting model from the frame's
 //! own G-buffers: scene `shading` (one character on a flat plane, so the only shadow casters
-//! are dynamic and the ShadowMask is the whole sun visibility), and scene `glass` (the same,
-//! partly behind a pane of tinted glass, blended over it by the forward pass).
+//! are dynamic and the ShadowMask is the whole sun visibility), scene `glass` (the same,
+//! partly behind a pane of tinted glass, blended over it by the forward pass) and scene
+//! `glass_smoke` (smoke between the pane and the character, seen through the pane).
 
 mod common;
 
@@ -264,4 +265,70 @@ fn glass_is_blended_over_the_lighting_of_what_lies_behind() {
         parallax > 500,
         "what lies behind the pane moves otherwise than the pane ({parallax} pixels)"
     );
+}
+
+/// Smoke behind the pane is seen through it: inside the pane the frame is the pane over the
+/// frame without the pane (smoke included), and the mask composites the same way.
+#[test]
+fn particles_beyond_glass_are_seen_through_it() {
+    let sequence = render("glass_smoke.toml", 2);
+    let mut description = sequence.world.description.clone();
+    description.glass.clear();
+    let without = render_world(
+        patchex_scene::World::from_description(description, &assets_dir()).unwrap(),
+        2,
+    );
+    let world = &sequence.world;
+    let lighting = Lighting::of(world);
+    let glass = &world.description.glass[0];
+    let opacity = glass.opacity;
+    let frames = &sequence.dataset.manifest.frames;
+    let camera = Vec3::from(frames[1].camera_position);
+    let frame = sequence.dataset.read_frame(1).unwrap();
+    let behind = without.dataset.read_frame(1).unwrap();
+    let v3 = |frame: &FrameLayers, name: &str, x: usize, y: usize| {
+        Vec3::from_slice(frame.layer(name).pixel(x, y))
+    };
+    let mut smoky = 0;
+    for y in 0..HEIGHT as usize {
+        for x in 0..WIDTH as usize {
+            let position = v3(&frame, WORLD_POSITION, x, y);
+            let ray = position - camera;
+            let t = (glass.position[2] - camera.z) / ray.z;
+            let hit = camera + t * ray;
+            let inside = t > 0.0
+                && t < 1.0
+                && (hit.x - glass.position[0]).abs() < 0.5 * glass.size[0] - 0.02
+                && hit.y > glass.position[1] + 0.02;
+            let smoke = behind.layer(TRANSLUCENCY_MASK).pixel(x, y)[0];
+            if !inside || smoke < 0.05 {
+                continue;
+            }
+            smoky += 1;
+            let to_camera = (camera - hit).normalize();
+            let pane = Surface {
+                base_color: Vec3::from(glass.color),
+                metallic: 0.0,
+                specular: 0.5,
+                roughness: glass.roughness,
+                normal: Vec3::Z * to_camera.z.signum(),
+                to_camera,
+            };
+            let (radiance, _) = lighting.shade(&pane, 1.0);
+            let expected = opacity * radiance + (1.0 - opacity) * v3(&behind, FINAL_IMAGE, x, y);
+            let final_image = v3(&frame, FINAL_IMAGE, x, y);
+            let tolerance = 1e-3 * expected.max_element().max(1.0);
+            assert!(
+                final_image.abs_diff_eq(expected, tolerance),
+                "({x},{y}): FinalImage {final_image}, the pane over the smoke gives {expected}"
+            );
+            let mask = frame.layer(TRANSLUCENCY_MASK).pixel(x, y)[0];
+            let expected_mask = 1.0 - (1.0 - opacity) * (1.0 - smoke);
+            assert!(
+                (mask - expected_mask).abs() < 1e-5,
+                "({x},{y}): mask {mask}, the pane over the smoke gives {expected_mask}"
+            );
+        }
+    }
+    assert!(smoky > 200, "smoke lies behind the pane ({smoky} pixels)");
 }
