@@ -94,6 +94,47 @@ impl Lighting {
     }
 }
 
+/// Where a pixel's ray from `camera` to the surface it shows at `position` crosses a pane's plane:
+/// the point, whether it is inside the pane (2 cm clear of its edges) or on a side edge, and the
+/// pane's lit radiance there.
+struct PaneCrossing {
+    hit: Vec3,
+    inside: bool,
+    on_edge: bool,
+    radiance: Vec3,
+}
+
+impl PaneCrossing {
+    fn of(
+        glass: &patchex_scene::scene::GlassDescription,
+        lighting: &Lighting,
+        camera: Vec3,
+        position: Vec3,
+    ) -> Self {
+        let ray = position - camera;
+        let t = (glass.position[2] - camera.z) / ray.z;
+        let hit = camera + t * ray;
+        let in_front = t > 0.0 && t < 1.0;
+        let from_side = (hit.x - glass.position[0]).abs() - 0.5 * glass.size[0];
+        let to_camera = (camera - hit).normalize();
+        let pane = Surface {
+            base_color: Vec3::from(glass.color),
+            metallic: 0.0,
+            specular: 0.5,
+            roughness: glass.roughness,
+            // Double-sided: the normal faces the viewer.
+            normal: Vec3::Z * to_camera.z.signum(),
+            to_camera,
+        };
+        Self {
+            hit,
+            inside: in_front && from_side < -0.02 && hit.y > glass.position[1] + 0.02,
+            on_edge: in_front && from_side.abs() <= 0.02,
+            radiance: lighting.shade(&pane, 1.0).0,
+        }
+    }
+}
+
 #[test]
 fn final_colour_equals_the_lighting_of_the_gbuffers() {
     let sequence = render("shading.toml", 2);
@@ -175,7 +216,6 @@ fn glass_is_blended_over_the_lighting_of_what_lies_behind() {
     let lighting = Lighting::of(world);
     let glass = &world.description.glass[0];
     let opacity = glass.opacity;
-    let plane_z = glass.position[2];
     let frames = &sequence.dataset.manifest.frames;
     let camera = Vec3::from(frames[1].camera_position);
     let previous_view_proj = frames[0].view_proj_matrix();
@@ -203,23 +243,11 @@ fn glass_is_blended_over_the_lighting_of_what_lies_behind() {
             let mask = frame.layer(TRANSLUCENCY_MASK).pixel(x, y)[0];
             let lit_behind = v3(&behind, FINAL_IMAGE, x, y);
             let final_image = v3(&frame, FINAL_IMAGE, x, y);
-            let position = v3(&frame, WORLD_POSITION, x, y);
-            // Where the pixel's ray crosses the pane's plane in front of what it shows.
-            let ray = position - camera;
-            let t = (plane_z - camera.z) / ray.z;
-            let hit = camera + t * ray;
-            let half_width = 0.5 * glass.size[0];
-            let inside = t > 0.0
-                && t < 1.0
-                && (hit.x - glass.position[0]).abs() < half_width - 0.02
-                && hit.y > glass.position[1] + 0.02;
-            let on_edge = t > 0.0
-                && t < 1.0
-                && ((hit.x - glass.position[0]).abs() - half_width).abs() <= 0.02;
-            if on_edge {
+            let pane = PaneCrossing::of(glass, &lighting, camera, v3(&frame, WORLD_POSITION, x, y));
+            if pane.on_edge {
                 continue;
             }
-            if !inside {
+            if !pane.inside {
                 assert_eq!(mask, 0.0, "({x},{y}) is not behind the pane");
                 assert_eq!(final_image, lit_behind, "({x},{y}) is not behind the pane");
                 continue;
@@ -230,7 +258,7 @@ fn glass_is_blended_over_the_lighting_of_what_lies_behind() {
                 "({x},{y}): mask {mask}, opacity {opacity}"
             );
             let centre = glam::Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
-            let pane_motion = project(previous_view_proj, hit) - centre;
+            let pane_motion = project(previous_view_proj, pane.hit) - centre;
             let motion = glam::Vec2::from_slice(frame.layer(TRANSLUCENCY_MOTION).pixel(x, y));
             assert!(
                 motion.abs_diff_eq(pane_motion, 0.02),
@@ -238,18 +266,7 @@ fn glass_is_blended_over_the_lighting_of_what_lies_behind() {
             );
             let surface_motion = glam::Vec2::from_slice(frame.layer(MOTION_VECTOR).pixel(x, y));
             parallax += usize::from(surface_motion.distance(pane_motion) > 0.1);
-            let to_camera = (camera - hit).normalize();
-            let pane = Surface {
-                base_color: Vec3::from(glass.color),
-                metallic: 0.0,
-                specular: 0.5,
-                roughness: glass.roughness,
-                // Double-sided: the normal faces the viewer.
-                normal: Vec3::Z * to_camera.z.signum(),
-                to_camera,
-            };
-            let (radiance, _) = lighting.shade(&pane, 1.0);
-            let expected = opacity * radiance + (1.0 - opacity) * lit_behind;
+            let expected = opacity * pane.radiance + (1.0 - opacity) * lit_behind;
             let tolerance = 1e-3 * expected.max_element().max(1.0);
             assert!(
                 final_image.abs_diff_eq(expected, tolerance),
@@ -292,30 +309,14 @@ fn particles_beyond_glass_are_seen_through_it() {
     let mut smoky = 0;
     for y in 0..HEIGHT as usize {
         for x in 0..WIDTH as usize {
-            let position = v3(&frame, WORLD_POSITION, x, y);
-            let ray = position - camera;
-            let t = (glass.position[2] - camera.z) / ray.z;
-            let hit = camera + t * ray;
-            let inside = t > 0.0
-                && t < 1.0
-                && (hit.x - glass.position[0]).abs() < 0.5 * glass.size[0] - 0.02
-                && hit.y > glass.position[1] + 0.02;
+            let pane = PaneCrossing::of(glass, &lighting, camera, v3(&frame, WORLD_POSITION, x, y));
             let smoke = behind.layer(TRANSLUCENCY_MASK).pixel(x, y)[0];
-            if !inside || smoke < 0.05 {
+            if !pane.inside || smoke < 0.05 {
                 continue;
             }
             smoky += 1;
-            let to_camera = (camera - hit).normalize();
-            let pane = Surface {
-                base_color: Vec3::from(glass.color),
-                metallic: 0.0,
-                specular: 0.5,
-                roughness: glass.roughness,
-                normal: Vec3::Z * to_camera.z.signum(),
-                to_camera,
-            };
-            let (radiance, _) = lighting.shade(&pane, 1.0);
-            let expected = opacity * radiance + (1.0 - opacity) * v3(&behind, FINAL_IMAGE, x, y);
+            let expected =
+                opacity * pane.radiance + (1.0 - opacity) * v3(&behind, FINAL_IMAGE, x, y);
             let final_image = v3(&frame, FINAL_IMAGE, x, y);
             let tolerance = 1e-3 * expected.max_element().max(1.0);
             assert!(
