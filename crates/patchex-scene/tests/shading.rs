@@ -6,7 +6,7 @@
 
 mod common;
 
-use common::{assets_dir, project, render, render_world, HEIGHT, WIDTH};
+use common::{assets_dir, project, render, render_world, RenderedSequence, HEIGHT, WIDTH};
 use glam::Vec3;
 use patchex_scene::dataset::*;
 use std::f32::consts::PI;
@@ -135,6 +135,35 @@ impl PaneCrossing {
     }
 }
 
+/// A glass scene's second frame, and the same frame rendered with the scene's panes taken out.
+struct GlassFrames {
+    sequence: RenderedSequence,
+    frame: FrameLayers,
+    behind: FrameLayers,
+}
+
+impl GlassFrames {
+    fn render(scene: &str) -> Self {
+        let sequence = render(scene, 2);
+        let mut description = sequence.world.description.clone();
+        description.glass.clear();
+        let without = render_world(
+            patchex_scene::World::from_description(description, &assets_dir()).unwrap(),
+            2,
+        );
+        Self {
+            frame: sequence.dataset.read_frame(1).unwrap(),
+            behind: without.dataset.read_frame(1).unwrap(),
+            sequence,
+        }
+    }
+}
+
+/// An RGB layer's value at (x, y).
+fn v3(frame: &FrameLayers, name: &str, x: usize, y: usize) -> Vec3 {
+    Vec3::from_slice(frame.layer(name).pixel(x, y))
+}
+
 #[test]
 fn final_colour_equals_the_lighting_of_the_gbuffers() {
     let sequence = render("shading.toml", 2);
@@ -205,13 +234,11 @@ fn final_colour_equals_the_lighting_of_the_gbuffers() {
 /// coverage, and the translucency's motion is the pane's own, not that of what lies behind it.
 #[test]
 fn glass_is_blended_over_the_lighting_of_what_lies_behind() {
-    let sequence = render("glass.toml", 2);
-    let mut description = sequence.world.description.clone();
-    description.glass.clear();
-    let without = render_world(
-        patchex_scene::World::from_description(description, &assets_dir()).unwrap(),
-        2,
-    );
+    let GlassFrames {
+        sequence,
+        frame,
+        behind,
+    } = GlassFrames::render("glass.toml");
     let world = &sequence.world;
     let lighting = Lighting::of(world);
     let glass = &world.description.glass[0];
@@ -219,11 +246,6 @@ fn glass_is_blended_over_the_lighting_of_what_lies_behind() {
     let frames = &sequence.dataset.manifest.frames;
     let camera = Vec3::from(frames[1].camera_position);
     let previous_view_proj = frames[0].view_proj_matrix();
-    let frame = sequence.dataset.read_frame(1).unwrap();
-    let behind = without.dataset.read_frame(1).unwrap();
-    let v3 = |frame: &FrameLayers, name: &str, x: usize, y: usize| {
-        Vec3::from_slice(frame.layer(name).pixel(x, y))
-    };
     let (mut covered, mut parallax) = (0, 0);
     for y in 0..HEIGHT as usize {
         for x in 0..WIDTH as usize {
@@ -288,24 +310,16 @@ fn glass_is_blended_over_the_lighting_of_what_lies_behind() {
 /// frame without the pane (smoke included), and the mask composites the same way.
 #[test]
 fn particles_beyond_glass_are_seen_through_it() {
-    let sequence = render("glass_smoke.toml", 2);
-    let mut description = sequence.world.description.clone();
-    description.glass.clear();
-    let without = render_world(
-        patchex_scene::World::from_description(description, &assets_dir()).unwrap(),
-        2,
-    );
+    let GlassFrames {
+        sequence,
+        frame,
+        behind,
+    } = GlassFrames::render("glass_smoke.toml");
     let world = &sequence.world;
     let lighting = Lighting::of(world);
     let glass = &world.description.glass[0];
     let opacity = glass.opacity;
-    let frames = &sequence.dataset.manifest.frames;
-    let camera = Vec3::from(frames[1].camera_position);
-    let frame = sequence.dataset.read_frame(1).unwrap();
-    let behind = without.dataset.read_frame(1).unwrap();
-    let v3 = |frame: &FrameLayers, name: &str, x: usize, y: usize| {
-        Vec3::from_slice(frame.layer(name).pixel(x, y))
-    };
+    let camera = Vec3::from(sequence.dataset.manifest.frames[1].camera_position);
     let mut smoky = 0;
     for y in 0..HEIGHT as usize {
         for x in 0..WIDTH as usize {
