@@ -35,7 +35,7 @@ fn fs_main(input: VertexOutput, @builtin(front_facing) front_facing: bool) -> Tr
 
     var output: Translucency;
     output.color_coverage = vec4<f32>(radiance * coverage, coverage);
-    let view_depth = -(frame.view * vec4<f32>(input.world_position, 1.0)).z;
-    output.motion_coverage = vec4<f32>(vec3<f32>(surface_motion(input), view_depth) * coverage, coverage);
+    let motion_depth = vec3<f32>(surface_motion(input), view_depth(input.world_position));
+    output.motion_coverage = vec4<f32>(motion_depth * coverage, coverage);
     return output;
 }

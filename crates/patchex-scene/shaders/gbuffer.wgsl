@@ -26,12 +26,11 @@ fn fs_main(input: VertexOutput, @builtin(front_facing) front_facing: bool) -> GB
     if surface.base.a < material.alpha_cutoff {
         discard;
     }
-    let view_depth = -(frame.view * vec4<f32>(input.world_position, 1.0)).z;
 
     var output: GBuffer;
     output.base_metallic = vec4<f32>(surface.base.rgb, surface.metallic);
     output.normal_roughness = vec4<f32>(surface.normal, surface.roughness);
-    output.position_depth = vec4<f32>(input.world_position, view_depth);
+    output.position_depth = vec4<f32>(input.world_position, view_depth(input.world_position));
     output.motion_stencil_specular = vec4<f32>(surface_motion(input), material.stencil, material.specular);
     output.emissive_coverage = vec4<f32>(surface.emissive, 1.0);
     return output;

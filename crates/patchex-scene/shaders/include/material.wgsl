@@ -120,6 +120,11 @@ fn sample_surface(input: VertexOutput, front_facing: bool) -> Surface {
     return surface;
 }
 
+// Linear view depth: distance along the camera's forward axis.
+fn view_depth(world_position: vec3<f32>) -> f32 {
+    return -(frame.view * vec4<f32>(world_position, 1.0)).z;
+}
+
 // Backward motion to the previous frame, in pixels.
 fn surface_motion(input: VertexOutput) -> vec2<f32> {
     let prev_ndc = input.prev_clip.xy / input.prev_clip.w;

@@ -1,7 +1,7 @@
 //! The particles, drawn after lighting as an engine draws its translucency: each particle a
 //! camera-facing soft disc, blended back to front into the translucent layer (under its blended
-//! surfaces where it lies beyond them), faded where it nears the opaque surface behind it. Drawn on the CPU: particles cast no shadow and write no
-//! G-buffer, so nothing on the GPU needs them.
+//! surfaces where it lies beyond them), faded where it nears the opaque surface behind it. Drawn
+//! on the CPU: particles cast no shadow and write no G-buffer, so nothing on the GPU needs them.
 
 use glam::{Vec3, Vec4Swizzles};
 
