@@ -19,7 +19,7 @@ use glam::{Vec2, Vec3};
 use patchex::abi::*;
 use patchex::camera::Camera;
 use patchex::error::PatchexResult;
-use patchex::passes::shadow_flow::{mask_step, FlowSettings, MAX_WINDOW_RADIUS};
+use patchex::passes::shadow_flow::{mask_step, FlowSettings, MAX_LEVELS, MAX_WINDOW_RADIUS};
 use patchex::passes::warp::WarpSettings;
 use patchex::reference::{self, round_to_f16, Image, ShadowInputs};
 use support::pipeline::{inputs, psnr, read_image, worst_output_error};
@@ -424,12 +424,51 @@ fn shadow_flow_of_a_large_frame_starts_coarser_as_the_reference_does() {
     );
 }
 
+/// The flow's windows at their extremes, one texel and the widest, and its deepest pyramid:
+/// each iteration sums its window in workgroup memory, in strips that the width decides.
+#[test]
+fn shadow_flow_matches_its_reference_at_the_extremes_of_its_window() {
+    for (window_radius, levels) in [(1, MAX_LEVELS), (MAX_WINDOW_RADIUS, MAX_LEVELS)] {
+        let flow = FlowSettings {
+            window_radius,
+            levels,
+            ..FlowSettings::default()
+        };
+        assert_shadow_passes_match_their_references_with(
+            "fast_run.toml",
+            160,
+            90,
+            &WarpSettings::default(),
+            false,
+            flow,
+        );
+    }
+}
+
 fn assert_shadow_passes_match_their_references(
     scene: &str,
     width: u32,
     height: u32,
     warp: &WarpSettings,
     target_shadows: bool,
+) {
+    assert_shadow_passes_match_their_references_with(
+        scene,
+        width,
+        height,
+        warp,
+        target_shadows,
+        FlowSettings::default(),
+    );
+}
+
+fn assert_shadow_passes_match_their_references_with(
+    scene: &str,
+    width: u32,
+    height: u32,
+    warp: &WarpSettings,
+    target_shadows: bool,
+    flow: FlowSettings,
 ) {
     let frames = rendered_frames(scene, width, height);
     let [previous, source, target] = &frames;
@@ -438,17 +477,9 @@ fn assert_shadow_passes_match_their_references(
         [true; 2],
         Some(warp),
         target_shadows,
-        None,
+        Some(&flow.to_abi()),
     );
-    let expected = reference_run(
-        previous,
-        source,
-        target,
-        0.5,
-        warp,
-        target_shadows,
-        FlowSettings::default(),
-    );
+    let expected = reference_run(previous, source, target, 0.5, warp, target_shadows, flow);
     support::pipeline::assert_stages_agree(&expected, &outcome.stats);
     let shadows = expected.shadows.as_ref().expect("a shadow input was given");
 

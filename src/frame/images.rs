@@ -251,7 +251,7 @@ impl TranslucencyImages {
 
 /// The shadow flow's pyramid atlases, made at the first frame whose flow runs: a context whose
 /// flow is off never holds them.
-pub type FlowAtlases = ImageSet<10, Flow>;
+pub type FlowAtlases = ImageSet<7, Flow>;
 pub struct Flow;
 
 impl FlowAtlases {
@@ -259,13 +259,10 @@ impl FlowAtlases {
     /// Frame t's and frame t-1's expansions, alternating (`Context::shadow_current`).
     pub const POLY: [usize; 2] = [1, 2];
     pub const POLY_XY: [usize; 2] = [3, 4];
-    pub const EQUATIONS: usize = 5;
-    const EQUATIONS_H2: usize = 6;
-    pub const ROWS: usize = 7;
-    const ROWS_H2: usize = 8;
-    pub const FLOW_PYRAMID: usize = 9;
+    /// Each iteration's estimate and result, alternating (`shadow_flow::FlowImages`).
+    pub const FLOW_PYRAMID: [usize; 2] = [5, 6];
 
-    const SPECS: [ImageSpec; 10] = [
+    const SPECS: [ImageSpec; 7] = [
         atlas_image("patchex shadow mask pyramid", vk::Format::R32_SFLOAT),
         atlas_image(
             "patchex shadow expansion A",
@@ -277,11 +274,8 @@ impl FlowAtlases {
         ),
         atlas_image("patchex shadow expansion xy A", vk::Format::R32_SFLOAT),
         atlas_image("patchex shadow expansion xy B", vk::Format::R32_SFLOAT),
-        atlas_image("patchex flow equations", vk::Format::R32G32B32A32_SFLOAT),
-        atlas_image("patchex flow equations h2", vk::Format::R32_SFLOAT),
-        atlas_image("patchex flow rows", vk::Format::R32G32B32A32_SFLOAT),
-        atlas_image("patchex flow rows h2", vk::Format::R32_SFLOAT),
-        atlas_image("patchex shadow flow pyramid", vk::Format::R32G32_SFLOAT),
+        atlas_image("patchex shadow flow pyramid A", vk::Format::R32G32_SFLOAT),
+        atlas_image("patchex shadow flow pyramid B", vk::Format::R32G32_SFLOAT),
     ];
 
     /// What the flow reads and writes: these atlases, frame t's `frame` mask, and the shadow
@@ -298,11 +292,7 @@ impl FlowAtlases {
             poly: Self::POLY.map(|index| &self[index]),
             poly_xy: Self::POLY_XY.map(|index| &self[index]),
             current,
-            equations: &self[Self::EQUATIONS],
-            equations_h2: &self[Self::EQUATIONS_H2],
-            rows: &self[Self::ROWS],
-            rows_h2: &self[Self::ROWS_H2],
-            flow_pyramid: &self[Self::FLOW_PYRAMID],
+            flow_pyramid: Self::FLOW_PYRAMID.map(|index| &self[index]),
             flow: &shadows[ShadowImages::FLOW],
             mask_step: shadow_flow::mask_step(self.extent),
         }

@@ -154,9 +154,8 @@ fn shadow_flow(rec: &mut Recorder, plan: &SubmitPlan) {
             &shadow_flow::FlowPasses {
                 pyramid: passes.get(PipelineId::ShadowPyramid),
                 poly: passes.get(PipelineId::ShadowPoly),
-                matrices: passes.get(PipelineId::ShadowFlowMatrices),
-                rows: passes.get(PipelineId::ShadowFlowRows),
-                solve: passes.get(PipelineId::ShadowFlowSolve),
+                start: passes.get(PipelineId::ShadowFlowStart),
+                iterate: [0, 1].map(|n| passes.nth(PipelineId::ShadowFlowIterate, n)),
                 upsample: passes.get(PipelineId::ShadowFlowUpsample),
             },
             plan.extent,

@@ -148,9 +148,9 @@ pipeline_table! {
     SeparateShadows: separate_shadows, 1;
     ShadowPyramid: shadow_pyramid, 1;
     ShadowPoly: shadow_poly, 1;
-    ShadowFlowMatrices: shadow_flow_matrices, 1;
-    ShadowFlowRows: shadow_flow_rows, 1;
-    ShadowFlowSolve: shadow_flow_solve, 1;
+    ShadowFlowStart: shadow_flow_start, 1;
+    /// Reading the estimate from either flow atlas.
+    ShadowFlowIterate: shadow_flow_iterate, 2;
     ShadowFlowUpsample: shadow_flow_upsample, 1;
     /// The frame's warp (when chosen), and the shadow layer through it.
     WarpGbuffer: warp_gbuffer, 2;

@@ -218,13 +218,21 @@ pub fn flow_extent(extent: vk::Extent2D, step: u32) -> vk::Extent2D {
     }
 }
 
-/// The size of an atlas holding the pyramid of every frame up to `extent`.
+/// The size of an atlas holding the pyramid of every frame up to `extent`, at every level count:
+/// level 0, and the column of coarser levels, which rounding up can make taller than level 0.
 pub fn atlas_extent(extent: vk::Extent2D) -> vk::Extent2D {
-    let finest = flow_extent(extent, mask_step(extent));
-    vk::Extent2D {
-        width: finest.width + finest.width.div_ceil(2),
-        height: finest.height,
-    }
+    let levels = pyramid(flow_extent(extent, mask_step(extent)), MAX_LEVELS);
+    let corner = |level: &Level| {
+        [
+            level.offset[0] + level.size[0],
+            level.offset[1] + level.size[1],
+        ]
+    };
+    let [width, height] = levels
+        .iter()
+        .map(corner)
+        .fold([0, 0], |[w, h], [x, y]| [w.max(x), h.max(y)]);
+    vk::Extent2D { width, height }
 }
 
 /// What the flow reads of frame t: the engine's shadow mask, the packed object ids that tell
@@ -237,7 +245,7 @@ pub struct FrameMask<'a> {
     pub source_depth: &'a OwnedImage,
 }
 
-/// The matrices pass's camera constants: `reprojection` is `Camera::reprojection_into` from
+/// The start pass's camera constants: `reprojection` is `Camera::reprojection_into` from
 /// frame t's camera into frame t-1's; `step` is the level's frame pixels per texel.
 fn camera_params(reprojection: &PixelRays, step: u32) -> [[f32; 4]; 4] {
     [
@@ -256,23 +264,21 @@ pub struct FlowImages<'a> {
     pub poly: [&'a OwnedImage; 2],
     pub poly_xy: [&'a OwnedImage; 2],
     pub current: usize,
-    pub equations: &'a OwnedImage,
-    pub equations_h2: &'a OwnedImage,
-    pub rows: &'a OwnedImage,
-    pub rows_h2: &'a OwnedImage,
-    pub flow_pyramid: &'a OwnedImage,
+    /// The flow of every level, twice: each iteration reads its estimate from one and writes
+    /// into the other.
+    pub flow_pyramid: [&'a OwnedImage; 2],
     /// The result, at the frame's resolution.
     pub flow: &'a OwnedImage,
     /// Frame pixels per texel of the finest level (`mask_step` of the images' extent).
     pub mask_step: u32,
 }
 
+/// The flow stage's passes; `iterate[i]` reads `flow_pyramid[i]` and writes the other.
 pub struct FlowPasses<'a> {
     pub pyramid: Pass<'a>,
     pub poly: Pass<'a>,
-    pub matrices: Pass<'a>,
-    pub rows: Pass<'a>,
-    pub solve: Pass<'a>,
+    pub start: Pass<'a>,
+    pub iterate: [Pass<'a>; 2],
     pub upsample: Pass<'a>,
 }
 
@@ -294,7 +300,7 @@ pub fn record(
     images: &FlowImages,
     tracked: Option<&PixelRays>,
 ) {
-    use shaders::{shadow_flow_matrices as m, shadow_flow_rows as r, shadow_flow_solve as s};
+    use shaders::{shadow_flow_iterate as i, shadow_flow_start as s};
     use shaders::{shadow_flow_upsample as u, shadow_poly as p, shadow_pyramid as y};
     let (current, previous) = (images.current, 1 - images.current);
     let mask_pyramid = rec.bind(passes.pyramid, |writes| {
@@ -309,35 +315,6 @@ pub fn record(
             .image(p::binding::MASK_PYRAMID, images.mask_pyramid)
             .image(p::binding::POLY, images.poly[current])
             .image(p::binding::POLY_XY, images.poly_xy[current])
-    });
-    let matrices = rec.bind(passes.matrices, |writes| {
-        writes
-            .image(m::binding::POLY_CURRENT, images.poly[current])
-            .image(m::binding::POLY_XY_CURRENT, images.poly_xy[current])
-            .image(m::binding::POLY_PREVIOUS, images.poly[previous])
-            .image(m::binding::POLY_XY_PREVIOUS, images.poly_xy[previous])
-            .image(m::binding::FLOW, images.flow_pyramid)
-            .image(m::binding::EQUATIONS, images.equations)
-            .image(m::binding::EQUATIONS_H2, images.equations_h2)
-            .image(m::binding::SOURCE_DEPTH, images.frame.source_depth)
-    });
-    let rows = rec.bind(passes.rows, |writes| {
-        writes
-            .image(r::binding::EQUATIONS, images.equations)
-            .image(r::binding::EQUATIONS_H2, images.equations_h2)
-            .image(r::binding::ROWS, images.rows)
-            .image(r::binding::ROWS_H2, images.rows_h2)
-    });
-    let solve = rec.bind(passes.solve, |writes| {
-        writes
-            .image(s::binding::ROWS, images.rows)
-            .image(s::binding::ROWS_H2, images.rows_h2)
-            .image(s::binding::FLOW, images.flow_pyramid)
-    });
-    let upsample = rec.bind(passes.upsample, |writes| {
-        writes
-            .image(u::binding::FLOW_PYRAMID, images.flow_pyramid)
-            .image(u::binding::FLOW, images.flow)
     });
 
     let levels = pyramid(flow_extent(extent, images.mask_step), settings.levels);
@@ -368,52 +345,112 @@ pub fn record(
         rec.clear(images.flow);
         return;
     };
-    let radius = settings.window_radius as i32;
+
+    let coarsest = levels
+        .last()
+        .expect("the flow runs with at least one level");
+    let start = rec.bind(passes.start, |writes| {
+        writes
+            .image(s::binding::SOURCE_DEPTH, images.frame.source_depth)
+            .image(s::binding::ESTIMATE, images.flow_pyramid[0])
+    });
+    let [camera_offset, camera_at_origin, camera_per_x, camera_per_y] =
+        camera_params(reprojection, images.mask_step << (levels.len() - 1));
+    let params = s::Params {
+        level_offset: coarsest.offset,
+        level_size: coarsest.size,
+        frame_extent: [extent.width, extent.height],
+        camera_offset,
+        camera_at_origin,
+        camera_per_x,
+        camera_per_y,
+        ..Default::default()
+    };
+    rec.dispatch(&start, &params, extent_of(coarsest));
+
+    let iterate = [0, 1].map(|from| {
+        rec.bind(passes.iterate[from], |writes| {
+            writes
+                .image(i::binding::POLY_CURRENT, images.poly[current])
+                .image(i::binding::POLY_XY_CURRENT, images.poly_xy[current])
+                .image(i::binding::POLY_PREVIOUS, images.poly[previous])
+                .image(i::binding::POLY_XY_PREVIOUS, images.poly_xy[previous])
+                .image(i::binding::ESTIMATE, images.flow_pyramid[from])
+                .image(i::binding::FLOW, images.flow_pyramid[1 - from])
+        })
+    });
+    // The estimate sits in flow_pyramid[n % 2] before iteration n.
+    let mut n = 0;
     for (index, level) in levels.iter().enumerate().rev() {
-        let [camera_offset, camera_at_origin, camera_per_x, camera_per_y] =
-            camera_params(reprojection, images.mask_step << index);
         for iteration in 0..settings.iterations {
-            // The first estimate comes from the coarser level, or at the coarsest from the
-            // static receivers' motion between the cameras.
-            let prior = if iteration > 0 {
-                Some(level)
-            } else {
-                levels.get(index + 1)
+            // A level's first estimate is the coarser level's flow (at the coarsest, the
+            // start's, in place).
+            let prior = match iteration {
+                0 => levels.get(index + 1).unwrap_or(level),
+                _ => level,
             };
-            let params = m::Params {
+            let params = i::Params {
                 level_offset: level.offset,
                 level_size: level.size,
-                prior_offset: prior.map_or([0, 0], |p| p.offset),
-                prior_size: prior.map_or([1, 1], |p| p.size),
-                has_prior: prior.is_some() as u32,
+                prior_offset: prior.offset,
+                prior_size: prior.size,
+                radius: settings.window_radius as i32,
                 regularization: REGULARIZATION,
-                frame_extent: [extent.width, extent.height],
-                camera_offset,
-                camera_at_origin,
-                camera_per_x,
-                camera_per_y,
             };
-            rec.dispatch(&matrices, &params, extent_of(level));
-            let params = r::Params {
-                level_offset: level.offset,
-                level_size: level.size,
-                radius,
-                ..Default::default()
-            };
-            rec.dispatch(&rows, &params, extent_of(level));
-            let params = s::Params {
-                level_offset: level.offset,
-                level_size: level.size,
-                radius,
-                ..Default::default()
-            };
-            rec.dispatch(&solve, &params, extent_of(level));
+            // One workgroup per tile of the level.
+            rec.dispatch(&iterate[n % 2], &params, extent_of(level));
+            n += 1;
         }
     }
+    let upsample = rec.bind(passes.upsample, |writes| {
+        writes
+            .image(u::binding::FLOW_PYRAMID, images.flow_pyramid[n % 2])
+            .image(u::binding::FLOW, images.flow)
+    });
     let params = u::Params {
         extent: [extent.width, extent.height],
         level_offset: levels[0].offset,
         level_size: levels[0].size,
     };
     rec.dispatch(&upsample, &params, extent);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Rounding each level up stacks the coarser levels taller than level 0 on some sizes
+    /// (160 x 90: 45 rows against 23 + 12 + 6 + 3 + 2): every level of every level count, at
+    /// every frame the atlas serves, lies inside it.
+    #[test]
+    fn every_level_lies_inside_the_atlas() {
+        for (width, height) in [
+            (160, 90),
+            (1344, 96),
+            (1920, 1080),
+            (3840, 2160),
+            (1, 1),
+            (7, 3),
+        ] {
+            let largest = vk::Extent2D { width, height };
+            let atlas = atlas_extent(largest);
+            // The largest frame, and smaller ones the same images serve.
+            let smaller = vk::Extent2D {
+                width: width.div_ceil(3),
+                height: height.div_ceil(2),
+            };
+            for extent in [largest, smaller, vk::Extent2D { width: 1, height }] {
+                let finest = flow_extent(extent, mask_step(largest));
+                for levels in 1..=MAX_LEVELS {
+                    for level in pyramid(finest, levels) {
+                        assert!(
+                            level.offset[0] + level.size[0] <= atlas.width
+                                && level.offset[1] + level.size[1] <= atlas.height,
+                            "{level:?} of {levels} levels at {extent:?} outside {atlas:?}"
+                        );
+                    }
+                }
+            }
+        }
+    }
 }

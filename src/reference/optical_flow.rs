@@ -1,7 +1,8 @@
 //! Mirror of the Farneback flow passes (`shaders/shadow_pyramid.wgsl`, `shadow_poly.wgsl`,
-//! `shadow_flow_matrices.wgsl`, `shadow_flow_rows.wgsl`, `shadow_flow_solve.wgsl`,
-//! `shadow_flow_upsample.wgsl` and `include/flow.wgsl`), one image per level instead of one
-//! atlas per quantity.
+//! `shadow_flow_start.wgsl`, `shadow_flow_iterate.wgsl`, `shadow_flow_upsample.wgsl` and
+//! `include/flow.wgsl`), one image per level instead of one atlas per quantity. An iteration
+//! is three steps here (`equations`, `rows`, `solve`) and one pass on the GPU, which keeps the
+//! equations and their row sums in workgroup memory.
 
 use glam::{Vec2, Vec4};
 
@@ -128,7 +129,7 @@ pub struct FlowStart<'a> {
 }
 
 impl FlowStart<'_> {
-    /// `camera_motion` of shadow_flow_matrices.wgsl: where static surfaces under texel p of a
+    /// `camera_motion` of shadow_flow_start.wgsl: where static surfaces under texel p of a
     /// level of `step` frame pixels a texel moved into frame t-1, in that level's texels.
     fn camera_motion(&self, p: Vec2, step: u32) -> Vec2 {
         let step = step as f32;

@@ -1,0 +1,145 @@
+// One Farneback iteration at one level of the pyramid. Frame t's expansion (A0, b0) at texel x
+// and frame t-1's (A1, b1) at x + d, where d is the current estimate, give
+//   A = (A0 + A1) / 2,   db = -(b1 - b0) / 2 + A d,
+// and the displacement to frame t-1 solves A d' = db. A window of (2r+1)^2 texels is fitted by
+// least squares: each texel contributes G = A^T A and h = A^T db, the window sums them (borders
+// replicate), and the 2x2 system G d' = h gives the texel's new flow, in texels of the level.
+// A small multiple of (I, d) is added so that a window without structure keeps its estimate
+// instead of falling to zero, and keeps G positive definite.
+//
+// The estimate is this level's flow from the last iteration, or the coarser level's scaled up
+// (a level's first iteration; at the coarsest, shadow_flow_start.wgsl's). It is read from one
+// atlas and the new flow written to the other, so no workgroup reads what another writes.
+//
+// One workgroup solves an 8x8 tile. Its window reaches r texels past the tile, so it computes
+// the equations of the tile and that border in workgroup memory, eight rows at a time, sums
+// each row's window there, then each column's: the equations never leave the chip, and the
+// iteration is one dispatch.
+// #import flow
+
+// The tile's edge, and the workgroup's.
+const TILE: i32 = 8;
+// shadow_flow::MAX_WINDOW_RADIUS: the widest window a strip of equations holds.
+const MAX_RADIUS: i32 = 15;
+const MAX_SPAN: i32 = 38; // TILE + 2 * MAX_RADIUS
+// Row sums kept for every row of the span, rounded up to whole strips.
+const MAX_ROWS: i32 = 40;
+
+struct Params {
+    level_offset: vec2u,
+    level_size: vec2u,
+    // Where the estimate lies in its atlas: this level, or the coarser one.
+    prior_offset: vec2u,
+    prior_size: vec2u,
+    radius: i32,
+    regularization: f32,
+}
+var<immediate> params: Params;
+
+@group(0) @binding(0) var poly_current: texture_2d<f32>;
+@group(0) @binding(1) var poly_xy_current: texture_2d<f32>;
+@group(0) @binding(2) var poly_previous: texture_2d<f32>;
+@group(0) @binding(3) var poly_xy_previous: texture_2d<f32>;
+@group(0) @binding(4) var estimate: texture_2d<f32>;
+@group(0) @binding(5) var flow: texture_storage_2d<rg32float, write>;
+
+// One strip of equations: (G11, G12, G22, h1) and h2 for TILE rows of the span.
+var<workgroup> strip: array<vec4f, 304>; // TILE * MAX_SPAN
+var<workgroup> strip_h2: array<f32, 304>;
+// Each row of the span summed over the window, at the tile's columns.
+var<workgroup> rows: array<vec4f, 320>; // MAX_ROWS * TILE
+var<workgroup> rows_h2: array<f32, 320>;
+
+struct Equations {
+    g: vec4f,
+    h2: f32,
+}
+
+// The window radius, read so that lavapipe does not compile the pass anew for each setting
+// (tests/shader_settings.rs): an image's size is unknown to the driver.
+fn radius() -> i32 {
+    return select(0, min(params.radius, MAX_RADIUS), textureDimensions(estimate).x != 0u);
+}
+
+// The equations of level texel p (inside the level).
+fn equations(p: vec2i) -> Equations {
+    let ratio = vec2f(params.level_size) / vec2f(params.prior_size);
+    let pos = (vec2f(p) + 0.5) / ratio - 0.5;
+    let d = level_bilinear(estimate, params.prior_offset, params.prior_size, pos).xy * ratio;
+    let texel = vec2i(params.level_offset) + p;
+    let current = textureLoad(poly_current, texel, 0);
+    let current_xy = textureLoad(poly_xy_current, texel, 0).r;
+    let at = vec2f(p) + d;
+    let previous = level_bilinear(poly_previous, params.level_offset, params.level_size, at);
+    let previous_xy = level_bilinear(poly_xy_previous, params.level_offset, params.level_size, at).r;
+    let a11 = 0.5 * (current.z + previous.z);
+    let a22 = 0.5 * (current.w + previous.w);
+    // The xy coefficient is twice the off-diagonal of A.
+    let a12 = 0.25 * (current_xy + previous_xy);
+    let db = -0.5 * (previous.xy - current.xy) + vec2f(a11 * d.x + a12 * d.y, a12 * d.x + a22 * d.y);
+    let eps = params.regularization;
+    let g11 = a11 * a11 + a12 * a12 + eps;
+    let g12 = a12 * (a11 + a22);
+    let g22 = a22 * a22 + a12 * a12 + eps;
+    let h1 = a11 * db.x + a12 * db.y + eps * d.x;
+    let h2 = a12 * db.x + a22 * db.y + eps * d.y;
+    return Equations(vec4f(g11, g12, g22, h1), h2);
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn main(
+    @builtin(workgroup_id) group: vec3u,
+    @builtin(local_invocation_id) local: vec3u,
+    @builtin(local_invocation_index) lane: u32,
+) {
+    let r = radius();
+    let span = TILE + 2 * r;
+    let size = vec2i(params.level_size);
+    // The level texel at the span's corner.
+    let corner = vec2i(group.xy) * TILE - r;
+    for (var first_row = 0; first_row < span; first_row += TILE) {
+        for (var i = i32(lane); i < TILE * span; i += TILE * TILE) {
+            let row = first_row + i / span;
+            let column = i % span;
+            if (row < span) {
+                // A texel past the border has the equations of the border's: they replicate.
+                let q = clamp(corner + vec2i(column, row), vec2i(0), size - 1);
+                let e = equations(q);
+                strip[i] = e.g;
+                strip_h2[i] = e.h2;
+            }
+        }
+        workgroupBarrier();
+        let row = first_row + i32(local.y);
+        if (row < span) {
+            var sum = vec4f(0.0);
+            var sum_h2 = 0.0;
+            let start = i32(local.y) * span + i32(local.x);
+            for (var k = 0; k <= 2 * r; k++) {
+                sum += strip[start + k];
+                sum_h2 += strip_h2[start + k];
+            }
+            rows[row * TILE + i32(local.x)] = sum;
+            rows_h2[row * TILE + i32(local.x)] = sum_h2;
+        }
+        workgroupBarrier();
+    }
+    let p = vec2i(group.xy) * TILE + vec2i(local.xy);
+    if (any(p >= size)) {
+        return;
+    }
+    var sum = vec4f(0.0);
+    var h2 = 0.0;
+    for (var k = 0; k <= 2 * r; k++) {
+        let index = (i32(local.y) + k) * TILE + i32(local.x);
+        sum += rows[index];
+        h2 += rows_h2[index];
+    }
+    let g11 = sum.x;
+    let g12 = sum.y;
+    let g22 = sum.z;
+    let h1 = sum.w;
+    let det = g11 * g22 - g12 * g12;
+    let d = vec2f(g22 * h1 - g12 * h2, g11 * h2 - g12 * h1) / det;
+    textureStore(flow, vec2i(params.level_offset) + p, vec4f(d, 0.0, 0.0));
+}
