@@ -12,18 +12,20 @@
 // atlas and the new flow written to the other, so no workgroup reads what another writes.
 //
 // One workgroup solves an 8x8 tile. Its window reaches r texels past the tile, so it computes
-// the equations of the tile and that border in workgroup memory, eight rows at a time, sums
-// each row's window there, then each column's: the equations never leave the chip, and the
-// iteration is one dispatch.
+// the equations of the tile and that border in workgroup memory (in strips of rows, for the
+// wider windows), sums each row's window there, then each column's: the equations never leave
+// the chip, and the iteration is one dispatch.
 // #import flow
 
 // The tile's edge, and the workgroup's.
 const TILE: i32 = 8;
-// shadow_flow::MAX_WINDOW_RADIUS: the widest window a strip of equations holds.
+// shadow_flow::MAX_WINDOW_RADIUS.
 const MAX_RADIUS: i32 = 15;
-const MAX_SPAN: i32 = 38; // TILE + 2 * MAX_RADIUS
-// Row sums kept for every row of the span, rounded up to whole strips.
-const MAX_ROWS: i32 = 40;
+// Equations one strip holds: the whole span of the default window (22 x 22 texels for radius
+// 7), so that it takes one strip and two barriers, each a coroutine switch on lavapipe.
+const STRIP: i32 = 484;
+// Row sums kept for every row of the widest span (TILE + 2 * MAX_RADIUS).
+const MAX_SPAN: i32 = 38;
 
 struct Params {
     level_offset: vec2u,
@@ -43,12 +45,13 @@ var<immediate> params: Params;
 @group(0) @binding(4) var estimate: texture_2d<f32>;
 @group(0) @binding(5) var flow: texture_storage_2d<rg32float, write>;
 
-// One strip of equations: (G11, G12, G22, h1) and h2 for TILE rows of the span.
-var<workgroup> strip: array<vec4f, 304>; // TILE * MAX_SPAN
-var<workgroup> strip_h2: array<f32, 304>;
+// One strip of equations: (G11, G12, G22, h1) and h2 for as many whole rows of the span as
+// fit. With the row sums, 15760 bytes: within the 16 KiB every Vulkan device offers.
+var<workgroup> strip: array<vec4f, STRIP>;
+var<workgroup> strip_h2: array<f32, STRIP>;
 // Each row of the span summed over the window, at the tile's columns.
-var<workgroup> rows: array<vec4f, 320>; // MAX_ROWS * TILE
-var<workgroup> rows_h2: array<f32, 320>;
+var<workgroup> rows: array<vec4f, 304>; // MAX_SPAN * TILE
+var<workgroup> rows_h2: array<f32, 304>;
 
 struct Equations {
     g: vec4f,
@@ -97,30 +100,29 @@ fn main(
     let size = vec2i(params.level_size);
     // The level texel at the span's corner.
     let corner = vec2i(group.xy) * TILE - r;
-    for (var first_row = 0; first_row < span; first_row += TILE) {
-        for (var i = i32(lane); i < TILE * span; i += TILE * TILE) {
-            let row = first_row + i / span;
-            let column = i % span;
-            if (row < span) {
-                // A texel past the border has the equations of the border's: they replicate.
-                let q = clamp(corner + vec2i(column, row), vec2i(0), size - 1);
-                let e = equations(q);
-                strip[i] = e.g;
-                strip_h2[i] = e.h2;
-            }
+    let strip_rows = STRIP / span;
+    for (var first_row = 0; first_row < span; first_row += strip_rows) {
+        let count = min(strip_rows, span - first_row) * span;
+        for (var i = i32(lane); i < count; i += TILE * TILE) {
+            // A texel past the border has the equations of the border's: they replicate.
+            let q = clamp(corner + vec2i(i % span, first_row + i / span), vec2i(0), size - 1);
+            let e = equations(q);
+            strip[i] = e.g;
+            strip_h2[i] = e.h2;
         }
         workgroupBarrier();
-        let row = first_row + i32(local.y);
-        if (row < span) {
+        // Each invocation sums the windows of its column in every eighth row of the strip.
+        for (var row = i32(local.y); row < min(strip_rows, span - first_row); row += TILE) {
             var sum = vec4f(0.0);
             var sum_h2 = 0.0;
-            let start = i32(local.y) * span + i32(local.x);
+            let start = row * span + i32(local.x);
             for (var k = 0; k <= 2 * r; k++) {
                 sum += strip[start + k];
                 sum_h2 += strip_h2[start + k];
             }
-            rows[row * TILE + i32(local.x)] = sum;
-            rows_h2[row * TILE + i32(local.x)] = sum_h2;
+            let index = (first_row + row) * TILE + i32(local.x);
+            rows[index] = sum;
+            rows_h2[index] = sum_h2;
         }
         workgroupBarrier();
     }

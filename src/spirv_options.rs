@@ -21,6 +21,10 @@ pub fn spirv_options() -> spv::Options<'static> {
             image_load: checked,
             binding_array: checked,
         },
+        // Every shader writes its workgroup memory before reading it (`open_tallies`, the flow's
+        // strips). naga's zero-fill would cost each workgroup one more barrier, and a barrier is
+        // a coroutine switch per invocation on lavapipe.
+        zero_initialize_workgroup_memory: spv::ZeroInitializeWorkgroupMemoryMode::None,
         ..Default::default()
     };
     options.flags.remove(spv::WriterFlags::DEBUG);

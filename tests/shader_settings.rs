@@ -3,8 +3,9 @@
 //! constants and uniforms that a branch or a loop bound depends on alone, keeps no cache of its
 //! specialisations and, unless its first try shrank the shader too little, compiles it again at
 //! every dispatch: the G-buffer warp took about 380 ms of LLVM a frame at 640x360 before it read its settings
-//! through `unspecialised` (shaders/include/warp.wgsl). This finds such branches in the warps and
-//! the hole fill; other passes run once or gain too little for the driver to keep specialising.
+//! through `unspecialised` (shaders/include/warp.wgsl). This finds such branches in the warps, the
+//! hole fill and the flow's loops; other passes run once or gain too little for the driver to keep
+//! specialising.
 
 #[allow(dead_code)]
 #[path = "../build_support/wgsl.rs"]
@@ -287,12 +288,14 @@ fn module(pass: &str) -> Module {
 }
 
 #[test]
-fn the_warps_and_the_fill_never_branch_on_settings_alone() {
+fn the_warps_the_fill_and_the_flow_never_branch_on_settings_alone() {
     for pass in [
         "warp_gbuffer",
         "warp_occlusion_motion",
         "warp_motion_vector",
         "fill_holes",
+        "shadow_poly",
+        "shadow_flow_iterate",
     ] {
         let module = module(pass);
         let found = Analysis::new(&module).branches_on_settings();

@@ -125,9 +125,10 @@ impl FlowSettings {
         })
     }
 
-    /// The polynomial expansion's constants for one level: the least-squares fit's inverse
-    /// normal matrix, reduced by the weights' symmetry (see `shaders/shadow_poly.wgsl`).
-    pub fn poly_params(&self, level: &Level) -> shaders::shadow_poly::Params {
+    /// The polynomial expansion's constants for a pyramid whose finest level is `finest`: the
+    /// least-squares fit's inverse normal matrix, reduced by the weights' symmetry (see
+    /// `shaders/shadow_poly.wgsl`).
+    pub fn poly_params(&self, finest: vk::Extent2D) -> shaders::shadow_poly::Params {
         let r = self.poly_radius as i32;
         let sigma = self.poly_sigma as f64;
         let weight = |i: i32| (-((i * i) as f64) / (2.0 * sigma * sigma)).exp();
@@ -151,8 +152,8 @@ impl FlowSettings {
         let a_row = inverse.row(1);
         let w: Vec<f32> = (0..=3).map(|i| weight(i) as f32).collect();
         shaders::shadow_poly::Params {
-            level_offset: level.offset,
-            level_size: level.size,
+            finest_size: [finest.width, finest.height],
+            levels: self.levels,
             radius: r,
             weight0: w[0],
             weight1: w[1],
@@ -163,6 +164,7 @@ impl FlowSettings {
             a_from_sum: a_row.x as f32,
             a_from_xx: a_row.y as f32,
             a_from_yy: a_row.z as f32,
+            ..Default::default()
         }
     }
 }
@@ -218,21 +220,20 @@ pub fn flow_extent(extent: vk::Extent2D, step: u32) -> vk::Extent2D {
     }
 }
 
+/// The part of the atlas `levels` cover, from the origin.
+pub fn span(levels: &[Level]) -> vk::Extent2D {
+    levels
+        .iter()
+        .fold(vk::Extent2D::default(), |span, level| vk::Extent2D {
+            width: span.width.max(level.offset[0] + level.size[0]),
+            height: span.height.max(level.offset[1] + level.size[1]),
+        })
+}
+
 /// The size of an atlas holding the pyramid of every frame up to `extent`, at every level count:
 /// level 0, and the column of coarser levels, which rounding up can make taller than level 0.
 pub fn atlas_extent(extent: vk::Extent2D) -> vk::Extent2D {
-    let levels = pyramid(flow_extent(extent, mask_step(extent)), MAX_LEVELS);
-    let corner = |level: &Level| {
-        [
-            level.offset[0] + level.size[0],
-            level.offset[1] + level.size[1],
-        ]
-    };
-    let [width, height] = levels
-        .iter()
-        .map(corner)
-        .fold([0, 0], |[w, h], [x, y]| [w.max(x), h.max(y)]);
-    vk::Extent2D { width, height }
+    span(&pyramid(flow_extent(extent, mask_step(extent)), MAX_LEVELS))
 }
 
 /// What the flow reads of frame t: the engine's shadow mask, the packed object ids that tell
@@ -317,7 +318,8 @@ pub fn record(
             .image(p::binding::POLY_XY, images.poly_xy[current])
     });
 
-    let levels = pyramid(flow_extent(extent, images.mask_step), settings.levels);
+    let finest = flow_extent(extent, images.mask_step);
+    let levels = pyramid(finest, settings.levels);
     let frame = Level {
         offset: [0, 0],
         size: [extent.width, extent.height],
@@ -335,11 +337,8 @@ pub fn record(
         };
         rec.dispatch(&mask_pyramid, &params, extent_of(level));
     }
-    // Each level's expansion is its own part of the atlas.
-    let expansions = levels
-        .iter()
-        .map(|level| (settings.poly_params(level), extent_of(level)));
-    rec.dispatch_each(&poly, expansions);
+    // Every level's expansion at once.
+    rec.dispatch(&poly, &settings.poly_params(finest), span(&levels));
     let Some(reprojection) = tracked else {
         // No frame t-1 to track from: the shadow stays where it is.
         rec.clear(images.flow);

@@ -4,11 +4,12 @@
 //! is three steps here (`equations`, `rows`, `solve`) and one pass on the GPU, which keeps the
 //! equations and their row sums in workgroup memory.
 
+use ash::vk;
 use glam::{Vec2, Vec4};
 
 use super::{round_to_f16, Image};
 use crate::camera::PixelRays;
-use crate::passes::shadow_flow::{FlowSettings, Level, REGULARIZATION};
+use crate::passes::shadow_flow::{FlowSettings, REGULARIZATION};
 use crate::shaders::shadow_poly;
 
 /// A level's polynomial expansion: (b1, b2, a11, a22) and a12.
@@ -109,16 +110,14 @@ pub fn expand(level: &Image, params: &shadow_poly::Params) -> Expansion {
 /// Every level's expansion of a mask, as the submit computes it.
 pub fn expand_pyramid(mask: &Image, settings: &FlowSettings, mask_step: u32) -> Vec<Expansion> {
     let levels = pyramid(mask, settings.levels, mask_step);
-    levels
-        .iter()
-        .map(|level| {
-            let place = Level {
-                offset: [0, 0],
-                size: [level.width as u32, level.height as u32],
-            };
-            expand(level, &settings.poly_params(&place))
-        })
-        .collect()
+    let finest = levels
+        .first()
+        .map_or(vk::Extent2D::default(), |level| vk::Extent2D {
+            width: level.width as u32,
+            height: level.height as u32,
+        });
+    let params = settings.poly_params(finest);
+    levels.iter().map(|level| expand(level, &params)).collect()
 }
 
 /// Where the flow starts: frame t's linear depth (channel 3 of the packed geometry) and
