@@ -445,6 +445,42 @@ fn shadow_flow_matches_its_reference_at_the_extremes_of_its_window() {
     }
 }
 
+/// The flow's iterations report the bytes of the level they run over, not of the atlases that
+/// hold every level: one more iteration at one level reads frame t's and frame t-1's expansions
+/// (RGBA32F and R32F) and the estimate (RG32F) over level 0, and writes the new flow (RG32F).
+#[test]
+fn each_flow_iteration_counts_the_bytes_of_its_level() {
+    let frames = rendered_frames("fast_run.toml", 128, 72);
+    let flow_bytes = |iterations| {
+        let flow = FlowSettings {
+            levels: 1,
+            iterations,
+            ..FlowSettings::default()
+        };
+        let outcome = run_validated(
+            frames.each_ref(),
+            [true; 2],
+            None,
+            false,
+            Some(&flow.to_abi()),
+        );
+        let stage = PATCHEX_STAGE_SHADOW_FLOW as usize;
+        let traffic = &outcome.stats.submit_traffic;
+        [traffic.bytes_read[stage], traffic.bytes_written[stage]]
+    };
+    let [one, two] = [flow_bytes(1), flow_bytes(2)];
+    let level_texels = 64 * 36;
+    assert_eq!(
+        mask_step(vk::Extent2D {
+            width: 128,
+            height: 72
+        }),
+        2
+    );
+    assert_eq!(two[0] - one[0], (2 * (16 + 4) + 8) * level_texels, "read");
+    assert_eq!(two[1] - one[1], 8 * level_texels, "written");
+}
+
 fn assert_shadow_passes_match_their_references(
     scene: &str,
     width: u32,

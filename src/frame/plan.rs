@@ -152,6 +152,7 @@ fn shadow_flow(rec: &mut Recorder, plan: &SubmitPlan) {
         shadow_flow::record(
             rec,
             &shadow_flow::FlowPasses {
+                mask_level: passes.get(PipelineId::ShadowMaskLevel),
                 pyramid: passes.get(PipelineId::ShadowPyramid),
                 poly: passes.get(PipelineId::ShadowPoly),
                 start: passes.get(PipelineId::ShadowFlowStart),

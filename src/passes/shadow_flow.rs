@@ -276,6 +276,7 @@ pub struct FlowImages<'a> {
 
 /// The flow stage's passes; `iterate[i]` reads `flow_pyramid[i]` and writes the other.
 pub struct FlowPasses<'a> {
+    pub mask_level: Pass<'a>,
     pub pyramid: Pass<'a>,
     pub poly: Pass<'a>,
     pub start: Pass<'a>,
@@ -302,41 +303,47 @@ pub fn record(
     tracked: Option<&PixelRays>,
 ) {
     use shaders::{shadow_flow_iterate as i, shadow_flow_start as s};
-    use shaders::{shadow_flow_upsample as u, shadow_poly as p, shadow_pyramid as y};
+    use shaders::{shadow_flow_upsample as u, shadow_mask_level as m};
+    use shaders::{shadow_poly as p, shadow_pyramid as y};
     let (current, previous) = (images.current, 1 - images.current);
+    let atlas = images.mask_pyramid.extent;
+    let finest = flow_extent(extent, images.mask_step);
+    let levels = pyramid(finest, settings.levels);
+
+    let mask_level = rec.bind(passes.mask_level, |writes| {
+        writes
+            .image(m::binding::MASK, images.frame.mask)
+            .image(m::binding::SOURCE_NORMAL_ID, images.frame.source_normal_id)
+            .image(m::binding::LEVEL, images.mask_pyramid)
+    });
+    let params = m::Params {
+        frame_size: [extent.width, extent.height],
+        level_size: levels[0].size,
+        block: images.mask_step,
+        ..Default::default()
+    };
+    rec.dispatch(&mask_level, &params, finest);
     let mask_pyramid = rec.bind(passes.pyramid, |writes| {
         writes
-            .image(y::binding::MASK, images.frame.mask)
-            .image(y::binding::SOURCE_NORMAL_ID, images.frame.source_normal_id)
             .image(y::binding::FINER, images.mask_pyramid)
             .image(y::binding::LEVEL, images.mask_pyramid)
     });
+    for pair in levels.windows(2) {
+        let [finer, level] = [&pair[0], &pair[1]];
+        let params = y::Params {
+            level_offset: level.offset,
+            level_size: level.size,
+            finer_offset: finer.offset,
+            finer_size: finer.size,
+        };
+        rec.dispatch(&mask_pyramid, &params, extent_of(level));
+    }
     let poly = rec.bind(passes.poly, |writes| {
         writes
             .image(p::binding::MASK_PYRAMID, images.mask_pyramid)
             .image(p::binding::POLY, images.poly[current])
             .image(p::binding::POLY_XY, images.poly_xy[current])
     });
-
-    let finest = flow_extent(extent, images.mask_step);
-    let levels = pyramid(finest, settings.levels);
-    let frame = Level {
-        offset: [0, 0],
-        size: [extent.width, extent.height],
-    };
-    for (index, level) in levels.iter().enumerate() {
-        // Level 0 averages the frame's mask, each coarser level the one before it.
-        let finer = index.checked_sub(1).map(|finer| &levels[finer]);
-        let params = y::Params {
-            level_offset: level.offset,
-            level_size: level.size,
-            finer_offset: finer.unwrap_or(&frame).offset,
-            finer_size: finer.unwrap_or(&frame).size,
-            from_mask: finer.is_none() as u32,
-            block: if finer.is_none() { images.mask_step } else { 2 },
-        };
-        rec.dispatch(&mask_pyramid, &params, extent_of(level));
-    }
     // Every level's expansion at once.
     rec.dispatch(&poly, &settings.poly_params(finest), span(&levels));
     let Some(reprojection) = tracked else {
@@ -397,7 +404,8 @@ pub fn record(
                 regularization: REGULARIZATION,
             };
             // One workgroup per tile of the level.
-            rec.dispatch(&iterate[n % 2], &params, extent_of(level));
+            // It reads this level and the coarser one, and writes this level.
+            rec.dispatch_level(&iterate[n % 2], &params, extent_of(level), atlas);
             n += 1;
         }
     }

@@ -176,9 +176,38 @@ impl<'a> Recorder<'a> {
         bound: &Bound,
         dispatches: impl IntoIterator<Item = (P, vk::Extent2D)>,
     ) {
-        self.order(&bound.accesses);
         // The dispatches share their images, each writing its own part: the bytes count once.
-        self.traffic += bound.traffic;
+        self.record_dispatches(bound, bound.traffic, dispatches);
+    }
+
+    /// One dispatch of `bound` over one level of pyramid atlases (`shadow_flow::pyramid`): every
+    /// image it binds is an atlas of `atlas` texels, and it reads and writes no more of each than
+    /// the level, so its bytes count for the level's share.
+    pub fn dispatch_level<P: PushConstants>(
+        &mut self,
+        bound: &Bound,
+        params: &P,
+        level: vk::Extent2D,
+        atlas: vk::Extent2D,
+    ) {
+        let texels = |e: vk::Extent2D| e.width as u64 * e.height as u64;
+        let share = |bytes: u64| bytes * texels(level) / texels(atlas).max(1);
+        let traffic = Traffic {
+            bytes_read: share(bound.traffic.bytes_read),
+            bytes_written: share(bound.traffic.bytes_written),
+            operations: 0,
+        };
+        self.record_dispatches(bound, traffic, [(*params, level)]);
+    }
+
+    fn record_dispatches<P: PushConstants>(
+        &mut self,
+        bound: &Bound,
+        traffic: Traffic,
+        dispatches: impl IntoIterator<Item = (P, vk::Extent2D)>,
+    ) {
+        self.order(&bound.accesses);
+        self.traffic += traffic;
         let Pass { pipeline, set } = bound.pass;
         let [group_x, group_y, _] = pipeline.shader.workgroup_size;
         for (params, extent) in dispatches {
