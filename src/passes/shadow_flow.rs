@@ -302,14 +302,27 @@ pub fn record(
     images: &FlowImages,
     tracked: Option<&PixelRays>,
 ) {
-    use shaders::{shadow_flow_iterate as i, shadow_flow_start as s};
-    use shaders::{shadow_flow_upsample as u, shadow_mask_level as m};
-    use shaders::{shadow_poly as p, shadow_pyramid as y};
-    let (current, previous) = (images.current, 1 - images.current);
-    let atlas = images.mask_pyramid.extent;
-    let finest = flow_extent(extent, images.mask_step);
-    let levels = pyramid(finest, settings.levels);
+    let levels = pyramid(flow_extent(extent, images.mask_step), settings.levels);
+    record_expansion(rec, passes, extent, settings, images, &levels);
+    match tracked {
+        Some(reprojection) => {
+            record_flow(rec, passes, extent, settings, images, &levels, reprojection)
+        }
+        // No frame t-1 to track from: the shadow stays where it is.
+        None => rec.clear(images.flow),
+    }
+}
 
+/// The mask pyramid of frame t and every level's expansion.
+fn record_expansion(
+    rec: &mut Recorder,
+    passes: &FlowPasses,
+    extent: vk::Extent2D,
+    settings: &FlowSettings,
+    images: &FlowImages,
+    levels: &[Level],
+) {
+    use shaders::{shadow_mask_level as m, shadow_poly as p, shadow_pyramid as y};
     let mask_level = rec.bind(passes.mask_level, |writes| {
         writes
             .image(m::binding::MASK, images.frame.mask)
@@ -322,7 +335,7 @@ pub fn record(
         block: images.mask_step,
         ..Default::default()
     };
-    rec.dispatch(&mask_level, &params, finest);
+    rec.dispatch(&mask_level, &params, extent_of(&levels[0]));
     let mask_pyramid = rec.bind(passes.pyramid, |writes| {
         writes
             .image(y::binding::FINER, images.mask_pyramid)
@@ -341,17 +354,27 @@ pub fn record(
     let poly = rec.bind(passes.poly, |writes| {
         writes
             .image(p::binding::MASK_PYRAMID, images.mask_pyramid)
-            .image(p::binding::POLY, images.poly[current])
-            .image(p::binding::POLY_XY, images.poly_xy[current])
+            .image(p::binding::POLY, images.poly[images.current])
+            .image(p::binding::POLY_XY, images.poly_xy[images.current])
     });
     // Every level's expansion at once.
-    rec.dispatch(&poly, &settings.poly_params(finest), span(&levels));
-    let Some(reprojection) = tracked else {
-        // No frame t-1 to track from: the shadow stays where it is.
-        rec.clear(images.flow);
-        return;
-    };
+    let finest = extent_of(&levels[0]);
+    rec.dispatch(&poly, &settings.poly_params(finest), span(levels));
+}
 
+/// The flow from frame t's and frame t-1's expansions, coarse to fine, scaled up to the frame.
+fn record_flow(
+    rec: &mut Recorder,
+    passes: &FlowPasses,
+    extent: vk::Extent2D,
+    settings: &FlowSettings,
+    images: &FlowImages,
+    levels: &[Level],
+    reprojection: &PixelRays,
+) {
+    use shaders::shadow_flow_upsample as u;
+    use shaders::{shadow_flow_iterate as i, shadow_flow_start as s};
+    let (current, previous) = (images.current, 1 - images.current);
     let coarsest = levels
         .last()
         .expect("the flow runs with at least one level");
@@ -403,8 +426,9 @@ pub fn record(
                 radius: settings.window_radius as i32,
                 regularization: REGULARIZATION,
             };
-            // One workgroup per tile of the level.
-            // It reads this level and the coarser one, and writes this level.
+            // One workgroup per tile of the level; it reads this level and the coarser one,
+            // and writes this level.
+            let atlas = images.mask_pyramid.extent;
             rec.dispatch_level(&iterate[n % 2], &params, extent_of(level), atlas);
             n += 1;
         }
