@@ -50,8 +50,8 @@ var<immediate> params: Params;
 var<workgroup> strip: array<vec4f, STRIP>;
 var<workgroup> strip_h2: array<f32, STRIP>;
 // Each row of the span summed over the window, at the tile's columns.
-var<workgroup> rows: array<vec4f, 304>; // MAX_SPAN * TILE
-var<workgroup> rows_h2: array<f32, 304>;
+var<workgroup> rows: array<vec4f, MAX_SPAN * TILE>;
+var<workgroup> rows_h2: array<f32, MAX_SPAN * TILE>;
 
 struct Equations {
     g: vec4f,
