@@ -409,6 +409,7 @@ fn record_flow(
         })
     });
     // The estimate sits in flow_pyramid[n % 2] before iteration n.
+    let atlas = images.mask_pyramid.extent;
     let mut n = 0;
     for (index, level) in levels.iter().enumerate().rev() {
         for iteration in 0..settings.iterations {
@@ -428,7 +429,6 @@ fn record_flow(
             };
             // One workgroup per tile of the level; it reads this level and the coarser one,
             // and writes this level.
-            let atlas = images.mask_pyramid.extent;
             rec.dispatch_level(&iterate[n % 2], &params, extent_of(level), atlas);
             n += 1;
         }

@@ -166,18 +166,7 @@ impl<'a> Recorder<'a> {
 
     /// One dispatch of `bound` covering `extent`.
     pub fn dispatch<P: PushConstants>(&mut self, bound: &Bound, params: &P, extent: vk::Extent2D) {
-        self.dispatch_each(bound, [(*params, extent)]);
-    }
-
-    /// Dispatches of `bound` that do not depend on one another (each writes its own part of the
-    /// images), recorded without a barrier between them.
-    pub fn dispatch_each<P: PushConstants>(
-        &mut self,
-        bound: &Bound,
-        dispatches: impl IntoIterator<Item = (P, vk::Extent2D)>,
-    ) {
-        // The dispatches share their images, each writing its own part: the bytes count once.
-        self.record_dispatches(bound, bound.traffic, dispatches);
+        self.record_dispatch(bound, bound.traffic, params, extent);
     }
 
     /// One dispatch of `bound` over one level of pyramid atlases (`shadow_flow::pyramid`): every
@@ -197,26 +186,26 @@ impl<'a> Recorder<'a> {
             bytes_written: share(bound.traffic.bytes_written),
             operations: 0,
         };
-        self.record_dispatches(bound, traffic, [(*params, level)]);
+        self.record_dispatch(bound, traffic, params, level);
     }
 
-    fn record_dispatches<P: PushConstants>(
+    /// A dispatch after what it must wait for, counting `traffic` and its arithmetic.
+    fn record_dispatch<P: PushConstants>(
         &mut self,
         bound: &Bound,
         traffic: Traffic,
-        dispatches: impl IntoIterator<Item = (P, vk::Extent2D)>,
+        params: &P,
+        extent: vk::Extent2D,
     ) {
         self.order(&bound.accesses);
         self.traffic += traffic;
         let Pass { pipeline, set } = bound.pass;
         let [group_x, group_y, _] = pipeline.shader.workgroup_size;
-        for (params, extent) in dispatches {
-            let invocations = extent.width.next_multiple_of(group_x) as u64
-                * extent.height.next_multiple_of(group_y) as u64;
-            self.traffic.operations += invocations * pipeline.shader.arithmetic;
-            self.commands.dispatches += 1;
-            pipeline.dispatch(self.device, self.cmd, set, &params, extent);
-        }
+        let invocations = extent.width.next_multiple_of(group_x) as u64
+            * extent.height.next_multiple_of(group_y) as u64;
+        self.traffic.operations += invocations * pipeline.shader.arithmetic;
+        self.commands.dispatches += 1;
+        pipeline.dispatch(self.device, self.cmd, set, params, extent);
     }
 
     /// A dispatch of `bound` with the workgroup counts the GPU wrote into `args` (a
