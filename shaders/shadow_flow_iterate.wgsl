@@ -58,10 +58,9 @@ struct Equations {
     h2: f32,
 }
 
-// The window radius, read so that lavapipe does not compile the pass anew for each setting
-// (tests/shader_settings.rs): an image's size is unknown to the driver.
+// The window radius, within what the strips hold.
 fn radius() -> i32 {
-    return select(0, min(params.radius, MAX_RADIUS), textureDimensions(estimate).x != 0u);
+    return min(i32(unspecialised(u32(params.radius), estimate)), MAX_RADIUS);
 }
 
 // The equations of level texel p (inside the level).

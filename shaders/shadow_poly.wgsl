@@ -33,12 +33,6 @@ var<immediate> params: Params;
 @group(0) @binding(1) var poly: texture_storage_2d<rgba32float, write>;
 @group(0) @binding(2) var poly_xy: texture_storage_2d<r32float, write>;
 
-// A setting read so that lavapipe does not compile the pass anew for it
-// (shaders/include/warp.wgsl has the story): an image's size is unknown to the driver.
-fn unspecialised(setting: u32) -> u32 {
-    return select(0u, setting, textureDimensions(mask_pyramid).x != 0u);
-}
-
 struct Place {
     offset: vec2u,
     size: vec2u,
@@ -53,7 +47,7 @@ fn level_of(t: vec2u) -> Place {
         return Place(vec2u(0u), size, true);
     }
     var offset = vec2u(size.x, 0u);
-    for (var level = 1u; level < unspecialised(params.levels); level++) {
+    for (var level = 1u; level < unspecialised(params.levels, mask_pyramid); level++) {
         size = (size + 1u) / 2u;
         if (all(t >= offset) && all(t < offset + size)) {
             return Place(offset, size, true);
@@ -75,7 +69,7 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
         return;
     }
     let p = id.xy - level.offset;
-    let r = i32(unspecialised(u32(params.radius)));
+    let r = i32(unspecialised(u32(params.radius), mask_pyramid));
     // sum(w f), sum(w x f), sum(w y f), sum(w x^2 f), sum(w y^2 f), sum(w x y f)
     var s0 = 0.0;
     var sx = 0.0;

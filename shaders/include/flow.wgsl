@@ -23,3 +23,10 @@ fn level_bilinear(atlas: texture_2d<f32>, offset: vec2u, size: vec2u, pos: vec2f
     let bottom = t01 * (1.0 - f.x) + t11 * f.x;
     return top * (1.0 - f.y) + bottom * f.y;
 }
+
+// A setting read through an image's size, which the driver cannot know when it compiles:
+// lavapipe then compiles the pass once rather than anew for each setting (the story is in
+// include/warp.wgsl; tests/shader_settings.rs holds the flow's passes to it).
+fn unspecialised(setting: u32, image: texture_2d<f32>) -> u32 {
+    return select(0u, setting, textureDimensions(image).x != 0u);
+}
