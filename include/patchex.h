@@ -951,7 +951,8 @@ typedef struct PatchexShadowDiagnostics {
 // No longer recorded (ABI 8): the warps read the target's G-buffer themselves.
 #define PATCHEX_STAGE_PACK_TARGET_GBUFFER 2
 
-// The frame's warp. With nothing between it and the output (no shadow input, networks or
+// The frame's warp. With a shadow input it carries the shadow layer beside the frame, with the
+// same weights. With nothing between it and the output (no shadow input, networks or
 // diagnostics) it also remodulates, and PATCHEX_STAGE_REMODULATE does not run. Its holes are
 // filled in PATCHEX_STAGE_FILL_HOLES.
 #define PATCHEX_STAGE_WARP 3
@@ -970,9 +971,10 @@ typedef struct PatchexShadowDiagnostics {
 // Farneback flow.
 #define PATCHEX_STAGE_SHADOW_FLOW 8
 
-// Extrapolation of a frame with a shadow input: the shadow layer's warps (its flow's only
-// without a PatchexTargetShadowInput), or with PATCHEX_SHADOW_HISTORY_STARTED only the clearing
-// of the shadows' share.
+// Extrapolation of a frame with a shadow input and the flow's measure of its drift, without a
+// PatchexTargetShadowInput, before the frame's warp: the shadow layer moved by its flow, which
+// the frame's warp completes where the flow found no receiver. With
+// PATCHEX_SHADOW_HISTORY_STARTED, only the clearing of the shadows' share.
 #define PATCHEX_STAGE_SHADOW_WARP 9
 
 // A networks preset (PATCHEX_PRESET_NETWORKS or FULL), a frame with dynamic objects: patch
@@ -987,8 +989,8 @@ typedef struct PatchexShadowDiagnostics {
 #define PATCHEX_STAGE_PACK_OUTPUT 12
 
 // The G-buffer-guided warp's hole fill (PATCHEX_HOLE_FILL_BACKGROUND): a pass over the holes
-// the frame's warp listed, remodulating them when the warp does. The shadow layer's own fill
-// is part of PATCHEX_STAGE_SHADOW_WARP.
+// the frame's warp listed, remodulating them when the warp does, and filling the shadow layer
+// it carries.
 #define PATCHEX_STAGE_FILL_HOLES 13
 
 // Extrapolation with a PatchexTargetShadowInput, after the shadow layer's warp: the sun's share

@@ -18,9 +18,11 @@
 @group(0) @binding(13) var<storage, read_write> deferred: DeferredHoles;
 @group(0) @binding(14) var hole_list: texture_2d<u32>;
 
-// What the fill spreads (fill.wgsl): frame t's shading.
-fn fill_value(s: vec2i) -> vec4f {
-    return textureLoad(source_shading, s, 0);
+// What the fill spreads (fill.wgsl): what the warp fetches, frame t's shading and shadow layer.
+alias FillValue = Fetched;
+
+fn fill_value(s: vec2i) -> Fetched {
+    return source_texel(s);
 }
 
 @compute @workgroup_size(64, 1, 1)

@@ -71,6 +71,8 @@ fn agrees(t: Surface, s: vec2i) -> bool {
 }
 
 // What the fill spreads (fill.wgsl): frame t's visibility.
+alias FillValue = vec4f;
+
 fn fill_value(s: vec2i) -> vec4f {
     return vec4f(textureLoad(kept_visibility, s, 0).r);
 }

@@ -79,6 +79,8 @@ fn step_from(x: vec2f, centre: vec2f) -> vec2f {
 }
 
 // What the fill spreads (fill.wgsl): the layer.
+alias FillValue = vec4f;
+
 fn fill_value(s: vec2i) -> vec4f {
     return textureLoad(layer, s, 0);
 }

@@ -43,7 +43,7 @@ fn warp_pixel(p: vec2u, t: Surface, motion_vector: vec2f) -> WarpedPixel {
 
     if (weight_sum < BILINEAR_ACCEPT) {
         // Joint bilateral gather around q.
-        shading_sum = vec4f(0.0);
+        shading_sum = Fetched();
         weight_sum = 0.0;
         let centre = texel(q);
         let r = i32(unspecialised(u32(params.kernel_radius)));
@@ -53,23 +53,23 @@ fn warp_pixel(p: vec2u, t: Surface, motion_vector: vec2f) -> WarpedPixel {
                 let agreement = agreement_at(t, s);
                 let d = vec2f(s) + 0.5 - q;
                 let weight = exp(-dot(d, d) * params.inv_two_sigma_spatial_sq) * agreement;
-                shading_sum += weight * textureLoad(source_shading, s, 0);
+                shading_sum += weight * source_texel(s);
                 weight_sum += weight;
                 best_agreement = max(best_agreement, agreement);
             }
         }
     }
-    var shading: vec4f;
+    var fetched: Fetched;
     // Sharper on static surfaces only: a skinned object's motion vectors are less exact, and
     // a sharper fetch of a misplaced point is further off (measured on the validation scenes).
     let sharp = unspecialised(params.resample) == RESAMPLE_CATMULL_ROM && t.id == 0u
         && footprint.least_agreement >= AGREEMENT_THRESHOLD && surface_around(t, q);
     if (sharp) {
-        shading = catmull_rom_shading(q);
+        fetched = catmull_rom_shading(q);
     } else if (weight_sum > MIN_TOTAL_WEIGHT) {
-        shading = shading_sum / weight_sum;
+        fetched = divided(shading_sum, weight_sum);
     } else {
-        shading = textureLoad(source_shading, texel(q), 0);
+        fetched = source_texel(texel(q));
     }
     let offscreen = is_offscreen(q);
     let hole = offscreen || best_agreement < AGREEMENT_THRESHOLD;
@@ -77,5 +77,5 @@ fn warp_pixel(p: vec2u, t: Surface, motion_vector: vec2f) -> WarpedPixel {
     if (deferred) {
         defer_hole(p);
     }
-    return WarpedPixel(shading, hole, offscreen, deferred);
+    return WarpedPixel(fetched, hole, offscreen, deferred);
 }

@@ -13,11 +13,11 @@
 
 // The bilinear fetch at q: plain, or weighted by agreement (`agreeing_bilinear`) where any
 // texel agrees.
-fn fetch(t: Surface, q: vec2f) -> vec4f {
+fn fetch(t: Surface, q: vec2f) -> Fetched {
     if (unspecialised(params.agreeing_bilinear) != 0u) {
         let footprint = agreeing_footprint(t, q);
         if (footprint.weight_sum > MIN_TOTAL_WEIGHT) {
-            return footprint.shading_sum / footprint.weight_sum;
+            return divided(footprint.shading_sum, footprint.weight_sum);
         }
     }
     return bilinear_shading(q);

@@ -695,7 +695,8 @@ pub const PATCHEX_STAGE_DEMODULATE: PatchexStage = 0;
 pub const PATCHEX_STAGE_PACK_SOURCE_GBUFFER: PatchexStage = 1;
 /// No longer recorded (ABI 8): the warps read the target's G-buffer themselves.
 pub const PATCHEX_STAGE_PACK_TARGET_GBUFFER: PatchexStage = 2;
-/// The frame's warp. With nothing between it and the output (no shadow input, networks or
+/// The frame's warp. With a shadow input it carries the shadow layer beside the frame, with the
+/// same weights. With nothing between it and the output (no shadow input, networks or
 /// diagnostics) it also remodulates, and PATCHEX_STAGE_REMODULATE does not run. Its holes are
 /// filled in PATCHEX_STAGE_FILL_HOLES.
 pub const PATCHEX_STAGE_WARP: PatchexStage = 3;
@@ -708,9 +709,10 @@ pub const PATCHEX_STAGE_DIAGNOSTICS: PatchexStage = 7;
 /// Submit, with a PatchexShadowInput and the flow on: mask pyramid, polynomial expansion and
 /// Farneback flow.
 pub const PATCHEX_STAGE_SHADOW_FLOW: PatchexStage = 8;
-/// Extrapolation of a frame with a shadow input: the shadow layer's warps (its flow's only
-/// without a PatchexTargetShadowInput), or with PATCHEX_SHADOW_HISTORY_STARTED only the clearing
-/// of the shadows' share.
+/// Extrapolation of a frame with a shadow input and the flow's measure of its drift, without a
+/// PatchexTargetShadowInput, before the frame's warp: the shadow layer moved by its flow, which
+/// the frame's warp completes where the flow found no receiver. With
+/// PATCHEX_SHADOW_HISTORY_STARTED, only the clearing of the shadows' share.
 pub const PATCHEX_STAGE_SHADOW_WARP: PatchexStage = 9;
 /// A networks preset (PATCHEX_PRESET_NETWORKS or FULL), a frame with dynamic objects: patch
 /// planning, the networks' input gathering and both networks.
@@ -721,8 +723,8 @@ pub const PATCHEX_STAGE_BLEND: PatchexStage = 11;
 /// packed into the format's texels and copied into the output image.
 pub const PATCHEX_STAGE_PACK_OUTPUT: PatchexStage = 12;
 /// The G-buffer-guided warp's hole fill (PATCHEX_HOLE_FILL_BACKGROUND): a pass over the holes
-/// the frame's warp listed, remodulating them when the warp does. The shadow layer's own fill
-/// is part of PATCHEX_STAGE_SHADOW_WARP.
+/// the frame's warp listed, remodulating them when the warp does, and filling the shadow layer
+/// it carries.
 pub const PATCHEX_STAGE_FILL_HOLES: PatchexStage = 13;
 /// Extrapolation with a PatchexTargetShadowInput, after the shadow layer's warp: the sun's share
 /// of frame t's light over its shadows, then the shadows placed from the target's mask.

@@ -1,8 +1,9 @@
 // What every backward warp shares: its parameters, bindings and hole counters, the target's
-// G-buffer read straight from the engine's images, the geometry agreement test, and how a pixel
-// is stored, remodulated when nothing else runs between the warp and the output. The entry point
-// is warp_entry.wgsl; fill_holes.wgsl shares the rest. Needs gbuffer.wgsl, cameras.wgsl,
-// surface.wgsl and tallies.wgsl.
+// G-buffer read straight from the engine's images, the geometry agreement test, what it fetches
+// from frame t (its shading and, with a shadow input, its shadow layer, blended with one set of
+// weights), and how a pixel is stored, remodulated when nothing else runs between the warp and
+// the output. The entry point is warp_entry.wgsl; fill_holes.wgsl shares the rest. Needs
+// gbuffer.wgsl, cameras.wgsl, surface.wgsl and tallies.wgsl.
 // src/reference/warp.rs mirrors it.
 
 // Below this total weight a weighted fetch found nothing usable.
@@ -32,8 +33,11 @@ struct Params {
     // work, without shadow layers), counting what was sanitised.
     remodulate: u32,
     has_material: u32,
-    // Not 0 for the shadow layer through the frame's warp: store the shadows' share instead
-    // (`store_pixel`).
+    // Not 0: the shadow layer rides along, warped with the shading's weights into the shadows'
+    // share at the target (`store_pixel`).
+    carries_layer: u32,
+    // Not 0 when that share already holds the layer as its flow moved it, which the carried
+    // layer only completes.
     shadow_share: u32,
     // Occlusion-motion-vector warp: not 0 to weigh each texel of the bilinear fetch by its
     // agreement, as the G-buffer warp does. For the shadow layer, which is zero on dynamic
@@ -70,7 +74,10 @@ struct WarpCounters {
 @group(0) @binding(6) var warped: texture_storage_2d<rgba16float, write>;
 @group(0) @binding(7) var<storage, read_write> counters: WarpCounters;
 @group(0) @binding(8) var<uniform> cameras: Cameras;
-// With `shadow_share`: the shadow layer as its flow moved it, which `warped` holds.
+// With `carries_layer`: frame t's shadow layer, and the shadows' share it is stored into; with
+// `shadow_share`, that share as the layer's flow moved it, read back in place.
+@group(0) @binding(16) var source_layer: texture_2d<f32>;
+@group(0) @binding(17) var warped_layer: texture_storage_2d<rgba16float, write>;
 @group(0) @binding(15) var moved_layer: texture_2d<f32>;
 
 // A setting as the warps branch on it. lavapipe (Mesa 22.3) specialises a shader on the push
@@ -122,23 +129,45 @@ fn texel(q: vec2f) -> vec2i {
 }
 
 
-// Frame t's shading at `q`, bilinear over the texels around it. Its alpha, as in every fetch
-// below, is the divisor of the fetched shading (gbuffer.wgsl `demodulated`).
-fn bilinear_shading(q: vec2f) -> vec4f {
+// What a warp fetches from frame t and blends with one set of weights, as a matrix's columns:
+// the shading (its alpha the divisor, gbuffer.wgsl `demodulated`) and, with `carries_layer`, the
+// shadow layer (zero without). Both move with the surfaces, so one warp's weights serve both.
+alias Fetched = mat2x4f;
+
+fn source_texel(s: vec2i) -> Fetched {
+    var layer = vec4f(0.0);
+    if (unspecialised(params.carries_layer) != 0u) {
+        layer = textureLoad(source_layer, s, 0);
+    }
+    return Fetched(textureLoad(source_shading, s, 0), layer);
+}
+
+// A weighted sum over its total weight. WGSL divides no matrix, and a multiplication by the
+// reciprocal would round otherwise than the reference.
+fn divided(sum: Fetched, total: f32) -> Fetched {
+    return Fetched(sum[0] / total, sum[1] / total);
+}
+
+fn mix_fetched(a: Fetched, b: Fetched, f: f32) -> Fetched {
+    return Fetched(mix(a[0], b[0], f), mix(a[1], b[1], f));
+}
+
+// Frame t at `q`, bilinear over the texels around it.
+fn bilinear_shading(q: vec2f) -> Fetched {
     let corner = vec2i(floor(q - 0.5));
     let f = q - 0.5 - floor(q - 0.5);
     let last = vec2i(params.extent) - 1;
-    let s00 = textureLoad(source_shading, clamp(corner, vec2i(0), last), 0);
-    let s10 = textureLoad(source_shading, clamp(corner + vec2i(1, 0), vec2i(0), last), 0);
-    let s01 = textureLoad(source_shading, clamp(corner + vec2i(0, 1), vec2i(0), last), 0);
-    let s11 = textureLoad(source_shading, clamp(corner + vec2i(1, 1), vec2i(0), last), 0);
-    return mix(mix(s00, s10, f.x), mix(s01, s11, f.x), f.y);
+    let s00 = source_texel(clamp(corner, vec2i(0), last));
+    let s10 = source_texel(clamp(corner + vec2i(1, 0), vec2i(0), last));
+    let s01 = source_texel(clamp(corner + vec2i(0, 1), vec2i(0), last));
+    let s11 = source_texel(clamp(corner + vec2i(1, 1), vec2i(0), last));
+    return mix_fetched(mix_fetched(s00, s10, f.x), mix_fetched(s01, s11, f.x), f.y);
 }
 
 // q's bilinear footprint in frame t with each texel weighted by its agreement with the target:
 // the weighted shading and weight sums, and the best agreement of a texel with a share of it.
 struct AgreeingFootprint {
-    shading_sum: vec4f,
+    shading_sum: Fetched,
     weight_sum: f32,
     best_agreement: f32,
     // The least agreement among the four texels: all of them show the target's surface when it
@@ -149,14 +178,14 @@ struct AgreeingFootprint {
 fn agreeing_footprint(t: Surface, q: vec2f) -> AgreeingFootprint {
     let corner = vec2i(floor(q - 0.5));
     let f = q - 0.5 - floor(q - 0.5);
-    var sums = AgreeingFootprint(vec4f(0.0), 0.0, 0.0, 1.0);
+    var sums = AgreeingFootprint(Fetched(), 0.0, 0.0, 1.0);
     for (var i = 0; i < 4; i++) {
         let offset = vec2i(i & 1, i >> 1u);
         let s = clamp(corner + offset, vec2i(0), vec2i(params.extent) - 1);
         let agreement = agreement_at(t, s);
         let bilinear = select(1.0 - f, f, vec2<bool>(offset == vec2i(1)));
         let footprint = bilinear.x * bilinear.y;
-        sums.shading_sum += footprint * agreement * textureLoad(source_shading, s, 0);
+        sums.shading_sum += footprint * agreement * source_texel(s);
         sums.weight_sum += footprint * agreement;
         if (footprint > 0.0) {
             sums.best_agreement = max(sums.best_agreement, agreement);
@@ -193,33 +222,33 @@ fn surface_around(t: Surface, q: vec2f) -> bool {
     return true;
 }
 
-// Frame t's shading at `q`, Catmull-Rom over the 4x4 texels around it, held within the range of
-// the four nearest so that it cannot ring. Bilinear blurs: a half-texel shift halves detail at
-// the finest scale, and a moving camera shifts every frame.
-fn catmull_rom_shading(q: vec2f) -> vec4f {
+// Frame t at `q`, Catmull-Rom over the 4x4 texels around it, held within the range of the four
+// nearest so that it cannot ring. Bilinear blurs: a half-texel shift halves detail at the finest
+// scale, and a moving camera shifts every frame.
+fn catmull_rom_shading(q: vec2f) -> Fetched {
     let corner = vec2i(floor(q - 0.5));
     let f = q - 0.5 - floor(q - 0.5);
     let wx = catmull_rom_weights(f.x);
     let wy = catmull_rom_weights(f.y);
     let last = vec2i(params.extent) - 1;
-    var sum = vec4f(0.0);
-    var low = vec4f(3.4e38);
-    var high = vec4f(-3.4e38);
+    var sum = Fetched();
+    var low = Fetched(vec4f(3.4e38), vec4f(3.4e38));
+    var high = Fetched(vec4f(-3.4e38), vec4f(-3.4e38));
     for (var j = 0; j < 4; j++) {
         for (var i = 0; i < 4; i++) {
-            let s = textureLoad(source_shading, clamp(corner + vec2i(i - 1, j - 1), vec2i(0), last), 0);
+            let s = source_texel(clamp(corner + vec2i(i - 1, j - 1), vec2i(0), last));
             sum += wx[i] * wy[j] * s;
             if ((i == 1 || i == 2) && (j == 1 || j == 2)) {
-                low = min(low, s);
-                high = max(high, s);
+                low = Fetched(min(low[0], s[0]), min(low[1], s[1]));
+                high = Fetched(max(high[0], s[0]), max(high[1], s[1]));
             }
         }
     }
-    return clamp(sum, low, high);
+    return Fetched(clamp(sum[0], low[0], high[0]), clamp(sum[1], low[1], high[1]));
 }
 
 struct WarpedPixel {
-    shading: vec4f,
+    fetched: Fetched,
     hole: bool,
     offscreen: bool,
     // Left to the hole fill (fill_holes.wgsl), which writes the pixel.
@@ -236,27 +265,32 @@ struct DeferredHoles {
 }
 
 // Writes pixel p's warped shading with its hole flag and divisor (`frame_alpha`), remodulated
-// when the warp remodulates, or the shadows' share at the target when it carries the shadow
-// layer. `fetched.a` is the divisor of what the warp fetched (gbuffer.wgsl `demodulated`).
-fn store_pixel(p: vec2u, fetched: vec4f, hole: bool) {
+// when the warp remodulates; and with `carries_layer` the shadows' share at the target.
+fn store_pixel(p: vec2u, fetched: Fetched, hole: bool) {
+    let shading = fetched[0];
     // Rounded here, as the colour is, whatever the driver's conversion does.
-    var color = vec4f(to_half(fetched.rgb), to_half(vec3f(frame_alpha(fetched.a, hole))).x);
+    var color = vec4f(to_half(shading.rgb), to_half(vec3f(frame_alpha(shading.a, hole))).x);
     if (unspecialised(params.remodulate) != 0u) {
         let m = pixel_modulation(base_color, material, p, unspecialised(params.has_material));
-        let factor = remodulation(m.factor, fetched.rgb, fetched.a);
-        let remodulated = sanitize_color(fetched.rgb * factor);
+        let factor = remodulation(m.factor, shading.rgb, shading.a);
+        let remodulated = sanitize_color(shading.rgb * factor);
         color = vec4f(to_half(remodulated.value), 1.0);
         if (m.changed || remodulated.changed) {
             atomicAdd(&group_tallies[TALLY_SANITIZED], 1u);
         }
     }
-    if (unspecialised(params.shadow_share) != 0u) {
-        // The share of light the shadows take away at the target: the layer as its flow moved
-        // it where that found a receiver (not a hole), as this warp carried it with the
-        // surfaces elsewhere.
-        let moved = textureLoad(moved_layer, p, 0);
-        let found = select(1.0, 0.0, is_hole(moved.a));
-        color = vec4f(to_half(mix(color.rgb, moved.rgb, found)), found);
-    }
     textureStore(warped, p, color);
+    if (unspecialised(params.carries_layer) != 0u) {
+        // The layer's alpha is its darkness, with the hole flag as the shading's.
+        let layer = fetched[1];
+        var share = vec4f(to_half(layer.rgb), to_half(vec3f(frame_alpha(layer.a, hole))).x);
+        if (unspecialised(params.shadow_share) != 0u) {
+            // The layer as its flow moved it where that found a receiver (not a hole), as this
+            // warp carried it with the surfaces elsewhere.
+            let moved = textureLoad(moved_layer, p, 0);
+            let found = select(1.0, 0.0, is_hole(moved.a));
+            share = vec4f(to_half(mix(share.rgb, moved.rgb, found)), found);
+        }
+        textureStore(warped_layer, p, share);
+    }
 }

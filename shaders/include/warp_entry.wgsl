@@ -12,7 +12,7 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
         let t = target_surface(p);
         let result = warp_pixel(p, t, motion_vector);
         if (!result.deferred) {
-            store_pixel(p, result.shading, result.hole);
+            store_pixel(p, result.fetched, result.hole);
         }
         if (!t.valid || !is_finite(vec4f(motion_vector, 0.0, 0.0))) {
             atomicAdd(&group_tallies[TALLY_INVALID_GEOMETRY], 1u);

@@ -9,21 +9,18 @@ use crate::passes::{inpaint, segmentation, target_shadows, warp};
 pub const WARP: u64 = 0;
 /// Submit: demodulation's; extrapolation: remodulation's.
 pub const SANITIZE: u64 = 256;
-/// Holes of the shadow layer's two warps, kept apart from the frame's.
+/// Holes of the shadow layer's move by its flow, kept apart from the frame's.
 pub const SHADOW_WARP: u64 = 512;
-pub const SURFACE_LAYER: u64 = 768;
 /// Submit: the G-buffer packing's count of NaN and infinite geometry.
-pub const GEOMETRY: u64 = 1024;
-pub const OBJECT_TABLE: u64 = 1280;
+pub const GEOMETRY: u64 = 768;
+pub const OBJECT_TABLE: u64 = 1024;
 /// The networks' patch records (`inpaint::PATCH_SLOT_*`).
 pub const PATCHES: u64 = (OBJECT_TABLE + segmentation::TABLE_BYTES).next_multiple_of(256);
 /// The warps' uniform block (`warp::Cameras`), written by the extrapolation.
 pub const CAMERAS: u64 = (PATCHES + inpaint::PATCH_SLOTS_BYTES).next_multiple_of(256);
-/// The holes the G-buffer warp left to the fill (`warp::HoleList`): the frame's, and the shadow
-/// layer's through the frame's warp.
+/// The holes the G-buffer warp left to the fill (`warp::HoleList`).
 pub const DEFERRED_HOLES: u64 = (CAMERAS + warp::CAMERAS_BYTES).next_multiple_of(256);
-pub const SURFACE_DEFERRED_HOLES: u64 = DEFERRED_HOLES + 256;
 /// With a target shadow input: the sun's share summed over frame t's shadows.
-pub const SUN_SHARE: u64 = SURFACE_DEFERRED_HOLES + 256;
+pub const SUN_SHARE: u64 = DEFERRED_HOLES + 256;
 /// One region's counters, which the frame ring allocates per region.
 pub const REGION_BYTES: u64 = SUN_SHARE + target_shadows::SUN_SHARE_BYTES;

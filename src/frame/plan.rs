@@ -211,8 +211,8 @@ pub struct ExtrapolationPlan<'a> {
     pub segmentation: SegmentationSettings,
     /// Both instants' cameras, written into the counters before the first stage.
     pub cameras: CounterRange,
-    /// The holes the G-buffer warp leaves to the fill: the frame's, then the shadow layer's.
-    pub deferred_holes: [CounterRange; 2],
+    /// The holes the G-buffer warp leaves to the fill.
+    pub deferred_holes: CounterRange,
     pub diagnostics: Option<Texture>,
     pub shadow_diagnostics: Option<Texture>,
     /// Frame t came with a sun (`PatchexSunLight`): it, and its kept visibility.
@@ -226,9 +226,9 @@ pub struct ExtrapolationPlan<'a> {
 
 /// Records the extrapolation's stages in order.
 pub fn record(rec: &mut Recorder, plan: &ExtrapolationPlan) {
+    move_shadows(rec, plan);
     warp_frame(rec, plan);
     fill_holes(rec, plan);
-    warp_shadows(rec, plan);
     target_shadows(rec, plan);
     segment(rec, plan);
     lbp(rec, plan);
@@ -246,16 +246,12 @@ pub fn start_counters(
     rec: &mut Recorder,
     passes: &RegionPasses,
     cameras: &warp::Cameras,
-) -> (CounterRange, [CounterRange; 2]) {
+) -> (CounterRange, CounterRange) {
     rec.fill_zero(&passes.all_counters());
     let camera_range = passes.counters(counters::CAMERAS, warp::CAMERAS_BYTES);
     rec.update(&camera_range, cameras);
-    let deferred_holes =
-        [counters::DEFERRED_HOLES, counters::SURFACE_DEFERRED_HOLES].map(|offset| {
-            let holes = passes.counters(offset, warp::DEFERRED_HOLES_BYTES);
-            rec.update(&holes, &warp::NO_DEFERRED_HOLES);
-            holes
-        });
+    let deferred_holes = passes.counters(counters::DEFERRED_HOLES, warp::DEFERRED_HOLES_BYTES);
+    rec.update(&deferred_holes, &warp::NO_DEFERRED_HOLES);
     (camera_range, deferred_holes)
 }
 
@@ -274,6 +270,28 @@ impl<'a> ExtrapolationPlan<'a> {
     /// from the first with the flow off).
     fn places_target_shadows(&self) -> bool {
         self.shadows.is_some() && self.shadows_separated && self.target_shadow_mask.is_some()
+    }
+
+    /// The shadow layer moves by its flow: frame t-1's shadows were tracked, and no target mask
+    /// replaces them.
+    fn moves_shadows(&self) -> bool {
+        self.shadows.is_some()
+            && self.shadows_separated
+            && self.shadows_tracked
+            && !self.places_target_shadows()
+    }
+
+    /// The shadow layer, which the frame's warp carries into the shadows' share wherever frame
+    /// t's shadows were separated from its shading: there the share is the carried layer, for a
+    /// target mask to replace, or, with the flow off and no mask, as it is; with the flow, the
+    /// carried layer fills in where the moved one found no receiver.
+    fn carried_layer(&self) -> Option<warp::CarriedLayer<'a>> {
+        let shadows = self.shadows.filter(|_| self.shadows_separated)?;
+        Some(warp::CarriedLayer {
+            source: &shadows[ShadowImages::LAYER],
+            share: (&shadows[ShadowImages::SHADOW_SHARE]).into(),
+            moved: self.moves_shadows(),
+        })
     }
 
     /// The nearest-texel fill is the warp's own; only the default defers its holes.
@@ -295,11 +313,13 @@ impl<'a> ExtrapolationPlan<'a> {
         }
     }
 
-    /// What every warp reads: `source_shading` of frame t moved by `motion` to the target.
+    /// What every warp reads: `source_shading` of frame t moved by `motion` to the target, with
+    /// `layer` beside it.
     fn warp_inputs(
         &'a self,
         source_shading: &'a crate::vk::image::OwnedImage,
         motion: Texture,
+        layer: Option<warp::CarriedLayer<'a>>,
     ) -> warp::WarpInputs<'a> {
         warp::WarpInputs {
             source_shading,
@@ -310,30 +330,76 @@ impl<'a> ExtrapolationPlan<'a> {
             cameras: &self.cameras,
             placeholder: self.placeholders.0,
             placeholder_uint: self.placeholders.1,
+            layer,
         }
     }
 
     fn frame_inputs(&'a self) -> warp::WarpInputs<'a> {
-        self.warp_inputs(&self.work[WorkImages::SOURCE_SHADING], self.motion)
+        self.warp_inputs(
+            &self.work[WorkImages::SOURCE_SHADING],
+            self.motion,
+            self.carried_layer(),
+        )
     }
 
-    /// The hole list of the n-th G-buffer warp (0: the frame's, 1: the shadow layer's), which
-    /// the fill's n-th set fills.
-    fn hole_list(&'a self, n: usize) -> warp::HoleList<'a> {
+    /// The G-buffer warp's hole list, which the fill fills.
+    fn hole_list(&'a self) -> warp::HoleList<'a> {
         warp::HoleList {
             list: &self.work[WorkImages::HOLE_LIST],
-            deferred: &self.deferred_holes[n],
-            fill: self.passes.nth(PipelineId::FillHoles, n),
+            deferred: &self.deferred_holes,
+            fill: self.passes.get(PipelineId::FillHoles),
         }
     }
 }
 
+/// The shadow layer moved by the mask's flow scaled to the target instant, into the shadows'
+/// share, where the frame's warp then completes it. With `PATCHEX_SHADOW_HISTORY_STARTED`
+/// (no frame t-1 to measure a drift from) the share is cleared: the shadows stay on their
+/// receivers, where the frame's warp carries them, and change nothing. (Moved by a zero flow
+/// instead, they would stay put on the screen and slide across the ground under a moving camera.)
+fn move_shadows(rec: &mut Recorder, plan: &ExtrapolationPlan) {
+    let Some(shadows) = plan.shadows else {
+        return;
+    };
+    let share = &shadows[ShadowImages::SHADOW_SHARE];
+    if plan.shadows_separated && !plan.moves_shadows() {
+        return;
+    }
+    rec.stage(PATCHEX_STAGE_SHADOW_WARP, |rec| {
+        if !plan.shadows_separated {
+            rec.clear(share);
+            return;
+        }
+        // The occlusion-motion warp's sets: the frame's own warp uses the first when it is
+        // that warp.
+        let flow_warp = PipelineId::WarpOcclusionMotion;
+        let flow_set = (plan.warp_pipeline() == flow_warp) as usize;
+        warp::record(
+            rec,
+            plan.passes.nth(flow_warp, flow_set),
+            &plan.shadow_params,
+            &plan.warp_inputs(
+                &shadows[ShadowImages::LAYER],
+                (&shadows[ShadowImages::FLOW]).into(),
+                None,
+            ),
+            Store::Shading,
+            share.into(),
+            &plan
+                .passes
+                .counters(counters::SHADOW_WARP, warp::COUNTER_BYTES),
+            None,
+        );
+    });
+}
+
+/// Frame t's shading, and with a shadow input its shadow layer, carried to the target.
 fn warp_frame(rec: &mut Recorder, plan: &ExtrapolationPlan) {
-    let holes = plan.lists_holes().then(|| plan.hole_list(0));
+    let holes = plan.lists_holes().then(|| plan.hole_list());
     rec.stage(PATCHEX_STAGE_WARP, |rec| {
         warp::record(
             rec,
-            plan.passes.nth(plan.warp_pipeline(), 0),
+            plan.passes.get(plan.warp_pipeline()),
             &plan.warp_params,
             &plan.frame_inputs(),
             plan.frame_store(),
@@ -356,85 +422,8 @@ fn fill_holes(rec: &mut Recorder, plan: &ExtrapolationPlan) {
             plan.frame_store(),
             plan.frame,
             &plan.passes.counters(counters::WARP, warp::COUNTER_BYTES),
-            &plan.hole_list(0),
+            &plan.hole_list(),
         )
-    });
-}
-
-/// The shadow layer moved by the mask's flow scaled to the target instant; then through the
-/// frame's own warp (where that warp put frame t's shadow), which turns the moved layer into
-/// the shadows' share at the target in place. With a target shadow input, or with the flow off,
-/// only the frame's warp runs: it carries the layer, which `target_shadows` reads the sun's
-/// share from, or which stays the share.
-fn warp_shadows(rec: &mut Recorder, plan: &ExtrapolationPlan) {
-    let Some(shadows) = plan.shadows else {
-        return;
-    };
-    let layer = &shadows[ShadowImages::LAYER];
-    let share = &shadows[ShadowImages::SHADOW_SHARE];
-    rec.stage(PATCHEX_STAGE_SHADOW_WARP, |rec| {
-        if !plan.shadows_separated {
-            // No frame t-1 to measure a drift from: the shadows stay on their receivers, where
-            // the frame's warp carried them, and change nothing. (Moved by a zero flow instead,
-            // they would stay put on the screen and slide across the ground under a moving
-            // camera.)
-            rec.clear(share);
-            return;
-        }
-        // The layer as the frame's warp carries it is the share where its shadows stay: for a
-        // target mask to replace, or, with the flow off and no mask, as it is.
-        let store = if plan.places_target_shadows() || !plan.shadows_tracked {
-            Store::Shading
-        } else {
-            // The occlusion-motion warp's sets: the frame's own warp uses the first when it is
-            // that warp, and the shadow layer's through the frame's warp the second.
-            let flow_warp = PipelineId::WarpOcclusionMotion;
-            let flow_set = if plan.warp_pipeline() == flow_warp {
-                2
-            } else {
-                0
-            };
-            warp::record(
-                rec,
-                plan.passes.nth(flow_warp, flow_set),
-                &plan.shadow_params,
-                &plan.warp_inputs(layer, (&shadows[ShadowImages::FLOW]).into()),
-                Store::Shading,
-                share.into(),
-                &plan
-                    .passes
-                    .counters(counters::SHADOW_WARP, warp::COUNTER_BYTES),
-                None,
-            );
-            Store::ShadowShare
-        };
-        // The frame's fill has read its holes: the list's image takes the layer's.
-        let inputs = plan.warp_inputs(layer, plan.motion);
-        let layer_counters = plan
-            .passes
-            .counters(counters::SURFACE_LAYER, warp::COUNTER_BYTES);
-        let holes = plan.lists_holes().then(|| plan.hole_list(1));
-        warp::record(
-            rec,
-            plan.passes.nth(plan.warp_pipeline(), 1),
-            &plan.warp_params,
-            &inputs,
-            store,
-            share.into(),
-            &layer_counters,
-            holes.as_ref(),
-        );
-        if let Some(holes) = holes.as_ref().filter(|_| plan.fills_holes()) {
-            fill_holes::record(
-                rec,
-                &plan.warp_params,
-                &inputs,
-                store,
-                share.into(),
-                &layer_counters,
-                holes,
-            );
-        }
     });
 }
 

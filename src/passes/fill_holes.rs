@@ -32,7 +32,7 @@ pub fn record(
     let capacity = params.extent[0] as u64 * params.extent[1] as u64;
     rec.dispatch_listed(
         &bound,
-        &storing(params, store),
+        &storing(params, inputs, store),
         &part(4, 12),
         &part(0, 4),
         capacity,

@@ -95,9 +95,9 @@ pub const STAGES: [Stage; 16] = {
         stage(PATCHEX_STAGE_PACK_SOURCE_GBUFFER, "pack source", Gbuffer),
         stage(PATCHEX_STAGE_DEMODULATE, "demodulate", Preprocessing),
         stage(PATCHEX_STAGE_SHADOW_FLOW, "shadow flow", Preprocessing),
+        stage(PATCHEX_STAGE_SHADOW_WARP, "shadow warp", Warping),
         stage(PATCHEX_STAGE_WARP, "warp", Warping),
         stage(PATCHEX_STAGE_FILL_HOLES, "fill holes", Warping),
-        stage(PATCHEX_STAGE_SHADOW_WARP, "shadow warp", Warping),
         stage(PATCHEX_STAGE_TARGET_SHADOWS, "target shadows", Warping),
         stage(PATCHEX_STAGE_SEGMENT, "segment", Preprocessing),
         stage(PATCHEX_STAGE_LBP, "lbp", Preprocessing),
@@ -153,13 +153,13 @@ pipeline_table! {
     /// Reading the estimate from either flow atlas.
     ShadowFlowIterate: shadow_flow_iterate, 2;
     ShadowFlowUpsample: shadow_flow_upsample, 1;
-    /// The frame's warp (when chosen), and the shadow layer through it.
-    WarpGbuffer: warp_gbuffer, 2;
-    WarpMotionVector: warp_motion_vector, 2;
-    /// The same two, and always the shadow layer moved by its flow.
-    WarpOcclusionMotion: warp_occlusion_motion, 3;
-    /// The G-buffer warp's hole fill: the frame's, and the shadow layer's.
-    FillHoles: fill_holes, 2;
+    /// The frame's warp (when chosen), which carries the shadow layer beside it.
+    WarpGbuffer: warp_gbuffer, 1;
+    WarpMotionVector: warp_motion_vector, 1;
+    /// The same, and always the shadow layer moved by its flow.
+    WarpOcclusionMotion: warp_occlusion_motion, 2;
+    /// The G-buffer warp's hole fill.
+    FillHoles: fill_holes, 1;
     /// With a target shadow input: the sun's share over frame t's shadows, then the target's.
     EstimateSunShare: estimate_sun_share, 1;
     PlaceTargetShadows: place_target_shadows, 1;

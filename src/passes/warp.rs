@@ -195,6 +195,19 @@ pub struct WarpInputs<'a> {
     pub cameras: &'a CounterRange,
     pub placeholder: Texture,
     pub placeholder_uint: Texture,
+    /// With a shadow input: the shadow layer, warped beside the shading.
+    pub layer: Option<CarriedLayer<'a>>,
+}
+
+/// Frame t's shadow layer, which a warp carries beside the shading with the same weights (both
+/// move with the surfaces), into the shadows' share at the target (`Params::carries_layer`).
+#[derive(Clone, Copy)]
+pub struct CarriedLayer<'a> {
+    pub source: &'a OwnedImage,
+    pub share: Texture,
+    /// `share` holds the layer as its flow moved it already: the carried layer only fills in
+    /// where the flow found no receiver (`Params::shadow_share`).
+    pub moved: bool,
 }
 
 /// The target's material, when the warp also remodulates (`Params::remodulate`).
@@ -212,10 +225,6 @@ pub enum Store<'a> {
     Shading,
     /// The shading remodulated: the output, when nothing runs between the warp and it.
     Remodulated(&'a Remodulation),
-    /// For the shadow layer through the frame's warp, into the image where the flow's warp left
-    /// the moved layer: the shadows' share at the target, the moved layer where the flow found
-    /// a receiver and the carried one elsewhere (`Params::shadow_share`).
-    ShadowShare,
 }
 
 /// The three warps' uniform block: both instants' pixel rays.
@@ -298,19 +307,20 @@ pub fn record(
         width: params.extent[0],
         height: params.extent[1],
     };
-    rec.dispatch(&bound, &storing(params, store), extent);
+    rec.dispatch(&bound, &storing(params, inputs, store), extent);
 }
 
 /// The parameters with what the warp stores switched on.
-pub fn storing(params: &Params, store: Store) -> Params {
+pub fn storing(params: &Params, inputs: &WarpInputs, store: Store) -> Params {
     let remodulation = match store {
         Store::Remodulated(remodulation) => Some(remodulation),
-        _ => None,
+        Store::Shading => None,
     };
     Params {
         remodulate: remodulation.is_some() as u32,
         has_material: remodulation.is_some_and(|r| r.material.is_some()) as u32,
-        shadow_share: matches!(store, Store::ShadowShare) as u32,
+        carries_layer: inputs.layer.is_some() as u32,
+        shadow_share: inputs.layer.is_some_and(|l| l.moved) as u32,
         ..*params
     }
 }
@@ -326,11 +336,22 @@ pub fn bind_common<'p>(
     let target = inputs.target;
     let (base_color, material) = match store {
         Store::Remodulated(r) => (r.base_color, r.material.unwrap_or(inputs.placeholder)),
-        _ => (inputs.placeholder, inputs.placeholder),
+        Store::Shading => (inputs.placeholder, inputs.placeholder),
     };
-    let moved_layer = match store {
-        Store::ShadowShare => warped,
-        _ => inputs.placeholder,
+    // Without a layer its storage binding takes the warped image again, unwritten, so it moves
+    // no bytes.
+    let unwritten = Texture { bytes: 0, ..warped };
+    let (source_layer, share, moved_layer) = match inputs.layer {
+        Some(layer) => (
+            layer.source.into(),
+            layer.share,
+            if layer.moved {
+                layer.share
+            } else {
+                inputs.placeholder
+            },
+        ),
+        None => (inputs.placeholder, unwritten, inputs.placeholder),
     };
     writes
         .image(binding::SOURCE_SHADING, inputs.source_shading)
@@ -346,6 +367,8 @@ pub fn bind_common<'p>(
         .image(binding::MATERIAL, material)
         .image(binding::MOTION, inputs.motion)
         .image(binding::WARPED, warped)
+        .image(binding::SOURCE_LAYER, source_layer)
+        .image(binding::WARPED_LAYER, share)
         .image(binding::MOVED_LAYER, moved_layer)
         .buffer(binding::COUNTERS, counters)
         .buffer(binding::CAMERAS, inputs.cameras)

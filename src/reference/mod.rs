@@ -227,20 +227,26 @@ pub fn extrapolate(
         target.motion_vector_scale,
     );
     let motion = target.motion.expect("the target has motion vectors");
+    // The shadow layer moved by its flow to the target instant, where no target mask replaces
+    // it; the frame's warp completes it where the flow found no receiver.
+    let moved_shadows = shadow_inputs
+        .zip(separated.as_ref())
+        .zip(flow.as_ref())
+        .filter(|((shadow, _), _)| separates(shadow) && shadow.target_mask.is_none())
+        .and_then(|((_, separated), flow)| {
+            let flow = flow.as_ref()?;
+            stages.push(PATCHEX_STAGE_SHADOW_WARP);
+            Some(warp::warp(
+                PATCHEX_WARP_OCCLUSION_MOTION_VECTOR,
+                &warp::WarpSources::of(&separated.shadow_layer, &source_packed),
+                &warp::WarpTarget::of(&target_packed, flow),
+                &warp.shadow_params(extent, target.camera, alpha),
+            ))
+        });
     let warped = warp::warp(
         warp.kind,
-        &warp::WarpSources {
-            shading: &shading,
-            geometry: &source_packed.geometry,
-            normal_id: &source_packed.normal_id,
-        },
-        &warp::WarpTarget {
-            geometry: &target_packed.geometry,
-            normal_id: &target_packed.normal_id,
-            motion,
-            camera_position: target_packed.camera_position,
-            valid: &target_packed.valid,
-        },
+        &warp::WarpSources::of(&shading, &source_packed),
+        &warp::WarpTarget::of(&target_packed, motion),
         &params,
     );
     stages.push(PATCHEX_STAGE_WARP);
@@ -262,21 +268,14 @@ pub fn extrapolate(
                     share: no_flow(),
                 };
             }
-            stages.push(PATCHEX_STAGE_SHADOW_WARP);
-            let layer_sources = warp::WarpSources {
-                shading: &separated.shadow_layer,
-                geometry: &source_packed.geometry,
-                normal_id: &source_packed.normal_id,
-            };
-            let target_of = |motion| warp::WarpTarget {
-                geometry: &target_packed.geometry,
-                normal_id: &target_packed.normal_id,
-                motion,
-                camera_position: target_packed.camera_position,
-                valid: &target_packed.valid,
-            };
-            let carried = warp::warp(warp.kind, &layer_sources, &target_of(motion), &params);
-            let share = match (shadow.target_mask, &flow) {
+            // The plugin's frame warp carries the layer beside the shading, with its weights.
+            let carried = warp::warp(
+                warp.kind,
+                &warp::WarpSources::of(&separated.shadow_layer, &source_packed),
+                &warp::WarpTarget::of(&target_packed, motion),
+                &params,
+            );
+            let share = match (shadow.target_mask, &moved_shadows) {
                 (Some(mask), _) => {
                     stages.push(PATCHEX_STAGE_TARGET_SHADOWS);
                     let sums = target_shadows::sun_share_sums(&separated.shadow_layer);
@@ -285,16 +284,7 @@ pub fn extrapolate(
                     target_mask_sanitized = sanitized;
                     share
                 }
-                (None, Some(flow)) => {
-                    let shadow_params = warp.shadow_params(extent, target.camera, alpha);
-                    let moved = warp::warp(
-                        PATCHEX_WARP_OCCLUSION_MOTION_VECTOR,
-                        &layer_sources,
-                        &target_of(flow),
-                        &shadow_params,
-                    );
-                    shadow_share(&moved.warped, &carried.warped)
-                }
+                (None, Some(moved)) => shadow_share(&moved.warped, &carried.warped),
                 // The flow off and no mask: the shadows stay where the warp carries them.
                 (None, None) => carried.warped,
             };
@@ -377,13 +367,7 @@ pub fn extrapolate(
                     motion: has_motion.then_some(&separated.motion),
                     source_geometry: &source_packed.geometry,
                     source_normal_id: &source_packed.normal_id,
-                    target: warp::WarpTarget {
-                        geometry: &target_packed.geometry,
-                        normal_id: &target_packed.normal_id,
-                        motion,
-                        camera_position: target_packed.camera_position,
-                        valid: &target_packed.valid,
-                    },
+                    target: warp::WarpTarget::of(&target_packed, motion),
                     warp: &params,
                     alpha,
                 },

@@ -4,6 +4,7 @@
 use glam::{IVec2, Vec2, Vec3, Vec4};
 
 use super::gbuffer::{is_sky, round_vec3_to_f16};
+use super::pack_gbuffer::Packed;
 use super::{round_to_f16, Image};
 use crate::abi::*;
 use crate::shaders::warp_gbuffer::Params;
@@ -52,6 +53,30 @@ pub struct WarpTarget<'a> {
     /// Per pixel, row by row: whether its geometry is usable (`Packed::valid`). A pixel whose
     /// geometry is not agrees with no source texel (`NO_OBJECT` in warp.wgsl): a hole.
     pub valid: &'a [bool],
+}
+
+impl<'a> WarpSources<'a> {
+    /// `shading` of frame t, with frame t's packed G-buffer.
+    pub fn of(shading: &'a Image, packed: &'a Packed) -> Self {
+        Self {
+            shading,
+            geometry: &packed.geometry,
+            normal_id: &packed.normal_id,
+        }
+    }
+}
+
+impl<'a> WarpTarget<'a> {
+    /// The target's packed G-buffer with `motion`, which the warp follows.
+    pub fn of(packed: &'a Packed, motion: &'a Image) -> Self {
+        Self {
+            geometry: &packed.geometry,
+            normal_id: &packed.normal_id,
+            motion,
+            camera_position: packed.camera_position,
+            valid: &packed.valid,
+        }
+    }
 }
 
 struct WarpedPixel {
@@ -273,7 +298,8 @@ impl<'a> PixelWarp<'a> {
                 total += w;
             }
         }
-        sum / total
+        // As the shader, which spreads matrices too and so cannot divide.
+        sum * (1.0 / total)
     }
 
     /// Mirror of `fill_cost`: -log of texel `s`'s weight at window offset `offset`.
