@@ -11,9 +11,9 @@
 // that static casters already shade takes away only the little light that is left. Nothing is
 // divided by the mask, so fully shadowed pixels (mask 0) are as stable as lit ones. Dynamic
 // objects keep the shadows on them (mostly their own, which move with them): there the shading
-// is F / m, the layer zero, and the flow's pyramid (shadow_pyramid.wgsl) takes the mask as lit,
-// so the flow follows the shadows on static receivers only. Untracked (no frame t-1 to measure
-// a drift from), every pixel is F / m and the layer zero: the shadows stay where the warp
+// is F / m, the layer zero, and the flow's pyramid (shadow_mask_pyramid.wgsl) takes the mask as
+// lit, so the flow follows the shadows on static receivers only. Untracked (no frame t-1 to
+// measure a drift from), every pixel is F / m and the layer zero: the shadows stay where the warp
 // carries them. Each pixel with any input sanitised, the mask included, is counted once. Runs
 // after the G-buffer packing, whose object ids it reads.
 // #import gbuffer

@@ -152,8 +152,7 @@ fn shadow_flow(rec: &mut Recorder, plan: &SubmitPlan) {
         shadow_flow::record(
             rec,
             &shadow_flow::FlowPasses {
-                mask_level: passes.get(PipelineId::ShadowMaskLevel),
-                pyramid: passes.get(PipelineId::ShadowPyramid),
+                mask_pyramid: passes.get(PipelineId::ShadowMaskPyramid),
                 poly: passes.get(PipelineId::ShadowPoly),
                 start: passes.get(PipelineId::ShadowFlowStart),
                 iterate: [0, 1].map(|n| passes.nth(PipelineId::ShadowFlowIterate, n)),

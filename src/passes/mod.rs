@@ -146,8 +146,7 @@ pipeline_table! {
     /// Frame t's G-buffer, in the submit.
     PackGbuffer: pack_gbuffer, 1;
     SeparateShadows: separate_shadows, 1;
-    ShadowMaskLevel: shadow_mask_level, 1;
-    ShadowPyramid: shadow_pyramid, 1;
+    ShadowMaskPyramid: shadow_mask_pyramid, 1;
     ShadowPoly: shadow_poly, 1;
     ShadowFlowStart: shadow_flow_start, 1;
     /// Reading the estimate from either flow atlas.

@@ -24,6 +24,9 @@ use crate::vk::image::{OwnedImage, Texture};
 use crate::vk::recorder::{Pass, Recorder};
 
 pub const MAX_LEVELS: u32 = 6;
+/// Finest-level texels on a side of a workgroup's tile in `shadow_mask_pyramid.wgsl` (`TILE`):
+/// one texel of the coarsest level.
+const MASK_PYRAMID_TILE: u32 = 1 << (MAX_LEVELS - 1);
 pub const MAX_ITERATIONS: u32 = 10;
 pub const MAX_WINDOW_RADIUS: u32 = 15;
 /// The expansion's weights travel as four push constants.
@@ -276,8 +279,7 @@ pub struct FlowImages<'a> {
 
 /// The flow stage's passes; `iterate[i]` reads `flow_pyramid[i]` and writes the other.
 pub struct FlowPasses<'a> {
-    pub mask_level: Pass<'a>,
-    pub pyramid: Pass<'a>,
+    pub mask_pyramid: Pass<'a>,
     pub poly: Pass<'a>,
     pub start: Pass<'a>,
     pub iterate: [Pass<'a>; 2],
@@ -322,35 +324,27 @@ fn record_expansion(
     images: &FlowImages,
     levels: &[Level],
 ) {
-    use shaders::{shadow_mask_level as m, shadow_poly as p, shadow_pyramid as y};
-    let mask_level = rec.bind(passes.mask_level, |writes| {
+    use shaders::{shadow_mask_pyramid as m, shadow_poly as p};
+    let mask_pyramid = rec.bind(passes.mask_pyramid, |writes| {
         writes
             .image(m::binding::MASK, images.frame.mask)
             .image(m::binding::SOURCE_NORMAL_ID, images.frame.source_normal_id)
-            .image(m::binding::LEVEL, images.mask_pyramid)
+            .image(m::binding::PYRAMID, images.mask_pyramid)
     });
+    let finest = extent_of(&levels[0]);
     let params = m::Params {
         frame_size: [extent.width, extent.height],
-        level_size: levels[0].size,
+        finest_size: levels[0].size,
         block: images.mask_step,
-        ..Default::default()
+        levels: levels.len() as u32,
     };
-    rec.dispatch(&mask_level, &params, extent_of(&levels[0]));
-    let mask_pyramid = rec.bind(passes.pyramid, |writes| {
-        writes
-            .image(y::binding::FINER, images.mask_pyramid)
-            .image(y::binding::LEVEL, images.mask_pyramid)
-    });
-    for pair in levels.windows(2) {
-        let [finer, level] = [&pair[0], &pair[1]];
-        let params = y::Params {
-            level_offset: level.offset,
-            level_size: level.size,
-            finer_offset: finer.offset,
-            finer_size: finer.size,
-        };
-        rec.dispatch(&mask_pyramid, &params, extent_of(level));
-    }
+    // A workgroup of 8x8 invocations per MASK_PYRAMID_TILE texels of the finest level on a side.
+    let [group_x, group_y, _] = m::SHADER.workgroup_size;
+    let groups = vk::Extent2D {
+        width: finest.width.div_ceil(MASK_PYRAMID_TILE) * group_x,
+        height: finest.height.div_ceil(MASK_PYRAMID_TILE) * group_y,
+    };
+    rec.dispatch(&mask_pyramid, &params, groups);
     let poly = rec.bind(passes.poly, |writes| {
         writes
             .image(p::binding::MASK_PYRAMID, images.mask_pyramid)
@@ -358,7 +352,6 @@ fn record_expansion(
             .image(p::binding::POLY_XY, images.poly_xy[images.current])
     });
     // Every level's expansion at once.
-    let finest = extent_of(&levels[0]);
     rec.dispatch(&poly, &settings.poly_params(finest), span(levels));
 }
 
