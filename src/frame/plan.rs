@@ -24,6 +24,7 @@ use crate::passes::{
     separate_shadows, target_shadows, translucency, CounterRange, PipelineId, Pipelines,
     RegionPasses, Texture, SANITIZE_COUNTER_BYTES,
 };
+use crate::shaders::PushConstants;
 use crate::vk::image::ImportedImage;
 use crate::vk::recorder::Recorder;
 
@@ -239,19 +240,27 @@ pub fn record(rec: &mut Recorder, plan: &ExtrapolationPlan) {
     pack_output(rec, plan);
 }
 
-/// Zeroes the extrapolation's counters and writes what its passes read there: both instants'
-/// `cameras`, and no deferred holes yet. Returns those ranges.
+/// Writes the extrapolation's counters in one command (one barrier before the passes read them):
+/// zeros, but for what its passes read there, both instants' `cameras` and no deferred holes yet.
+/// Returns those ranges.
 pub fn start_counters(
     rec: &mut Recorder,
     passes: &RegionPasses,
     cameras: &warp::Cameras,
 ) -> (CounterRange, CounterRange) {
-    rec.fill_zero(&passes.all_counters());
-    let camera_range = passes.counters(counters::CAMERAS, warp::CAMERAS_BYTES);
-    rec.update(&camera_range, cameras);
-    let deferred_holes = passes.counters(counters::DEFERRED_HOLES, warp::DEFERRED_HOLES_BYTES);
-    rec.update(&deferred_holes, &warp::NO_DEFERRED_HOLES);
-    (camera_range, deferred_holes)
+    let all = passes.all_counters();
+    let mut contents = vec![0u8; all.range as usize];
+    for (offset, bytes) in [
+        (counters::CAMERAS, cameras.as_bytes()),
+        (counters::DEFERRED_HOLES, warp::NO_DEFERRED_HOLES.as_bytes()),
+    ] {
+        contents[offset as usize..offset as usize + bytes.len()].copy_from_slice(bytes);
+    }
+    rec.update_bytes(&all, &contents);
+    (
+        passes.counters(counters::CAMERAS, warp::CAMERAS_BYTES),
+        passes.counters(counters::DEFERRED_HOLES, warp::DEFERRED_HOLES_BYTES),
+    )
 }
 
 impl<'a> ExtrapolationPlan<'a> {

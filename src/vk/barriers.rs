@@ -125,7 +125,14 @@ impl EngineImageAccess {
     }
 
     /// Waits for the engine's earlier work on every image and moves it to its pass layout.
-    pub fn acquire(&self, device: &ash::Device, cmd: vk::CommandBuffer) {
+    /// Also makes everything recorded before visible to the plugin's commands (`later_stages`), so
+    /// that no other barrier need wait for it.
+    pub fn acquire(
+        &self,
+        device: &ash::Device,
+        cmd: vk::CommandBuffer,
+        later_stages: vk::PipelineStageFlags,
+    ) {
         let barriers: Vec<_> = self
             .uses
             .iter()
@@ -137,14 +144,23 @@ impl EngineImageAccess {
                     .new_layout(u.layout_in_pass)
             })
             .collect();
+        let earlier = vk::MemoryBarrier::default()
+            .src_access_mask(vk::AccessFlags::MEMORY_WRITE)
+            .dst_access_mask(
+                vk::AccessFlags::SHADER_READ
+                    | vk::AccessFlags::SHADER_WRITE
+                    | vk::AccessFlags::TRANSFER_READ
+                    | vk::AccessFlags::TRANSFER_WRITE
+                    | vk::AccessFlags::INDIRECT_COMMAND_READ,
+            );
         // SAFETY: cmd is in the recording state (API contract); barriers name live images.
         unsafe {
             device.cmd_pipeline_barrier(
                 cmd,
                 vk::PipelineStageFlags::ALL_COMMANDS,
-                PLUGIN_STAGES,
+                PLUGIN_STAGES | later_stages,
                 vk::DependencyFlags::empty(),
-                &[],
+                &[earlier],
                 &[],
                 &barriers,
             );

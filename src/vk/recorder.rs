@@ -67,7 +67,7 @@ pub struct Recorder<'a> {
 
 impl<'a> Recorder<'a> {
     /// Starts recording into `cmd`, after whatever was recorded there before: the first command
-    /// that touches anything waits for it.
+    /// that touches anything waits for it, unless `acquire`'s barrier has.
     pub fn new(device: &'a ash::Device, cmd: vk::CommandBuffer) -> Self {
         Self {
             device,
@@ -108,9 +108,12 @@ impl<'a> Recorder<'a> {
         barriers::initialize_owned(self.device, self.cmd, images);
     }
 
-    /// Waits for the engine's work on its images and moves them to their pass layouts.
+    /// Waits for the engine's work on its images and moves them to their pass layouts. The same
+    /// barrier waits for everything recorded before, which the first command then need not.
     pub fn acquire(&mut self, engine: &EngineImageAccess) {
-        engine.acquire(self.device, self.cmd);
+        engine.acquire(self.device, self.cmd, LATER_STAGES);
+        self.pending.clear();
+        self.commands.barriers += 1;
     }
 
     /// Records the commands of `stage`, with a timestamp before and after. Stages come in the
