@@ -65,7 +65,7 @@ fn warp_pixel(p: vec2u, t: Surface, motion_vector: vec2f) -> WarpedPixel {
     let sharp = unspecialised(params.resample) == RESAMPLE_CATMULL_ROM && t.id == 0u
         && footprint.least_agreement >= AGREEMENT_THRESHOLD && surface_around(t, q);
     if (sharp) {
-        fetched = catmull_rom_shading(q);
+        fetched = catmull_rom_fetch(q);
     } else if (weight_sum > MIN_TOTAL_WEIGHT) {
         fetched = divided(shading_sum, weight_sum);
     } else {

@@ -13,5 +13,5 @@ fn warp_pixel(p: vec2u, t: Surface, motion_vector: vec2f) -> WarpedPixel {
     let q = source_point(p, motion_vector);
     let agreement = agreement_at(t, texel(q));
     let offscreen = is_offscreen(q);
-    return WarpedPixel(bilinear_shading(q), offscreen || agreement < AGREEMENT_THRESHOLD, offscreen, false);
+    return WarpedPixel(bilinear_fetch(q), offscreen || agreement < AGREEMENT_THRESHOLD, offscreen, false);
 }

@@ -20,7 +20,7 @@ fn fetch(t: Surface, q: vec2f) -> Fetched {
             return divided(footprint.shading_sum, footprint.weight_sum);
         }
     }
-    return bilinear_shading(q);
+    return bilinear_fetch(q);
 }
 
 fn warp_pixel(p: vec2u, t: Surface, motion_vector: vec2f) -> WarpedPixel {

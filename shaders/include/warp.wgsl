@@ -134,9 +134,13 @@ fn texel(q: vec2f) -> vec2i {
 // shadow layer (zero without). Both move with the surfaces, so one warp's weights serve both.
 alias Fetched = mat2x4f;
 
+fn carries_layer() -> bool {
+    return unspecialised(params.carries_layer) != 0u;
+}
+
 fn source_texel(s: vec2i) -> Fetched {
     var layer = vec4f(0.0);
-    if (unspecialised(params.carries_layer) != 0u) {
+    if (carries_layer()) {
         layer = textureLoad(source_layer, s, 0);
     }
     return Fetched(textureLoad(source_shading, s, 0), layer);
@@ -148,20 +152,26 @@ fn divided(sum: Fetched, total: f32) -> Fetched {
     return Fetched(sum[0] / total, sum[1] / total);
 }
 
-fn mix_fetched(a: Fetched, b: Fetched, f: f32) -> Fetched {
-    return Fetched(mix(a[0], b[0], f), mix(a[1], b[1], f));
-}
-
-// Frame t at `q`, bilinear over the texels around it.
-fn bilinear_shading(q: vec2f) -> Fetched {
+// Frame t's `image` (its shading or its shadow layer) at `q`, bilinear over the texels around it.
+fn bilinear(image: texture_2d<f32>, q: vec2f) -> vec4f {
     let corner = vec2i(floor(q - 0.5));
     let f = q - 0.5 - floor(q - 0.5);
     let last = vec2i(params.extent) - 1;
-    let s00 = source_texel(clamp(corner, vec2i(0), last));
-    let s10 = source_texel(clamp(corner + vec2i(1, 0), vec2i(0), last));
-    let s01 = source_texel(clamp(corner + vec2i(0, 1), vec2i(0), last));
-    let s11 = source_texel(clamp(corner + vec2i(1, 1), vec2i(0), last));
-    return mix_fetched(mix_fetched(s00, s10, f.x), mix_fetched(s01, s11, f.x), f.y);
+    let s00 = textureLoad(image, clamp(corner, vec2i(0), last), 0);
+    let s10 = textureLoad(image, clamp(corner + vec2i(1, 0), vec2i(0), last), 0);
+    let s01 = textureLoad(image, clamp(corner + vec2i(0, 1), vec2i(0), last), 0);
+    let s11 = textureLoad(image, clamp(corner + vec2i(1, 1), vec2i(0), last), 0);
+    return mix(mix(s00, s10, f.x), mix(s01, s11, f.x), f.y);
+}
+
+// The fetches whose weights need no G-buffer run once per image, so that a warp without the
+// layer pays nothing for it (each is inlined with its image).
+fn bilinear_fetch(q: vec2f) -> Fetched {
+    var layer = vec4f(0.0);
+    if (carries_layer()) {
+        layer = bilinear(source_layer, q);
+    }
+    return Fetched(bilinear(source_shading, q), layer);
 }
 
 // q's bilinear footprint in frame t with each texel weighted by its agreement with the target:
@@ -222,29 +232,37 @@ fn surface_around(t: Surface, q: vec2f) -> bool {
     return true;
 }
 
-// Frame t at `q`, Catmull-Rom over the 4x4 texels around it, held within the range of the four
-// nearest so that it cannot ring. Bilinear blurs: a half-texel shift halves detail at the finest
-// scale, and a moving camera shifts every frame.
-fn catmull_rom_shading(q: vec2f) -> Fetched {
+// Frame t's `image` at `q`, Catmull-Rom over the 4x4 texels around it, held within the range of
+// the four nearest so that it cannot ring. Bilinear blurs: a half-texel shift halves detail at
+// the finest scale, and a moving camera shifts every frame.
+fn catmull_rom(image: texture_2d<f32>, q: vec2f) -> vec4f {
     let corner = vec2i(floor(q - 0.5));
     let f = q - 0.5 - floor(q - 0.5);
     let wx = catmull_rom_weights(f.x);
     let wy = catmull_rom_weights(f.y);
     let last = vec2i(params.extent) - 1;
-    var sum = Fetched();
-    var low = Fetched(vec4f(3.4e38), vec4f(3.4e38));
-    var high = Fetched(vec4f(-3.4e38), vec4f(-3.4e38));
+    var sum = vec4f(0.0);
+    var low = vec4f(3.4e38);
+    var high = vec4f(-3.4e38);
     for (var j = 0; j < 4; j++) {
         for (var i = 0; i < 4; i++) {
-            let s = source_texel(clamp(corner + vec2i(i - 1, j - 1), vec2i(0), last));
+            let s = textureLoad(image, clamp(corner + vec2i(i - 1, j - 1), vec2i(0), last), 0);
             sum += wx[i] * wy[j] * s;
             if ((i == 1 || i == 2) && (j == 1 || j == 2)) {
-                low = Fetched(min(low[0], s[0]), min(low[1], s[1]));
-                high = Fetched(max(high[0], s[0]), max(high[1], s[1]));
+                low = min(low, s);
+                high = max(high, s);
             }
         }
     }
-    return Fetched(clamp(sum[0], low[0], high[0]), clamp(sum[1], low[1], high[1]));
+    return clamp(sum, low, high);
+}
+
+fn catmull_rom_fetch(q: vec2f) -> Fetched {
+    var layer = vec4f(0.0);
+    if (carries_layer()) {
+        layer = catmull_rom(source_layer, q);
+    }
+    return Fetched(catmull_rom(source_shading, q), layer);
 }
 
 struct WarpedPixel {
