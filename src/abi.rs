@@ -726,8 +726,9 @@ pub const PATCHEX_STAGE_PACK_OUTPUT: PatchexStage = 12;
 /// the frame's warp listed, remodulating them when the warp does, and filling the shadow layer
 /// it carries.
 pub const PATCHEX_STAGE_FILL_HOLES: PatchexStage = 13;
-/// Extrapolation with a PatchexTargetShadowInput, after the shadow layer's warp: the sun's share
-/// of frame t's light over its shadows, then the shadows placed from the target's mask.
+/// Extrapolation with a PatchexTargetShadowInput, after the warp that carries the shadow layer:
+/// the sun's share of frame t's light over its shadows, then the shadows placed from the
+/// target's mask.
 pub const PATCHEX_STAGE_TARGET_SHADOWS: PatchexStage = 14;
 /// Extrapolation of a frame that came with a PatchexSunLight, after remodulation: the sun's
 /// highlights, evaluated for the target's view. (Frame t's are taken out of its shading in

@@ -12,7 +12,7 @@ use crate::vk::recorder::{Pass, Recorder};
 pub struct RemodulateInputs {
     pub base_color: Texture,
     pub material: Option<Texture>,
-    /// The share of light the shadows take away at the target (`warp::Store::ShadowShare`);
+    /// The share of light the shadows take away at the target (`warp::CarriedLayer::share`);
     /// `None` without a shadow input.
     pub shadow_share: Option<Texture>,
     pub placeholder: Texture,
