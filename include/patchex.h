@@ -993,8 +993,9 @@ typedef struct PatchexShadowDiagnostics {
 // it carries.
 #define PATCHEX_STAGE_FILL_HOLES 13
 
-// Extrapolation with a PatchexTargetShadowInput, after the shadow layer's warp: the sun's share
-// of frame t's light over its shadows, then the shadows placed from the target's mask.
+// Extrapolation with a PatchexTargetShadowInput, after the warp that carries the shadow layer:
+// the sun's share of frame t's light over its shadows, then the shadows placed from the
+// target's mask.
 #define PATCHEX_STAGE_TARGET_SHADOWS 14
 
 // Extrapolation of a frame that came with a PatchexSunLight, after remodulation: the sun's
