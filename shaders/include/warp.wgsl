@@ -282,12 +282,17 @@ struct DeferredHoles {
     groups_z: u32,
 }
 
+// `value` with the hole flag in its alpha (`frame_alpha`), rounded to half floats here, as the
+// colour is, whatever the driver's conversion does.
+fn with_hole_flag(value: vec4f, hole: bool) -> vec4f {
+    return vec4f(to_half(value.rgb), to_half(vec3f(frame_alpha(value.a, hole))).x);
+}
+
 // Writes pixel p's warped shading with its hole flag and divisor (`frame_alpha`), remodulated
 // when the warp remodulates; and with `carries_layer` the shadows' share at the target.
 fn store_pixel(p: vec2u, fetched: Fetched, hole: bool) {
     let shading = fetched[0];
-    // Rounded here, as the colour is, whatever the driver's conversion does.
-    var color = vec4f(to_half(shading.rgb), to_half(vec3f(frame_alpha(shading.a, hole))).x);
+    var color = with_hole_flag(shading, hole);
     if (unspecialised(params.remodulate) != 0u) {
         let m = pixel_modulation(base_color, material, p, unspecialised(params.has_material));
         let factor = remodulation(m.factor, shading.rgb, shading.a);
@@ -298,10 +303,9 @@ fn store_pixel(p: vec2u, fetched: Fetched, hole: bool) {
         }
     }
     textureStore(warped, p, color);
-    if (unspecialised(params.carries_layer) != 0u) {
-        // The layer's alpha is its darkness, with the hole flag as the shading's.
-        let layer = fetched[1];
-        var share = vec4f(to_half(layer.rgb), to_half(vec3f(frame_alpha(layer.a, hole))).x);
+    if (carries_layer()) {
+        // The layer's alpha is its darkness, flagged as the shading's divisor is.
+        var share = with_hole_flag(fetched[1], hole);
         if (unspecialised(params.shadow_share) != 0u) {
             // The layer as its flow moved it where that found a receiver (not a hole), as this
             // warp carried it with the surfaces elsewhere.
