@@ -34,6 +34,16 @@ const PLUGIN_STAGES: vk::PipelineStageFlags = vk::PipelineStageFlags::from_raw(
     vk::PipelineStageFlags::COMPUTE_SHADER.as_raw() | vk::PipelineStageFlags::TRANSFER.as_raw(),
 );
 
+/// Every access the plugin's commands make: the passes' reads and writes, the transfers' and
+/// the indirect dispatches' arguments.
+const PLUGIN_ACCESS: vk::AccessFlags = vk::AccessFlags::from_raw(
+    vk::AccessFlags::SHADER_READ.as_raw()
+        | vk::AccessFlags::SHADER_WRITE.as_raw()
+        | vk::AccessFlags::TRANSFER_READ.as_raw()
+        | vk::AccessFlags::TRANSFER_WRITE.as_raw()
+        | vk::AccessFlags::INDIRECT_COMMAND_READ.as_raw(),
+);
+
 /// The engine images one call touches, each once, with the layout its passes use.
 #[derive(Default)]
 pub struct EngineImageAccess {
@@ -146,13 +156,7 @@ impl EngineImageAccess {
             .collect();
         let earlier = vk::MemoryBarrier::default()
             .src_access_mask(vk::AccessFlags::MEMORY_WRITE)
-            .dst_access_mask(
-                vk::AccessFlags::SHADER_READ
-                    | vk::AccessFlags::SHADER_WRITE
-                    | vk::AccessFlags::TRANSFER_READ
-                    | vk::AccessFlags::TRANSFER_WRITE
-                    | vk::AccessFlags::INDIRECT_COMMAND_READ,
-            );
+            .dst_access_mask(PLUGIN_ACCESS);
         // SAFETY: cmd is in the recording state (API contract); barriers name live images.
         unsafe {
             device.cmd_pipeline_barrier(
@@ -218,13 +222,7 @@ pub fn memory(
 ) {
     let memory = vk::MemoryBarrier::default()
         .src_access_mask(written)
-        .dst_access_mask(
-            vk::AccessFlags::SHADER_READ
-                | vk::AccessFlags::SHADER_WRITE
-                | vk::AccessFlags::TRANSFER_READ
-                | vk::AccessFlags::TRANSFER_WRITE
-                | vk::AccessFlags::INDIRECT_COMMAND_READ,
-        );
+        .dst_access_mask(PLUGIN_ACCESS);
     // SAFETY: cmd is recording.
     unsafe {
         device.cmd_pipeline_barrier(
