@@ -277,13 +277,9 @@ impl<'a> Recorder<'a> {
         };
     }
 
-    /// Writes `contents` into `range` in the command stream (a uniform block of the call), after
-    /// whatever the GPU still does with the range; a write from the host could race it.
-    pub fn update<P: PushConstants>(&mut self, range: &CounterRange, contents: &P) {
-        self.update_bytes(range, contents.as_bytes());
-    }
-
-    /// [`Self::update`] with the bytes themselves: a multiple of 4 under 65536, filling `range`.
+    /// Writes `bytes` (a multiple of 4 under 65536, filling `range`) into `range` in the command
+    /// stream (the call's counters and uniform blocks), after whatever the GPU still does with
+    /// the range; a write from the host could race it.
     pub fn update_bytes(&mut self, range: &CounterRange, bytes: &[u8]) {
         debug_assert_eq!(bytes.len() as u64, range.range);
         self.order(&[transfer_write(Resource::range(range))]);
