@@ -1,55 +1,26 @@
-// The shadow mask's pyramid, every level in one dispatch (as FidelityFX's single-pass
-// downsampler makes mips). The finest level is the mean, over blocks of `block` x `block` pixels
-// (`shadow_flow::mask_step`; the last row or column of blocks repeats the frame's edge), of what
-// the flow tracks of frame t: the engine's shadow mask, sanitised, on static pixels, and dynamic
-// objects as lit (their shadows move with them). Each coarser texel is the mean of the 2x2 finer
-// texels it covers (the last row or column of an odd-sized level repeats). A workgroup makes a
-// TILE x TILE tile of the finest level and halves it in workgroup memory, level by level: the
-// texels a coarser texel covers, clamped at the level's edge, lie in its own tile, so no level
-// waits for another workgroup. src/reference/separate_shadows.rs `flow_mask` mirrors the mask,
-// src/reference/optical_flow.rs the pyramid.
-// #import gbuffer
-// #import flow
+// The shadow mask's pyramid above its finest level (shadow_mask_finest.wgsl), every coarser
+// level in one dispatch (as FidelityFX's single-pass downsampler makes mips). Each coarser texel
+// is the mean of the 2x2 finer texels it covers (the last row or column of an odd-sized level
+// repeats). A workgroup reads a TILE x TILE tile of the finest level and halves it in workgroup
+// memory, level by level: the texels a coarser texel covers, clamped at the level's edge, lie
+// in its own tile, so no level waits for another workgroup. src/reference/optical_flow.rs
+// mirrors it.
 
 struct Params {
-    frame_size: vec2u,
-    // The finest level's size, its frame pixels per texel on each axis, and the level count.
+    // The finest level's size, and the level count.
     finest_size: vec2u,
-    block: u32,
     levels: u32,
 }
 var<immediate> params: Params;
 
-// The engine's shadow mask of frame t, and frame t's packed normal and object id.
-@group(0) @binding(0) var mask: texture_2d<f32>;
-@group(0) @binding(1) var source_normal_id: texture_2d<u32>;
-@group(0) @binding(2) var pyramid: texture_storage_2d<r32float, write>;
-
+// Level 0 at the origin is read; the coarser levels, in a column right of it
+// (`shadow_flow::pyramid`), are written.
+@group(0) @binding(0) var pyramid: texture_storage_2d<r32float, read_write>;
 // Finest-level texels on a tile's side: one texel of the coarsest of `shadow_flow::MAX_LEVELS`.
 const TILE: u32 = 32u;
 const LANES: u32 = 64u;
 // Every level's part of the tile, the finest first: 32^2 + 16^2 + 8^2 + 4^2 + 2^2 + 1.
 var<workgroup> tile: array<f32, 1365>;
-
-fn tracked(q: vec2i) -> f32 {
-    let pixel = clamp(q, vec2i(0), vec2i(params.frame_size) - 1);
-    if (object_id(textureLoad(source_normal_id, pixel, 0).r) != 0u) {
-        return 1.0;
-    }
-    return sanitize_unit(vec3f(textureLoad(mask, pixel, 0).r, 0.0, 0.0)).value.x;
-}
-
-fn finest_texel(p: vec2u) -> f32 {
-    let n = i32(unspecialised(params.block, mask));
-    let q = n * vec2i(p);
-    var sum = 0.0;
-    for (var dy = 0; dy < n; dy++) {
-        for (var dx = 0; dx < n; dx++) {
-            sum += tracked(q + vec2i(dx, dy));
-        }
-    }
-    return sum / f32(n * n);
-}
 
 @compute @workgroup_size(8, 8, 1)
 fn main(@builtin(workgroup_id) group: vec3u, @builtin(local_invocation_index) lane: u32) {
@@ -59,15 +30,14 @@ fn main(@builtin(workgroup_id) group: vec3u, @builtin(local_invocation_index) la
     for (var i = lane; i < side * side; i += LANES) {
         let p = origin + vec2u(i % side, i / side);
         if (all(p < size)) {
-            let value = finest_texel(p);
-            tile[i] = value;
-            textureStore(pyramid, p, vec4f(value, 0.0, 0.0, 0.0));
+            tile[i] = textureLoad(pyramid, p).r;
         }
     }
     // Coarser levels stack in a column right of the finest (`shadow_flow::pyramid`).
     var offset = vec2u(size.x, 0u);
     var finer_base = 0u;
-    let levels = unspecialised(params.levels, mask);
+    // `unspecialised` (include/flow.wgsl), for a storage image.
+    let levels = select(0u, params.levels, textureDimensions(pyramid).x != 0u);
     for (var level = 1u; level < levels; level++) {
         workgroupBarrier();
         let finer_side = side;

@@ -294,6 +294,7 @@ fn the_warps_the_fill_and_the_flow_never_branch_on_settings_alone() {
         "warp_occlusion_motion",
         "warp_motion_vector",
         "fill_holes",
+        "shadow_mask_finest",
         "shadow_mask_pyramid",
         "shadow_poly",
         "shadow_flow_iterate",

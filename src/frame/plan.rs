@@ -153,6 +153,7 @@ fn shadow_flow(rec: &mut Recorder, plan: &SubmitPlan) {
         shadow_flow::record(
             rec,
             &shadow_flow::FlowPasses {
+                mask_finest: passes.get(PipelineId::ShadowMaskFinest),
                 mask_pyramid: passes.get(PipelineId::ShadowMaskPyramid),
                 poly: passes.get(PipelineId::ShadowPoly),
                 start: passes.get(PipelineId::ShadowFlowStart),

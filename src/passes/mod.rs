@@ -146,6 +146,7 @@ pipeline_table! {
     /// Frame t's G-buffer, in the submit.
     PackGbuffer: pack_gbuffer, 1;
     SeparateShadows: separate_shadows, 1;
+    ShadowMaskFinest: shadow_mask_finest, 1;
     ShadowMaskPyramid: shadow_mask_pyramid, 1;
     ShadowPoly: shadow_poly, 1;
     ShadowFlowStart: shadow_flow_start, 1;

@@ -279,6 +279,7 @@ pub struct FlowImages<'a> {
 
 /// The flow stage's passes; `iterate[i]` reads `flow_pyramid[i]` and writes the other.
 pub struct FlowPasses<'a> {
+    pub mask_finest: Pass<'a>,
     pub mask_pyramid: Pass<'a>,
     pub poly: Pass<'a>,
     pub start: Pass<'a>,
@@ -324,27 +325,38 @@ fn record_expansion(
     images: &FlowImages,
     levels: &[Level],
 ) {
-    use shaders::{shadow_mask_pyramid as m, shadow_poly as p};
-    let mask_pyramid = rec.bind(passes.mask_pyramid, |writes| {
-        writes
-            .image(m::binding::MASK, images.frame.mask)
-            .image(m::binding::SOURCE_NORMAL_ID, images.frame.source_normal_id)
-            .image(m::binding::PYRAMID, images.mask_pyramid)
-    });
+    use shaders::{shadow_mask_finest as f, shadow_mask_pyramid as m, shadow_poly as p};
     let finest = extent_of(&levels[0]);
-    let params = m::Params {
+    let mask_finest = rec.bind(passes.mask_finest, |writes| {
+        writes
+            .image(f::binding::MASK, images.frame.mask)
+            .image(f::binding::SOURCE_NORMAL_ID, images.frame.source_normal_id)
+            .image(f::binding::PYRAMID, images.mask_pyramid)
+    });
+    let params = f::Params {
         frame_size: [extent.width, extent.height],
-        finest_size: levels[0].size,
+        level_size: levels[0].size,
         block: images.mask_step,
-        levels: levels.len() as u32,
+        _pad_end: Default::default(),
     };
-    // A workgroup of 8x8 invocations per MASK_PYRAMID_TILE texels of the finest level on a side.
-    let [group_x, group_y, _] = m::SHADER.workgroup_size;
-    let groups = vk::Extent2D {
-        width: finest.width.div_ceil(MASK_PYRAMID_TILE) * group_x,
-        height: finest.height.div_ceil(MASK_PYRAMID_TILE) * group_y,
-    };
-    rec.dispatch(&mask_pyramid, &params, groups);
+    rec.dispatch(&mask_finest, &params, finest);
+    if levels.len() > 1 {
+        let mask_pyramid = rec.bind(passes.mask_pyramid, |writes| {
+            writes.image(m::binding::PYRAMID, images.mask_pyramid)
+        });
+        let params = m::Params {
+            finest_size: levels[0].size,
+            levels: levels.len() as u32,
+            _pad_end: Default::default(),
+        };
+        // A workgroup per MASK_PYRAMID_TILE texels of the finest level on a side.
+        let [group_x, group_y, _] = m::SHADER.workgroup_size;
+        let groups = vk::Extent2D {
+            width: finest.width.div_ceil(MASK_PYRAMID_TILE) * group_x,
+            height: finest.height.div_ceil(MASK_PYRAMID_TILE) * group_y,
+        };
+        rec.dispatch(&mask_pyramid, &params, groups);
+    }
     let poly = rec.bind(passes.poly, |writes| {
         writes
             .image(p::binding::MASK_PYRAMID, images.mask_pyramid)
