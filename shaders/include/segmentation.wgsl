@@ -1,6 +1,7 @@
 // The object table the three segmentation passes share (object_bounds, grow_regions,
-// region_masks). It lives in the frame's host-visible counters, so the engine reads the
-// rectangles back through patchex_get_frame_stats; src/passes/segmentation.rs mirrors the layout.
+// region_masks). It lives in the frame's counters, which each call copies to the host, so the
+// engine reads the rectangles back through patchex_get_frame_stats; src/passes/segmentation.rs
+// mirrors the layout.
 
 // Stencil ids are 8-bit, so every id has its own entry.
 const MAX_OBJECTS: u32 = 256u;

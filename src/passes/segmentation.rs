@@ -52,6 +52,8 @@ impl SegmentationSettings {
 
 /// Layout of `Segmentation` in `include/segmentation.wgsl`.
 pub const MAX_OBJECTS: usize = 256;
+/// Pixels on a side of the block one invocation of `object_bounds.wgsl` adds up (`BLOCK`).
+const OBJECT_BOUNDS_BLOCK: u32 = 4;
 const RECT_COUNT_OFFSET: u64 = 0;
 const RECTS_OFFSET: u64 = 16;
 const RECT_BYTES: u64 = 32;
@@ -105,7 +107,12 @@ pub fn record(
         has_stencil: inputs.target_stencil.is_some() as u32,
         ..Default::default()
     };
-    rec.dispatch(&object_bounds, &params, extent);
+    // One invocation per OBJECT_BOUNDS_BLOCK x OBJECT_BOUNDS_BLOCK pixels.
+    let blocks = vk::Extent2D {
+        width: extent.width.div_ceil(OBJECT_BOUNDS_BLOCK),
+        height: extent.height.div_ceil(OBJECT_BOUNDS_BLOCK),
+    };
+    rec.dispatch(&object_bounds, &params, blocks);
 
     use shaders::grow_regions as grow;
     let grow_regions = rec.bind(passes.grow_regions, |writes| {
