@@ -61,14 +61,14 @@ fn source_position(s: vec2i, depth: f32) -> vec3f {
 // so agrees with no source texel.
 const NO_OBJECT: u32 = 0x100u;
 
-// Agreement of the target's surface with frame t's texel `s`. What is not needed (another
-// object's texel) is not unpacked.
+// Agreement of the target's surface with frame t's texel `s`. Both loads come first, so that a
+// GPU waits on them together; what is not needed (another object's texel) is not unpacked.
 fn agreement_at(t: Surface, s: vec2i) -> f32 {
     let packed = textureLoad(source_normal_id, s, 0).r;
+    let depth = textureLoad(source_depth, s, 0).r;
     if (object_id(packed) != t.id) {
         return 0.0;
     }
-    let depth = textureLoad(source_depth, s, 0).r;
     if (is_sky(t.depth) || is_sky(depth)) {
         return select(0.0, 1.0, is_sky(t.depth) && is_sky(depth));
     }
