@@ -18,8 +18,13 @@ fn open_tallies(lane: u32) {
     workgroupBarrier();
 }
 
-// True in the one lane that hands the tallies on, once every invocation has counted.
+// True in the one lane that hands the tallies on, once every invocation has counted, where the
+// workgroup counted anything: every workgroup of a frame adds to the same few counters, and on a
+// GPU atomics on one address take turns, so a workgroup with nothing to add adds nothing.
 fn close_tallies(lane: u32) -> bool {
     workgroupBarrier();
-    return lane == 0u;
+    let any = atomicLoad(&group_tallies[0]) | atomicLoad(&group_tallies[1])
+        | atomicLoad(&group_tallies[2]) | atomicLoad(&group_tallies[3])
+        | atomicLoad(&group_tallies[4]);
+    return lane == 0u && any != 0u;
 }

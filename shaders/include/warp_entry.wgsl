@@ -34,11 +34,28 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
         }
     }
 
+    // Each counter only where the workgroup has something to add to it (`close_tallies`): every
+    // workgroup counts a largest motion, few a hole.
     if (close_tallies(lane)) {
-        atomicAdd(&counters.hole_pixels, atomicLoad(&group_tallies[TALLY_HOLES]));
-        atomicAdd(&counters.offscreen_pixels, atomicLoad(&group_tallies[TALLY_OFFSCREEN]));
-        atomicMax(&counters.largest_motion_bits, atomicLoad(&group_tallies[TALLY_LARGEST_MOTION]));
-        atomicAdd(&counters.invalid_geometry_pixels, atomicLoad(&group_tallies[TALLY_INVALID_GEOMETRY]));
-        atomicAdd(&counters.sanitized_pixels, atomicLoad(&group_tallies[TALLY_SANITIZED]));
+        let holes = atomicLoad(&group_tallies[TALLY_HOLES]);
+        if (holes != 0u) {
+            atomicAdd(&counters.hole_pixels, holes);
+        }
+        let offscreen = atomicLoad(&group_tallies[TALLY_OFFSCREEN]);
+        if (offscreen != 0u) {
+            atomicAdd(&counters.offscreen_pixels, offscreen);
+        }
+        let largest = atomicLoad(&group_tallies[TALLY_LARGEST_MOTION]);
+        if (largest > atomicLoad(&counters.largest_motion_bits)) {
+            atomicMax(&counters.largest_motion_bits, largest);
+        }
+        let invalid = atomicLoad(&group_tallies[TALLY_INVALID_GEOMETRY]);
+        if (invalid != 0u) {
+            atomicAdd(&counters.invalid_geometry_pixels, invalid);
+        }
+        let sanitized = atomicLoad(&group_tallies[TALLY_SANITIZED]);
+        if (sanitized != 0u) {
+            atomicAdd(&counters.sanitized_pixels, sanitized);
+        }
     }
 }
