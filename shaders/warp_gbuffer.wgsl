@@ -29,7 +29,7 @@ const RESAMPLE_CATMULL_ROM: u32 = 0u;
 fn defer_hole(p: vec2u) {
     let slot = atomicAdd(&deferred.count, 1u);
     textureStore(hole_list, vec2u(slot % params.extent.x, slot / params.extent.x), vec4u(p.x | (p.y << 16u)));
-    atomicMax(&deferred.groups, slot / HOLES_PER_WORKGROUP + 1u);
+    atomicMax(&deferred.groups, slot / 64u + 1u);
 }
 
 fn warp_pixel(p: vec2u, t: Surface, motion_vector: vec2f) -> WarpedPixel {

@@ -19,57 +19,29 @@ fn fill_cost(t: Surface, s: vec2i, offset: vec2i) -> f32 {
     return surface_cost(t.depth, t.normal, s, packed, offset, FILL_RADIUS) + other_object;
 }
 
-// Rows in the window.
-const FILL_ROWS: i32 = 2 * FILL_RADIUS / FILL_STEP + 1;
-
-// Part of the window: its least cost, and the sums of its texels' values and weights, each
-// weighted by exp(least - cost) so that no part underflows however badly every texel matches.
-struct FillSums {
-    least: f32,
-    sum: FillValue,
-    total: f32,
-}
-
-// Row `row` of the window around q, its weights rescaled as a cheaper texel appears.
-fn fill_row(q: vec2f, t: Surface, row: i32) -> FillSums {
+fn fill_hole(q: vec2f, t: Surface) -> FillValue {
     let last = vec2i(params.extent) - 1;
     let centre = clamp(vec2i(floor(q)), vec2i(0), last);
-    let dy = row * FILL_STEP - FILL_RADIUS;
-    var sums = FillSums(3.4e38, FillValue(), 0.0);
-    for (var dx = -FILL_RADIUS; dx <= FILL_RADIUS; dx += FILL_STEP) {
-        let offset = vec2i(dx, dy);
-        let s = clamp(centre + offset, vec2i(0), last);
-        let cost = fill_cost(t, s, offset);
-        if (cost < sums.least) {
-            let rescale = exp(cost - sums.least);
-            sums.sum *= rescale;
-            sums.total *= rescale;
-            sums.least = cost;
+    // The weights are exp(least - cost), rescaled as a cheaper texel appears, so that no
+    // window underflows however badly every texel matches.
+    var least = 3.4e38;
+    var sum = FillValue();
+    var total = 0.0;
+    for (var dy = -FILL_RADIUS; dy <= FILL_RADIUS; dy += FILL_STEP) {
+        for (var dx = -FILL_RADIUS; dx <= FILL_RADIUS; dx += FILL_STEP) {
+            let offset = vec2i(dx, dy);
+            let s = clamp(centre + offset, vec2i(0), last);
+            let cost = fill_cost(t, s, offset);
+            if (cost < least) {
+                let rescale = exp(cost - least);
+                sum *= rescale;
+                total *= rescale;
+                least = cost;
+            }
+            let w = exp(least - cost);
+            sum += w * fill_value(s);
+            total += w;
         }
-        let w = exp(sums.least - cost);
-        sums.sum += w * fill_value(s);
-        sums.total += w;
     }
-    return sums;
-}
-
-// Two parts of the window as one, each part's weights rescaled to the lesser least.
-fn merge_fill(a: FillSums, b: FillSums) -> FillSums {
-    let least = min(a.least, b.least);
-    let wa = exp(least - a.least);
-    let wb = exp(least - b.least);
-    return FillSums(least, a.sum * wa + b.sum * wb, a.total * wa + b.total * wb);
-}
-
-// The weighted mean of the window's rows, merged in order.
-fn fill_mean(rows: FillSums) -> FillValue {
-    return rows.sum * (1.0 / rows.total);
-}
-
-fn fill_hole(q: vec2f, t: Surface) -> FillValue {
-    var rows = fill_row(q, t, 0);
-    for (var row = 1; row < FILL_ROWS; row++) {
-        rows = merge_fill(rows, fill_row(q, t, row));
-    }
-    return fill_mean(rows);
+    return sum * (1.0 / total);
 }

@@ -272,12 +272,8 @@ struct WarpedPixel {
     deferred: bool,
 }
 
-// Holes one workgroup of fill_holes.wgsl fills.
-const HOLES_PER_WORKGROUP: u32 = 8u;
-
 // The holes a G-buffer warp leaves to the fill: their count, and the fill's indirect dispatch
-// (one workgroup per HOLES_PER_WORKGROUP holes; y and z are 1, written by the host before the
-// warp).
+// (one 64-wide workgroup per 64 holes; y and z are 1, written by the host before the warp).
 struct DeferredHoles {
     count: atomic<u32>,
     groups: atomic<u32>,

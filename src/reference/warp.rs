@@ -15,29 +15,7 @@ pub const BILINEAR_ACCEPT: f32 = 0.5;
 const MIN_TOTAL_WEIGHT: f32 = 1e-6;
 /// The hole fill's window radius and tap spacing, and the cost of another object's texel.
 const FILL_RADIUS: i32 = 12;
-const FILL_STEP: i32 = 3;
-const FILL_ROWS: i32 = 2 * FILL_RADIUS / FILL_STEP + 1;
-
-/// `FillSums` of `include/fill.wgsl`: part of the fill's window, its least cost and its sums
-/// weighted by exp(least - cost).
-struct FillSums {
-    least: f32,
-    sum: Vec4,
-    total: f32,
-}
-
-impl FillSums {
-    /// `merge_fill`: two parts as one, each rescaled to the lesser least.
-    fn merge(self, other: Self) -> Self {
-        let least = self.least.min(other.least);
-        let (a, b) = ((least - self.least).exp(), (least - other.least).exp());
-        Self {
-            least,
-            sum: self.sum * a + other.sum * b,
-            total: self.total * a + other.total * b,
-        }
-    }
-}
+const FILL_STEP: usize = 3;
 const FILL_OTHER_OBJECT: f32 = 20.0;
 /// The object id of a target pixel whose geometry is unusable: no 8-bit stencil holds it.
 const NO_OBJECT: f32 = 256.0;
@@ -295,43 +273,33 @@ impl<'a> PixelWarp<'a> {
         })
     }
 
-    /// Mirror of `fill_hole` in `include/fill.wgsl`: the window's rows, each weighted by
-    /// exp(least cost - cost), merged in order.
+    /// Mirror of `fill_hole` in `fill_holes.wgsl`: the window's texels weighted by
+    /// exp(least cost - cost), rescaled as a cheaper texel appears.
     fn fill_hole(&self, q: Vec2) -> Vec4 {
-        let merged = (1..FILL_ROWS)
-            .map(|row| self.fill_row(q, row))
-            .fold(self.fill_row(q, 0), FillSums::merge);
-        // As the shader, which spreads matrices too and so cannot divide.
-        merged.sum * (1.0 / merged.total)
-    }
-
-    /// Mirror of `fill_row`: row `row` of the window, rescaled as a cheaper texel appears.
-    fn fill_row(&self, q: Vec2, row: i32) -> FillSums {
         let centre = self.texel_of(q);
         let r = FILL_RADIUS;
-        let dy = row * FILL_STEP - r;
-        let mut sums = FillSums {
-            least: 3.4e38,
-            sum: Vec4::ZERO,
-            total: 0.0,
-        };
-        for dx in (-r..=r).step_by(FILL_STEP as usize) {
-            let offset = IVec2::new(dx, dy);
-            let s = centre
-                .wrapping_add(offset)
-                .clamp(IVec2::ZERO, self.extent() - 1);
-            let cost = self.fill_cost(s, offset);
-            if cost < sums.least {
-                let rescale = (cost - sums.least).exp();
-                sums.sum *= rescale;
-                sums.total *= rescale;
-                sums.least = cost;
+        let mut least = 3.4e38f32;
+        let (mut sum, mut total) = (Vec4::ZERO, 0.0f32);
+        for dy in (-r..=r).step_by(FILL_STEP) {
+            for dx in (-r..=r).step_by(FILL_STEP) {
+                let offset = IVec2::new(dx, dy);
+                let s = centre
+                    .wrapping_add(offset)
+                    .clamp(IVec2::ZERO, self.extent() - 1);
+                let cost = self.fill_cost(s, offset);
+                if cost < least {
+                    let rescale = (cost - least).exp();
+                    sum *= rescale;
+                    total *= rescale;
+                    least = cost;
+                }
+                let w = (least - cost).exp();
+                sum += w * texel(self.source.shading, s);
+                total += w;
             }
-            let w = (sums.least - cost).exp();
-            sums.sum += w * texel(self.source.shading, s);
-            sums.total += w;
         }
-        sums
+        // As the shader, which spreads matrices too and so cannot divide.
+        sum * (1.0 / total)
     }
 
     /// Mirror of `fill_cost`: -log of texel `s`'s weight at window offset `offset`.
