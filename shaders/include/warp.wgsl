@@ -98,17 +98,20 @@ const TALLY_INVALID_GEOMETRY: u32 = 3u;
 const TALLY_SANITIZED: u32 = 4u;
 
 // Whether frame t's texel `s` shows the static target surface `t` wherever on it: its object,
-// its normal and its plane, as `agreement_at` measures them without the distance along it. Both
-// loads come first and nothing returns early, so that a GPU issues the loads of every texel
-// `surface_around` tests at once instead of waiting on each in turn.
+// its normal and its plane, as `agreement_at` measures them without the distance along it.
 fn on_static_surface(t: Surface, s: vec2i) -> bool {
     let packed = textureLoad(source_normal_id, s, 0).r;
+    if (object_id(packed) != t.id) {
+        return false;
+    }
     let depth = textureLoad(source_depth, s, 0).r;
+    if (is_sky(t.depth) || is_sky(depth)) {
+        return false;
+    }
     let normal_term = (1.0 - dot(t.normal, unpack_normal(packed))) * params.inv_sigma_normal;
     let across = dot(t.normal, source_position(s, depth) - t.position) / t.footprint * params.inv_sigma_position;
     // exp(-x) >= AGREEMENT_THRESHOLD, without the exp.
-    let close = normal_term + across * across <= LN_AGREEMENT_THRESHOLD;
-    return object_id(packed) == t.id && !is_sky(t.depth) && !is_sky(depth) && close;
+    return normal_term + across * across <= LN_AGREEMENT_THRESHOLD;
 }
 
 // Where target pixel `p` lands in frame t when it follows `motion` (raw engine units).
@@ -218,17 +221,15 @@ fn catmull_rom_weights(f: f32) -> vec4f {
 fn surface_around(t: Surface, q: vec2f) -> bool {
     let corner = vec2i(floor(q - 0.5));
     let last = vec2i(params.extent) - 1;
-    var around = true;
     for (var j = -1; j <= 2; j++) {
         for (var i = -1; i <= 2; i++) {
             let nearest = (i == 0 || i == 1) && (j == 0 || j == 1);
-            if (!nearest) {
-                // `&`, not `&&`: every texel is tested (see `on_static_surface`).
-                around = around & on_static_surface(t, clamp(corner + vec2i(i, j), vec2i(0), last));
+            if (!nearest && !on_static_surface(t, clamp(corner + vec2i(i, j), vec2i(0), last))) {
+                return false;
             }
         }
     }
-    return around;
+    return true;
 }
 
 // Frame t's `image` at `q`, Catmull-Rom over the 4x4 texels around it, held within the range of
