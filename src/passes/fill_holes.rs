@@ -1,6 +1,6 @@
 //! The G-buffer-guided warp's hole fill, as a pass of its own over the holes the warp listed
 //! (`shaders/fill_holes.wgsl`): one invocation per hole, dispatched indirectly from the warp's
-//! count. In the warp itself the fill's 98 taps cost every pixel on lavapipe, hole or not.
+//! count. In the warp itself the fill's 81 taps cost every pixel on lavapipe, hole or not.
 
 use crate::passes::warp::{bind_common, storing, HoleList, Params, Store, WarpInputs};
 use crate::passes::{CounterRange, Texture};
