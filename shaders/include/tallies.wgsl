@@ -1,5 +1,5 @@
 // Counting in two steps: each invocation adds to its workgroup's tallies, then one lane adds each
-// tally to the frame's counter, so that a frame costs one global atomic per workgroup and
+// tally to the frame's counter, so that a frame costs at most one global atomic per workgroup and
 // counter rather than one per pixel. A pass calls `open_tallies(lane)` before its pixel work and
 // hands the tallies on where `close_tallies(lane)` is true after it. Both hold barriers, so both
 // are called in uniform control flow. Tallies are indexed by constants: naga has no bounds check

@@ -1,9 +1,10 @@
-//! Mirror of the Farneback flow passes (`shaders/shadow_mask_pyramid.wgsl`, `shadow_poly.wgsl`,
-//! `shadow_flow_start.wgsl`, `shadow_flow_iterate.wgsl`, `shadow_flow_upsample.wgsl` and
-//! `include/flow.wgsl`), one image per level instead of one atlas per quantity; the pyramid is
-//! built level by level here and in one pass on the GPU, whose workgroups halve their tiles in
-//! workgroup memory. An iteration is three steps here (`equations`, `rows`, `solve`) and one
-//! pass on the GPU, which keeps the equations and their row sums in workgroup memory.
+//! Mirror of the Farneback flow passes (`shaders/shadow_mask_finest.wgsl`,
+//! `shadow_mask_pyramid.wgsl`, `shadow_poly.wgsl`, `shadow_flow_start.wgsl`,
+//! `shadow_flow_iterate.wgsl`, `shadow_flow_upsample.wgsl` and `include/flow.wgsl`), one image
+//! per level instead of one atlas per quantity; the pyramid is built level by level here, and on
+//! the GPU its coarser levels in one pass whose workgroups halve their tiles in workgroup memory.
+//! An iteration is three steps here (`equations`, `rows`, `solve`) and one pass on the GPU,
+//! which keeps the equations and their row sums in workgroup memory.
 
 use ash::vk;
 use glam::{Vec2, Vec4};
