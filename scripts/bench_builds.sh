@@ -3,10 +3,12 @@
 # side by side in one run: `patchex bench` with each build in turn, ROUNDS times, alternating so
 # that both see the same load on a shared machine. Prints each configuration's mean GPU ms per
 # target (timestamp queries) with both builds, their ratio, and the change in PSNR on the same
-# targets (the bench's test scenes).
+# targets (the bench's test scenes). On a machine without cargo (a lent GPU), --tools names two
+# built `patchex` tools instead, each with its libpatchex.so beside it, and nothing is built.
 #
 #   scripts/bench_builds.sh [REV] [--sizes WxH,...] [--configurations LIST] [--frames N]
-#                           [--rounds N]
+#                           [--rounds N] [--scenes LIST] [--input-formats F]
+#                           [--tools BEFORE AFTER]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 rev=HEAD
@@ -14,27 +16,36 @@ sizes=1920x1080
 configurations=motion-vector,occlusion-motion,gbuffer
 frames=5
 rounds=2
+scenes=scenes/crossing_street.toml,scenes/fast_run.toml
+input_formats=float32
+before_tool=
+after_tool=target/release/patchex
 while [ $# -gt 0 ]; do
     case "$1" in
         --sizes) sizes=$2; shift 2 ;;
         --configurations) configurations=$2; shift 2 ;;
         --frames) frames=$2; shift 2 ;;
         --rounds) rounds=$2; shift 2 ;;
+        --scenes) scenes=$2; shift 2 ;;
+        --input-formats) input_formats=$2; shift 2 ;;
+        --tools) before_tool=$2; after_tool=$3; rev=$2; shift 3 ;;
         *) rev=$1; shift ;;
     esac
 done
 out=out/bench_builds
-scripts/install-deps.sh
-cargo build --release -p patchex -p patchex-cli
-source scripts/lib/revision.sh
-build_revision "$rev"
+if [ -z "$before_tool" ]; then
+    scripts/install-deps.sh
+    cargo build --release -p patchex -p patchex-cli
+    source scripts/lib/revision.sh
+    build_revision "$rev"
+fi
 rm -rf "$out"
 for round in $(seq "$rounds"); do
     for build in before after; do
-        if [ $build = before ]; then tool=$before_tool; else tool=target/release/patchex; fi
+        if [ $build = before ]; then tool=$before_tool; else tool=$after_tool; fi
         echo "round $round: $build" >&2
-        "$tool" bench --sizes "$sizes" --configurations "$configurations" --frames "$frames" \
-            --out "$out/$build-$round" >/dev/null
+        "$tool" bench --scenes "$scenes" --sizes "$sizes" --configurations "$configurations" \
+            --frames "$frames" --input-formats "$input_formats" --out "$out/$build-$round" >/dev/null
     done
 done
 python3 - "$out" "$rounds" "$rev" <<'PY'
