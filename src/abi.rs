@@ -792,7 +792,9 @@ pub struct PatchexExtrapolationStats {
     pub object_count: u32,
     /// The first min(object_count, PATCHEX_MAX_REPORTED_OBJECTS) objects' rectangles, by id.
     pub rects: [PatchexRegionRect; PATCHEX_MAX_REPORTED_OBJECTS],
-    /// GPU milliseconds per stage (index PATCHEX_STAGE_*), 0 for stages that did not run.
+    /// GPU milliseconds per stage (index PATCHEX_STAGE_*), 0 for stages that did not run: from
+    /// the moment all earlier work in the command buffer finished to the moment the stage's
+    /// finished, so the stages' times add up to the call's.
     pub gpu_ms: [f32; PATCHEX_STAGE_SLOTS],
     /// 0 when the extrapolated frame can be trusted; otherwise the PATCHEX_RENDER_INSTEAD_*
     /// reasons to render this instant instead of showing the extrapolation.

@@ -35,14 +35,20 @@ impl StageTimer {
     }
 
     /// Marks the start (`end == false`) or end of the stage whose queries start at `first`.
+    /// Both are written once every earlier command has finished: a start written at the top of
+    /// the pipe lands while the previous stage still runs (a GPU overlaps them up to the next
+    /// barrier), which would count that stage's tail twice. So a stage's time is what it adds to
+    /// the call, and the stages' times sum to the call's.
     pub fn write(&self, device: &ash::Device, cmd: vk::CommandBuffer, first: u32, end: bool) {
-        let stage = if end {
-            vk::PipelineStageFlags::COMPUTE_SHADER
-        } else {
-            vk::PipelineStageFlags::TOP_OF_PIPE
-        };
         // SAFETY: the query was reset earlier in this command buffer.
-        unsafe { device.cmd_write_timestamp(cmd, stage, self.pool, first + end as u32) };
+        unsafe {
+            device.cmd_write_timestamp(
+                cmd,
+                vk::PipelineStageFlags::BOTTOM_OF_PIPE,
+                self.pool,
+                first + end as u32,
+            )
+        };
     }
 
     /// Milliseconds between the two queries at `first`, or `None` while they are unavailable.
