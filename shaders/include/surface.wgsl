@@ -62,10 +62,16 @@ fn source_position(s: vec2i, depth: f32) -> vec3f {
 const NO_OBJECT: u32 = 0x100u;
 
 // Agreement of the target's surface with frame t's texel `s`. Both loads come first, so that a
-// GPU waits on them together; what is not needed (another object's texel) is not unpacked.
+// GPU waits on them together.
 fn agreement_at(t: Surface, s: vec2i) -> f32 {
     let packed = textureLoad(source_normal_id, s, 0).r;
     let depth = textureLoad(source_depth, s, 0).r;
+    return agreement_of(t, s, packed, depth);
+}
+
+// Agreement of the target's surface with frame t's texel `s`, whose normal and id are `packed`
+// and whose depth is `depth`. What is not needed (another object's texel) is not unpacked.
+fn agreement_of(t: Surface, s: vec2i, packed: u32, depth: f32) -> f32 {
     if (object_id(packed) != t.id) {
         return 0.0;
     }

@@ -97,14 +97,37 @@ const TALLY_LARGEST_MOTION: u32 = 2u;
 const TALLY_INVALID_GEOMETRY: u32 = 3u;
 const TALLY_SANITIZED: u32 = 4u;
 
-// Whether frame t's texel `s` shows the static target surface `t` wherever on it: its object,
-// its normal and its plane, as `agreement_at` measures them without the distance along it.
-fn on_static_surface(t: Surface, s: vec2i) -> bool {
-    let packed = textureLoad(source_normal_id, s, 0).r;
+// Frame t's geometry is read four texels at a time: a gather fetches as much as a load does.
+// The sampler (src/vk/pipeline.rs `gather_sampler`) neither filters nor wraps, so a gather
+// returns what four loads clamped to the image would.
+@group(0) @binding(18) var geometry_sampler: sampler;
+
+// Frame t's normals and ids (`packed`) and depths at the 2x2 texels from `corner`, each clamped
+// to the image, in a gather's order: (0, 1), (1, 1), (1, 0), (0, 0) from the corner.
+struct GeometryQuad {
+    packed: vec4u,
+    depth: vec4f,
+}
+
+// Index into a GeometryQuad of the texel at `corner + offset`, offset in {0, 1}^2.
+fn quad_index(offset: vec2i) -> i32 {
+    return select(3 - offset.x, offset.x, offset.y == 1);
+}
+
+fn geometry_quad(corner: vec2i) -> GeometryQuad {
+    // The point between the four texels' centres picks them whatever the rounding.
+    let at = (vec2f(corner) + 1.0) / vec2f(textureDimensions(source_depth));
+    return GeometryQuad(textureGather(0, source_normal_id, geometry_sampler, at),
+        textureGather(0, source_depth, geometry_sampler, at));
+}
+
+// Whether frame t's texel `s` (normal and id `packed`, depth `depth`) shows the static target
+// surface `t` wherever on it: its object, its normal and its plane, as `agreement_of` measures
+// them without the distance along it.
+fn on_static_surface(t: Surface, s: vec2i, packed: u32, depth: f32) -> bool {
     if (object_id(packed) != t.id) {
         return false;
     }
-    let depth = textureLoad(source_depth, s, 0).r;
     if (is_sky(t.depth) || is_sky(depth)) {
         return false;
     }
@@ -188,11 +211,13 @@ struct AgreeingFootprint {
 fn agreeing_footprint(t: Surface, q: vec2f) -> AgreeingFootprint {
     let corner = vec2i(floor(q - 0.5));
     let f = q - 0.5 - floor(q - 0.5);
+    let quad = geometry_quad(corner);
     var sums = AgreeingFootprint(Fetched(), 0.0, 0.0, 1.0);
     for (var i = 0; i < 4; i++) {
         let offset = vec2i(i & 1, i >> 1u);
         let s = clamp(corner + offset, vec2i(0), vec2i(params.extent) - 1);
-        let agreement = agreement_at(t, s);
+        let k = quad_index(offset);
+        let agreement = agreement_of(t, s, quad.packed[k], quad.depth[k]);
         let bilinear = select(1.0 - f, f, vec2<bool>(offset == vec2i(1)));
         let footprint = bilinear.x * bilinear.y;
         sums.shading_sum += footprint * agreement * source_texel(s);
@@ -217,14 +242,21 @@ fn catmull_rom_weights(f: f32) -> vec4f {
 }
 
 // Whether the texels around `q` beyond its four nearest, the 12 that Catmull-Rom adds, show the
-// static target surface `t` somewhere on it: same object, normal and plane.
+// static target surface `t` somewhere on it: same object, normal and plane. They are read as the
+// four quads at the 4x4 block's corners, each holding one of the nearest four.
 fn surface_around(t: Surface, q: vec2f) -> bool {
     let corner = vec2i(floor(q - 0.5));
     let last = vec2i(params.extent) - 1;
-    for (var j = -1; j <= 2; j++) {
-        for (var i = -1; i <= 2; i++) {
-            let nearest = (i == 0 || i == 1) && (j == 0 || j == 1);
-            if (!nearest && !on_static_surface(t, clamp(corner + vec2i(i, j), vec2i(0), last))) {
+    for (var j = 0; j < 4; j++) {
+        // Quads from (-1, -1), (1, -1), (-1, 1) and (1, 1) off the corner.
+        let start = corner + 2 * vec2i(j & 1, j >> 1u) - 1;
+        let quad = geometry_quad(start);
+        for (var i = 0; i < 4; i++) {
+            let offset = vec2i(i & 1, i >> 1u);
+            let s = start + offset;
+            let nearest = all((s == corner) | (s == corner + 1));
+            let k = quad_index(offset);
+            if (!nearest && !on_static_surface(t, clamp(s, vec2i(0), last), quad.packed[k], quad.depth[k])) {
                 return false;
             }
         }

@@ -47,6 +47,21 @@ pub struct ComputePipeline {
     pub set_layout: vk::DescriptorSetLayout,
     layout: vk::PipelineLayout,
     pipeline: vk::Pipeline,
+    /// `gather_sampler`, fixed in the set layout, where the shader declares a sampler.
+    sampler: vk::Sampler,
+}
+
+/// The one sampler passes use: it neither filters nor wraps, so a gather returns the four texels
+/// that four loads clamped to the image would.
+fn gather_sampler() -> vk::SamplerCreateInfo<'static> {
+    vk::SamplerCreateInfo::default()
+        .mag_filter(vk::Filter::NEAREST)
+        .min_filter(vk::Filter::NEAREST)
+        .mipmap_mode(vk::SamplerMipmapMode::NEAREST)
+        .address_mode_u(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+        .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+        .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+        .max_lod(0.0)
 }
 
 impl ComputePipeline {
@@ -57,15 +72,52 @@ impl ComputePipeline {
     /// A pipeline whose code was made at run time; `shader` gives its reflection.
     pub fn from_spirv(gpu: &Gpu, shader: ShaderInfo, spirv: &[u32]) -> Result<Self> {
         let device = &gpu.device;
+        let mut pipeline = Self {
+            shader,
+            set_layout: vk::DescriptorSetLayout::null(),
+            layout: vk::PipelineLayout::null(),
+            pipeline: vk::Pipeline::null(),
+            sampler: vk::Sampler::null(),
+        };
+        // SAFETY: valid device; on any failure the partly built pipeline is destroyed, and
+        // destroying null handles is a no-op.
+        let built = unsafe { pipeline.build(device, spirv) };
+        match built {
+            Ok(()) => Ok(pipeline),
+            Err(error) => {
+                pipeline.destroy(device);
+                Err(error.during(format_args!("creating the {} pipeline", shader.name)))
+            }
+        }
+    }
+
+    /// Creates the sampler, layouts and pipeline into `self`, leaving what failed null.
+    ///
+    /// # Safety
+    /// `device` is a live device; `spirv` is valid code for `self.shader`.
+    unsafe fn build(&mut self, device: &ash::Device, spirv: &[u32]) -> Result<()> {
+        let shader = self.shader;
+        if shader
+            .bindings
+            .iter()
+            .any(|b| b.kind == DescriptorKind::Sampler)
+        {
+            self.sampler = device.create_sampler(&gather_sampler(), None)?;
+        }
         let bindings: Vec<_> = shader
             .bindings
             .iter()
             .map(|b| {
-                vk::DescriptorSetLayoutBinding::default()
+                let binding = vk::DescriptorSetLayoutBinding::default()
                     .binding(b.binding)
                     .descriptor_type(descriptor_type(b.kind))
                     .descriptor_count(1)
-                    .stage_flags(vk::ShaderStageFlags::COMPUTE)
+                    .stage_flags(vk::ShaderStageFlags::COMPUTE);
+                if b.kind == DescriptorKind::Sampler {
+                    binding.immutable_samplers(std::slice::from_ref(&self.sampler))
+                } else {
+                    binding
+                }
             })
             .collect();
         let push_constant_ranges = [vk::PushConstantRange {
@@ -78,53 +130,32 @@ impl ComputePipeline {
         } else {
             &[]
         };
-        let mut pipeline = Self {
-            shader,
-            set_layout: vk::DescriptorSetLayout::null(),
-            layout: vk::PipelineLayout::null(),
-            pipeline: vk::Pipeline::null(),
-        };
-        // SAFETY: valid device; on any failure the partly built pipeline is destroyed, and
-        // destroying null handles is a no-op.
-        let built = unsafe {
-            (|| -> Result<()> {
-                pipeline.set_layout = device.create_descriptor_set_layout(
-                    &vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings),
-                    None,
-                )?;
-                pipeline.layout = device.create_pipeline_layout(
-                    &vk::PipelineLayoutCreateInfo::default()
-                        .set_layouts(std::slice::from_ref(&pipeline.set_layout))
-                        .push_constant_ranges(push_constant_ranges),
-                    None,
-                )?;
-                let module = device.create_shader_module(
-                    &vk::ShaderModuleCreateInfo::default().code(spirv),
-                    None,
-                )?;
-                let stage = vk::PipelineShaderStageCreateInfo::default()
-                    .stage(vk::ShaderStageFlags::COMPUTE)
-                    .module(module)
-                    .name(c"main");
-                let created = device.create_compute_pipelines(
-                    vk::PipelineCache::null(),
-                    &[vk::ComputePipelineCreateInfo::default()
-                        .stage(stage)
-                        .layout(pipeline.layout)],
-                    None,
-                );
-                device.destroy_shader_module(module, None);
-                pipeline.pipeline = created.map_err(|(_, result)| result)?[0];
-                Ok(())
-            })()
-        };
-        match built {
-            Ok(()) => Ok(pipeline),
-            Err(error) => {
-                pipeline.destroy(device);
-                Err(error.during(format_args!("creating the {} pipeline", shader.name)))
-            }
-        }
+        self.set_layout = device.create_descriptor_set_layout(
+            &vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings),
+            None,
+        )?;
+        self.layout = device.create_pipeline_layout(
+            &vk::PipelineLayoutCreateInfo::default()
+                .set_layouts(std::slice::from_ref(&self.set_layout))
+                .push_constant_ranges(push_constant_ranges),
+            None,
+        )?;
+        let module = device
+            .create_shader_module(&vk::ShaderModuleCreateInfo::default().code(spirv), None)?;
+        let stage = vk::PipelineShaderStageCreateInfo::default()
+            .stage(vk::ShaderStageFlags::COMPUTE)
+            .module(module)
+            .name(c"main");
+        let created = device.create_compute_pipelines(
+            vk::PipelineCache::null(),
+            &[vk::ComputePipelineCreateInfo::default()
+                .stage(stage)
+                .layout(self.layout)],
+            None,
+        );
+        device.destroy_shader_module(module, None);
+        self.pipeline = created.map_err(|(_, result)| result)?[0];
+        Ok(())
     }
 
     /// Binds the pipeline, its descriptor set and push constants, and covers `extent` with
@@ -207,7 +238,9 @@ impl ComputePipeline {
             device.destroy_pipeline(self.pipeline, None);
             device.destroy_pipeline_layout(self.layout, None);
             device.destroy_descriptor_set_layout(self.set_layout, None);
+            device.destroy_sampler(self.sampler, None);
         }
+        self.sampler = vk::Sampler::null();
         self.pipeline = vk::Pipeline::null();
         self.layout = vk::PipelineLayout::null();
         self.set_layout = vk::DescriptorSetLayout::null();
@@ -301,12 +334,18 @@ impl<'a> DescriptorWrites<'a> {
             .unwrap_or_else(|| panic!("pass {} has no binding {binding}", self.shader.name))
     }
 
-    /// Writes every binding of `set`. Panics (a plugin bug, caught at the ABI) if a binding the
-    /// shader declares was left out or one it does not declare was given.
+    /// Writes every binding of `set` but the samplers, which the set layout fixes. Panics (a
+    /// plugin bug, caught at the ABI) if a binding the shader declares was left out or one it
+    /// does not declare was given.
     pub fn update(self, device: &ash::Device, set: vk::DescriptorSet) {
+        let samplers = self
+            .shader
+            .bindings
+            .iter()
+            .filter(|b| b.kind == DescriptorKind::Sampler);
         assert_eq!(
             self.resources.len(),
-            self.shader.bindings.len(),
+            self.shader.bindings.len() - samplers.count(),
             "pass {}: every binding must be written once",
             self.shader.name
         );
