@@ -264,6 +264,30 @@ impl Engine {
         self.submit_and_wait(cmd);
     }
 
+    /// Records `record` once and runs it `copies` times back to back in one submission, then
+    /// waits: the GPU runs the copies with no gap between them, as under a game's steady load.
+    pub fn run_repeated(&self, copies: u32, record: impl FnOnce(vk::CommandBuffer)) {
+        // SAFETY: the engine's own pool, on the thread that made the engine; the batch is waited
+        // on before the command buffer is freed.
+        unsafe {
+            let cmd = self.allocate_in(self.command_pool);
+            self.device
+                .begin_command_buffer(
+                    cmd,
+                    &vk::CommandBufferBeginInfo::default()
+                        .flags(vk::CommandBufferUsageFlags::SIMULTANEOUS_USE),
+                )
+                .expect("vkBeginCommandBuffer");
+            record(cmd);
+            self.device
+                .end_command_buffer(cmd)
+                .expect("vkEndCommandBuffer");
+            let batch = vec![cmd; copies.max(1) as usize];
+            self.submit_batch(&batch);
+            self.device.free_command_buffers(self.command_pool, &[cmd]);
+        }
+    }
+
     /// A command pool for another thread, as an engine gives each of its render threads one.
     pub fn thread_pool(&self) -> ThreadPool<'_> {
         ThreadPool {
@@ -281,34 +305,57 @@ impl Engine {
         unsafe { self.device.create_command_pool(&info, None) }.expect("vkCreateCommandPool")
     }
 
-    /// Submits `cmd` (ended) to the queue, signalling `fence`, under the queue's lock: Vulkan
-    /// asks that threads sharing a queue serialise their submissions.
-    fn submit(&self, cmd: vk::CommandBuffer, fence: vk::Fence) {
+    /// Submits `commands` (ended) to the queue in one batch, signalling `fence`, under the
+    /// queue's lock: Vulkan asks that threads sharing a queue serialise their submissions.
+    fn submit(&self, commands: &[vk::CommandBuffer], fence: vk::Fence) {
         let _queue = self.queue_lock.lock().unwrap_or_else(|p| p.into_inner());
-        // SAFETY: cmd is executable and fence unsignalled; the lock guards the queue.
+        // SAFETY: the commands are executable and fence unsignalled; the lock guards the queue.
         unsafe {
             self.device
                 .queue_submit(
                     self.queue,
-                    &[vk::SubmitInfo::default().command_buffers(&[cmd])],
+                    &[vk::SubmitInfo::default().command_buffers(commands)],
                     fence,
                 )
                 .expect("vkQueueSubmit");
         }
     }
 
-    fn begin_in(&self, pool: vk::CommandPool) -> vk::CommandBuffer {
+    /// Submits `commands` in one batch and waits for them.
+    fn submit_batch(&self, commands: &[vk::CommandBuffer]) {
+        // SAFETY: a plain fence, destroyed once waited on.
+        unsafe {
+            let fence = self
+                .device
+                .create_fence(&vk::FenceCreateInfo::default(), None)
+                .expect("vkCreateFence");
+            self.submit(commands, fence);
+            self.device
+                .wait_for_fences(&[fence], true, u64::MAX)
+                .expect("vkWaitForFences");
+            self.device.destroy_fence(fence, None);
+        }
+    }
+
+    /// A primary command buffer from `pool`, which belongs to the calling thread.
+    fn allocate_in(&self, pool: vk::CommandPool) -> vk::CommandBuffer {
         // SAFETY: the pool belongs to this device and to the calling thread.
         unsafe {
-            let cmd = self
-                .device
+            self.device
                 .allocate_command_buffers(
                     &vk::CommandBufferAllocateInfo::default()
                         .command_pool(pool)
                         .level(vk::CommandBufferLevel::PRIMARY)
                         .command_buffer_count(1),
                 )
-                .expect("vkAllocateCommandBuffers")[0];
+                .expect("vkAllocateCommandBuffers")[0]
+        }
+    }
+
+    fn begin_in(&self, pool: vk::CommandPool) -> vk::CommandBuffer {
+        let cmd = self.allocate_in(pool);
+        // SAFETY: cmd is fresh, from a pool of the calling thread.
+        unsafe {
             self.device
                 .begin_command_buffer(
                     cmd,
@@ -321,20 +368,12 @@ impl Engine {
     }
 
     fn submit_and_wait_in(&self, pool: vk::CommandPool, cmd: vk::CommandBuffer) {
-        // SAFETY: cmd was begun from `pool`; waiting on the fence makes freeing cmd safe.
+        // SAFETY: cmd was begun from `pool`; waiting on the batch makes freeing cmd safe.
         unsafe {
             self.device
                 .end_command_buffer(cmd)
                 .expect("vkEndCommandBuffer");
-            let fence = self
-                .device
-                .create_fence(&vk::FenceCreateInfo::default(), None)
-                .expect("vkCreateFence");
-            self.submit(cmd, fence);
-            self.device
-                .wait_for_fences(&[fence], true, u64::MAX)
-                .expect("vkWaitForFences");
-            self.device.destroy_fence(fence, None);
+            self.submit_batch(&[cmd]);
             self.device.free_command_buffers(pool, &[cmd]);
         }
     }
@@ -402,7 +441,7 @@ impl<'a> FrameLoop<'a> {
             record(cmd);
             device.end_command_buffer(cmd).expect("vkEndCommandBuffer");
         }
-        self.engine.submit(cmd, fence);
+        self.engine.submit(&[cmd], fence);
     }
 
     /// Waits until frame `index` has finished on the GPU.
