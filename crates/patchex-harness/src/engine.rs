@@ -249,7 +249,10 @@ impl Engine {
     /// Allocates a primary command buffer from the engine's own pool and begins it. The pool
     /// belongs to the thread that made the engine; other threads use [`Engine::thread_pool`].
     pub fn begin(&self) -> vk::CommandBuffer {
-        self.begin_in(self.command_pool)
+        self.begin_in(
+            self.command_pool,
+            vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT,
+        )
     }
 
     /// Ends, submits and waits for `cmd` (from [`Engine::begin`]), then frees it.
@@ -267,23 +270,18 @@ impl Engine {
     /// Records `record` once and runs it `copies` times back to back in one submission, then
     /// waits: the GPU runs the copies with no gap between them, as under a game's steady load.
     pub fn run_repeated(&self, copies: u32, record: impl FnOnce(vk::CommandBuffer)) {
-        // SAFETY: the engine's own pool, on the thread that made the engine; the batch is waited
-        // on before the command buffer is freed.
+        let cmd = self.begin_in(
+            self.command_pool,
+            vk::CommandBufferUsageFlags::SIMULTANEOUS_USE,
+        );
+        record(cmd);
+        // SAFETY: cmd was begun from the engine's own pool, on the thread that made the engine;
+        // the batch is waited on before cmd is freed.
         unsafe {
-            let cmd = self.allocate_in(self.command_pool);
-            self.device
-                .begin_command_buffer(
-                    cmd,
-                    &vk::CommandBufferBeginInfo::default()
-                        .flags(vk::CommandBufferUsageFlags::SIMULTANEOUS_USE),
-                )
-                .expect("vkBeginCommandBuffer");
-            record(cmd);
             self.device
                 .end_command_buffer(cmd)
                 .expect("vkEndCommandBuffer");
-            let batch = vec![cmd; copies.max(1) as usize];
-            self.submit_batch(&batch);
+            self.submit_batch(&vec![cmd; copies.max(1) as usize]);
             self.device.free_command_buffers(self.command_pool, &[cmd]);
         }
     }
@@ -337,31 +335,26 @@ impl Engine {
         }
     }
 
-    /// A primary command buffer from `pool`, which belongs to the calling thread.
-    fn allocate_in(&self, pool: vk::CommandPool) -> vk::CommandBuffer {
+    /// A primary command buffer from `pool`, which belongs to the calling thread, begun for
+    /// `usage`.
+    fn begin_in(
+        &self,
+        pool: vk::CommandPool,
+        usage: vk::CommandBufferUsageFlags,
+    ) -> vk::CommandBuffer {
         // SAFETY: the pool belongs to this device and to the calling thread.
         unsafe {
-            self.device
+            let cmd = self
+                .device
                 .allocate_command_buffers(
                     &vk::CommandBufferAllocateInfo::default()
                         .command_pool(pool)
                         .level(vk::CommandBufferLevel::PRIMARY)
                         .command_buffer_count(1),
                 )
-                .expect("vkAllocateCommandBuffers")[0]
-        }
-    }
-
-    fn begin_in(&self, pool: vk::CommandPool) -> vk::CommandBuffer {
-        let cmd = self.allocate_in(pool);
-        // SAFETY: cmd is fresh, from a pool of the calling thread.
-        unsafe {
+                .expect("vkAllocateCommandBuffers")[0];
             self.device
-                .begin_command_buffer(
-                    cmd,
-                    &vk::CommandBufferBeginInfo::default()
-                        .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT),
-                )
+                .begin_command_buffer(cmd, &vk::CommandBufferBeginInfo::default().flags(usage))
                 .expect("vkBeginCommandBuffer");
             cmd
         }
@@ -480,7 +473,9 @@ pub struct ThreadPool<'a> {
 impl ThreadPool<'_> {
     /// Records `record` into a fresh command buffer of this pool, submits it and waits.
     pub fn run(&self, record: impl FnOnce(vk::CommandBuffer)) {
-        let cmd = self.engine.begin_in(self.pool);
+        let cmd = self
+            .engine
+            .begin_in(self.pool, vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
         record(cmd);
         self.engine.submit_and_wait_in(self.pool, cmd);
     }
