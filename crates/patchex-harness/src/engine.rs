@@ -257,7 +257,7 @@ impl Engine {
 
     /// Ends, submits and waits for `cmd` (from [`Engine::begin`]), then frees it.
     pub fn submit_and_wait(&self, cmd: vk::CommandBuffer) {
-        self.submit_and_wait_in(self.command_pool, cmd);
+        self.submit_and_wait_in(self.command_pool, cmd, 1);
     }
 
     /// Records `record` into a fresh command buffer, submits it and waits.
@@ -275,15 +275,7 @@ impl Engine {
             vk::CommandBufferUsageFlags::SIMULTANEOUS_USE,
         );
         record(cmd);
-        // SAFETY: cmd was begun from the engine's own pool, on the thread that made the engine;
-        // the batch is waited on before cmd is freed.
-        unsafe {
-            self.device
-                .end_command_buffer(cmd)
-                .expect("vkEndCommandBuffer");
-            self.submit_batch(&vec![cmd; copies.max(1) as usize]);
-            self.device.free_command_buffers(self.command_pool, &[cmd]);
-        }
+        self.submit_and_wait_in(self.command_pool, cmd, copies.max(1));
     }
 
     /// A command pool for another thread, as an engine gives each of its render threads one.
@@ -319,22 +311,6 @@ impl Engine {
         }
     }
 
-    /// Submits `commands` in one batch and waits for them.
-    fn submit_batch(&self, commands: &[vk::CommandBuffer]) {
-        // SAFETY: a plain fence, destroyed once waited on.
-        unsafe {
-            let fence = self
-                .device
-                .create_fence(&vk::FenceCreateInfo::default(), None)
-                .expect("vkCreateFence");
-            self.submit(commands, fence);
-            self.device
-                .wait_for_fences(&[fence], true, u64::MAX)
-                .expect("vkWaitForFences");
-            self.device.destroy_fence(fence, None);
-        }
-    }
-
     /// A primary command buffer from `pool`, which belongs to the calling thread, begun for
     /// `usage`.
     fn begin_in(
@@ -360,13 +336,23 @@ impl Engine {
         }
     }
 
-    fn submit_and_wait_in(&self, pool: vk::CommandPool, cmd: vk::CommandBuffer) {
+    /// Ends `cmd`, submits it `copies` times in one batch (more than one needs SIMULTANEOUS_USE),
+    /// waits, and frees it.
+    fn submit_and_wait_in(&self, pool: vk::CommandPool, cmd: vk::CommandBuffer, copies: u32) {
         // SAFETY: cmd was begun from `pool`; waiting on the batch makes freeing cmd safe.
         unsafe {
             self.device
                 .end_command_buffer(cmd)
                 .expect("vkEndCommandBuffer");
-            self.submit_batch(&[cmd]);
+            let fence = self
+                .device
+                .create_fence(&vk::FenceCreateInfo::default(), None)
+                .expect("vkCreateFence");
+            self.submit(&vec![cmd; copies as usize], fence);
+            self.device
+                .wait_for_fences(&[fence], true, u64::MAX)
+                .expect("vkWaitForFences");
+            self.device.destroy_fence(fence, None);
             self.device.free_command_buffers(pool, &[cmd]);
         }
     }
@@ -477,7 +463,7 @@ impl ThreadPool<'_> {
             .engine
             .begin_in(self.pool, vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
         record(cmd);
-        self.engine.submit_and_wait_in(self.pool, cmd);
+        self.engine.submit_and_wait_in(self.pool, cmd, 1);
     }
 }
 
