@@ -3,7 +3,7 @@
 # side by side in one run: `patchex bench` with each build in turn, ROUNDS times, alternating so
 # that both see the same load on a shared machine. Prints each configuration's mean GPU ms per
 # target (timestamp queries) with both builds, their ratio, and the change in PSNR on the same
-# targets (the bench's test scenes). On a machine without cargo (a lent GPU), --tools names two
+# targets (the bench's test scenes); then the same for each stage. On a machine without cargo (a lent GPU), --tools names two
 # built `patchex` tools instead, each with its libpatchex.so beside it, and nothing is built.
 #
 #   scripts/bench_builds.sh [REV] [--sizes WxH,...] [--configurations LIST] [--frames N]
@@ -59,11 +59,22 @@ def rows(build):
             table.setdefault(key, []).append(row)
     return table
 before, after = rows("before"), rows("after")
+mean = lambda values: sum(values) / len(values)
+# GPU times are fractions of a millisecond, lavapipe's hundreds.
+ms = lambda x: f"{x:.3f}" if x < 10 else f"{x:.1f}"
 print(f"| configuration | size | {rev} ms | this build ms | ratio | PSNR change dB |")
 print("|---|---|---|---|---|---|")
 for key, runs in before.items():
-    mean = lambda rs: sum(r["total_gpu_ms"] for r in rs) / len(rs)
-    now = after[key]
-    print(f"| {key[0]} | {key[1]}x{key[2]} | {mean(runs):.1f} | {mean(now):.1f} | "
-          f"{mean(now) / mean(runs):.2f} | {now[0]['psnr'] - runs[0]['psnr']:+.3f} |")
+    then, now = mean([r["total_gpu_ms"] for r in runs]), mean([r["total_gpu_ms"] for r in after[key]])
+    print(f"| {key[0]} | {key[1]}x{key[2]} | {ms(then)} | {ms(now)} | {now / then:.2f} | "
+          f"{after[key][0]['psnr'] - runs[0]['psnr']:+.3f} |")
+print()
+print(f"| configuration | size | stage | {rev} ms | this build ms | ratio |")
+print("|---|---|---|---|---|---|")
+for key, runs in before.items():
+    for stage in runs[0]["costs"]["stages"]:
+        stage_ms = lambda rs: mean([r["costs"]["stages"][stage]["gpu_ms"] for r in rs])
+        then, now = stage_ms(runs), stage_ms(after[key])
+        print(f"| {key[0]} | {key[1]}x{key[2]} | {stage} | {ms(then)} | {ms(now)} | "
+              f"{now / then if then else float('nan'):.2f} |")
 PY

@@ -9,17 +9,19 @@ pub fn validator() -> Validator {
 }
 
 pub fn spirv_options() -> spv::Options<'static> {
-    // A frame generator must never read or write outside an engine image. Buffer indices are
-    // clamped instead, the one policy naga implements for atomics.
-    let checked = naga::proc::BoundsCheckPolicy::ReadZeroSkipWrite;
+    // A frame generator must never read outside an engine image or a buffer: every image
+    // coordinate and index is clamped into range. Clamping rather than reading zero keeps each
+    // load unconditional, so a GPU issues a pass's loads together instead of one branch at a
+    // time. (Stores are not checked by naga; the passes store only inside their extent.)
+    let clamped = naga::proc::BoundsCheckPolicy::Restrict;
     let mut options = spv::Options {
         // Lavapipe lacks storageInputOutput16; compute passes never need it.
         use_storage_input_output_16: false,
         bounds_check_policies: naga::proc::BoundsCheckPolicies {
-            index: checked,
-            buffer: naga::proc::BoundsCheckPolicy::Restrict,
-            image_load: checked,
-            binding_array: checked,
+            index: clamped,
+            buffer: clamped,
+            image_load: clamped,
+            binding_array: clamped,
         },
         // Every shader writes its workgroup memory before reading it (`open_tallies`, the flow's
         // strips). naga's zero-fill would cost each workgroup one more barrier, and a barrier is
