@@ -475,13 +475,14 @@ typedef struct PatchexExtrapolationStats {
 typedef uint32_t PatchexShadowHistory;
 
 // What one call's stages move and compute (index PATCHEX_STAGE_*), as their passes declare it:
-// every image and buffer range a dispatch binds counts once, whole (an image at its extent; the
-// networks' tensors at the size the context holds; for an iteration of the shadow flow, which
-// runs over one level of its pyramid atlases, that level's share), read where the shader may
-// load through the binding and written where it may store. A hardware-independent measure of a
-// stage's memory traffic: a cache may save some of it, a gather that reads a texel twice costs
-// more. Known when the call is recorded, so filled even while the GPU has not finished the
-// frame.
+// every image and buffer range a dispatch binds counts once, whole (an image at its extent),
+// read where the shader may load through the binding and written where it may store. A pass
+// over part of a resource counts that part: an iteration of the shadow flow, one level of its
+// pyramid atlases; the hole fill, the texels around the holes the warp listed; the networks'
+// passes and the blend, the share of the frame and of the tensors their patches span. A
+// hardware-independent measure of a stage's memory traffic: a cache may save some of it, a
+// gather that reads a texel twice costs more. The parts the GPU decided (the holes, the
+// patches) are read back with the frame's statistics.
 typedef struct PatchexStageTraffic {
   uint64_t bytes_read[PATCHEX_STAGE_SLOTS];
   uint64_t bytes_written[PATCHEX_STAGE_SLOTS];

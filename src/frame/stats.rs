@@ -188,20 +188,21 @@ fn stage_bits(stages: &[StageRecord]) -> u32 {
         .fold(0, |bits, record| bits | 1 << record.stage)
 }
 
-/// Each stage's traffic, listed dispatches counted for the lengths `counters` hold.
+/// Each stage's traffic, dispatches over what the GPU decided counted for the shares
+/// `counters` hold.
 fn stage_traffic(stages: &[StageRecord], counters: &Buffer) -> PatchexStageTraffic {
     let mut out = PatchexStageTraffic::default();
     for StageRecord {
         stage,
         traffic,
         commands,
-        listed,
+        shared,
     } in stages
     {
         let stage = *stage as usize;
         let mut total = *traffic;
-        for list in listed {
-            total += list.scaled(counters.read_u32(list.count_offset));
+        for part in shared {
+            total += part.scaled(|offset| counters.read_u32(offset));
         }
         out.bytes_read[stage] += total.bytes_read;
         out.bytes_written[stage] += total.bytes_written;

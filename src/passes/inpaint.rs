@@ -12,6 +12,7 @@ use crate::network::weights::MAX_LEVELS;
 use crate::network::{Network, Tensor, TensorPrecision, INPUT_CHANNELS};
 use crate::passes::{CounterRange, RegionPasses, Texture};
 use crate::shaders::network_inputs::{binding, Params, SHADER};
+use crate::vk::access::GpuShare;
 use crate::vk::device::Gpu;
 use crate::vk::image::OwnedImage;
 use crate::vk::pipeline::{pool_sizes, ComputePipeline};
@@ -156,6 +157,11 @@ impl NetworkTensors {
         self.input.size_bytes() + self.layers.iter().map(|l| l.size_bytes()).sum::<u64>()
     }
 
+    /// The network texels the tensors hold room for, at the network's first level.
+    fn capacity(&self) -> u64 {
+        self.input.extent.width as u64 * self.input.extent.height as u64
+    }
+
     pub fn destroy(&mut self, gpu: &Gpu, allocator: &mut Allocator) {
         self.input.destroy(gpu, allocator);
         for layer in &mut self.layers {
@@ -213,8 +219,10 @@ pub struct NetworkRun<'a> {
 
 /// Records the gather and every layer of each network in `runs`, level by level across the
 /// networks: one barrier orders a step of all of them, so no network waits for another's work.
+/// Each pass counts the bytes of the share of the frame and of the tensors its patch spans.
 pub fn record(rec: &mut Recorder, inputs: &FrameInputs, runs: &[NetworkRun]) {
     let material = inputs.material.unwrap_or(inputs.placeholder);
+    let frame_pixels = inputs.frame_extent.width as u64 * inputs.frame_extent.height as u64;
     for run in runs {
         let gather = Pass {
             pipeline: &run.pipelines.gather,
@@ -233,7 +241,18 @@ pub fn record(rec: &mut Recorder, inputs: &FrameInputs, runs: &[NetworkRun]) {
             has_material: inputs.material.is_some() as u32,
             _pad_end: [0; 4],
         };
-        rec.dispatch_indirect(&gather, &params, &run.patch.dispatch(0));
+        rec.dispatch_over_patch(
+            &gather,
+            &params,
+            &run.patch.dispatch(0),
+            &[
+                (
+                    &[binding::WARPED, binding::MATERIAL, binding::LBP],
+                    run.patch.pixels(frame_pixels),
+                ),
+                (&[binding::NETWORK_INPUT], run.patch.texels(run.tensors)),
+            ],
+        );
     }
     let steps = runs
         .iter()
@@ -261,7 +280,12 @@ pub fn record(rec: &mut Recorder, inputs: &FrameInputs, runs: &[NetworkRun]) {
                     .image(3, &tensors.layers[n])
                     .buffer(4, &run.patch.range())
             });
-            rec.dispatch_indirect(&bound, &(), &run.patch.dispatch(layer.level));
+            rec.dispatch_over_patch(
+                &bound,
+                &(),
+                &run.patch.dispatch(layer.level),
+                &[(&[0, 1, 2, 3], run.patch.texels(tensors))],
+            );
         }
     }
 }
@@ -273,6 +297,22 @@ impl PatchRecord {
             buffer: self.buffer,
             offset: self.offset,
             range: PATCH_BYTES,
+        }
+    }
+
+    /// The frame pixels the patch covers, of a frame of `frame_pixels`.
+    fn pixels(&self, frame_pixels: u64) -> GpuShare {
+        GpuShare::PatchPixels {
+            record: self.offset,
+            capacity: frame_pixels,
+        }
+    }
+
+    /// The texels the patch spans of `tensors`.
+    fn texels(&self, tensors: &NetworkTensors) -> GpuShare {
+        GpuShare::PatchTexels {
+            record: self.offset,
+            capacity: tensors.capacity(),
         }
     }
 
@@ -382,10 +422,26 @@ pub fn record_blend(
         whole_frame: inputs.whole_frame as u32,
         correct_valid_pixels: inputs.correct_valid_pixels as u32,
     };
-    rec.dispatch_indirect(
+    let frame = inputs.regions.extent;
+    let blend = patch_record(patches, PATCH_SLOT_BLEND);
+    rec.dispatch_over_patch(
         &bound,
         &params,
-        &patch_record(patches, PATCH_SLOT_BLEND).dispatch(0),
+        &blend.dispatch(0),
+        &[
+            (
+                &[blend::REGIONS, blend::WARPED],
+                blend.pixels(frame.width as u64 * frame.height as u64),
+            ),
+            (
+                &[blend::FI_INPUT, blend::FI_OUTPUT],
+                patch_record(patches, PATCH_SLOT_FI).texels(fi),
+            ),
+            (
+                &[blend::NEAR_BE_INPUT, blend::NEAR_BE_OUTPUT],
+                patch_record(patches, PATCH_SLOT_NEAR_BE).texels(near_be),
+            ),
+        ],
     );
 }
 

@@ -92,25 +92,58 @@ pub struct StageRecord {
     pub stage: PatchexStage,
     pub traffic: Traffic,
     pub commands: Commands,
-    /// Dispatches over a list the GPU wrote, whose traffic follows the list's length.
-    pub listed: Vec<ListedTraffic>,
+    /// Traffic of dispatches over what the GPU decided (a list's length, a patch), whose share
+    /// is read back with the frame's counters.
+    pub shared: Vec<SharedTraffic>,
 }
 
-/// A dispatch that runs over the first `count` of `capacity` entries of a list (one invocation
-/// per entry), `count` being a u32 the GPU wrote at `count_offset` of the frame ring's counters.
-/// Its bound resources' bytes count in the share `count / capacity`: such a pass touches its
-/// resources only around its entries.
+/// Bytes a dispatch moves in a share the GPU decides: it touches its resources only around
+/// the entries of a list or inside a patch that an earlier pass wrote into the frame's counters.
 #[derive(Clone, Copy, Debug)]
-pub struct ListedTraffic {
+pub struct SharedTraffic {
+    /// The traffic of the whole resources.
     pub traffic: Traffic,
-    pub count_offset: u64,
-    pub capacity: u64,
+    pub share: GpuShare,
 }
 
-impl ListedTraffic {
-    /// The traffic of a run over `count` entries.
-    pub fn scaled(&self, count: u32) -> Traffic {
-        let share = |bytes: u64| bytes * count as u64 / self.capacity.max(1);
+/// Which share of its resources a dispatch touches, from what the GPU wrote into the frame
+/// ring's counters (offsets into them).
+#[derive(Clone, Copy, Debug)]
+pub enum GpuShare {
+    /// One invocation per entry of a list of `capacity`: the u32 at `count` entries.
+    Entries { count: u64, capacity: u64 },
+    /// The frame pixels a patch record (`inpaint::PatchRecord`) covers, of a frame of
+    /// `capacity` pixels: its extent times its divisor on each axis.
+    PatchPixels { record: u64, capacity: u64 },
+    /// The network texels a patch record spans, of tensors of `capacity` texels.
+    PatchTexels { record: u64, capacity: u64 },
+}
+
+impl GpuShare {
+    /// The share as a fraction (numerator, denominator) of the whole, with `read_u32` reading
+    /// the counters; never more than the whole.
+    pub fn fraction(&self, read_u32: impl Fn(u64) -> u32) -> (u64, u64) {
+        let patch = |record: u64| {
+            let [width, height, divisor] = [8, 12, 16].map(|at| read_u32(record + at) as u64);
+            (width * height, divisor * divisor)
+        };
+        let (part, whole) = match *self {
+            Self::Entries { count, capacity } => (read_u32(count) as u64, capacity),
+            Self::PatchPixels { record, capacity } => {
+                let (texels, pixels_per_texel) = patch(record);
+                (texels * pixels_per_texel, capacity)
+            }
+            Self::PatchTexels { record, capacity } => (patch(record).0, capacity),
+        };
+        (part.min(whole), whole.max(1))
+    }
+}
+
+impl SharedTraffic {
+    /// The traffic of the share the GPU decided.
+    pub fn scaled(&self, read_u32: impl Fn(u64) -> u32) -> Traffic {
+        let (part, whole) = self.share.fraction(read_u32);
+        let share = |amount: u64| amount * part / whole;
         Traffic {
             bytes_read: share(self.traffic.bytes_read),
             bytes_written: share(self.traffic.bytes_written),
@@ -192,5 +225,64 @@ mod tests {
         }];
         assert!(conflict(&earlier, &[image(1, false)]));
         assert!(conflict(&earlier, &[bytes(0, 4, false)]));
+    }
+
+    /// A patch record at offset 256 of the counters, 24 x 10 network texels at divisor 2, and a
+    /// list of 30 entries at offset 0.
+    fn counters(offset: u64) -> u32 {
+        match offset {
+            0 => 30,
+            264 => 24,
+            268 => 10,
+            272 => 2,
+            _ => 0,
+        }
+    }
+
+    #[test]
+    fn gpu_shares_read_what_the_gpu_wrote() {
+        let list = GpuShare::Entries {
+            count: 0,
+            capacity: 120,
+        };
+        assert_eq!(list.fraction(counters), (30, 120));
+        let texels = GpuShare::PatchTexels {
+            record: 256,
+            capacity: 64 * 64,
+        };
+        assert_eq!(texels.fraction(counters), (240, 4096));
+        // 24 x 10 texels of 2 x 2 pixels each.
+        let pixels = GpuShare::PatchPixels {
+            record: 256,
+            capacity: 160 * 90,
+        };
+        assert_eq!(pixels.fraction(counters), (960, 14400));
+        // A patch padded past the frame counts the frame, no more.
+        let small_frame = GpuShare::PatchPixels {
+            record: 256,
+            capacity: 900,
+        };
+        assert_eq!(small_frame.fraction(counters), (900, 900));
+    }
+
+    #[test]
+    fn shared_traffic_scales_bytes_and_operations() {
+        let shared = SharedTraffic {
+            traffic: Traffic {
+                bytes_read: 1200,
+                bytes_written: 400,
+                operations: 40,
+            },
+            share: GpuShare::Entries {
+                count: 0,
+                capacity: 120,
+            },
+        };
+        let expected = Traffic {
+            bytes_read: 300,
+            bytes_written: 100,
+            operations: 10,
+        };
+        assert_eq!(shared.scaled(counters), expected);
     }
 }

@@ -311,19 +311,22 @@ impl<'a> DescriptorWrites<'a> {
             .collect()
     }
 
-    /// The bytes one dispatch with these descriptors moves (`Traffic`), before its arithmetic.
-    pub fn traffic(&self) -> Traffic {
-        let mut traffic = Traffic::default();
-        for (binding, _, _, bytes) in &self.resources {
-            let declared = self.declared(*binding);
-            if declared.reads {
-                traffic.bytes_read += bytes;
-            }
-            if declared.writes {
-                traffic.bytes_written += bytes;
-            }
-        }
-        traffic
+    /// The bytes one dispatch with these descriptors moves through each binding (`Traffic`),
+    /// before its arithmetic.
+    pub fn traffic(&self) -> Vec<(u32, Traffic)> {
+        self.resources
+            .iter()
+            .map(|(binding, _, _, bytes)| {
+                let declared = self.declared(*binding);
+                let moved = |moves: bool| if moves { *bytes } else { 0 };
+                let traffic = Traffic {
+                    bytes_read: moved(declared.reads),
+                    bytes_written: moved(declared.writes),
+                    operations: 0,
+                };
+                (*binding, traffic)
+            })
+            .collect()
     }
 
     fn declared(&self, binding: u32) -> &Binding {

@@ -12,7 +12,9 @@ use ash::vk;
 use crate::abi::PatchexStage;
 use crate::passes::stage_position;
 use crate::shaders::PushConstants;
-use crate::vk::access::{self, Access, Commands, ListedTraffic, Resource, StageRecord, Traffic};
+use crate::vk::access::{
+    self, Access, Commands, GpuShare, Resource, SharedTraffic, StageRecord, Traffic,
+};
 use crate::vk::barriers::{self, EngineImageAccess};
 use crate::vk::buffer::CounterRange;
 use crate::vk::frame_ring::FrameRing;
@@ -30,8 +32,21 @@ pub struct Pass<'a> {
 pub struct Bound<'a> {
     pass: Pass<'a>,
     accesses: Vec<Access>,
-    /// The bytes one dispatch moves.
-    traffic: Traffic,
+    /// The bytes one dispatch moves through each binding.
+    traffic: Vec<(u32, Traffic)>,
+}
+
+impl Bound<'_> {
+    /// The bytes one dispatch moves through `bindings`, or through all of them.
+    fn traffic(&self, bindings: Option<&[u32]>) -> Traffic {
+        let mut total = Traffic::default();
+        for (binding, traffic) in &self.traffic {
+            if bindings.is_none_or(|b| b.contains(binding)) {
+                total += *traffic;
+            }
+        }
+        total
+    }
 }
 
 /// Every stage the barriers make earlier work visible to: the passes, the transfers (clears,
@@ -60,7 +75,7 @@ pub struct Recorder<'a> {
     /// What the stage being recorded has moved and recorded so far.
     traffic: Traffic,
     commands: Commands,
-    listed: Vec<ListedTraffic>,
+    shared: Vec<SharedTraffic>,
     /// A stage whose commands are left out (`context::TEST_FAULT_VARIABLE`).
     skipped: Option<PatchexStage>,
 }
@@ -81,7 +96,7 @@ impl<'a> Recorder<'a> {
             stages: Vec::new(),
             traffic: Traffic::default(),
             commands: Commands::default(),
-            listed: Vec::new(),
+            shared: Vec::new(),
             skipped: None,
         }
     }
@@ -145,7 +160,7 @@ impl<'a> Recorder<'a> {
             stage,
             traffic: std::mem::take(&mut self.traffic),
             commands: std::mem::take(&mut self.commands),
-            listed: std::mem::take(&mut self.listed),
+            shared: std::mem::take(&mut self.shared),
         });
     }
 
@@ -169,7 +184,7 @@ impl<'a> Recorder<'a> {
 
     /// One dispatch of `bound` covering `extent`.
     pub fn dispatch<P: PushConstants>(&mut self, bound: &Bound, params: &P, extent: vk::Extent2D) {
-        self.record_dispatch(bound, bound.traffic, params, extent);
+        self.record_dispatch(bound, bound.traffic(None), params, extent);
     }
 
     /// One dispatch of `bound` over one level of pyramid atlases (`shadow_flow::pyramid`): every
@@ -184,9 +199,10 @@ impl<'a> Recorder<'a> {
     ) {
         let texels = |e: vk::Extent2D| e.width as u64 * e.height as u64;
         let share = |bytes: u64| bytes * texels(level) / texels(atlas).max(1);
+        let whole = bound.traffic(None);
         let traffic = Traffic {
-            bytes_read: share(bound.traffic.bytes_read),
-            bytes_written: share(bound.traffic.bytes_written),
+            bytes_read: share(whole.bytes_read),
+            bytes_written: share(whole.bytes_written),
             operations: 0,
         };
         self.record_dispatch(bound, traffic, params, level);
@@ -220,7 +236,7 @@ impl<'a> Recorder<'a> {
         args: &CounterRange,
     ) {
         self.record_indirect(bound, params, args);
-        self.traffic += bound.traffic;
+        self.traffic += bound.traffic(None);
     }
 
     /// `dispatch_indirect` over a list of `capacity` entries whose length the GPU wrote into
@@ -235,14 +251,41 @@ impl<'a> Recorder<'a> {
         capacity: u64,
     ) {
         self.record_indirect(bound, params, args);
-        self.listed.push(ListedTraffic {
+        self.shared.push(SharedTraffic {
             traffic: Traffic {
                 operations: capacity * bound.pass.pipeline.shader.arithmetic,
-                ..bound.traffic
+                ..bound.traffic(None)
             },
-            count_offset: count.offset,
-            capacity,
+            share: GpuShare::Entries {
+                count: count.offset,
+                capacity,
+            },
         });
+    }
+
+    /// `dispatch_indirect` over a patch the GPU planned: each group of bindings in `shares`
+    /// counts the share of its resources that the patch spans (`GpuShare`), read back with the
+    /// frame's counters; the other bindings count whole.
+    pub fn dispatch_over_patch<P: PushConstants>(
+        &mut self,
+        bound: &Bound,
+        params: &P,
+        args: &CounterRange,
+        shares: &[(&[u32], GpuShare)],
+    ) {
+        self.record_indirect(bound, params, args);
+        let shared: Vec<u32> = shares.iter().flat_map(|(b, _)| b.iter().copied()).collect();
+        for (binding, traffic) in &bound.traffic {
+            if !shared.contains(binding) {
+                self.traffic += *traffic;
+            }
+        }
+        for (bindings, share) in shares {
+            self.shared.push(SharedTraffic {
+                traffic: bound.traffic(Some(bindings)),
+                share: *share,
+            });
+        }
     }
 
     /// An indirect dispatch after what it must wait for, counting the arguments it reads (its

@@ -192,8 +192,8 @@ pub fn report(
          run), the dispatches and barriers recorded, the time measured here, and a lower \
          bound on three GPUs: the larger of bytes over bandwidth and operations over peak, \
          plus {:.0} µs per dispatch and {:.0} µs per barrier (an assumption; see the speed \
-         guide). The networks' stages count their tensors whole, at the size the context \
-         holds them. Peak figures: {}.\n",
+         guide). The passes over the networks' patches count the share of the frame and \
+         of their tensors that the patches span. Peak figures: {}.\n",
         SECONDS_PER_DISPATCH * 1e6,
         SECONDS_PER_BARRIER * 1e6,
         BOUND_GPUS
