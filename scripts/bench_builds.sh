@@ -3,8 +3,9 @@
 # side by side in one run: `patchex bench` with each build in turn, ROUNDS times, alternating so
 # that both see the same load on a shared machine. Prints each configuration's mean GPU ms per
 # target (timestamp queries) with both builds, their ratio, and the change in PSNR on the same
-# targets (the bench's test scenes); then the same for each stage. On a machine without cargo (a lent GPU), --tools names two
-# built `patchex` tools instead, each with its libpatchex.so beside it, and nothing is built.
+# targets (the bench's test scenes); then the same for each stage. On a machine without cargo
+# (a lent GPU), --tools names two built `patchex` tools instead, each with its libpatchex.so
+# beside it, and nothing is built.
 #
 #   scripts/bench_builds.sh [REV] [--sizes WxH,...] [--configurations LIST] [--frames N]
 #                           [--rounds N] [--scenes LIST] [--input-formats F]

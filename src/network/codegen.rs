@@ -62,7 +62,9 @@ pub const BINDINGS: [Binding; 5] = [
 /// The `Patch` record the layers read: origin, padded extent and resolution divisor of the
 /// patch, then the indirect dispatch of each level.
 pub const PATCH_WGSL: &str = include_str!("../../shaders/include/patch.wgsl");
-/// Where the dispatches start in the record.
+/// Where the extent (two u32), the divisor (a u32) and the dispatches start in the record.
+pub const PATCH_EXTENT_OFFSET: u64 = 8;
+pub const PATCH_DIVISOR_OFFSET: u64 = 16;
 pub const PATCH_DISPATCH_OFFSET: u64 = 32;
 pub const PATCH_BYTES: u64 = PATCH_DISPATCH_OFFSET + 16 * MAX_LEVELS as u64;
 

@@ -7,7 +7,9 @@ use ash::vk;
 use gpu_allocator::vulkan::Allocator;
 
 use crate::error::Result;
-use crate::network::codegen::{self, GROUP_EDGE, PATCH_BYTES, PATCH_DISPATCH_OFFSET};
+use crate::network::codegen::{
+    self, GROUP_EDGE, PATCH_BYTES, PATCH_DISPATCH_OFFSET, PATCH_DIVISOR_OFFSET, PATCH_EXTENT_OFFSET,
+};
 use crate::network::weights::MAX_LEVELS;
 use crate::network::{Network, Tensor, TensorPrecision, INPUT_CHANNELS};
 use crate::passes::{CounterRange, RegionPasses, Texture};
@@ -303,7 +305,8 @@ impl PatchRecord {
     /// The frame pixels the patch covers, of a frame of `frame_pixels`.
     fn pixels(&self, frame_pixels: u64) -> GpuShare {
         GpuShare::PatchPixels {
-            record: self.offset,
+            extent: self.offset + PATCH_EXTENT_OFFSET,
+            divisor: self.offset + PATCH_DIVISOR_OFFSET,
             capacity: frame_pixels,
         }
     }
@@ -311,7 +314,7 @@ impl PatchRecord {
     /// The texels the patch spans of `tensors`.
     fn texels(&self, tensors: &NetworkTensors) -> GpuShare {
         GpuShare::PatchTexels {
-            record: self.offset,
+            extent: self.offset + PATCH_EXTENT_OFFSET,
             capacity: tensors.capacity(),
         }
     }
@@ -566,11 +569,9 @@ impl Inpainting {
 /// The extent and divisor `plan_patches` wrote into the patch record at `offset` of the
 /// counters.
 pub fn read_patch(counters: &crate::vk::buffer::Buffer, offset: u64) -> ([u32; 2], u32) {
+    let extent = offset + PATCH_EXTENT_OFFSET;
     (
-        [
-            counters.read_u32(offset + 8),
-            counters.read_u32(offset + 12),
-        ],
-        counters.read_u32(offset + 16),
+        [counters.read_u32(extent), counters.read_u32(extent + 4)],
+        counters.read_u32(offset + PATCH_DIVISOR_OFFSET),
     )
 }

@@ -112,28 +112,31 @@ pub struct SharedTraffic {
 pub enum GpuShare {
     /// One invocation per entry of a list of `capacity`: the u32 at `count` entries.
     Entries { count: u64, capacity: u64 },
-    /// The frame pixels a patch record (`inpaint::PatchRecord`) covers, of a frame of
-    /// `capacity` pixels: its extent times its divisor on each axis.
-    PatchPixels { record: u64, capacity: u64 },
-    /// The network texels a patch record spans, of tensors of `capacity` texels.
-    PatchTexels { record: u64, capacity: u64 },
+    /// The frame pixels a patch covers, of a frame of `capacity` pixels: its extent (two u32
+    /// at `extent`) times its divisor (a u32 at `divisor`) on each axis.
+    PatchPixels {
+        extent: u64,
+        divisor: u64,
+        capacity: u64,
+    },
+    /// The texels a patch spans (its extent, two u32 at `extent`), of `capacity` texels.
+    PatchTexels { extent: u64, capacity: u64 },
 }
 
 impl GpuShare {
     /// The share as a fraction (numerator, denominator) of the whole, with `read_u32` reading
     /// the counters; never more than the whole.
     pub fn fraction(&self, read_u32: impl Fn(u64) -> u32) -> (u64, u64) {
-        let patch = |record: u64| {
-            let [width, height, divisor] = [8, 12, 16].map(|at| read_u32(record + at) as u64);
-            (width * height, divisor * divisor)
-        };
+        let read = |offset: u64| read_u32(offset) as u64;
+        let area = |extent: u64| read(extent) * read(extent + 4);
         let (part, whole) = match *self {
-            Self::Entries { count, capacity } => (read_u32(count) as u64, capacity),
-            Self::PatchPixels { record, capacity } => {
-                let (texels, pixels_per_texel) = patch(record);
-                (texels * pixels_per_texel, capacity)
-            }
-            Self::PatchTexels { record, capacity } => (patch(record).0, capacity),
+            Self::Entries { count, capacity } => (read(count), capacity),
+            Self::PatchPixels {
+                extent,
+                divisor,
+                capacity,
+            } => (area(extent) * read(divisor) * read(divisor), capacity),
+            Self::PatchTexels { extent, capacity } => (area(extent), capacity),
         };
         (part.min(whole), whole.max(1))
     }
@@ -227,8 +230,8 @@ mod tests {
         assert!(conflict(&earlier, &[bytes(0, 4, false)]));
     }
 
-    /// A patch record at offset 256 of the counters, 24 x 10 network texels at divisor 2, and a
-    /// list of 30 entries at offset 0.
+    /// A patch of 24 x 10 texels (at offset 264) at divisor 2 (at 272), and a list of 30 entries
+    /// (at 0).
     fn counters(offset: u64) -> u32 {
         match offset {
             0 => 30,
@@ -247,19 +250,21 @@ mod tests {
         };
         assert_eq!(list.fraction(counters), (30, 120));
         let texels = GpuShare::PatchTexels {
-            record: 256,
+            extent: 264,
             capacity: 64 * 64,
         };
         assert_eq!(texels.fraction(counters), (240, 4096));
         // 24 x 10 texels of 2 x 2 pixels each.
         let pixels = GpuShare::PatchPixels {
-            record: 256,
+            extent: 264,
+            divisor: 272,
             capacity: 160 * 90,
         };
         assert_eq!(pixels.fraction(counters), (960, 14400));
         // A patch padded past the frame counts the frame, no more.
         let small_frame = GpuShare::PatchPixels {
-            record: 256,
+            extent: 264,
+            divisor: 272,
             capacity: 900,
         };
         assert_eq!(small_frame.fraction(counters), (900, 900));
