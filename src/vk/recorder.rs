@@ -33,14 +33,14 @@ pub struct Bound<'a> {
     pass: Pass<'a>,
     accesses: Vec<Access>,
     /// The bytes one dispatch moves through each binding.
-    traffic: Vec<(u32, Traffic)>,
+    per_binding: Vec<(u32, Traffic)>,
 }
 
 impl Bound<'_> {
     /// The bytes one dispatch moves through `bindings`, or through all of them.
     fn traffic(&self, bindings: Option<&[u32]>) -> Traffic {
         let mut total = Traffic::default();
-        for (binding, traffic) in &self.traffic {
+        for (binding, traffic) in &self.per_binding {
             if bindings.is_none_or(|b| b.contains(binding)) {
                 total += *traffic;
             }
@@ -173,12 +173,12 @@ impl<'a> Recorder<'a> {
     ) -> Bound<'p> {
         let writes = writes(DescriptorWrites::new(pass.pipeline));
         let accesses = writes.accesses();
-        let traffic = writes.traffic();
+        let per_binding = writes.traffic();
         writes.update(self.device, pass.set);
         Bound {
             pass,
             accesses,
-            traffic,
+            per_binding,
         }
     }
 
@@ -275,7 +275,7 @@ impl<'a> Recorder<'a> {
     ) {
         self.record_indirect(bound, params, args);
         let shared: Vec<u32> = shares.iter().flat_map(|(b, _)| b.iter().copied()).collect();
-        for (binding, traffic) in &bound.traffic {
+        for (binding, traffic) in &bound.per_binding {
             if !shared.contains(binding) {
                 self.traffic += *traffic;
             }
