@@ -25,6 +25,6 @@ pub const SUN_SHARE: u64 = DEFERRED_HOLES + 256;
 /// One region's counters, which the frame ring allocates per region.
 pub const REGION_BYTES: u64 = SUN_SHARE + target_shadows::SUN_SHARE_BYTES;
 
-// An extrapolation writes its region in one vkCmdUpdateBuffer (`plan::start_counters`), which
+// An extrapolation writes its region in one vkCmdUpdateBuffer (`plan::starting_counters`), which
 // takes a multiple of 4 bytes under 65536.
 const _: () = assert!(REGION_BYTES < 65536 && REGION_BYTES % 4 == 0);

@@ -61,7 +61,6 @@ impl Context {
         };
         // The warp writes its shading here; the later passes refine it in place.
         let frame: Texture = staging.map_or(engine.output, |s| (&s[OutputStaging::FRAME]).into());
-        rec.acquire(&engine.access);
         let passes = RegionPasses {
             pipelines: &self.pipelines,
             ring: &self.ring,
@@ -69,7 +68,8 @@ impl Context {
             region,
         };
         let cameras = warp::cameras(&source.camera, &engine.target_gbuffer, inputs.extent);
-        let (cameras, deferred_holes) = plan::start_counters(&mut rec, &passes, &cameras);
+        let (counters, cameras, deferred_holes) = plan::starting_counters(&passes, &cameras);
+        rec.acquire(&engine.access, &passes.all_counters(), Some(&counters));
         let mut rec = rec.timed(&self.ring, slot, region);
         let work = self
             .images

@@ -241,24 +241,22 @@ pub fn record(rec: &mut Recorder, plan: &ExtrapolationPlan) {
     pack_output(rec, plan);
 }
 
-/// Writes the extrapolation's counters in one command (one barrier before the passes read them):
-/// zeros, but for what its passes read there, both instants' `cameras` and no deferred holes yet.
-/// Returns those ranges.
-pub fn start_counters(
-    rec: &mut Recorder,
+/// The extrapolation's counters as `Recorder::acquire` writes them ahead of its passes: zeros,
+/// but for what its passes read there, both instants' `cameras` and no deferred holes yet. Also
+/// returns those two ranges.
+pub fn starting_counters(
     passes: &RegionPasses,
     cameras: &warp::Cameras,
-) -> (CounterRange, CounterRange) {
-    let all = passes.all_counters();
-    let mut contents = vec![0u8; all.range as usize];
+) -> (Vec<u8>, CounterRange, CounterRange) {
+    let mut contents = vec![0u8; passes.all_counters().range as usize];
     for (offset, bytes) in [
         (counters::CAMERAS, cameras.as_bytes()),
         (counters::DEFERRED_HOLES, warp::NO_DEFERRED_HOLES.as_bytes()),
     ] {
         contents[offset as usize..offset as usize + bytes.len()].copy_from_slice(bytes);
     }
-    rec.update_bytes(&all, &contents);
     (
+        contents,
         passes.counters(counters::CAMERAS, warp::CAMERAS_BYTES),
         passes.counters(counters::DEFERRED_HOLES, warp::DEFERRED_HOLES_BYTES),
     )

@@ -147,14 +147,13 @@ impl Context {
         }
         let mut rec = Recorder::new(&self.gpu.device, cmd).skipping(self.test_fault);
         rec.initialize(&mut owned);
-        rec.acquire(&access);
         let passes = RegionPasses {
             pipelines: &self.pipelines,
             ring: &self.ring,
             slot,
             region: 0,
         };
-        rec.fill_zero(&passes.all_counters());
+        rec.acquire(&access, &passes.all_counters(), None);
         let mut rec = rec.timed(&self.ring, slot, 0);
         let separates = shadows_separated(shadow_history);
         let work = self.images.work.as_ref().expect("allocated above");

@@ -172,7 +172,8 @@ impl EngineImageAccess {
     }
 
     /// Returns every image to the layout it was handed in, visible to whatever the engine does
-    /// next.
+    /// next, and makes every write of the call available to later commands: the next call writes
+    /// its counters ahead of its own `acquire`.
     pub fn release(&self, device: &ash::Device, cmd: vk::CommandBuffer) {
         let barriers: Vec<_> = self
             .uses
@@ -185,6 +186,9 @@ impl EngineImageAccess {
                     .new_layout(u.image.layout)
             })
             .collect();
+        let written = vk::MemoryBarrier::default()
+            .src_access_mask(vk::AccessFlags::SHADER_WRITE | vk::AccessFlags::TRANSFER_WRITE)
+            .dst_access_mask(vk::AccessFlags::MEMORY_READ | vk::AccessFlags::MEMORY_WRITE);
         // SAFETY: as in `acquire`.
         unsafe {
             device.cmd_pipeline_barrier(
@@ -192,7 +196,7 @@ impl EngineImageAccess {
                 PLUGIN_STAGES,
                 vk::PipelineStageFlags::ALL_COMMANDS,
                 vk::DependencyFlags::empty(),
-                &[],
+                &[written],
                 &[],
                 &barriers,
             );

@@ -123,9 +123,38 @@ impl<'a> Recorder<'a> {
         barriers::initialize_owned(self.device, self.cmd, images);
     }
 
-    /// Waits for the engine's work on its images and moves them to their pass layouts. The same
-    /// barrier waits for everything recorded before, which the first command then need not.
-    pub fn acquire(&mut self, engine: &EngineImageAccess) {
+    /// Writes the call's `counters` (`contents`, or zeros without), then waits for the engine's
+    /// work on its images and moves them to their pass layouts. That one barrier also orders the
+    /// counters' write, and everything recorded before, ahead of the call's passes, which then
+    /// need no barrier of their own for them. (The release that ended the call before made its
+    /// writes available, so the counters' write need not wait for them.)
+    pub fn acquire(
+        &mut self,
+        engine: &EngineImageAccess,
+        counters: &CounterRange,
+        contents: Option<&[u8]>,
+    ) {
+        self.traffic.bytes_written += counters.range;
+        let CounterRange {
+            buffer,
+            offset,
+            range,
+        } = *counters;
+        // SAFETY: cmd is recording; the range lies inside the buffer, which has TRANSFER_DST;
+        // vkCmdUpdateBuffer's bytes fill the range, a multiple of 4 under 65536
+        // (`frame::counters::REGION_BYTES`).
+        unsafe {
+            match contents {
+                Some(bytes) => {
+                    debug_assert_eq!(bytes.len() as u64, range);
+                    self.device
+                        .cmd_update_buffer(self.cmd, buffer, offset, bytes)
+                }
+                None => self
+                    .device
+                    .cmd_fill_buffer(self.cmd, buffer, offset, range, 0),
+            }
+        }
         engine.acquire(self.device, self.cmd, LATER_STAGES);
         self.pending.clear();
         self.commands.barriers += 1;
@@ -307,17 +336,6 @@ impl<'a> Recorder<'a> {
         self.commands.dispatches += 1;
         let Pass { pipeline, set } = bound.pass;
         pipeline.dispatch_indirect(self.device, self.cmd, set, params, args.buffer, args.offset);
-    }
-
-    /// Zeroes `range` (counters before the passes that count into them).
-    pub fn fill_zero(&mut self, range: &CounterRange) {
-        self.order(&[transfer_write(Resource::range(range))]);
-        self.traffic.bytes_written += range.range;
-        // SAFETY: cmd is recording; the range lies inside the buffer, which has TRANSFER_DST.
-        unsafe {
-            self.device
-                .cmd_fill_buffer(self.cmd, range.buffer, range.offset, range.range, 0)
-        };
     }
 
     /// Writes `bytes` (a multiple of 4 under 65536, filling `range`) into `range` in the command
