@@ -1,10 +1,11 @@
 // Gathers an inpainting network's input planes over its patch (training/patchex_net.py,
 // INPUT_NAMES): the warped demodulated colour, the hole mask, roughness, metallic and the LBP
-// code. Patch texels outside the frame are zero, as in training's padding. With a resolution
+// code / 255 (include/lbp.wgsl, made here from the frame around each pixel). Patch texels outside the frame are zero, as in training's padding. With a resolution
 // divisor d a texel is the mean of its d x d pixels (those outside the frame counting as zero),
 // so the hole plane holds the share of holes among them.
 // #import patch
 // #import gbuffer
+// #import lbp
 
 struct Params {
     frame_extent: vec2u,
@@ -14,9 +15,8 @@ var<immediate> params: Params;
 
 @group(0) @binding(0) var warped: texture_storage_2d<rgba16float, read>;
 @group(0) @binding(1) var material: texture_2d<f32>;
-@group(0) @binding(2) var lbp: texture_2d<f32>;
-@group(0) @binding(3) var network_input: texture_storage_2d_array<rgba16float, write>;
-@group(0) @binding(4) var<storage, read> network_patch: Patch;
+@group(0) @binding(2) var network_input: texture_storage_2d_array<rgba16float, write>;
+@group(0) @binding(3) var<storage, read> network_patch: Patch;
 
 @compute @workgroup_size(8, 8, 1)
 fn main(@builtin(global_invocation_id) id: vec3u) {
@@ -34,7 +34,7 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
                 // The warp marks holes in alpha (`frame_alpha`); their colour is its best guess.
                 colour_hole += vec4f(sanitize_color(w.rgb).value, select(0.0, 1.0, is_hole(w.a)));
                 let metallic_roughness = metallic_roughness(material, f, params.has_material);
-                surface += vec4f(metallic_roughness.y, metallic_roughness.x, textureLoad(lbp, f, 0).r, 0.0);
+                surface += vec4f(metallic_roughness.y, metallic_roughness.x, f32(lbp_code(f, params.frame_extent)) / 255.0, 0.0);
             }
         }
     }

@@ -1,5 +1,5 @@
 // Segmentation, step 1 of 3: every target pixel of a dynamic object (stencil id != 0) adds itself
-// to its object's bounds, pixel count and sum of |motion|, by blocks. The table starts
+// to its object's bounds, pixel count and sum of |motion|, by blocks. The totals start
 // zero-filled.
 // #import gbuffer
 // #import segmentation
@@ -14,7 +14,7 @@ var<immediate> params: Params;
 
 @group(0) @binding(0) var target_stencil: texture_2d<u32>;
 @group(0) @binding(1) var motion: texture_2d<f32>;
-@group(0) @binding(2) var<storage, read_write> segmentation: Segmentation;
+@group(0) @binding(2) var<storage, read_write> totals: ObjectAccumulators;
 
 // Pixels on a side of the block one invocation adds up. Neighbouring pixels mostly belong to one
 // object, so a block reaches the table in one set of atomics rather than one per pixel: atomics
@@ -33,9 +33,9 @@ struct Running {
 
 // Adds `units` to a (low, high) pair; the atomic's old value tells whether the low word wrapped.
 fn add_motion(object: u32, axis: u32, units: u32) {
-    let before = atomicAdd(&segmentation.objects[object].motion_low[axis], units);
+    let before = atomicAdd(&totals.objects[object].motion_low[axis], units);
     if (before > 0xffffffffu - units) {
-        atomicAdd(&segmentation.objects[object].motion_high[axis], 1u);
+        atomicAdd(&totals.objects[object].motion_high[axis], 1u);
     }
 }
 
@@ -43,11 +43,11 @@ fn add_to_table(r: Running) {
     if (r.object == 0u) {
         return;
     }
-    atomicMax(&segmentation.objects[r.object].min_flipped[0], 0xffffffffu - r.low.x);
-    atomicMax(&segmentation.objects[r.object].min_flipped[1], 0xffffffffu - r.low.y);
-    atomicMax(&segmentation.objects[r.object].max[0], r.high.x);
-    atomicMax(&segmentation.objects[r.object].max[1], r.high.y);
-    atomicAdd(&segmentation.objects[r.object].pixels, r.pixels);
+    atomicMax(&totals.objects[r.object].min_flipped[0], 0xffffffffu - r.low.x);
+    atomicMax(&totals.objects[r.object].min_flipped[1], 0xffffffffu - r.low.y);
+    atomicMax(&totals.objects[r.object].max[0], r.high.x);
+    atomicMax(&totals.objects[r.object].max[1], r.high.y);
+    atomicAdd(&totals.objects[r.object].pixels, r.pixels);
     add_motion(r.object, 0u, r.units.x);
     add_motion(r.object, 1u, r.units.y);
 }

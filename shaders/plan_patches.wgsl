@@ -1,5 +1,6 @@
-// Plans where the two inpainting networks run, from the object table that grow_regions left:
-// the FI patch bounds every dynamic object's pixels, the near-BE patch every grown rectangle.
+// Plans where the two inpainting networks run, from the objects' totals that object_bounds
+// left: the FI patch bounds every dynamic object's pixels, the near-BE patch every grown
+// rectangle (`grown_rect`, as grow_regions makes them beside this pass).
 // Each is widened by a margin of context, clamped to the frame, rounded up to its network's
 // multiple (patch texels past the frame read as zero), and given the indirect dispatch of each
 // of its network's levels. With a resolution divisor d a network texel covers d x d pixels, so
@@ -22,10 +23,12 @@ struct Params {
     whole_frame: u32,
     divisor: u32,
     max_patch_side: u32,
+    // k_x and k_y of Algorithm 1.
+    growth: vec2f,
 }
 var<immediate> params: Params;
 
-@group(0) @binding(0) var<storage, read_write> segmentation: Segmentation;
+@group(0) @binding(0) var<storage, read> totals: ObjectTable;
 @group(0) @binding(1) var<storage, read_write> patches: array<PatchSlot, 3>;
 
 const EMPTY: u32 = 0xffffffffu;
@@ -93,19 +96,15 @@ fn main() {
     let nothing = Span(vec2u(EMPTY), vec2u(0u));
     var fi = nothing;
     var near_be = nothing;
-    let count = min(atomicLoad(&segmentation.rect_count), MAX_OBJECTS);
-    for (var i = 0u; i < count; i++) {
-        let rect = segmentation.rects[i];
-        let object = rect.object_id;
-        let lo = vec2u(
-            EMPTY - atomicLoad(&segmentation.objects[object].min_flipped[0]),
-            EMPTY - atomicLoad(&segmentation.objects[object].min_flipped[1]),
-        );
-        let hi = vec2u(
-            atomicLoad(&segmentation.objects[object].max[0]),
-            atomicLoad(&segmentation.objects[object].max[1]),
-        ) + vec2u(1u);
+    for (var object = 1u; object < MAX_OBJECTS; object++) {
+        let o = totals.objects[object];
+        if (o.pixels == 0u) {
+            continue;
+        }
+        let lo = vec2u(EMPTY - o.min_flipped[0], EMPTY - o.min_flipped[1]);
+        let hi = vec2u(o.max[0], o.max[1]) + vec2u(1u);
         fi = union_span(fi, Span(lo, hi));
+        let rect = grown_rect(object, o, params.growth, params.extent);
         near_be = union_span(near_be, Span(vec2u(rect.left, rect.top), vec2u(rect.right, rect.bottom)));
     }
     if (params.whole_frame != 0u) {

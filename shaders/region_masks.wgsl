@@ -12,22 +12,16 @@ struct Params {
 var<immediate> params: Params;
 
 @group(0) @binding(0) var target_stencil: texture_2d<u32>;
-// The table's rectangles, as grow_regions left them (`Segmentation`, read only).
-struct RectTable {
-    rect_count: u32,
-    reserved: array<u32, 3>,
-    rects: array<RegionRect, MAX_OBJECTS>,
-}
-@group(0) @binding(1) var<storage, read> table: RectTable;
+@group(0) @binding(1) var<storage, read> rects: RectTable;
 @group(0) @binding(2) var regions: texture_storage_2d<r32uint, write>;
 
 fn region_of(p: vec2u) -> u32 {
     if (params.has_stencil != ABSENT && textureLoad(target_stencil, p, 0).r != 0u) {
         return REGION_FI;
     }
-    let count = min(table.rect_count, MAX_OBJECTS);
+    let count = min(rects.rect_count, MAX_OBJECTS);
     for (var i = 0u; i < count; i++) {
-        let rect = table.rects[i];
+        let rect = rects.rects[i];
         if (all(p >= vec2u(rect.left, rect.top)) && all(p < vec2u(rect.right, rect.bottom))) {
             return REGION_NEAR_BE;
         }

@@ -30,9 +30,10 @@ impl Context {
     ) -> Result<PatchexResult> {
         let (inputs, slot, done, serial) = self.check_target(desc, &extensions)?;
         let engine = self.import_engine_images(&inputs, &extensions)?;
-        // The regions and the LBP map, for the networks and the diagnostics only.
-        let analyse = self.inpainting.is_some() || engine.diagnostics.is_some();
-        self.allocate(serial, inputs.output.written_by_copy, analyse)?;
+        // The regions, for the networks and the diagnostics only; the LBP map for the latter.
+        let diagnose = engine.diagnostics.is_some();
+        let analyse = self.inpainting.is_some() || diagnose;
+        self.allocate(serial, inputs.output.written_by_copy, analyse, diagnose)?;
 
         // Everything is validated and allocated: from here on the call cannot fail.
         let source = self.source.as_ref().expect("checked");
@@ -53,9 +54,17 @@ impl Context {
         };
         let analysis = match self.images.analysis.as_mut() {
             Some(analysis) if analyse => {
-                let [regions, lbp] = &mut analysis.images;
-                rec.initialize(&mut [regions, lbp]);
+                let [regions] = &mut analysis.images;
+                rec.initialize(&mut [regions]);
                 Some(&*analysis)
+            }
+            _ => None,
+        };
+        let diagnostic_images = match self.images.diagnostics.as_mut() {
+            Some(images) if diagnose => {
+                let [lbp] = &mut images.images;
+                rec.initialize(&mut [lbp]);
+                Some(&*images)
             }
             _ => None,
         };
@@ -90,6 +99,7 @@ impl Context {
             shadows_tracked: source.shadow_history == PATCHEX_SHADOW_HISTORY_TRACKED,
             target_shadow_mask: engine.target_shadow_mask,
             analysis,
+            diagnostic_images,
             inpainting: self.inpainting.as_ref(),
             networks: run_networks,
             frame,
@@ -148,8 +158,15 @@ impl Context {
     }
 
     /// The images this extrapolation needs beyond the submit's: the staging of an output the
-    /// passes cannot store (`staging`), and the regions and LBP map (`analysis`).
-    fn allocate(&mut self, serial: u64, staging: bool, analysis: bool) -> Result<()> {
+    /// passes cannot store (`staging`), the regions (`analysis`) and the diagnostics' LBP map
+    /// (`diagnostics`).
+    fn allocate(
+        &mut self,
+        serial: u64,
+        staging: bool,
+        analysis: bool,
+        diagnostics: bool,
+    ) -> Result<()> {
         let mut growth = Growth {
             gpu: &self.gpu,
             allocator: &mut self.allocator,
@@ -161,6 +178,9 @@ impl Context {
         }
         if analysis {
             self.images.ensure_analysis(&mut growth)?;
+        }
+        if diagnostics {
+            self.images.ensure_diagnostics(&mut growth)?;
         }
         Ok(())
     }

@@ -151,19 +151,26 @@ impl WorkImages {
 }
 
 /// What the networks and the diagnostics read besides the frame, made at the first
-/// extrapolation that runs either: a frame without them needs neither image.
-pub type AnalysisImages = ImageSet<2, Analysis>;
+/// extrapolation that runs either: a frame without them needs no region image.
+pub type AnalysisImages = ImageSet<1, Analysis>;
 pub struct Analysis;
 
 impl AnalysisImages {
     /// Region of each target pixel (segmentation::REGION_*).
     pub const REGIONS: usize = 0;
-    pub const LBP: usize = 1;
 
-    const SPECS: [ImageSpec; 2] = [
-        frame_image("patchex regions", vk::Format::R32_UINT),
-        frame_image("patchex lbp", vk::Format::R16_SFLOAT),
-    ];
+    const SPECS: [ImageSpec; 1] = [frame_image("patchex regions", vk::Format::R32_UINT)];
+}
+
+/// What only the diagnostics show, made at the first extrapolation that asks for them.
+pub type DiagnosticImages = ImageSet<1, Diagnostics>;
+pub struct Diagnostics;
+
+impl DiagnosticImages {
+    /// The warped frame's LBP code / 255 (the networks make theirs as they gather).
+    pub const LBP: usize = 0;
+
+    const SPECS: [ImageSpec; 1] = [frame_image("patchex lbp", vk::Format::R16_SFLOAT)];
 }
 
 /// For an output whose format a shader cannot store (`PACKED_OUTPUT_FORMATS`): the extrapolated
@@ -304,6 +311,7 @@ impl FlowAtlases {
 pub struct FrameImages {
     pub work: Option<WorkImages>,
     pub analysis: Option<AnalysisImages>,
+    pub diagnostics: Option<DiagnosticImages>,
     /// Made at the first frame with a shadow input.
     pub shadows: Option<ShadowImages>,
     /// Made at the first frame whose shadow flow runs.
@@ -323,6 +331,7 @@ impl FrameImages {
     pub fn check_formats(gpu: &Gpu) -> Result<()> {
         WorkImages::check_formats(gpu, &WorkImages::SPECS)?;
         AnalysisImages::check_formats(gpu, &AnalysisImages::SPECS)?;
+        DiagnosticImages::check_formats(gpu, &DiagnosticImages::SPECS)?;
         OutputStaging::check_formats(gpu, &OutputStaging::SPECS)?;
         ShadowImages::check_formats(gpu, &ShadowImages::SPECS)?;
         FlowAtlases::check_formats(gpu, &FlowAtlases::SPECS)?;
@@ -365,6 +374,7 @@ impl FrameImages {
         Ok(Self {
             work: None,
             analysis: None,
+            diagnostics: None,
             shadows: None,
             flow: None,
             highlights: None,
@@ -424,6 +434,18 @@ impl FrameImages {
         grow(growth, &mut self.analysis, extent, &AnalysisImages::SPECS).map(drop)
     }
 
+    /// Makes or grows the diagnostics' images to the working images' extent.
+    pub fn ensure_diagnostics(&mut self, growth: &mut Growth) -> Result<()> {
+        let extent = self.work_extent();
+        grow(
+            growth,
+            &mut self.diagnostics,
+            extent,
+            &DiagnosticImages::SPECS,
+        )
+        .map(drop)
+    }
+
     /// Makes or grows the output staging to the working images' extent.
     pub fn ensure_output_staging(&mut self, growth: &mut Growth) -> Result<()> {
         let extent = self.work_extent();
@@ -474,6 +496,7 @@ impl FrameImages {
     pub fn size_bytes(&self) -> u64 {
         self.work.as_ref().map_or(0, |w| w.size_bytes())
             + self.analysis.as_ref().map_or(0, |a| a.size_bytes())
+            + self.diagnostics.as_ref().map_or(0, |d| d.size_bytes())
             + self.shadows.as_ref().map_or(0, |s| s.size_bytes())
             + self.flow.as_ref().map_or(0, |f| f.size_bytes())
             + self.highlights.as_ref().map_or(0, |h| h.size_bytes())
@@ -486,6 +509,7 @@ impl FrameImages {
     pub fn destroy(&mut self, gpu: &Gpu, allocator: &mut Allocator) {
         let work = self.work.take().map(|w| w.images);
         let analysis = self.analysis.take().map(|a| a.images);
+        let diagnostics = self.diagnostics.take().map(|d| d.images);
         let shadows = self.shadows.take().map(|s| s.images);
         let flow = self.flow.take().map(|f| f.images);
         let highlights = self.highlights.take().map(|h| h.images);
@@ -495,6 +519,7 @@ impl FrameImages {
             .into_iter()
             .flatten()
             .chain(analysis.into_iter().flatten())
+            .chain(diagnostics.into_iter().flatten())
             .chain(shadows.into_iter().flatten())
             .chain(flow.into_iter().flatten())
             .chain(highlights.into_iter().flatten())
@@ -552,6 +577,7 @@ mod tests {
         let specs = WorkImages::SPECS
             .iter()
             .chain(&AnalysisImages::SPECS)
+            .chain(&DiagnosticImages::SPECS)
             .chain(&OutputStaging::SPECS)
             .chain(&ShadowImages::SPECS)
             .chain(&FlowAtlases::SPECS)

@@ -10,8 +10,8 @@ use crate::abi::*;
 use crate::camera::PixelRays;
 use crate::frame::counters;
 use crate::frame::images::{
-    AnalysisImages, FlowAtlases, HighlightImages, OutputStaging, ShadowImages, TranslucencyImages,
-    WorkImages,
+    AnalysisImages, DiagnosticImages, FlowAtlases, HighlightImages, OutputStaging, ShadowImages,
+    TranslucencyImages, WorkImages,
 };
 use crate::frame::settings::NetworkSwitches;
 use crate::passes::inpaint::{self, Inpainting};
@@ -189,8 +189,10 @@ pub struct ExtrapolationPlan<'a> {
     pub shadows_tracked: bool,
     /// `PatchexTargetShadowInput.mask`: the shadows at the target, in place of the flow's.
     pub target_shadow_mask: Option<Texture>,
-    /// The regions and LBP map, for the networks and the diagnostics.
+    /// The regions, for the networks and the diagnostics.
     pub analysis: Option<&'a AnalysisImages>,
+    /// The LBP map, for the diagnostics.
+    pub diagnostic_images: Option<&'a DiagnosticImages>,
     /// The networks, when the preset has them.
     pub inpainting: Option<&'a Inpainting>,
     pub networks: NetworkSwitches,
@@ -349,6 +351,12 @@ impl<'a> ExtrapolationPlan<'a> {
         )
     }
 
+    /// The networks' patch records (`inpaint::PATCH_SLOT_*`).
+    fn patches(&self) -> CounterRange {
+        self.passes
+            .counters(counters::PATCHES, inpaint::PATCH_SLOTS_BYTES)
+    }
+
     /// The G-buffer warp's hole list, which the fill fills.
     fn hole_list(&'a self) -> warp::HoleList<'a> {
         warp::HoleList {
@@ -471,33 +479,63 @@ fn target_shadows(rec: &mut Recorder, plan: &ExtrapolationPlan) {
     });
 }
 
+/// The objects' rectangles; with the networks, their patches, planned beside the rectangles from
+/// the same totals; with the networks or the diagnostics, every pixel's region.
 fn segment(rec: &mut Recorder, plan: &ExtrapolationPlan) {
+    let table = plan
+        .passes
+        .counters(counters::OBJECT_TABLE, segmentation::TABLE_BYTES);
+    let inputs = segmentation::SegmentationInputs {
+        target_stencil: plan.target.stencil,
+        motion: plan.motion,
+        motion_scale: plan.motion_scale,
+        placeholder_uint: plan.placeholders.1,
+    };
     rec.stage(PATCHEX_STAGE_SEGMENT, |rec| {
-        segmentation::record(
+        segmentation::record_rects(
             rec,
-            &segmentation::SegmentationPasses {
-                object_bounds: plan.passes.get(PipelineId::ObjectBounds),
-                grow_regions: plan.passes.get(PipelineId::GrowRegions),
-                region_masks: plan.passes.get(PipelineId::RegionMasks),
-            },
+            [
+                plan.passes.get(PipelineId::ObjectBounds),
+                plan.passes.get(PipelineId::GrowRegions),
+            ],
             plan.extent,
             &plan.segmentation,
-            &segmentation::SegmentationInputs {
-                target_stencil: plan.target.stencil,
-                motion: plan.motion,
-                motion_scale: plan.motion_scale,
-                placeholder_uint: plan.placeholders.1,
-            },
-            &plan
-                .passes
-                .counters(counters::OBJECT_TABLE, segmentation::TABLE_BYTES),
-            plan.analysis.map(|a| &a[AnalysisImages::REGIONS]),
-        )
+            &inputs,
+            &table,
+        );
+        if let Some(inpainting) = plan.inpainting {
+            let networks = &plan.networks;
+            inpaint::record_plan(
+                rec,
+                plan.passes.get(PipelineId::PlanPatches),
+                plan.extent,
+                &inpaint::PatchPlan {
+                    levels: inpainting.levels(networks.running()),
+                    whole_frame: networks.whole_frame,
+                    divisor: networks.divisor,
+                    max_patch_side: inpainting.max_patch_side,
+                    growth: plan.segmentation.growth,
+                },
+                &segmentation::object_totals(&table),
+                &plan.patches(),
+            );
+        }
+        if let Some(analysis) = plan.analysis {
+            segmentation::record_masks(
+                rec,
+                plan.passes.get(PipelineId::RegionMasks),
+                plan.extent,
+                &inputs,
+                &table,
+                &analysis[AnalysisImages::REGIONS],
+            );
+        }
     });
 }
 
+/// The warped frame's LBP map, for the diagnostics to show.
 fn lbp(rec: &mut Recorder, plan: &ExtrapolationPlan) {
-    let Some(analysis) = plan.analysis else {
+    let Some(images) = plan.diagnostic_images else {
         return;
     };
     rec.stage(PATCHEX_STAGE_LBP, |rec| {
@@ -506,42 +544,24 @@ fn lbp(rec: &mut Recorder, plan: &ExtrapolationPlan) {
             plan.passes.get(PipelineId::Lbp),
             plan.extent,
             plan.frame,
-            &analysis[AnalysisImages::LBP],
+            &images[DiagnosticImages::LBP],
         )
     });
 }
 
-/// The networks on the patches `plan_patches` finds around the regions, then their blend.
+/// The networks on the patches the segmentation planned, then their blend.
 fn inference_and_blend(rec: &mut Recorder, plan: &ExtrapolationPlan) {
     let Some((inpainting, analysis)) = plan.inpainting.zip(plan.analysis) else {
         return;
     };
-    let patches = plan
-        .passes
-        .counters(counters::PATCHES, inpaint::PATCH_SLOTS_BYTES);
+    let patches = plan.patches();
     let networks = &plan.networks;
     rec.stage(PATCHEX_STAGE_INFERENCE, |rec| {
-        inpaint::record_plan(
-            rec,
-            plan.passes.get(PipelineId::PlanPatches),
-            plan.extent,
-            &inpaint::PatchPlan {
-                levels: inpainting.levels(networks.running()),
-                whole_frame: networks.whole_frame,
-                divisor: networks.divisor,
-                max_patch_side: inpainting.max_patch_side,
-            },
-            &plan
-                .passes
-                .counters(counters::OBJECT_TABLE, segmentation::TABLE_BYTES),
-            &patches,
-        );
         inpaint::record(
             rec,
             &inpaint::FrameInputs {
                 warped: plan.frame,
                 material: plan.remodulation.material,
-                lbp: (&analysis[AnalysisImages::LBP]).into(),
                 placeholder: plan.placeholders.0,
                 frame_extent: plan.extent,
             },
@@ -573,10 +593,11 @@ fn diagnostics(rec: &mut Recorder, plan: &ExtrapolationPlan) {
     rec.stage(PATCHEX_STAGE_DIAGNOSTICS, |rec| {
         if let Some(image) = plan.diagnostics {
             let analysis = plan.analysis.expect("made for the diagnostics");
+            let lbp = plan.diagnostic_images.expect("made for the diagnostics");
             let sources = diagnostics::frame_sources(
                 plan.frame,
                 &analysis[AnalysisImages::REGIONS],
-                &analysis[AnalysisImages::LBP],
+                &lbp[DiagnosticImages::LBP],
             );
             let pass = plan.passes.get(PipelineId::WriteDiagnostics);
             diagnostics::record(rec, pass, plan.extent, sources, image);

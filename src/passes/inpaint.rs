@@ -177,7 +177,6 @@ pub struct FrameInputs {
     /// Warped demodulated shading, alpha 1 where valid and 0 in holes.
     pub warped: Texture,
     pub material: Option<Texture>,
-    pub lbp: Texture,
     /// Bound in place of an absent material image.
     pub placeholder: Texture,
     pub frame_extent: vk::Extent2D,
@@ -234,7 +233,6 @@ pub fn record(rec: &mut Recorder, inputs: &FrameInputs, runs: &[NetworkRun]) {
             writes
                 .image(binding::WARPED, inputs.warped)
                 .image(binding::MATERIAL, material)
-                .image(binding::LBP, inputs.lbp)
                 .image(binding::NETWORK_INPUT, &run.tensors.input)
                 .buffer(binding::NETWORK_PATCH, &run.patch.range())
         });
@@ -249,7 +247,7 @@ pub fn record(rec: &mut Recorder, inputs: &FrameInputs, runs: &[NetworkRun]) {
             &run.patch.dispatch(0),
             &[
                 (
-                    &[binding::WARPED, binding::MATERIAL, binding::LBP],
+                    &[binding::WARPED, binding::MATERIAL],
                     run.patch.pixels(frame_pixels),
                 ),
                 (&[binding::NETWORK_INPUT], run.patch.texels(run.tensors)),
@@ -355,21 +353,24 @@ pub struct PatchPlan {
     /// `max_patch_side` texels runs at a multiple of it.
     pub divisor: u32,
     pub max_patch_side: u32,
+    /// The segmentation's k_x and k_y, which grow the near-BE rectangles.
+    pub growth: [f32; 2],
 }
 
-/// Records `plan_patches`: the FI, near-BE and blend patches from the object table.
+/// Records `plan_patches`: the FI, near-BE and blend patches from the objects' totals in the
+/// object table (`segmentation::object_totals`).
 pub fn record_plan(
     rec: &mut Recorder,
     pass: Pass,
     extent: vk::Extent2D,
     plan: &PatchPlan,
-    table: &CounterRange,
+    totals: &CounterRange,
     patches: &CounterRange,
 ) {
     use crate::shaders::plan_patches::{binding, Params};
     let bound = rec.bind(pass, |writes| {
         writes
-            .buffer(binding::SEGMENTATION, table)
+            .buffer(binding::TOTALS, totals)
             .buffer(binding::PATCHES, patches)
     });
     let params = Params {
@@ -380,7 +381,8 @@ pub fn record_plan(
         whole_frame: plan.whole_frame as u32,
         divisor: plan.divisor,
         max_patch_side: plan.max_patch_side,
-        _pad_end: [0; 4],
+        growth: plan.growth,
+        ..Default::default()
     };
     let one = vk::Extent2D {
         width: 1,

@@ -1,7 +1,8 @@
 //! Foveated segmentation (PatchEX section 4, Algorithm 1), three dispatches over one object table
 //! in the frame's counters (`shaders/include/segmentation.wgsl`):
 //! `object_bounds` accumulates each dynamic object's bounds and motion, `grow_regions` turns them
-//! into grown rectangles, `region_masks` labels every pixel FI, near-BE or far-BE.
+//! into grown rectangles, `region_masks` labels every pixel FI, near-BE or far-BE. The networks'
+//! patches are planned from the same totals (`inpaint::record_plan`), beside `grow_regions`.
 
 use ash::vk;
 
@@ -50,15 +51,36 @@ impl SegmentationSettings {
     }
 }
 
-/// Layout of `Segmentation` in `include/segmentation.wgsl`.
+/// Layout of the object table in `include/segmentation.wgsl`: every object's totals, then the
+/// list of grown rectangles, at a multiple of 256 bytes (the largest storage-buffer offset
+/// alignment Vulkan allows) so that each part binds on its own.
 pub const MAX_OBJECTS: usize = 256;
 /// Pixels on a side of the block one invocation of `object_bounds.wgsl` adds up (`BLOCK`).
 const OBJECT_BOUNDS_BLOCK: u32 = 4;
-const RECT_COUNT_OFFSET: u64 = 0;
-const RECTS_OFFSET: u64 = 16;
-const RECT_BYTES: u64 = 32;
 const OBJECT_BYTES: u64 = 36;
-pub const TABLE_BYTES: u64 = RECTS_OFFSET + MAX_OBJECTS as u64 * (RECT_BYTES + OBJECT_BYTES);
+const RECT_BYTES: u64 = 32;
+const RECT_LIST_OFFSET: u64 = MAX_OBJECTS as u64 * OBJECT_BYTES;
+const RECT_COUNT_OFFSET: u64 = RECT_LIST_OFFSET;
+const RECTS_OFFSET: u64 = RECT_LIST_OFFSET + 16;
+pub const TABLE_BYTES: u64 = RECTS_OFFSET + MAX_OBJECTS as u64 * RECT_BYTES;
+const _: () = assert!(RECT_LIST_OFFSET % 256 == 0);
+
+/// The objects' totals in `table` (`ObjectTable` in the shaders).
+pub fn object_totals(table: &CounterRange) -> CounterRange {
+    CounterRange {
+        range: RECT_LIST_OFFSET,
+        ..*table
+    }
+}
+
+/// The grown rectangles in `table` (`RectList`, `RectTable`).
+fn rect_list(table: &CounterRange) -> CounterRange {
+    CounterRange {
+        buffer: table.buffer,
+        offset: table.offset + RECT_LIST_OFFSET,
+        range: table.range - RECT_LIST_OFFSET,
+    }
+}
 
 /// Region ids in the region mask, as the shaders write them.
 pub const REGION_FAR_BE: u32 = 0;
@@ -74,35 +96,27 @@ pub struct SegmentationInputs {
     pub placeholder_uint: Texture,
 }
 
-pub struct SegmentationPasses<'a> {
-    pub object_bounds: Pass<'a>,
-    pub grow_regions: Pass<'a>,
-    pub region_masks: Pass<'a>,
-}
-
-/// Records object bounds and grown rectangles, and with `regions` the region masks. The table
-/// must be zero-filled.
-pub fn record(
+/// Records object bounds and grown rectangles into `table`, which must be zero-filled.
+pub fn record_rects(
     rec: &mut Recorder,
-    passes: &SegmentationPasses,
+    [object_bounds, grow_regions]: [Pass; 2],
     extent: vk::Extent2D,
     settings: &SegmentationSettings,
     inputs: &SegmentationInputs,
     table: &CounterRange,
-    regions: Option<&OwnedImage>,
 ) {
-    let extent_params = [extent.width, extent.height];
-    let stencil = inputs.target_stencil.unwrap_or(inputs.placeholder_uint);
-
     use shaders::object_bounds as bounds;
-    let object_bounds = rec.bind(passes.object_bounds, |writes| {
+    let object_bounds = rec.bind(object_bounds, |writes| {
         writes
-            .image(bounds::binding::TARGET_STENCIL, stencil)
+            .image(
+                bounds::binding::TARGET_STENCIL,
+                inputs.target_stencil.unwrap_or(inputs.placeholder_uint),
+            )
             .image(bounds::binding::MOTION, inputs.motion)
-            .buffer(bounds::binding::SEGMENTATION, table)
+            .buffer(bounds::binding::TOTALS, &object_totals(table))
     });
     let params = bounds::Params {
-        extent: extent_params,
+        extent: [extent.width, extent.height],
         motion_scale: inputs.motion_scale,
         has_stencil: inputs.target_stencil.is_some() as u32,
         ..Default::default()
@@ -115,11 +129,13 @@ pub fn record(
     rec.dispatch(&object_bounds, &params, blocks);
 
     use shaders::grow_regions as grow;
-    let grow_regions = rec.bind(passes.grow_regions, |writes| {
-        writes.buffer(grow::binding::SEGMENTATION, table)
+    let grow_regions = rec.bind(grow_regions, |writes| {
+        writes
+            .buffer(grow::binding::TOTALS, &object_totals(table))
+            .buffer(grow::binding::LIST, &rect_list(table))
     });
     let params = grow::Params {
-        extent: extent_params,
+        extent: [extent.width, extent.height],
         growth: settings.growth,
     };
     let one_per_object = vk::Extent2D {
@@ -127,20 +143,29 @@ pub fn record(
         height: 1,
     };
     rec.dispatch(&grow_regions, &params, one_per_object);
+}
 
-    // The regions, for the passes that read them; the statistics need only the rectangles.
-    let Some(regions) = regions else {
-        return;
-    };
+/// Records the region of every pixel into `regions`, from the rectangles in `table`.
+pub fn record_masks(
+    rec: &mut Recorder,
+    region_masks: Pass,
+    extent: vk::Extent2D,
+    inputs: &SegmentationInputs,
+    table: &CounterRange,
+    regions: &OwnedImage,
+) {
     use shaders::region_masks as masks;
-    let region_masks = rec.bind(passes.region_masks, |writes| {
+    let region_masks = rec.bind(region_masks, |writes| {
         writes
-            .image(masks::binding::TARGET_STENCIL, stencil)
-            .buffer(masks::binding::TABLE, table)
+            .image(
+                masks::binding::TARGET_STENCIL,
+                inputs.target_stencil.unwrap_or(inputs.placeholder_uint),
+            )
+            .buffer(masks::binding::RECTS, &rect_list(table))
             .image(masks::binding::REGIONS, regions)
     });
     let params = masks::Params {
-        extent: extent_params,
+        extent: [extent.width, extent.height],
         has_stencil: inputs.target_stencil.is_some() as u32,
         ..Default::default()
     };

@@ -6,7 +6,7 @@ use glam::Vec3;
 
 use super::gbuffer::{sanitize, sanitize_color, MAX_HALF};
 use super::network::{forward, Planes};
-use super::{round_to_f16, Image};
+use super::{lbp, round_to_f16, Image};
 use crate::abi::PATCHEX_DEFAULT_NETWORK_MAX_PATCH_SIDE;
 use crate::network::{Network, TensorPrecision, INPUT_CHANNELS};
 use crate::passes::inpaint::{patch_capacity, PATCH_MARGIN};
@@ -186,12 +186,7 @@ pub fn plan_patches(
 /// The network's input planes over `patch` (`network_inputs.wgsl`), rounded to f16 as the GPU
 /// stores them: warped colour (held to the half-float range), hole, roughness, metallic, LBP,
 /// zero. A texel is the mean of its `divisor` x `divisor` pixels, those outside the frame zero.
-pub fn gather_inputs(
-    warped: &Image,
-    material: Option<&Image>,
-    lbp: &Image,
-    patch: Patch,
-) -> Planes {
+pub fn gather_inputs(warped: &Image, material: Option<&Image>, patch: Patch) -> Planes {
     let [width, height] = patch.extent.map(|v| v as usize);
     let d = patch.divisor as usize;
     let mut planes = Planes::zeros(INPUT_CHANNELS, width, height);
@@ -223,7 +218,7 @@ pub fn gather_inputs(
                         1.0 - w[3],
                         roughness,
                         metallic,
-                        lbp.at(fx, fy)[0],
+                        lbp::code(warped, fx as i32, fy as i32) as f32 / 255.0,
                         0.0,
                     ];
                     for (total, v) in sum.iter_mut().zip(values) {
@@ -275,7 +270,6 @@ pub fn inpaint(
     networks: Networks,
     warped: &Image,
     material: Option<&Image>,
-    lbp: &Image,
     regions: &Image,
     rects: &[crate::abi::PatchexRegionRect],
 ) -> Inpainted {
@@ -292,7 +286,7 @@ pub fn inpaint(
     let corrections = [(networks.fi, patches.fi), (near_be, patches.near_be)].map(
         |(network, patch)| match network {
             Some(network) if !patch.is_empty() => {
-                let input = gather_inputs(warped, material, lbp, patch);
+                let input = gather_inputs(warped, material, patch);
                 let mut output =
                     forward(network, &input, networks.precision == TensorPrecision::F16);
                 // The colour planes come first in both.

@@ -1,4 +1,4 @@
-//! Mirror of `shaders/lbp.wgsl`.
+//! Mirror of `shaders/include/lbp.wgsl` and `shaders/lbp.wgsl`.
 
 use glam::Vec3;
 
@@ -21,16 +21,21 @@ pub fn luminance(image: &Image, x: i32, y: i32) -> f32 {
     Vec3::from_slice(image.clamped(x, y)).dot(LUMINANCE)
 }
 
-/// LBP codes of `warped`'s luminance, as code / 255 in one channel, rounded to f16 as stored.
+/// The LBP code of `warped`'s luminance at (x, y), 0 to 255 (`include/lbp.wgsl`).
+pub fn code(warped: &Image, x: i32, y: i32) -> u32 {
+    let centre = luminance(warped, x, y);
+    NEIGHBOURS
+        .iter()
+        .enumerate()
+        .filter(|(_, (dx, dy))| luminance(warped, x + dx, y + dy) >= centre)
+        .fold(0, |code, (k, _)| code | 1 << k)
+}
+
+/// LBP codes of `warped`, as code / 255 in one channel, rounded to f16 as stored.
 pub fn lbp(warped: &Image) -> Image {
     Image::from_fn(warped.width, warped.height, 1, |x, y| {
-        let (x, y) = (x as i32, y as i32);
-        let centre = luminance(warped, x, y);
-        let code = NEIGHBOURS
-            .iter()
-            .enumerate()
-            .filter(|(_, (dx, dy))| luminance(warped, x + dx, y + dy) >= centre)
-            .fold(0u32, |code, (k, _)| code | 1 << k);
-        vec![round_to_f16(code as f32 / 255.0)]
+        vec![round_to_f16(
+            code(warped, x as i32, y as i32) as f32 / 255.0,
+        )]
     })
 }

@@ -301,19 +301,14 @@ pub fn extrapolate(
         segmentation.growth,
     );
     stages.push(PATCHEX_STAGE_SEGMENT);
-    // Computed always, for the tests of the diagnostics; the plugin's stage when networks read it.
+    // Computed always, for the tests of the diagnostics: the plugin's stage runs for them only.
     let lbp = lbp::lbp(&warped.warped);
     let inpainted = networks.any().then(|| {
-        stages.extend([
-            PATCHEX_STAGE_LBP,
-            PATCHEX_STAGE_INFERENCE,
-            PATCHEX_STAGE_BLEND,
-        ]);
+        stages.extend([PATCHEX_STAGE_INFERENCE, PATCHEX_STAGE_BLEND]);
         inpaint::inpaint(
             networks,
             &warped.warped,
             target.material,
-            &lbp,
             &segmented.regions,
             &segmented.rects,
         )

@@ -131,7 +131,7 @@ fn write_holes(
         ("alpha".to_string(), alpha.to_string()),
         ("guide".to_string(), GUIDE_NAMES.to_string()),
     ]);
-    let input = gather_inputs(&warped.warped, Some(&target.material), &result.lbp, frame);
+    let input = gather_inputs(&warped.warped, Some(&target.material), frame);
     write(
         &out.join(format!("{name}_{target_index:04}_holes.safetensors")),
         &[
@@ -185,7 +185,7 @@ pub fn run(args: PatchesArgs) -> CommandResult {
                     continue;
                 }
                 let warped = &result.warped.warped;
-                let input = gather_inputs(warped, Some(&target.material), &result.lbp, patch);
+                let input = gather_inputs(warped, Some(&target.material), patch);
                 let target_planes = crop(&truth, 3, patch, |p, c| p[c]);
                 let region = crop(regions, 1, patch, |p, _| {
                     (p[0] as u32 == region_id) as u32 as f32
