@@ -960,11 +960,16 @@ typedef struct PatchexShadowDiagnostics {
 // filled in PATCHEX_STAGE_FILL_HOLES.
 #define PATCHEX_STAGE_WARP 3
 
+// The warped shading times the target's own material: the output. With nothing between it and
+// the warp the warp does it, with the networks the blend.
 #define PATCHEX_STAGE_REMODULATE 4
 
-// Foveated segmentation: object bounds, grown rectangles, region masks.
+// Foveated segmentation: object bounds, grown rectangles, region masks; with the networks,
+// their patches.
 #define PATCHEX_STAGE_SEGMENT 5
 
+// The warped frame's LBP map, only when a PatchexDiagnostics image is chained (the networks make
+// their LBP code as they gather their input).
 #define PATCHEX_STAGE_LBP 6
 
 // Only when a PatchexDiagnostics image is chained.
@@ -980,11 +985,14 @@ typedef struct PatchexShadowDiagnostics {
 // PATCHEX_SHADOW_HISTORY_STARTED, only the clearing of the shadows' share.
 #define PATCHEX_STAGE_SHADOW_WARP 9
 
-// A networks preset (PATCHEX_PRESET_NETWORKS or FULL), a frame with dynamic objects: patch
-// planning, the networks' input gathering and both networks.
+// A networks preset (PATCHEX_PRESET_NETWORKS or FULL), a frame with dynamic objects: the
+// networks' input gathering and both networks (their patches are planned in
+// PATCHEX_STAGE_SEGMENT).
 #define PATCHEX_STAGE_INFERENCE 10
 
-// The networks' results blended back under the region masks.
+// The networks' results blended back under the region masks, the frame remodulated as it is
+// written: with the networks, PATCHEX_STAGE_REMODULATE does not run. It runs when no network
+// found a patch too.
 #define PATCHEX_STAGE_BLEND 11
 
 // An output in a packed format (every output format but R16G16B16A16_SFLOAT): the frame

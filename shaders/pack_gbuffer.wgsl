@@ -34,10 +34,7 @@ fn pack_pixel(p: vec2u) -> bool {
     let depth = linear_depth(stored_depth, p, params.depth_curve, params.far, params.depth_convention);
     textureStore(packed_depth, p, vec4f(depth, 0.0, 0.0, 0.0));
     let stored_normal = textureLoad(normal, p, 0).xyz;
-    var object_id = 0u;
-    if (params.has_stencil != ABSENT) {
-        object_id = textureLoad(stencil, p, 0).r;
-    }
+    let object_id = stencil_object_id(stencil, p, params.has_stencil);
     let packed = pack_normal_id(unit_normal(stored_normal, params.normal_encoding), object_id);
     textureStore(normal_id, p, vec4u(packed, 0u, 0u, 0u));
     return !valid_geometry(stored_depth, stored_normal, params.depth_convention);

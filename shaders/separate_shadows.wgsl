@@ -14,8 +14,8 @@
 // is F / m, the layer zero, and the flow's pyramid (shadow_mask_pyramid.wgsl) takes the mask as
 // lit, so the flow follows the shadows on static receivers only. Untracked (no frame t-1 to
 // measure a drift from), every pixel is F / m and the layer zero: the shadows stay where the warp
-// carries them. Each pixel with any input sanitised, the mask included, is counted once. Runs
-// after the G-buffer packing, whose object ids it reads.
+// carries them. Each pixel with any input sanitised, the mask included, is counted once. It reads
+// the object ids from the engine's stencil, beside the G-buffer packing.
 // #import gbuffer
 // #import tallies
 
@@ -24,6 +24,7 @@ struct Params {
     has_material: u32,
     // Not 0 when frame t-1's shadows were tracked: their layer is moved at the target.
     tracked: u32,
+    has_stencil: u32,
 }
 var<immediate> params: Params;
 
@@ -35,7 +36,7 @@ var<immediate> params: Params;
 @group(0) @binding(5) var shading: texture_storage_2d<rgba16float, write>;
 @group(0) @binding(6) var shadow_layer: texture_storage_2d<rgba16float, write>;
 @group(0) @binding(8) var<storage, read_write> counters: SanitizeCounters;
-@group(0) @binding(9) var source_normal_id: texture_2d<u32>;
+@group(0) @binding(9) var source_stencil: texture_2d<u32>;
 
 @compute @workgroup_size(8, 8, 1)
 fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_index) lane: u32) {
@@ -47,7 +48,7 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
         let unshadowed = sanitize_input_color(textureLoad(color_without_dynamic_shadows, p, 0).rgb);
         let visibility = sanitize_unit(vec3f(textureLoad(shadow_mask, p, 0).r, 0.0, 0.0));
         let separates = params.tracked != 0u
-            && object_id(textureLoad(source_normal_id, p, 0).r) == 0u;
+            && stencil_object_id(source_stencil, p, params.has_stencil) == 0u;
         textureStore(shading, p, demodulated(select(lit.value, unshadowed.value, separates), m.factor));
         var layer = vec4f(0.0);
         if (separates) {

@@ -14,18 +14,19 @@ struct Params {
     // The level's size, and its frame pixels per texel on each axis.
     level_size: vec2u,
     block: u32,
+    has_stencil: u32,
 }
 var<immediate> params: Params;
 
-// The engine's shadow mask of frame t, and frame t's packed normal and object id.
+// The engine's shadow mask and stencil of frame t.
 @group(0) @binding(0) var mask: texture_2d<f32>;
-@group(0) @binding(1) var source_normal_id: texture_2d<u32>;
+@group(0) @binding(1) var source_stencil: texture_2d<u32>;
 // Level 0 sits at the atlas's origin.
 @group(0) @binding(2) var pyramid: texture_storage_2d<r32float, write>;
 
 fn tracked(q: vec2i) -> f32 {
     let pixel = clamp(q, vec2i(0), vec2i(params.frame_size) - 1);
-    if (object_id(textureLoad(source_normal_id, pixel, 0).r) != 0u) {
+    if (stencil_object_id(source_stencil, vec2u(pixel), params.has_stencil) != 0u) {
         return 1.0;
     }
     return sanitize_unit(vec3f(textureLoad(mask, pixel, 0).r, 0.0, 0.0)).value.x;

@@ -700,9 +700,14 @@ pub const PATCHEX_STAGE_PACK_TARGET_GBUFFER: PatchexStage = 2;
 /// diagnostics) it also remodulates, and PATCHEX_STAGE_REMODULATE does not run. Its holes are
 /// filled in PATCHEX_STAGE_FILL_HOLES.
 pub const PATCHEX_STAGE_WARP: PatchexStage = 3;
+/// The warped shading times the target's own material: the output. With nothing between it and
+/// the warp the warp does it, with the networks the blend.
 pub const PATCHEX_STAGE_REMODULATE: PatchexStage = 4;
-/// Foveated segmentation: object bounds, grown rectangles, region masks.
+/// Foveated segmentation: object bounds, grown rectangles, region masks; with the networks,
+/// their patches.
 pub const PATCHEX_STAGE_SEGMENT: PatchexStage = 5;
+/// The warped frame's LBP map, only when a PatchexDiagnostics image is chained (the networks make
+/// their LBP code as they gather their input).
 pub const PATCHEX_STAGE_LBP: PatchexStage = 6;
 /// Only when a PatchexDiagnostics image is chained.
 pub const PATCHEX_STAGE_DIAGNOSTICS: PatchexStage = 7;
@@ -714,10 +719,13 @@ pub const PATCHEX_STAGE_SHADOW_FLOW: PatchexStage = 8;
 /// the frame's warp completes where the flow found no receiver. With
 /// PATCHEX_SHADOW_HISTORY_STARTED, only the clearing of the shadows' share.
 pub const PATCHEX_STAGE_SHADOW_WARP: PatchexStage = 9;
-/// A networks preset (PATCHEX_PRESET_NETWORKS or FULL), a frame with dynamic objects: patch
-/// planning, the networks' input gathering and both networks.
+/// A networks preset (PATCHEX_PRESET_NETWORKS or FULL), a frame with dynamic objects: the
+/// networks' input gathering and both networks (their patches are planned in
+/// PATCHEX_STAGE_SEGMENT).
 pub const PATCHEX_STAGE_INFERENCE: PatchexStage = 10;
-/// The networks' results blended back under the region masks.
+/// The networks' results blended back under the region masks, the frame remodulated as it is
+/// written: with the networks, PATCHEX_STAGE_REMODULATE does not run. It runs when no network
+/// found a patch too.
 pub const PATCHEX_STAGE_BLEND: PatchexStage = 11;
 /// An output in a packed format (every output format but R16G16B16A16_SFLOAT): the frame
 /// packed into the format's texels and copied into the output image.

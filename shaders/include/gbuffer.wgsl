@@ -57,6 +57,13 @@ fn object_id(packed: u32) -> u32 {
     return packed & 0xffu;
 }
 
+// The object id at `p` of an engine's stencil, as `pack_normal_id` keeps it; 0 (static geometry)
+// without a stencil, when a placeholder is bound. The passes that read frame t's ids alone read
+// them here, without waiting for pack_gbuffer.wgsl. A select, not a branch on the setting.
+fn stencil_object_id(stencil: texture_2d<u32>, p: vec2u, has_stencil: u32) -> u32 {
+    return select(0u, textureLoad(stencil, p, 0).r & 0xffu, has_stencil != ABSENT);
+}
+
 // Values of `depth_convention` (PATCHEX_DEPTH_*) and `normal_encoding` (PATCHEX_NORMAL_*).
 const DEPTH_LINEAR_VIEW_Z: u32 = 0u;
 const DEPTH_HARDWARE_REVERSED: u32 = 2u;

@@ -98,7 +98,7 @@ fn demodulate(rec: &mut Recorder, plan: &SubmitPlan) {
                     plan.extent,
                     separation,
                     &separate_shadows::SeparationOutputs {
-                        source_normal_id: &plan.work[WorkImages::SOURCE_NORMAL_ID],
+                        source_objects: plan.gbuffer.objects(plan.placeholder_uint),
                         shading,
                         shadow_layer: &shadows[ShadowImages::LAYER],
                     },
@@ -167,7 +167,7 @@ fn shadow_flow(rec: &mut Recorder, plan: &SubmitPlan) {
                 plan.shadow_current,
                 shadow_flow::FrameMask {
                     mask: separation.mask,
-                    source_normal_id: &plan.work[WorkImages::SOURCE_NORMAL_ID],
+                    source_objects: plan.gbuffer.objects(plan.placeholder_uint),
                     source_depth: &plan.work[WorkImages::SOURCE_DEPTH],
                 },
             ),
@@ -235,8 +235,8 @@ pub fn record(rec: &mut Recorder, plan: &ExtrapolationPlan) {
     target_shadows(rec, plan);
     segment(rec, plan);
     lbp(rec, plan);
-    inference_and_blend(rec, plan);
     diagnostics(rec, plan);
+    inference_and_blend(rec, plan);
     remodulate(rec, plan);
     place_highlights(rec, plan);
     place_translucency(rec, plan);
@@ -312,6 +312,28 @@ impl<'a> ExtrapolationPlan<'a> {
     /// networks or diagnostics), the warp remodulates as it writes.
     fn remodulates_in_warp(&self) -> bool {
         self.shadows.is_none() && self.analysis.is_none()
+    }
+
+    /// The networks run, and their blend remodulates as it writes.
+    fn blends(&self) -> bool {
+        self.inpainting.is_some() && self.analysis.is_some()
+    }
+
+    fn remodulation_inputs(&self) -> remodulate::RemodulateInputs {
+        remodulate::RemodulateInputs {
+            base_color: self.remodulation.base_color,
+            material: self.remodulation.material,
+            shadow_share: self
+                .shadows
+                .map(|s| (&s[ShadowImages::SHADOW_SHARE]).into()),
+            placeholder: self.placeholders.0,
+        }
+    }
+
+    /// Where the output's passes count what they sanitised.
+    fn sanitized(&self) -> CounterRange {
+        self.passes
+            .counters(counters::SANITIZE, SANITIZE_COUNTER_BYTES)
     }
 
     fn frame_store(&self) -> Store<'_> {
@@ -470,9 +492,7 @@ fn target_shadows(rec: &mut Recorder, plan: &ExtrapolationPlan) {
                 sun_share: plan
                     .passes
                     .counters(counters::SUN_SHARE, target_shadows::SUN_SHARE_BYTES),
-                sanitized: plan
-                    .passes
-                    .counters(counters::SANITIZE, SANITIZE_COUNTER_BYTES),
+                sanitized: plan.sanitized(),
             },
             &shadows[ShadowImages::SHADOW_SHARE],
         )
@@ -572,19 +592,22 @@ fn inference_and_blend(rec: &mut Recorder, plan: &ExtrapolationPlan) {
         inpaint::record_blend(
             rec,
             plan.passes.get(PipelineId::BlendPatches),
+            plan.extent,
             &inpaint::BlendInputs {
                 regions: &analysis[AnalysisImages::REGIONS],
                 networks: inpainting.tensors(),
                 whole_frame: networks.whole_frame,
                 correct_valid_pixels: networks.correct_valid_pixels,
             },
+            &plan.remodulation_inputs(),
             &patches,
             plan.frame,
+            &plan.sanitized(),
         )
     });
 }
 
-/// Before remodulation, which turns the frame's warped shading into the output.
+/// Before the networks and remodulation, from the warped frame's hole flags.
 fn diagnostics(rec: &mut Recorder, plan: &ExtrapolationPlan) {
     let shadow_diagnostics = plan.shadow_diagnostics.zip(plan.shadows);
     if plan.diagnostics.is_none() && shadow_diagnostics.is_none() {
@@ -615,7 +638,7 @@ fn diagnostics(rec: &mut Recorder, plan: &ExtrapolationPlan) {
 }
 
 fn remodulate(rec: &mut Recorder, plan: &ExtrapolationPlan) {
-    if plan.remodulates_in_warp() {
+    if plan.remodulates_in_warp() || plan.blends() {
         return;
     }
     rec.stage(PATCHEX_STAGE_REMODULATE, |rec| {
@@ -623,18 +646,9 @@ fn remodulate(rec: &mut Recorder, plan: &ExtrapolationPlan) {
             rec,
             plan.passes.get(PipelineId::Remodulate),
             plan.extent,
-            &remodulate::RemodulateInputs {
-                base_color: plan.remodulation.base_color,
-                material: plan.remodulation.material,
-                shadow_share: plan
-                    .shadows
-                    .map(|s| (&s[ShadowImages::SHADOW_SHARE]).into()),
-                placeholder: plan.placeholders.0,
-            },
+            &plan.remodulation_inputs(),
             plan.frame,
-            &plan
-                .passes
-                .counters(counters::SANITIZE, SANITIZE_COUNTER_BYTES),
+            &plan.sanitized(),
         )
     });
 }
@@ -662,9 +676,7 @@ fn place_highlights(rec: &mut Recorder, plan: &ExtrapolationPlan) {
             .target_shadow_mask
             .filter(|_| plan.places_target_shadows()),
         placeholders: plan.placeholders,
-        sanitized: plan
-            .passes
-            .counters(counters::SANITIZE, SANITIZE_COUNTER_BYTES),
+        sanitized: plan.sanitized(),
     };
     rec.stage(PATCHEX_STAGE_HIGHLIGHTS, |rec| {
         highlights::record_placement(
@@ -693,9 +705,7 @@ fn place_translucency(rec: &mut Recorder, plan: &ExtrapolationPlan) {
         warp: &plan.warp_params,
         placeholder_uint: plan.placeholders.1,
         alpha: plan.alpha,
-        sanitized: plan
-            .passes
-            .counters(counters::SANITIZE, SANITIZE_COUNTER_BYTES),
+        sanitized: plan.sanitized(),
     };
     rec.stage(PATCHEX_STAGE_TRANSLUCENCY, |rec| {
         translucency::record_placement(

@@ -119,7 +119,8 @@ impl Context {
             }
             let (fi_ran, near_be_ran) = (divisors[0] > 0, divisors[1] > 0);
             if !fi_ran && !near_be_ran {
-                stats.stages_run &= !(1 << PATCHEX_STAGE_INFERENCE | 1 << PATCHEX_STAGE_BLEND);
+                // The blend still remodulated the frame.
+                stats.stages_run &= !(1 << PATCHEX_STAGE_INFERENCE);
             }
             if region_record.camera_cut {
                 stats.render_instead_reasons |= PATCHEX_RENDER_INSTEAD_CAMERA_CUT;

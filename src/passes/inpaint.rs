@@ -12,6 +12,7 @@ use crate::network::codegen::{
 };
 use crate::network::weights::MAX_LEVELS;
 use crate::network::{Network, Tensor, TensorPrecision, INPUT_CHANNELS};
+use crate::passes::remodulate::RemodulateInputs;
 use crate::passes::{CounterRange, RegionPasses, Texture};
 use crate::shaders::network_inputs::{binding, Params, SHADER};
 use crate::vk::access::GpuShare;
@@ -402,41 +403,48 @@ pub struct BlendInputs<'a> {
     pub correct_valid_pixels: bool,
 }
 
-/// Records `blend_patches`: the networks' results scattered into `warped` under the region
-/// masks, over the blend patch.
+/// Records `blend_patches`: the networks' results scattered into the frame under the region
+/// masks, the frame remodulated as it is written (`remodulate`), over every pixel.
 pub fn record_blend(
     rec: &mut Recorder,
     pass: Pass,
+    extent: vk::Extent2D,
     inputs: &BlendInputs,
+    remodulation: &RemodulateInputs,
     patches: &CounterRange,
-    warped: Texture,
+    frame: Texture,
+    sanitized: &CounterRange,
 ) {
     use crate::shaders::blend_patches::binding as blend;
     let [fi, near_be] = inputs.networks;
     let bound = rec.bind(pass, |writes| {
-        writes
+        remodulation
+            .bind(writes, frame, sanitized)
             .image(blend::REGIONS, inputs.regions)
             .image(blend::FI_INPUT, &fi.input)
             .image(blend::FI_OUTPUT, fi.output())
             .image(blend::NEAR_BE_INPUT, &near_be.input)
             .image(blend::NEAR_BE_OUTPUT, near_be.output())
             .buffer(blend::PATCHES, patches)
-            .image(blend::WARPED, warped)
     });
+    let (has_material, has_shadow_share) = remodulation.present();
     let params = crate::shaders::blend_patches::Params {
+        extent: [extent.width, extent.height],
+        has_material,
+        has_shadow_share,
         whole_frame: inputs.whole_frame as u32,
         correct_valid_pixels: inputs.correct_valid_pixels as u32,
     };
-    let frame = inputs.regions.extent;
-    let blend = patch_record(patches, PATCH_SLOT_BLEND);
-    rec.dispatch_over_patch(
+    // The regions are read over the blend patch, each network's tensors over its own.
+    let blend_patch = patch_record(patches, PATCH_SLOT_BLEND);
+    rec.dispatch_sharing(
         &bound,
         &params,
-        &blend.dispatch(0),
+        extent,
         &[
             (
-                &[blend::REGIONS, blend::WARPED],
-                blend.pixels(frame.width as u64 * frame.height as u64),
+                &[blend::REGIONS],
+                blend_patch.pixels(extent.width as u64 * extent.height as u64),
             ),
             (
                 &[blend::FI_INPUT, blend::FI_OUTPUT],

@@ -25,6 +25,25 @@ pub struct EngineGbuffer {
     pub camera: Camera,
 }
 
+impl EngineGbuffer {
+    /// The object ids alone, for the passes that read them without waiting for the packing.
+    pub fn objects(&self, placeholder_uint: Texture) -> EngineObjects {
+        EngineObjects {
+            stencil: self.stencil.unwrap_or(placeholder_uint),
+            has_stencil: self.stencil.is_some() as u32,
+        }
+    }
+}
+
+/// An engine's stencil as object ids (`stencil_object_id` in shaders/include/gbuffer.wgsl).
+#[derive(Clone, Copy)]
+pub struct EngineObjects {
+    /// The stencil, or a placeholder without one.
+    pub stencil: Texture,
+    /// The shaders' `has_stencil`: 0 reads every pixel as static geometry.
+    pub has_stencil: u32,
+}
+
 pub struct PackOutputs<'a> {
     pub depth: &'a OwnedImage,
     pub normal_id: &'a OwnedImage,

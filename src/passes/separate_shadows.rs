@@ -6,6 +6,7 @@
 
 use ash::vk;
 
+use crate::passes::pack_gbuffer::EngineObjects;
 use crate::passes::{CounterRange, Texture};
 use crate::shaders::separate_shadows::{binding, Params};
 use crate::vk::image::OwnedImage;
@@ -22,8 +23,8 @@ pub struct SeparationInputs {
 }
 
 pub struct SeparationOutputs<'a> {
-    /// Frame t's packed normal and object id (read).
-    pub source_normal_id: &'a OwnedImage,
+    /// Frame t's object ids (read).
+    pub source_objects: EngineObjects,
     pub shading: &'a OwnedImage,
     pub shadow_layer: &'a OwnedImage,
 }
@@ -50,13 +51,15 @@ pub fn record(
             .image(binding::MATERIAL, material)
             .image(binding::SHADING, outputs.shading)
             .image(binding::SHADOW_LAYER, outputs.shadow_layer)
-            .image(binding::SOURCE_NORMAL_ID, outputs.source_normal_id)
+            .image(binding::SOURCE_STENCIL, outputs.source_objects.stencil)
             .buffer(binding::COUNTERS, counters)
     });
     let params = Params {
         extent: [extent.width, extent.height],
         has_material: inputs.material.is_some() as u32,
         tracked: tracked as u32,
+        has_stencil: outputs.source_objects.has_stencil,
+        ..Default::default()
     };
     rec.dispatch(&bound, &params, extent);
 }

@@ -19,6 +19,7 @@ use ash::vk;
 use crate::abi::*;
 use crate::camera::PixelRays;
 use crate::error::{bail, Result};
+use crate::passes::pack_gbuffer::EngineObjects;
 use crate::shaders;
 use crate::vk::image::{OwnedImage, Texture};
 use crate::vk::recorder::{Pass, Recorder};
@@ -239,13 +240,13 @@ pub fn atlas_extent(extent: vk::Extent2D) -> vk::Extent2D {
     span(&pyramid(flow_extent(extent, mask_step(extent)), MAX_LEVELS))
 }
 
-/// What the flow reads of frame t: the engine's shadow mask, the packed object ids that tell
-/// dynamic pixels (taken as lit), and the packed linear depth, which with both cameras gives
-/// the flow's first estimate.
+/// What the flow reads of frame t: the engine's shadow mask, the object ids that tell dynamic
+/// pixels (taken as lit), and the packed linear depth, which with both cameras gives the flow's
+/// first estimate.
 #[derive(Clone, Copy)]
 pub struct FrameMask<'a> {
     pub mask: Texture,
-    pub source_normal_id: &'a OwnedImage,
+    pub source_objects: EngineObjects,
     pub source_depth: &'a OwnedImage,
 }
 
@@ -330,14 +331,17 @@ fn record_expansion(
     let mask_finest = rec.bind(passes.mask_finest, |writes| {
         writes
             .image(f::binding::MASK, images.frame.mask)
-            .image(f::binding::SOURCE_NORMAL_ID, images.frame.source_normal_id)
+            .image(
+                f::binding::SOURCE_STENCIL,
+                images.frame.source_objects.stencil,
+            )
             .image(f::binding::PYRAMID, images.mask_pyramid)
     });
     let params = f::Params {
         frame_size: [extent.width, extent.height],
         level_size: levels[0].size,
         block: images.mask_step,
-        _pad_end: Default::default(),
+        has_stencil: images.frame.source_objects.has_stencil,
     };
     rec.dispatch(&mask_finest, &params, finest);
     if levels.len() > 1 {

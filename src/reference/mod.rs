@@ -320,7 +320,10 @@ pub fn extrapolate(
         target.base_color,
         target.material,
     );
-    stages.push(PATCHEX_STAGE_REMODULATE);
+    if inpainted.is_none() {
+        // With the networks, the blend remodulates as it writes.
+        stages.push(PATCHEX_STAGE_REMODULATE);
+    }
     let mut target_sanitized = remodulate_sanitized + target_mask_sanitized;
     let output = match &kept_visibility {
         Some((sun, kept)) => {

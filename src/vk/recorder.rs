@@ -303,6 +303,24 @@ impl<'a> Recorder<'a> {
         shares: &[(&[u32], GpuShare)],
     ) {
         self.record_indirect(bound, params, args);
+        self.count_shared(bound, shares);
+    }
+
+    /// `dispatch` covering `extent`, whose bindings in `shares` it reads only over patches the
+    /// GPU planned: as `dispatch_over_patch` counts them.
+    pub fn dispatch_sharing<P: PushConstants>(
+        &mut self,
+        bound: &Bound,
+        params: &P,
+        extent: vk::Extent2D,
+        shares: &[(&[u32], GpuShare)],
+    ) {
+        self.record_dispatch(bound, Traffic::default(), params, extent);
+        self.count_shared(bound, shares);
+    }
+
+    /// Counts each group of bindings in `shares` for its share, the other bindings whole.
+    fn count_shared(&mut self, bound: &Bound, shares: &[(&[u32], GpuShare)]) {
         let shared: Vec<u32> = shares.iter().flat_map(|(b, _)| b.iter().copied()).collect();
         for (binding, traffic) in &bound.per_binding {
             if !shared.contains(binding) {
