@@ -594,13 +594,13 @@ fn inference_and_blend(rec: &mut Recorder, plan: &ExtrapolationPlan) {
             plan.passes.get(PipelineId::BlendPatches),
             plan.extent,
             &inpaint::BlendInputs {
+                patches,
                 regions: &analysis[AnalysisImages::REGIONS],
                 networks: inpainting.tensors(),
                 whole_frame: networks.whole_frame,
                 correct_valid_pixels: networks.correct_valid_pixels,
             },
             &plan.remodulation_inputs(),
-            &patches,
             plan.frame,
             &plan.sanitized(),
         )

@@ -395,6 +395,8 @@ pub fn record_plan(
 /// What `blend_patches` reads: the region mask and the FI and near-BE networks' tensors (a
 /// network that is off this frame has an empty patch, and its tensors are not read).
 pub struct BlendInputs<'a> {
+    /// The patch records `plan_patches` wrote.
+    pub patches: CounterRange,
     pub regions: &'a OwnedImage,
     pub networks: [&'a NetworkTensors; 2],
     /// Every pixel of the FI patch takes the FI network's result.
@@ -411,10 +413,10 @@ pub fn record_blend(
     extent: vk::Extent2D,
     inputs: &BlendInputs,
     remodulation: &RemodulateInputs,
-    patches: &CounterRange,
     frame: Texture,
     sanitized: &CounterRange,
 ) {
+    let patches = &inputs.patches;
     use crate::shaders::blend_patches::binding as blend;
     let [fi, near_be] = inputs.networks;
     let bound = rec.bind(pass, |writes| {
