@@ -73,9 +73,14 @@ print()
 print(f"| configuration | size | stage | {rev} ms | this build ms | ratio |")
 print("|---|---|---|---|---|---|")
 for key, runs in before.items():
-    for stage in runs[0]["costs"]["stages"]:
-        stage_ms = lambda rs: mean([r["costs"]["stages"][stage]["gpu_ms"] for r in rs])
+    # A stage one build records and the other does not shows as "-" there.
+    stages = list(runs[0]["costs"]["stages"])
+    stages += [s for s in after[key][0]["costs"]["stages"] if s not in stages]
+    for stage in stages:
+        stage_ms = lambda rs: (mean([r["costs"]["stages"][stage]["gpu_ms"] for r in rs])
+                               if stage in rs[0]["costs"]["stages"] else None)
         then, now = stage_ms(runs), stage_ms(after[key])
-        print(f"| {key[0]} | {key[1]}x{key[2]} | {stage} | {ms(then)} | {ms(now)} | "
-              f"{now / then if then else float('nan'):.2f} |")
+        shown = lambda x: "-" if x is None else ms(x)
+        ratio = f"{now / then:.2f}" if then and now is not None else "-"
+        print(f"| {key[0]} | {key[1]}x{key[2]} | {stage} | {shown(then)} | {shown(now)} | {ratio} |")
 PY

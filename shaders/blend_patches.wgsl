@@ -35,7 +35,19 @@ var<immediate> params: Params;
 @group(0) @binding(10) var near_be_output: texture_2d_array<f32>;
 @group(0) @binding(11) var<storage, read> patches: array<PatchSlot, 3>;
 
-fn inside(p: vec2u, rect: Patch) -> bool {
+// Where a patch lies: its record's fields that the blend reads, loaded one by one rather than
+// the whole record (with its dispatches) at every pixel.
+struct Placement {
+    origin: vec2u,
+    extent: vec2u,
+    divisor: u32,
+}
+
+fn placement(slot: u32) -> Placement {
+    return Placement(patches[slot].value.origin, patches[slot].value.extent, patches[slot].value.divisor);
+}
+
+fn inside(p: vec2u, rect: Placement) -> bool {
     return all(p >= rect.origin) && all(p - rect.origin < rect.extent * rect.divisor);
 }
 
@@ -45,7 +57,7 @@ fn correction_at(input: texture_2d_array<f32>, output: texture_2d_array<f32>, te
 }
 
 // The warped colour `here` at frame pixel `p` of `rect`, corrected by the network.
-fn repaired(input: texture_2d_array<f32>, output: texture_2d_array<f32>, rect: Patch, p: vec2u, here: vec4f) -> vec4f {
+fn repaired(input: texture_2d_array<f32>, output: texture_2d_array<f32>, rect: Placement, p: vec2u, here: vec4f) -> vec4f {
     let q = p - rect.origin;
     let last = rect.extent - vec2u(1u);
     let t = clamp((vec2f(q) + 0.5) / f32(rect.divisor) - 0.5, vec2f(0.0), vec2f(last));
@@ -62,13 +74,13 @@ fn repaired(input: texture_2d_array<f32>, output: texture_2d_array<f32>, rect: P
 
 // The warped colour at `p`, repaired where a network's region and patch cover it.
 fn blended(p: vec2u, here: vec4f) -> vec4f {
-    let blend = patches[PATCH_BLEND].value;
-    let in_blend = all(p >= blend.origin) && all(p - blend.origin < blend.extent);
+    let origin = patches[PATCH_BLEND].value.origin;
+    let in_blend = all(p >= origin) && all(p - origin < patches[PATCH_BLEND].value.extent);
     if (!in_blend || (!is_hole(here.a) && params.correct_valid_pixels == 0u)) {
         return here;
     }
-    let fi_patch = patches[PATCH_FI].value;
-    let near_be_patch = patches[PATCH_NEAR_BE].value;
+    let fi_patch = placement(PATCH_FI);
+    let near_be_patch = placement(PATCH_NEAR_BE);
     let region = textureLoad(regions, p, 0).r;
     if ((region == REGION_FI || params.whole_frame != 0u) && inside(p, fi_patch)) {
         return repaired(fi_input, fi_output, fi_patch, p, here);
