@@ -7,7 +7,7 @@ use ash::vk;
 use crate::abi::*;
 use crate::context::Context;
 use crate::error::{bail, PatchexResult, Result};
-use crate::frame::images::{Growth, OutputStaging};
+use crate::frame::images::{Growth, ImageSet, OutputStaging};
 use crate::frame::plan::{self, ExtrapolationPlan};
 use crate::frame::settings::Extensions;
 use crate::frame::submit::{engine_gbuffer, shadows_separated};
@@ -44,30 +44,13 @@ impl Context {
         let jitter_delta = (camera.jitter - source.camera.jitter).into();
         let region = 1 + done;
         let mut rec = Recorder::new(&self.gpu.device, cmd).skipping(self.test_fault);
-        let staging = match self.images.output_staging.as_mut() {
-            Some(staging) if inputs.output.written_by_copy => {
-                let [frame, packed] = &mut staging.images;
-                rec.initialize(&mut [frame, packed]);
-                Some(&*staging)
-            }
-            _ => None,
-        };
-        let analysis = match self.images.analysis.as_mut() {
-            Some(analysis) if analyse => {
-                let [regions] = &mut analysis.images;
-                rec.initialize(&mut [regions]);
-                Some(&*analysis)
-            }
-            _ => None,
-        };
-        let diagnostic_images = match self.images.diagnostics.as_mut() {
-            Some(images) if diagnose => {
-                let [lbp] = &mut images.images;
-                rec.initialize(&mut [lbp]);
-                Some(&*images)
-            }
-            _ => None,
-        };
+        let staging = in_use(
+            &mut rec,
+            self.images.output_staging.as_mut(),
+            inputs.output.written_by_copy,
+        );
+        let analysis = in_use(&mut rec, self.images.analysis.as_mut(), analyse);
+        let diagnostic_images = in_use(&mut rec, self.images.diagnostics.as_mut(), diagnose);
         // The warp writes its shading here; the later passes refine it in place.
         let frame: Texture = staging.map_or(engine.output, |s| (&s[OutputStaging::FRAME]).into());
         let passes = RegionPasses {
@@ -310,4 +293,15 @@ struct EngineImages {
     target_shadow_mask: Option<Texture>,
     diagnostics: Option<Texture>,
     shadow_diagnostics: Option<Texture>,
+}
+
+/// `set` when this call uses it, its images moved to GENERAL if no command buffer has used them.
+fn in_use<'s, const N: usize, Kind>(
+    rec: &mut Recorder,
+    set: Option<&'s mut ImageSet<N, Kind>>,
+    used: bool,
+) -> Option<&'s ImageSet<N, Kind>> {
+    let set = set.filter(|_| used)?;
+    rec.initialize(&mut set.images.iter_mut().collect::<Vec<_>>());
+    Some(set)
 }
