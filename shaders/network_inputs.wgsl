@@ -1,8 +1,9 @@
 // Gathers an inpainting network's input planes over its patch (training/patchex_net.py,
 // INPUT_NAMES): the warped demodulated colour, the hole mask, roughness, metallic and the LBP
-// code / 255 (include/lbp.wgsl, made here from the frame around each pixel). Patch texels outside the frame are zero, as in training's padding. With a resolution
-// divisor d a texel is the mean of its d x d pixels (those outside the frame counting as zero),
-// so the hole plane holds the share of holes among them.
+// code / 255 (include/lbp.wgsl, made here from the frame around each pixel). Patch texels
+// outside the frame are zero, as in training's padding. With a resolution divisor d a texel is
+// the mean of its d x d pixels (those outside the frame counting as zero), so the hole plane
+// holds the share of holes among them.
 // #import patch
 // #import gbuffer
 // #import lbp

@@ -302,6 +302,6 @@ fn in_use<'s, const N: usize, Kind>(
     used: bool,
 ) -> Option<&'s ImageSet<N, Kind>> {
     let set = set.filter(|_| used)?;
-    rec.initialize(&mut set.images.iter_mut().collect::<Vec<_>>());
+    rec.initialize(&mut set.images.each_mut());
     Some(set)
 }

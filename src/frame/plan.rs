@@ -506,10 +506,9 @@ fn segment(rec: &mut Recorder, plan: &ExtrapolationPlan) {
         .passes
         .counters(counters::OBJECT_TABLE, segmentation::TABLE_BYTES);
     let inputs = segmentation::SegmentationInputs {
-        target_stencil: plan.target.stencil,
+        target_objects: plan.target.objects(plan.placeholders.1),
         motion: plan.motion,
         motion_scale: plan.motion_scale,
-        placeholder_uint: plan.placeholders.1,
     };
     rec.stage(PATCHEX_STAGE_SEGMENT, |rec| {
         segmentation::record_rects(

@@ -8,6 +8,7 @@ use ash::vk;
 
 use crate::abi::*;
 use crate::error::{bail, Result};
+use crate::passes::pack_gbuffer::EngineObjects;
 use crate::passes::{CounterRange, Texture};
 use crate::shaders;
 use crate::vk::buffer::Buffer;
@@ -88,12 +89,10 @@ pub const REGION_NEAR_BE: u32 = 1;
 pub const REGION_FI: u32 = 2;
 
 pub struct SegmentationInputs {
-    /// The target's object ids (the engine's stencil); `None`: all static.
-    pub target_stencil: Option<Texture>,
+    /// The target's object ids (its stencil; without one, all static).
+    pub target_objects: EngineObjects,
     pub motion: Texture,
     pub motion_scale: [f32; 2],
-    /// Bound for the regions when no pass reads them.
-    pub placeholder_uint: Texture,
 }
 
 /// Records object bounds and grown rectangles into `table`, which must be zero-filled.
@@ -110,7 +109,7 @@ pub fn record_rects(
         writes
             .image(
                 bounds::binding::TARGET_STENCIL,
-                inputs.target_stencil.unwrap_or(inputs.placeholder_uint),
+                inputs.target_objects.stencil,
             )
             .image(bounds::binding::MOTION, inputs.motion)
             .buffer(bounds::binding::TOTALS, &object_totals(table))
@@ -118,7 +117,7 @@ pub fn record_rects(
     let params = bounds::Params {
         extent: [extent.width, extent.height],
         motion_scale: inputs.motion_scale,
-        has_stencil: inputs.target_stencil.is_some() as u32,
+        has_stencil: inputs.target_objects.has_stencil,
         ..Default::default()
     };
     // One invocation per OBJECT_BOUNDS_BLOCK x OBJECT_BOUNDS_BLOCK pixels.
@@ -159,14 +158,14 @@ pub fn record_masks(
         writes
             .image(
                 masks::binding::TARGET_STENCIL,
-                inputs.target_stencil.unwrap_or(inputs.placeholder_uint),
+                inputs.target_objects.stencil,
             )
             .buffer(masks::binding::RECTS, &rect_list(table))
             .image(masks::binding::REGIONS, regions)
     });
     let params = masks::Params {
         extent: [extent.width, extent.height],
-        has_stencil: inputs.target_stencil.is_some() as u32,
+        has_stencil: inputs.target_objects.has_stencil,
         ..Default::default()
     };
     rec.dispatch(&region_masks, &params, extent);
