@@ -3,7 +3,8 @@
 // code / 255 (include/lbp.wgsl, made here from the frame around each pixel). Patch texels
 // outside the frame are zero, as in training's padding. With a resolution divisor d a texel is
 // the mean of its d x d pixels (those outside the frame counting as zero), so the hole plane
-// holds the share of holes among them.
+// holds the share of holes among them. One dispatch gathers for both networks run side by side,
+// each over its own patch (`step_group`).
 // #import patch
 // #import gbuffer
 // #import lbp
@@ -16,20 +17,23 @@ var<immediate> params: Params;
 
 @group(0) @binding(0) var warped: texture_storage_2d<rgba16float, read>;
 @group(0) @binding(1) var material: texture_2d<f32>;
-@group(0) @binding(2) var network_input: texture_storage_2d_array<rgba16float, write>;
-@group(0) @binding(3) var<storage, read> network_patch: Patch;
+@group(0) @binding(2) var first_input: texture_storage_2d_array<rgba16float, write>;
+@group(0) @binding(3) var<storage, read> first_patch: Patch;
+@group(0) @binding(4) var second_input: texture_storage_2d_array<rgba16float, write>;
+@group(0) @binding(5) var<storage, read> second_patch: Patch;
 
-@compute @workgroup_size(8, 8, 1)
-fn main(@builtin(global_invocation_id) id: vec3u) {
-    if (any(id.xy >= network_patch.extent)) {
-        return;
-    }
-    let d = network_patch.divisor;
+// The two input images of texel `texel` of a patch at `origin` whose texels span `d` x `d`.
+struct Gathered {
+    colour_hole: vec4f,
+    surface: vec4f,
+}
+
+fn gather(texel: vec2u, origin: vec2u, d: u32) -> Gathered {
     var colour_hole = vec4f(0.0);
     var surface = vec4f(0.0);
     for (var j = 0u; j < d; j++) {
         for (var i = 0u; i < d; i++) {
-            let f = network_patch.origin + id.xy * d + vec2u(i, j);
+            let f = origin + texel * d + vec2u(i, j);
             if (all(f < params.frame_extent)) {
                 let w = textureLoad(warped, f);
                 // The warp marks holes in alpha (`frame_alpha`); their colour is its best guess.
@@ -40,6 +44,22 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
         }
     }
     let mean = 1.0 / f32(d * d);
-    textureStore(network_input, id.xy, 0, colour_hole * mean);
-    textureStore(network_input, id.xy, 1, surface * mean);
+    return Gathered(colour_hole * mean, surface * mean);
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn main(@builtin(workgroup_id) group: vec3u, @builtin(local_invocation_id) local: vec3u) {
+    let step = step_group(group.xy, first_patch.dispatch[0]);
+    let texel = step.group * 8u + local.xy;
+    if (step.second) {
+        if (all(texel < second_patch.extent)) {
+            let g = gather(texel, second_patch.origin, second_patch.divisor);
+            textureStore(second_input, texel, 0, g.colour_hole);
+            textureStore(second_input, texel, 1, g.surface);
+        }
+    } else if (all(texel < first_patch.extent)) {
+        let g = gather(texel, first_patch.origin, first_patch.divisor);
+        textureStore(first_input, texel, 0, g.colour_hole);
+        textureStore(first_input, texel, 1, g.surface);
+    }
 }

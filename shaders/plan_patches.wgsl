@@ -9,8 +9,9 @@
 // doubles its divisor until it fits. The blend patch bounds both, for the pass that scatters
 // the results back. A frame without dynamic objects, or a network that is off (levels 0), gets
 // an empty patch that dispatches no workgroup. With `whole_frame` (the ablation of foveated
-// segmentation) the FI patch is the whole frame instead. src/reference/inpaint.rs mirrors this
-// pass.
+// segmentation) the FI patch is the whole frame instead. Each step of the two networks run
+// side by side gets the dispatch that covers both networks' workgroups (`step_group`).
+// src/reference/inpaint.rs mirrors the patches.
 // #import segmentation
 // #import patch
 
@@ -25,11 +26,14 @@ struct Params {
     max_patch_side: u32,
     // k_x and k_y of Algorithm 1.
     growth: vec2f,
+    // Per network (two words each, FI's first), four bits per step: the level its pass at that
+    // step runs at, plus one; 0 where it has no pass (`NetworkPipelines::step_table`).
+    step_levels: vec4u,
 }
 var<immediate> params: Params;
 
 @group(0) @binding(0) var<storage, read> totals: ObjectTable;
-@group(0) @binding(1) var<storage, read_write> patches: array<PatchSlot, 3>;
+@group(0) @binding(1) var<storage, read_write> slots: PatchSlots;
 
 const EMPTY: u32 = 0xffffffffu;
 
@@ -77,17 +81,37 @@ fn plan(span: Span, levels: u32) -> Planned {
     return Planned(Span(origin, origin + texels * d), d);
 }
 
+// The level network `network`'s pass at step `step` runs at, plus one; 0 where it has none.
+fn step_code(network: u32, step: u32) -> u32 {
+    return (params.step_levels[2u * network + step / 8u] >> (4u * (step % 8u))) & 0xfu;
+}
+
+// Each step's dispatch: the first network's rows of workgroups, the second's below them.
+fn write_steps() {
+    for (var step = 0u; step < 16u; step++) {
+        var groups = vec2u(0u);
+        for (var network = 0u; network < 2u; network++) {
+            let code = step_code(network, step);
+            if (code != 0u) {
+                let own = slots.patches[network].value.dispatch[code - 1u].xy;
+                groups = vec2u(max(groups.x, own.x), groups.y + own.y);
+            }
+        }
+        slots.steps[step] = vec4u(groups, 1u, 0u);
+    }
+}
+
 fn write_patch(slot: u32, planned: Planned, levels: u32) {
     let extent = (planned.span.hi - planned.span.lo) / planned.divisor;
-    patches[slot].value.origin = planned.span.lo;
-    patches[slot].value.extent = extent;
-    patches[slot].value.divisor = planned.divisor;
+    slots.patches[slot].value.origin = planned.span.lo;
+    slots.patches[slot].value.extent = extent;
+    slots.patches[slot].value.divisor = planned.divisor;
     for (var level = 0u; level < 6u; level++) {
         var groups = vec2u(0u);
         if (level < levels) {
             groups = ((extent >> vec2u(level)) + vec2u(params.group_edge - 1u)) / params.group_edge;
         }
-        patches[slot].value.dispatch[level] = vec4u(groups, 1u, 0u);
+        slots.patches[slot].value.dispatch[level] = vec4u(groups, 1u, 0u);
     }
 }
 
@@ -119,4 +143,5 @@ fn main() {
     blend.hi = min(blend.hi, params.extent);
     blend.lo = min(blend.lo, blend.hi);
     write_patch(PATCH_BLEND, Planned(blend, 1u), 1u);
+    write_steps();
 }

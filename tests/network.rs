@@ -4,9 +4,10 @@
 mod support;
 
 use ash::vk;
-use patchex::network::codegen::PATCH_BYTES;
 use patchex::network::{Network, TensorPrecision, INPUT_CHANNELS, OUTPUT_CHANNELS};
-use patchex::passes::inpaint::{self, patch_bytes, NetworkPipelines, NetworkTensors, PatchRecord};
+use patchex::passes::inpaint::{
+    self, patch_slots_bytes, NetworkPipelines, NetworkTensors, PATCH_SLOTS_BYTES,
+};
 use patchex::passes::Texture;
 use patchex::reference::lbp;
 use patchex::reference::network::{forward, Planes};
@@ -20,6 +21,42 @@ use safetensors::SafeTensors;
 
 const TINY: &[u8] = include_bytes!("fixtures/network/tiny.safetensors");
 const TINY_GOLDEN: &[u8] = include_bytes!("fixtures/network/tiny_golden.safetensors");
+
+/// A one-level network (encoder, bottleneck and output: three layers, where the shipped ones
+/// have seven) with weights from a fixed pseudo-random sequence.
+fn shallow_network() -> Network {
+    const WIDTH: usize = 8;
+    let mut state = 1u32;
+    let mut next = || {
+        state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+        ((state >> 8) as f32 / (1u32 << 24) as f32 - 0.5) * 0.4
+    };
+    let mut tensors: Vec<(String, Vec<usize>, Vec<u8>)> = Vec::new();
+    for (name, outputs, inputs) in [
+        ("enc0.feature", WIDTH, INPUT_CHANNELS),
+        ("enc0.gate", WIDTH, INPUT_CHANNELS),
+        ("bottle.feature", WIDTH, WIDTH),
+        ("bottle.gate", WIDTH, WIDTH),
+        ("out", OUTPUT_CHANNELS, WIDTH),
+    ] {
+        for (part, shape) in [
+            ("weight", vec![outputs, inputs, 3, 3]),
+            ("bias", vec![outputs]),
+        ] {
+            let count: usize = shape.iter().product();
+            let bytes = (0..count).flat_map(|_| next().to_le_bytes()).collect();
+            tensors.push((format!("{name}.{part}"), shape, bytes));
+        }
+    }
+    let views = tensors.iter().map(|(name, shape, bytes)| {
+        let view =
+            safetensors::tensor::TensorView::new(safetensors::Dtype::F32, shape.clone(), bytes);
+        (name.clone(), view.expect("a valid tensor"))
+    });
+    let metadata = std::collections::HashMap::from([("widths".to_string(), format!("[{WIDTH}]"))]);
+    let bytes = safetensors::serialize(views, Some(metadata)).expect("serialised");
+    Network::from_safetensors(&bytes, "shallow network").expect("a valid network")
+}
 
 /// The input and output planes PyTorch wrote.
 fn golden(bytes: &[u8]) -> (Planes, Planes) {
@@ -128,15 +165,18 @@ impl PatchFrame {
     }
 }
 
-/// Runs `network` on the GPU over the patch at `origin` of `size` in `frame`, under validation,
-/// with its tensors stored in `precision`, and returns the output colour planes.
-fn run_on_gpu(
-    network: &Network,
-    frame: &PatchFrame,
+/// One network's part in a run side by side: its patch of the frame at `origin`, `size` texels
+/// (empty for a network that is off).
+#[derive(Clone, Copy)]
+struct PatchRun<'a> {
+    network: &'a Network,
     origin: [u32; 2],
     size: [u32; 2],
-    precision: TensorPrecision,
-) -> Planes {
+}
+
+/// Runs two networks side by side on the GPU, each over its patch of `frame`, under validation,
+/// with their tensors stored in `precision`, and returns each one's output colour planes.
+fn run_on_gpu(runs: [PatchRun; 2], frame: &PatchFrame, precision: TensorPrecision) -> [Planes; 2] {
     let engine = Engine::new(&EngineOptions::default()).expect("engine");
     let (width, height) = (frame.warped.width as u32, frame.warped.height as u32);
     // SAFETY: the engine's live handles, as the API requires.
@@ -174,38 +214,42 @@ fn run_on_gpu(
         bytes: 0,
     };
 
-    let mut pipelines = NetworkPipelines::new(&gpu, network.clone(), precision).expect("pipelines");
+    let networks = [0, 1].map(|n| runs[n].network.clone());
+    let mut pipelines = NetworkPipelines::new(&gpu, networks, precision).expect("pipelines");
     let mut sets = DescriptorPool::new(&gpu, &pipelines.set_layouts(), &pipelines.pool_sizes(), 1)
         .expect("descriptor sets");
-    let extent = vk::Extent2D {
-        width: size[0],
-        height: size[1],
-    };
-    let mut tensors =
-        NetworkTensors::new(&gpu, &mut allocator, &pipelines, extent).expect("tensors");
-    let mut patch = Buffer::new(
+    let mut tensors = runs.each_ref().map(|run| {
+        // An empty patch still has its tensors, as an extrapolation's switched-off network does.
+        let multiple = run.network.multiple();
+        let [width, height] = run.size.map(|side| side.max(multiple));
+        let extent = vk::Extent2D { width, height };
+        NetworkTensors::new(&gpu, &mut allocator, run.network, precision, extent).expect("tensors")
+    });
+    let mut patches = Buffer::new(
         &gpu,
         &mut allocator,
-        "patch",
-        PATCH_BYTES,
+        "patches",
+        PATCH_SLOTS_BYTES,
         BufferRole::Counters,
     )
-    .expect("patch");
-    let record = patch_bytes(network, origin, size);
+    .expect("patches");
+    let record = patch_slots_bytes(
+        &pipelines,
+        runs.each_ref().map(|run| (run.origin, run.size)),
+    );
+    let patches_range = CounterRange {
+        buffer: patches.buffer,
+        offset: 0,
+        range: PATCH_SLOTS_BYTES,
+    };
     engine.run(|cmd| {
-        let mut images: Vec<&mut _> = std::iter::once(&mut tensors.input)
-            .chain(tensors.layers.iter_mut())
+        let mut images: Vec<&mut _> = tensors
+            .iter_mut()
+            .flat_map(|t| std::iter::once(&mut t.input).chain(t.layers.iter_mut()))
             .collect();
         let mut rec = Recorder::new(&gpu.device, cmd);
         rec.initialize(&mut images);
-        rec.update_bytes(
-            &CounterRange {
-                buffer: patch.buffer,
-                offset: 0,
-                range: record.len() as u64,
-            },
-            &record,
-        );
+        rec.update_bytes(&patches_range, &record);
         inpaint::record(
             &mut rec,
             &inpaint::FrameInputs {
@@ -214,49 +258,70 @@ fn run_on_gpu(
                 placeholder: texture(&material),
                 frame_extent: vk::Extent2D { width, height },
             },
-            &[inpaint::NetworkRun {
+            &inpaint::NetworkRun {
                 pipelines: &pipelines,
                 sets: sets.sets.clone(),
-                tensors: &tensors,
-                patch: PatchRecord {
-                    buffer: patch.buffer,
-                    offset: 0,
-                },
-            }],
+                tensors: [&tensors[0], &tensors[1]],
+                patches: patches_range,
+            },
         );
     });
-    let values = ImageRef {
-        image: tensors.output().image,
-        format: precision.format(),
-        width: size[0],
-        height: size[1],
-    }
-    .read(&engine, general);
-    engine.assert_validation_clean();
-    let (width, height) = (size[0] as usize, size[1] as usize);
-    let mut output = Planes::zeros(OUTPUT_CHANNELS, width, height);
-    for (t, texel) in values.chunks_exact(4).enumerate() {
-        for (c, &value) in texel[..OUTPUT_CHANNELS].iter().enumerate() {
-            output.values[c * width * height + t] = value;
+    let outputs = [0, 1].map(|n| {
+        let [width, height] = runs[n].size;
+        if width == 0 {
+            return Planes::zeros(OUTPUT_CHANNELS, 0, 0);
         }
+        let values = ImageRef {
+            image: tensors[n].output().image,
+            format: precision.format(),
+            width,
+            height,
+        }
+        .read(&engine, general);
+        let (width, height) = (width as usize, height as usize);
+        let mut output = Planes::zeros(OUTPUT_CHANNELS, width, height);
+        for (t, texel) in values.chunks_exact(4).enumerate() {
+            for (c, &value) in texel[..OUTPUT_CHANNELS].iter().enumerate() {
+                output.values[c * width * height + t] = value;
+            }
+        }
+        output
+    });
+    engine.assert_validation_clean();
+    patches.destroy(&gpu, &mut allocator);
+    for tensors in &mut tensors {
+        tensors.destroy(&gpu, &mut allocator);
     }
-    patch.destroy(&gpu, &mut allocator);
-    tensors.destroy(&gpu, &mut allocator);
     sets.destroy(&gpu.device);
     pipelines.destroy(&gpu.device);
     drop(allocator);
-    output
+    outputs
 }
 
 /// On the golden's colour, hole and material planes (the gather makes the LBP plane from the
 /// colour), the GPU meets the f16-storage reference, which meets PyTorch on the golden's own
-/// planes (`reference_matches_pytorch_golden`).
+/// planes (`reference_matches_pytorch_golden`). The second network is off (an empty patch).
 #[test]
 fn gpu_matches_reference_on_golden_planes() {
     let network = Network::from_safetensors(TINY, "tiny.safetensors").unwrap();
     let (input, _) = golden(TINY_GOLDEN);
     let frame = PatchFrame::from_planes(&input);
-    let gpu = run_on_gpu(&network, &frame, [0, 0], [16, 16], TensorPrecision::F16);
+    let [gpu, _] = run_on_gpu(
+        [
+            PatchRun {
+                network: &network,
+                origin: [0, 0],
+                size: [16, 16],
+            },
+            PatchRun {
+                network: &network,
+                origin: [0, 0],
+                size: [0, 0],
+            },
+        ],
+        &frame,
+        TensorPrecision::F16,
+    );
     let reference = forward(&network, &frame.planes([0, 0], [16, 16]), true);
     let worst = worst_difference(&gpu, &reference);
     println!("GPU against the f16 reference: worst {worst:e}");
@@ -288,26 +353,61 @@ fn rendered_patch_frame() -> PatchFrame {
     }
 }
 
+/// Networks side by side, each on its own patch of a rendered frame, each in the rows of
+/// workgroups its step gives it: the tiny network on a patch that runs past the frame's right
+/// and bottom edges (which read as zero) beside the shipped near-BE network on a larger one, then
+/// a network of three layers beside the near-BE network's seven, alone in the last four steps.
+/// Each meets its own f16-storage reference.
 #[test]
 fn gpu_matches_reference_on_a_rendered_patch() {
     let patch_frame = rendered_patch_frame();
-    let network = Network::from_safetensors(TINY, "tiny.safetensors").unwrap();
-    // A patch that runs past the frame's right and bottom edges, which read as zero.
-    let (origin, size) = ([60, 36], [40, 32]);
-    let planes = patch_frame.planes(origin.map(|v| v as usize), size.map(|v| v as usize));
-    let patch_holes = (0..40 * 32)
-        .filter(|&i| planes.values[3 * 40 * 32 + i] == 1.0)
+    let tiny = Network::from_safetensors(TINY, "tiny.safetensors").unwrap();
+    let near_be =
+        patchex::network::load(None, patchex::network::SHIPPED_NEAR_BE, "near-BE").unwrap();
+    let shallow = shallow_network();
+    assert!(shallow.layers.len() < near_be.layers.len());
+    for first in [&tiny, &shallow] {
+        check_side_by_side(
+            &patch_frame,
+            [
+                PatchRun {
+                    network: first,
+                    origin: [60, 36],
+                    size: [40, 32],
+                },
+                PatchRun {
+                    network: &near_be,
+                    origin: [8, 4],
+                    size: [64, 48],
+                },
+            ],
+        );
+    }
+}
+
+fn check_side_by_side(patch_frame: &PatchFrame, runs: [PatchRun; 2]) {
+    let planes = runs.each_ref().map(|run| {
+        patch_frame.planes(run.origin.map(|v| v as usize), run.size.map(|v| v as usize))
+    });
+    let [width, height] = runs[0].size.map(|v| v as usize);
+    let patch_holes = (0..width * height)
+        .filter(|&i| planes[0].values[3 * width * height + i] == 1.0)
         .count();
     assert!(
         patch_holes > 20,
         "the patch holds {patch_holes} hole pixels"
     );
-    let gpu = run_on_gpu(&network, &patch_frame, origin, size, TensorPrecision::F16);
-    let reference = forward(&network, &planes, true);
-    let worst = worst_difference(&gpu, &reference);
-    let largest = reference.values.iter().fold(0.0f32, |m, v| m.max(v.abs()));
-    println!("rendered patch: worst {worst:e} for values up to {largest}");
-    assert!(worst <= 4e-3 * largest.max(1.0), "worst {worst}");
+    let gpu = run_on_gpu(runs, patch_frame, TensorPrecision::F16);
+    for n in 0..2 {
+        let reference = forward(runs[n].network, &planes[n], true);
+        let worst = worst_difference(&gpu[n], &reference);
+        let largest = reference.values.iter().fold(0.0f32, |m, v| m.max(v.abs()));
+        println!("network {n}: worst {worst:e} for values up to {largest}");
+        assert!(
+            worst <= 4e-3 * largest.max(1.0),
+            "network {n}: worst {worst}"
+        );
+    }
 }
 
 /// The shipped FI network on a rendered patch. With FP32 tensors the GPU matches the unrounded
@@ -320,8 +420,27 @@ fn fp16_tensors_stay_within_a_stated_bound_of_fp32() {
     let network = patchex::network::load(None, patchex::network::SHIPPED_FI, "FI").unwrap();
     let (origin, size) = ([32, 16], [48, 40]);
     let planes = patch_frame.planes(origin.map(|v| v as usize), size.map(|v| v as usize));
-    let fp32 = run_on_gpu(&network, &patch_frame, origin, size, TensorPrecision::F32);
-    let fp16 = run_on_gpu(&network, &patch_frame, origin, size, TensorPrecision::F16);
+    let run = |precision| {
+        let [output, _] = run_on_gpu(
+            [
+                PatchRun {
+                    network: &network,
+                    origin,
+                    size,
+                },
+                PatchRun {
+                    network: &network,
+                    origin,
+                    size: [0, 0],
+                },
+            ],
+            &patch_frame,
+            precision,
+        );
+        output
+    };
+    let fp32 = run(TensorPrecision::F32);
+    let fp16 = run(TensorPrecision::F16);
     let reference = forward(&network, &planes, false);
     let largest = reference.values.iter().fold(0.0f32, |m, v| m.max(v.abs()));
     let fp32_error = worst_difference(&fp32, &reference);

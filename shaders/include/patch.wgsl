@@ -18,3 +18,23 @@ struct PatchSlot {
 const PATCH_FI: u32 = 0u;
 const PATCH_NEAR_BE: u32 = 1u;
 const PATCH_BLEND: u32 = 2u;
+
+// After the three patches: the indirect dispatch of each step of the two networks run side by
+// side (the gather, then each layer), which covers both networks' workgroups at that step: the
+// first network's rows, then the second's below them, as wide as the wider.
+struct PatchSlots {
+    patches: array<PatchSlot, 3>,
+    steps: array<vec4u, 16>,
+}
+
+// The workgroup of the first network's dispatch `first` that the step's workgroup `group` is,
+// or of the second's (`second` true), with the second's rows below the first's.
+struct StepGroup {
+    group: vec2u,
+    second: bool,
+}
+
+fn step_group(group: vec2u, first: vec4u) -> StepGroup {
+    let second = group.y >= first.y;
+    return StepGroup(vec2u(group.x, select(group.y, group.y - first.y, second)), second);
+}

@@ -534,6 +534,7 @@ fn segment(rec: &mut Recorder, plan: &ExtrapolationPlan) {
                     divisor: networks.divisor,
                     max_patch_side: inpainting.max_patch_side,
                     growth: plan.segmentation.growth,
+                    step_levels: inpainting.pipelines.step_table(),
                 },
                 &segmentation::object_totals(&table),
                 &plan.patches(),
@@ -584,7 +585,7 @@ fn inference_and_blend(rec: &mut Recorder, plan: &ExtrapolationPlan) {
                 placeholder: plan.placeholders.0,
                 frame_extent: plan.extent,
             },
-            &inpainting.runs(&plan.passes, &patches),
+            &inpainting.run(&plan.passes, &patches),
         );
     });
     rec.stage(PATCHEX_STAGE_BLEND, |rec| {

@@ -113,8 +113,8 @@ impl Context {
                 extrapolation_traffic[index].arithmetic_operations
                     [PATCHEX_STAGE_INFERENCE as usize] += patches
                     .iter()
-                    .zip(&inpainting.networks)
-                    .map(|((extent, _), (pipelines, _))| pipelines.network.operations(*extent))
+                    .zip(&inpainting.pipelines.networks)
+                    .map(|((extent, _), network)| network.operations(*extent))
                     .sum::<u64>();
             }
             let (fi_ran, near_be_ran) = (divisors[0] > 0, divisors[1] > 0);

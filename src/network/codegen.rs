@@ -1,11 +1,14 @@
-//! One compute shader per network layer, generated from its weights and compiled with naga when
-//! the networks are loaded. The weights are constants in the code and every loop is unrolled:
-//! on a CPU driver this runs about 10x faster than reading weights from a buffer in a loop
-//! (`shared/LAVAPIPE.md`), and a GPU driver folds them into its instruction stream as well.
+//! One compute shader per step of the two networks run side by side, generated from their
+//! weights and compiled with naga when the networks are loaded: each runs the layer of that step
+//! of each network that has one, over its own patch, in one dispatch. The weights are constants
+//! in the code and every loop is unrolled: on a CPU driver this runs about 10x faster than
+//! reading weights from a buffer in a loop (`shared/LAVAPIPE.md`), and a GPU driver folds them
+//! into its instruction stream as well.
 //!
 //! Every tensor lives in an RGBA16F (or, with `TensorPrecision::F32`, RGBA32F) image array, four
-//! channels a layer, the patch at its origin; layer `level` covers `patch.extent >> level` texels. Each invocation computes every
-//! output channel of one texel, so each input texel is fetched once per tap.
+//! channels a layer, the patch at its origin; layer `level` covers `patch.extent >> level`
+//! texels. Each invocation computes every output channel of one texel, so each input texel is
+//! fetched once per tap.
 
 use std::fmt::Write;
 
@@ -16,48 +19,47 @@ use super::{ConvWeights, Layer, LayerKind, TensorPrecision};
 use crate::error::{bail, Result};
 use crate::shaders::{Binding, DescriptorKind, ShaderInfo};
 
-/// Workgroup edge of every layer's shader.
+/// Workgroup edge of every step's shader.
 pub const GROUP_EDGE: u32 = 8;
 
-/// The bindings of every layer's shader; the ones a layer does not read are bound all the same,
-/// so that one descriptor layout serves them all.
-pub const BINDINGS: [Binding; 5] = [
-    Binding {
-        binding: 0,
-        kind: DescriptorKind::SampledImage,
-        writes: false,
-        reads: true,
-        name: "main_input",
-    },
-    Binding {
-        binding: 1,
-        kind: DescriptorKind::SampledImage,
-        writes: false,
-        reads: true,
-        name: "skip_input",
-    },
-    Binding {
-        binding: 2,
-        kind: DescriptorKind::SampledImage,
-        writes: false,
-        reads: true,
-        name: "network_input",
-    },
-    Binding {
-        binding: 3,
-        kind: DescriptorKind::StorageImage,
-        writes: true,
-        reads: false,
-        name: "layer_output",
-    },
-    Binding {
-        binding: 4,
-        kind: DescriptorKind::StorageBuffer,
-        writes: false,
-        reads: true,
-        name: "network_patch",
-    },
+/// The bindings of one network's layer in a step's shader, the first network's at 0 to 4, the
+/// second's at 5 to 9 (`NETWORK_BINDINGS` each past the first); the ones a layer does not read
+/// are bound all the same, so that every step binds the same tensors.
+pub const NETWORK_BINDINGS: u32 = 5;
+const BINDINGS: [Binding; 2 * NETWORK_BINDINGS as usize] = [
+    network_binding(0, DescriptorKind::SampledImage, "main_input"),
+    network_binding(1, DescriptorKind::SampledImage, "skip_input"),
+    network_binding(2, DescriptorKind::SampledImage, "network_input"),
+    network_binding(3, DescriptorKind::StorageImage, "layer_output"),
+    network_binding(4, DescriptorKind::StorageBuffer, "network_patch"),
+    network_binding(5, DescriptorKind::SampledImage, "main_input"),
+    network_binding(6, DescriptorKind::SampledImage, "skip_input"),
+    network_binding(7, DescriptorKind::SampledImage, "network_input"),
+    network_binding(8, DescriptorKind::StorageImage, "layer_output"),
+    network_binding(9, DescriptorKind::StorageBuffer, "network_patch"),
 ];
+
+/// Binding `binding`: the layer's output is written, everything else read.
+const fn network_binding(binding: u32, kind: DescriptorKind, name: &'static str) -> Binding {
+    let writes = matches!(kind, DescriptorKind::StorageImage);
+    Binding {
+        binding,
+        kind,
+        writes,
+        reads: !writes,
+        name,
+    }
+}
+
+/// Within a network's bindings: the layer's main input, skip input (its main input when it has
+/// none), the network's gathered input, its output and the network's `Patch` record.
+pub mod binding {
+    pub const MAIN: u32 = 0;
+    pub const SKIP: u32 = 1;
+    pub const NETWORK_INPUT: u32 = 2;
+    pub const OUTPUT: u32 = 3;
+    pub const PATCH: u32 = 4;
+}
 
 /// The `Patch` record the layers read: origin, padded extent and resolution divisor of the
 /// patch, then the indirect dispatch of each level.
@@ -68,34 +70,38 @@ pub const PATCH_DIVISOR_OFFSET: u64 = 16;
 pub const PATCH_DISPATCH_OFFSET: u64 = 32;
 pub const PATCH_BYTES: u64 = PATCH_DISPATCH_OFFSET + 16 * MAX_LEVELS as u64;
 
-/// The reflection of a generated layer shader (its code is made at run time).
-pub fn shader_info(layer: &Layer) -> ShaderInfo {
+/// The layers of one step, of the first and the second network; `None` for a network that has
+/// no layer at this step.
+pub type StepLayers<'a> = [Option<&'a Layer>; 2];
+
+/// The reflection of a step's generated shader (its code is made at run time): the bindings of
+/// the networks that have a layer at this step.
+pub fn shader_info(layers: StepLayers) -> ShaderInfo {
+    let n = NETWORK_BINDINGS as usize;
+    let bindings: &'static [Binding] = match layers {
+        [Some(_), Some(_)] => &BINDINGS,
+        [Some(_), None] => &BINDINGS[..n],
+        [None, Some(_)] => &BINDINGS[n..],
+        [None, None] => &[],
+    };
     ShaderInfo {
-        name: match &layer.kind {
-            LayerKind::Gated { .. } => "network gated layer",
-            LayerKind::Output { .. } => "network output layer",
-        },
+        name: "network step",
         spirv: &[],
         workgroup_size: [GROUP_EDGE, GROUP_EDGE, 1],
-        bindings: &BINDINGS,
+        bindings,
         push_constant_size: 0,
         arithmetic: 0,
     }
 }
 
-/// WGSL source of `layer`.
-pub fn wgsl(layer: &Layer, precision: TensorPrecision) -> String {
+/// WGSL source of a step running `layers` side by side: one function per network's layer, and
+/// a `main` that gives each workgroup to the network whose rows it falls in (`step_group` in
+/// shaders/include/patch.wgsl).
+pub fn wgsl(layers: StepLayers, precision: TensorPrecision) -> String {
     let mut s = String::new();
-    let level = layer.level;
     s.push_str(PATCH_WGSL);
     s.push_str(
-        &"@group(0) @binding(0) var main_input: texture_2d_array<f32>;
-@group(0) @binding(1) var skip_input: texture_2d_array<f32>;
-@group(0) @binding(2) var network_input: texture_2d_array<f32>;
-@group(0) @binding(3) var layer_output: texture_storage_2d_array<OUTPUT_FORMAT, write>;
-@group(0) @binding(4) var<storage, read> network_patch: Patch;
-
-// Every output is held to the half-float range, so that FP16 storage never makes an infinity.
+        "// Every output is held to the half-float range, so that FP16 storage never makes an infinity.
 const MAX_HALF: f32 = 65504.0;
 
 fn elu(x: vec4f) -> vec4f {
@@ -105,27 +111,79 @@ fn elu(x: vec4f) -> vec4f {
 fn sigmoid(x: vec4f) -> vec4f {
     return 1.0 / (1.0 + exp(-x));
 }
-
-@compute @workgroup_size(8, 8, 1)
-fn main(@builtin(global_invocation_id) id: vec3u) {
-"
-        .replace("OUTPUT_FORMAT", precision.wgsl_format()),
+",
     );
+    for (network, layer) in layers.iter().enumerate() {
+        if let Some(layer) = layer {
+            layer_function(&mut s, layer, network, precision);
+        }
+    }
+    writeln!(
+        s,
+        "@compute @workgroup_size({GROUP_EDGE}, {GROUP_EDGE}, 1)
+fn main(@builtin(workgroup_id) group: vec3u, @builtin(local_invocation_id) local: vec3u) {{"
+    )
+    .unwrap();
+    let texel = |group: &str| format!("{group} * {GROUP_EDGE}u + local.xy");
+    match layers {
+        [Some(first), Some(_)] => writeln!(
+            s,
+            "    let step = step_group(group.xy, network_patch_0.dispatch[{}]);
+    if (step.second) {{
+        layer_1({texel});
+    }} else {{
+        layer_0({texel});
+    }}",
+            first.level,
+            texel = texel("step.group"),
+        ),
+        [Some(_), None] => writeln!(s, "    layer_0({});", texel("group.xy")),
+        [None, Some(_)] => writeln!(s, "    layer_1({});", texel("group.xy")),
+        [None, None] => Ok(()),
+    }
+    .unwrap();
+    s.push_str("}\n");
+    s
+}
+
+/// Declares network `network`'s bindings and writes `layer_{network}(texel)`, which computes
+/// every output channel of one texel of `layer`.
+fn layer_function(s: &mut String, layer: &Layer, network: usize, precision: TensorPrecision) {
+    let base = network as u32 * NETWORK_BINDINGS;
+    let n = network;
+    writeln!(
+        s,
+        "@group(0) @binding({}) var main_input_{n}: texture_2d_array<f32>;
+@group(0) @binding({}) var skip_input_{n}: texture_2d_array<f32>;
+@group(0) @binding({}) var network_input_{n}: texture_2d_array<f32>;
+@group(0) @binding({}) var layer_output_{n}: texture_storage_2d_array<{}, write>;
+@group(0) @binding({}) var<storage, read> network_patch_{n}: Patch;
+
+fn layer_{n}(texel: vec2u) {{",
+        base + binding::MAIN,
+        base + binding::SKIP,
+        base + binding::NETWORK_INPUT,
+        base + binding::OUTPUT,
+        precision.wgsl_format(),
+        base + binding::PATCH,
+    )
+    .unwrap();
+    let level = layer.level;
     // The main input's extent in this layer's coordinates: a stride-2 layer reads the level
     // above at twice its own size, an upsampling one reads the level below doubled.
     let main_level = if layer.stride == 2 { level - 1 } else { level };
     writeln!(
         s,
-        "    let extent = network_patch.extent >> vec2u({level}u);"
+        "    let extent = network_patch_{n}.extent >> vec2u({level}u);"
     )
     .unwrap();
     writeln!(
         s,
-        "    let main_extent = vec2i(network_patch.extent >> vec2u({main_level}u));"
+        "    let main_extent = vec2i(network_patch_{n}.extent >> vec2u({main_level}u));"
     )
     .unwrap();
     s.push_str(
-        "    if (any(id.xy >= extent)) {\n        return;\n    }\n    let p = vec2i(id.xy);\n",
+        "    if (any(texel >= extent)) {\n        return;\n    }\n    let p = vec2i(texel);\n",
     );
 
     let (convs, outputs): (Vec<&ConvWeights>, usize) = match &layer.kind {
@@ -170,7 +228,7 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
             for g in 0..main_groups {
                 writeln!(
                     s,
-                    "        let x{g} = select(vec4f(0.0), textureLoad(main_input, {m}, {g}, 0), inside);"
+                    "        let x{g} = select(vec4f(0.0), textureLoad(main_input_{n}, {m}, {g}, 0), inside);"
                 )
                 .unwrap();
                 inputs.push(g);
@@ -180,7 +238,7 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
                 let index = main_groups + g;
                 writeln!(
                     s,
-                    "        let x{index} = select(vec4f(0.0), textureLoad(skip_input, c, {g}, 0), inside);"
+                    "        let x{index} = select(vec4f(0.0), textureLoad(skip_input_{n}, c, {g}, 0), inside);"
                 )
                 .unwrap();
                 inputs.push(index);
@@ -201,17 +259,16 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
         let value = match &layer.kind {
             LayerKind::Gated { .. } => format!("sigmoid(acc1_{o}) * elu(acc0_{o})"),
             LayerKind::Output { .. } => {
-                "vec4f(textureLoad(network_input, id.xy, 0, 0).rgb + acc0_0.rgb, 1.0)".into()
+                format!("vec4f(textureLoad(network_input_{n}, texel, 0, 0).rgb + acc0_0.rgb, 1.0)")
             }
         };
         writeln!(
             s,
-            "    textureStore(layer_output, id.xy, {o}, clamp({value}, vec4f(-MAX_HALF), vec4f(MAX_HALF)));"
+            "    textureStore(layer_output_{n}, texel, {o}, clamp({value}, vec4f(-MAX_HALF), vec4f(MAX_HALF)));"
         )
         .unwrap();
     }
-    s.push_str("}\n");
-    s
+    s.push_str("}\n\n");
 }
 
 fn bias_at(conv: &ConvWeights, output: usize) -> f32 {

@@ -1,7 +1,8 @@
-//! Inference of one inpainting network on its patch: `network_inputs` gathers the input planes
-//! from the frame, then one generated shader per layer (`network::codegen`) runs over the
-//! patch, each dispatched indirectly from the `Patch` record so that the work follows the
-//! patch's area and a frame without one dispatches no workgroup.
+//! Inference of the FI and near-BE networks side by side, each on its own patch:
+//! `network_inputs` gathers both networks' input planes from the frame, then one generated
+//! shader per step (`network::codegen`) runs each network's layer of that step. Every pass is
+//! dispatched indirectly from the step's record, which `plan_patches` writes from both patches,
+//! so that the work follows the patches' area and a frame without one dispatches no workgroup.
 
 use ash::vk;
 use gpu_allocator::vulkan::Allocator;
@@ -34,33 +35,42 @@ pub fn patch_capacity(extent: [u32; 2], max_patch_side: u32, multiple: u32) -> [
     extent.map(|side| side.min(max_patch_side).next_multiple_of(multiple))
 }
 
-/// A network's compiled layers and its gather pass. Their descriptor sets are the frame ring's,
-/// after the fixed pipelines' (`Inpainting::set_layouts`).
+/// The most steps the networks run in: the gather, then as many layers as the deeper network
+/// has (`Network::from_safetensors`: an encoder, bottleneck and decoder layer per level, less
+/// one, and the output layer), as many as `PatchSlots` holds dispatches for.
+const MAX_STEPS: usize = 16;
+const _: () = assert!(2 * MAX_LEVELS + 2 <= MAX_STEPS);
+
+/// The FI and near-BE networks compiled to run side by side: the gather, then one generated
+/// shader per step, each running both networks' layers of that step in one dispatch. Their
+/// descriptor sets are the frame ring's, after the fixed pipelines' (`Inpainting::set_layouts`).
 pub struct NetworkPipelines {
-    pub network: Network,
+    /// FI, then near-BE.
+    pub networks: [Network; 2],
     /// The format every layer writes its output in.
     pub precision: TensorPrecision,
     gather: ComputePipeline,
-    layers: Vec<ComputePipeline>,
+    steps: Vec<ComputePipeline>,
 }
 
 impl NetworkPipelines {
-    pub fn new(gpu: &Gpu, network: Network, precision: TensorPrecision) -> Result<Self> {
+    pub fn new(gpu: &Gpu, networks: [Network; 2], precision: TensorPrecision) -> Result<Self> {
         let mut built = Self {
-            network,
+            networks,
             precision,
             gather: ComputePipeline::new(gpu, SHADER)?,
-            layers: Vec::new(),
+            steps: Vec::new(),
         };
-        for layer in &built.network.layers {
-            let what = format!("network layer {}", layer.name);
-            let compiled = codegen::compile(&codegen::wgsl(layer, built.precision), &what)
-                .and_then(|spirv| {
-                    ComputePipeline::from_spirv(gpu, codegen::shader_info(layer), &spirv)
+        for step in 1..built.step_count() {
+            let layers = built.step_layers(step);
+            let what = format!("network step {step}");
+            let compiled =
+                codegen::compile(&codegen::wgsl(layers, precision), &what).and_then(|spirv| {
+                    ComputePipeline::from_spirv(gpu, codegen::shader_info(layers), &spirv)
                         .map_err(|e| e.during(&what))
                 });
             match compiled {
-                Ok(pipeline) => built.layers.push(pipeline),
+                Ok(pipeline) => built.steps.push(pipeline),
                 Err(error) => {
                     built.destroy(&gpu.device);
                     return Err(error);
@@ -70,12 +80,49 @@ impl NetworkPipelines {
         Ok(built)
     }
 
-    /// The gather's, then each layer's, in the order a run's sets take.
-    fn pipelines(&self) -> impl Iterator<Item = &ComputePipeline> {
-        std::iter::once(&self.gather).chain(&self.layers)
+    /// The gather, then a step per layer of the deeper network.
+    fn step_count(&self) -> usize {
+        1 + self
+            .networks
+            .iter()
+            .map(|n| n.layers.len())
+            .max()
+            .unwrap_or(0)
     }
 
-    /// The layouts of one run's descriptor sets: the gather's, then one per layer.
+    /// Each network's layer at `step` (1 and on; the gather is step 0).
+    fn step_layers(&self, step: usize) -> codegen::StepLayers<'_> {
+        [0, 1].map(|n| self.networks[n].layers.get(step - 1))
+    }
+
+    /// The level network `network`'s pass at `step` runs at, if it has one.
+    fn step_level(&self, network: usize, step: usize) -> Option<u32> {
+        match step {
+            0 => Some(0),
+            _ => self.step_layers(step)[network].map(|layer| layer.level),
+        }
+    }
+
+    /// For `plan_patches`: per network two words, four bits per step, the level of its pass at
+    /// that step plus one, 0 where it has none.
+    pub fn step_table(&self) -> [u32; 4] {
+        let mut table = [0; 4];
+        for network in 0..2 {
+            for step in 0..self.step_count() {
+                if let Some(level) = self.step_level(network, step) {
+                    table[2 * network + step / 8] |= (level + 1) << (4 * (step % 8));
+                }
+            }
+        }
+        table
+    }
+
+    /// The gather's, then each step's, in the order a run's sets take.
+    fn pipelines(&self) -> impl Iterator<Item = &ComputePipeline> {
+        std::iter::once(&self.gather).chain(&self.steps)
+    }
+
+    /// The layouts of one run's descriptor sets: the gather's, then one per step.
     pub fn set_layouts(&self) -> Vec<vk::DescriptorSetLayout> {
         self.pipelines().map(|p| p.set_layout).collect()
     }
@@ -87,14 +134,14 @@ impl NetworkPipelines {
 
     pub fn destroy(&mut self, device: &ash::Device) {
         self.gather.destroy(device);
-        for layer in &mut self.layers {
-            layer.destroy(device);
+        for step in &mut self.steps {
+            step.destroy(device);
         }
     }
 }
 
-/// The images of one network run: the gathered input (RGBA16F) and every layer's output (in the
-/// pipelines' precision), as arrays of four channels a layer, sized for the largest patch.
+/// The images of one network's run: the gathered input (RGBA16F) and every layer's output (in
+/// `precision`), as arrays of four channels a layer, sized for the largest patch.
 pub struct NetworkTensors {
     pub input: OwnedImage,
     pub layers: Vec<OwnedImage>,
@@ -106,10 +153,10 @@ impl NetworkTensors {
     pub fn new(
         gpu: &Gpu,
         allocator: &mut Allocator,
-        pipelines: &NetworkPipelines,
+        network: &Network,
+        precision: TensorPrecision,
         max_extent: vk::Extent2D,
     ) -> Result<Self> {
-        let network = &pipelines.network;
         // Transfer source: tests and debug tools read tensors back.
         let usage = vk::ImageUsageFlags::STORAGE
             | vk::ImageUsageFlags::SAMPLED
@@ -135,7 +182,7 @@ impl NetworkTensors {
                 gpu,
                 allocator,
                 "patchex network layer",
-                pipelines.precision.format(),
+                precision.format(),
                 extent,
                 usage,
                 layer.output_channels().div_ceil(4) as u32,
@@ -183,111 +230,156 @@ pub struct FrameInputs {
     pub frame_extent: vk::Extent2D,
 }
 
-/// Where the `Patch` record lives: a buffer with STORAGE and INDIRECT usage.
+/// Where a `Patch` record lives: a buffer with STORAGE and INDIRECT usage.
 #[derive(Clone, Copy)]
 pub struct PatchRecord {
     pub buffer: vk::Buffer,
     pub offset: u64,
 }
 
-/// The bytes of a `Patch` record for a patch the host chose (the pipeline's patches are planned
-/// on the GPU): `origin` and `extent` in frame texels, the extent a multiple of the network's.
-pub fn patch_bytes(network: &Network, origin: [u32; 2], extent: [u32; 2]) -> Vec<u8> {
-    let divisor = 1;
-    let mut words = vec![origin[0], origin[1], extent[0], extent[1], divisor, 0, 0, 0];
-    for level in 0..MAX_LEVELS {
-        let groups = |size: u32| (size >> level).div_ceil(GROUP_EDGE);
-        let used = level < network.widths.len();
-        words.extend([
-            if used { groups(extent[0]) } else { 0 },
-            if used { groups(extent[1]) } else { 0 },
-            1,
-            0,
-        ]);
+/// The bytes of the patch records (`PatchSlots`) for the networks' patches the host chose (the
+/// pipeline's are planned on the GPU): each network's `origin` and `extent` in frame texels, the
+/// extent a multiple of its network's, then the steps' dispatches as `plan_patches` writes them.
+/// The blend's patch is empty.
+pub fn patch_slots_bytes(
+    pipelines: &NetworkPipelines,
+    patches: [([u32; 2], [u32; 2]); 2],
+) -> Vec<u8> {
+    let slot_words = (PATCH_SLOT_BYTES / 4) as usize;
+    let mut words = vec![0u32; (PATCH_SLOTS_BYTES / 4) as usize];
+    let dispatch = |network: usize, level: u32| {
+        let extent = patches[network].1;
+        extent.map(|side| (side >> level).div_ceil(GROUP_EDGE))
+    };
+    for (network, (origin, extent)) in patches.into_iter().enumerate() {
+        let record = &mut words[network * slot_words..];
+        record[..5].copy_from_slice(&[origin[0], origin[1], extent[0], extent[1], 1]);
+        let levels = pipelines.networks[network].widths.len() as u32;
+        for level in 0..levels {
+            let at = (PATCH_DISPATCH_OFFSET / 4) as usize + 4 * level as usize;
+            let [x, y] = dispatch(network, level);
+            record[at..at + 3].copy_from_slice(&[x, y, 1]);
+        }
     }
-    let bytes: Vec<u8> = words.iter().flat_map(|w| w.to_ne_bytes()).collect();
-    debug_assert_eq!(bytes.len() as u64, PATCH_BYTES);
-    bytes
+    let steps = &mut words[PATCH_SLOT_STEPS as usize * slot_words..];
+    for step in 0..pipelines.step_count() {
+        let mut groups = [0, 0];
+        for network in 0..2 {
+            if let Some(level) = pipelines.step_level(network, step) {
+                let [x, y] = dispatch(network, level);
+                groups = [groups[0].max(x), groups[1] + y];
+            }
+        }
+        steps[4 * step..4 * step + 3].copy_from_slice(&[groups[0], groups[1], 1]);
+    }
+    words.iter().flat_map(|w| w.to_ne_bytes()).collect()
 }
 
-/// One network's run in an extrapolation.
+/// The networks' run in an extrapolation.
 pub struct NetworkRun<'a> {
     pub pipelines: &'a NetworkPipelines,
     /// Of the layouts `NetworkPipelines::set_layouts`, in this extrapolation's region.
     pub sets: Vec<vk::DescriptorSet>,
-    pub tensors: &'a NetworkTensors,
-    pub patch: PatchRecord,
+    /// FI's, then near-BE's.
+    pub tensors: [&'a NetworkTensors; 2],
+    /// The patch records (`PatchSlots`, `PATCH_SLOTS_BYTES`).
+    pub patches: CounterRange,
 }
 
-/// Records the gather and every layer of each network in `runs`, level by level across the
-/// networks: one barrier orders a step of all of them, so no network waits for another's work.
-/// Each pass counts the bytes of the share of the frame and of the tensors its patch spans.
-pub fn record(rec: &mut Recorder, inputs: &FrameInputs, runs: &[NetworkRun]) {
+/// Records the gather and each step of the two networks side by side: one dispatch and one
+/// barrier a step. Each network's part counts the bytes of the share of the frame and of its
+/// tensors that its patch spans.
+pub fn record(rec: &mut Recorder, inputs: &FrameInputs, run: &NetworkRun) {
     let material = inputs.material.unwrap_or(inputs.placeholder);
     let frame_pixels = inputs.frame_extent.width as u64 * inputs.frame_extent.height as u64;
-    for run in runs {
-        let gather = Pass {
-            pipeline: &run.pipelines.gather,
-            set: run.sets[0],
-        };
-        let gather = rec.bind(gather, |writes| {
-            writes
-                .image(binding::WARPED, inputs.warped)
-                .image(binding::MATERIAL, material)
-                .image(binding::NETWORK_INPUT, &run.tensors.input)
-                .buffer(binding::NETWORK_PATCH, &run.patch.range())
-        });
-        let params = Params {
-            frame_extent: [inputs.frame_extent.width, inputs.frame_extent.height],
-            has_material: inputs.material.is_some() as u32,
-            _pad_end: [0; 4],
-        };
-        rec.dispatch_over_patch(
-            &gather,
-            &params,
-            &run.patch.dispatch(0),
-            &[
-                (
-                    &[binding::WARPED, binding::MATERIAL],
-                    run.patch.pixels(frame_pixels),
-                ),
-                (&[binding::NETWORK_INPUT], run.patch.texels(run.tensors)),
-            ],
-        );
+    let patch = [PATCH_SLOT_FI, PATCH_SLOT_NEAR_BE].map(|slot| patch_record(&run.patches, slot));
+    let [first, second] = run.tensors;
+    let gather = Pass {
+        pipeline: &run.pipelines.gather,
+        set: run.sets[0],
+    };
+    let gather = rec.bind(gather, |writes| {
+        writes
+            .image(binding::WARPED, inputs.warped)
+            .image(binding::MATERIAL, material)
+            .image(binding::FIRST_INPUT, &first.input)
+            .buffer(binding::FIRST_PATCH, &patch[0].range())
+            .image(binding::SECOND_INPUT, &second.input)
+            .buffer(binding::SECOND_PATCH, &patch[1].range())
+    });
+    let params = Params {
+        frame_extent: [inputs.frame_extent.width, inputs.frame_extent.height],
+        has_material: inputs.material.is_some() as u32,
+        _pad_end: [0; 4],
+    };
+    let frame = [binding::WARPED, binding::MATERIAL];
+    rec.dispatch_over_patch(
+        &gather,
+        &params,
+        &step_dispatch(&run.patches, 0),
+        &[
+            (&frame, patch[0].pixels(frame_pixels)),
+            (&frame, patch[1].pixels(frame_pixels)),
+            (&[binding::FIRST_INPUT], patch[0].texels(first)),
+            (&[binding::SECOND_INPUT], patch[1].texels(second)),
+        ],
+    );
+    for step in 1..run.pipelines.step_count() {
+        record_step(rec, run, &patch, step);
     }
-    let steps = runs
-        .iter()
-        .map(|run| run.pipelines.layers.len())
-        .max()
-        .unwrap_or(0);
-    for n in 0..steps {
-        for run in runs.iter().filter(|run| n < run.pipelines.layers.len()) {
-            let layer = &run.pipelines.network.layers[n];
-            let tensors = run.tensors;
+}
+
+/// Records `step` (1 and on) of the networks side by side: each network's layer of that step
+/// over its patch `patch`, where it has one.
+fn record_step(rec: &mut Recorder, run: &NetworkRun, patch: &[PatchRecord; 2], step: usize) {
+    use codegen::binding::{MAIN, NETWORK_INPUT, OUTPUT, PATCH, SKIP};
+    let layers = run.pipelines.step_layers(step);
+    let pass = Pass {
+        pipeline: &run.pipelines.steps[step - 1],
+        set: run.sets[step],
+    };
+    let tensor_bindings = [0, 1].map(|network| {
+        let base = network as u32 * codegen::NETWORK_BINDINGS;
+        [MAIN, SKIP, NETWORK_INPUT, OUTPUT, PATCH].map(|binding| base + binding)
+    });
+    let bound = rec.bind(pass, |mut writes| {
+        for (network, layer) in layers.iter().enumerate() {
+            let Some(layer) = layer else { continue };
+            let tensors = run.tensors[network];
             let tensor = |tensor: Tensor| match tensor {
                 Tensor::Input => &tensors.input,
                 Tensor::Layer(n) => &tensors.layers[n],
             };
-            let pass = Pass {
-                pipeline: &run.pipelines.layers[n],
-                set: run.sets[1 + n],
-            };
             let main = tensor(layer.main);
-            let bound = rec.bind(pass, |writes| {
-                writes
-                    .image(0, main)
-                    .image(1, layer.skip.map_or(main, tensor))
-                    .image(2, &tensors.input)
-                    .image(3, &tensors.layers[n])
-                    .buffer(4, &run.patch.range())
-            });
-            rec.dispatch_over_patch(
-                &bound,
-                &(),
-                &run.patch.dispatch(layer.level),
-                &[(&[0, 1, 2, 3], run.patch.texels(tensors))],
-            );
+            let [main_binding, skip, input, output, patch_binding] = tensor_bindings[network];
+            writes = writes
+                .image(main_binding, main)
+                .image(skip, layer.skip.map_or(main, tensor))
+                .image(input, &tensors.input)
+                .image(output, &tensors.layers[step - 1])
+                .buffer(patch_binding, &patch[network].range());
         }
+        writes
+    });
+    // Each network's tensors are read and written over its patch; its record is read whole.
+    let shares: Vec<(&[u32], GpuShare)> = (0..2)
+        .filter(|&network| layers[network].is_some())
+        .map(|network| {
+            (
+                &tensor_bindings[network][..4],
+                patch[network].texels(run.tensors[network]),
+            )
+        })
+        .collect();
+    rec.dispatch_over_patch(&bound, &(), &step_dispatch(&run.patches, step), &shares);
+}
+
+/// The indirect dispatch of `step` in the patch records `patches`.
+fn step_dispatch(patches: &CounterRange, step: usize) -> CounterRange {
+    CounterRange {
+        buffer: patches.buffer,
+        offset: patches.offset + PATCH_SLOT_STEPS * PATCH_SLOT_BYTES + 16 * step as u64,
+        range: 12,
     }
 }
 
@@ -317,24 +409,16 @@ impl PatchRecord {
             capacity: tensors.capacity(),
         }
     }
-
-    /// The indirect dispatch of network level `level`.
-    fn dispatch(&self, level: u32) -> CounterRange {
-        CounterRange {
-            buffer: self.buffer,
-            offset: self.offset + PATCH_DISPATCH_OFFSET + 16 * level as u64,
-            range: 12,
-        }
-    }
 }
 
-/// The three patch records of an extrapolation (`PatchSlot` in shaders/include/patch.wgsl),
-/// each 256 bytes from the last.
+/// The patch records of an extrapolation (`PatchSlots` in shaders/include/patch.wgsl): three
+/// patches, each 256 bytes from the last, then the steps' dispatches.
 pub const PATCH_SLOT_BYTES: u64 = 256;
 pub const PATCH_SLOT_FI: u64 = 0;
 pub const PATCH_SLOT_NEAR_BE: u64 = 1;
 pub const PATCH_SLOT_BLEND: u64 = 2;
-pub const PATCH_SLOTS_BYTES: u64 = 3 * PATCH_SLOT_BYTES;
+const PATCH_SLOT_STEPS: u64 = 3;
+pub const PATCH_SLOTS_BYTES: u64 = PATCH_SLOT_STEPS * PATCH_SLOT_BYTES + 16 * MAX_STEPS as u64;
 
 /// The record of slot `slot` in `patches`.
 pub fn patch_record(patches: &CounterRange, slot: u64) -> PatchRecord {
@@ -356,6 +440,8 @@ pub struct PatchPlan {
     pub max_patch_side: u32,
     /// The segmentation's k_x and k_y, which grow the near-BE rectangles.
     pub growth: [f32; 2],
+    /// The level of each network's pass at each step (`NetworkPipelines::step_table`).
+    pub step_levels: [u32; 4],
 }
 
 /// Records `plan_patches`: the FI, near-BE and blend patches from the objects' totals in the
@@ -372,7 +458,7 @@ pub fn record_plan(
     let bound = rec.bind(pass, |writes| {
         writes
             .buffer(binding::TOTALS, totals)
-            .buffer(binding::PATCHES, patches)
+            .buffer(binding::SLOTS, patches)
     });
     let params = Params {
         extent: [extent.width, extent.height],
@@ -383,6 +469,7 @@ pub fn record_plan(
         divisor: plan.divisor,
         max_patch_side: plan.max_patch_side,
         growth: plan.growth,
+        step_levels: plan.step_levels,
         ..Default::default()
     };
     let one = vk::Extent2D {
@@ -462,8 +549,9 @@ pub fn record_blend(
 
 /// The two networks of the networks presets (NETWORKS, FULL), compiled, with their tensors.
 pub struct Inpainting {
-    /// FI, then near-BE.
-    pub networks: [(NetworkPipelines, NetworkTensors); 2],
+    pub pipelines: NetworkPipelines,
+    /// FI's, then near-BE's.
+    pub tensors: [NetworkTensors; 2],
     /// The network texels a patch may span per axis (`PatchexNetworkMemory`).
     pub max_patch_side: u32,
 }
@@ -479,37 +567,30 @@ impl Inpainting {
         max_extent: vk::Extent2D,
         max_patch_side: u32,
     ) -> Result<Self> {
-        let mut built: Vec<(NetworkPipelines, NetworkTensors)> = Vec::new();
-        for network in networks {
+        let mut pipelines = NetworkPipelines::new(gpu, networks, precision)?;
+        let mut tensors: Vec<NetworkTensors> = Vec::new();
+        for network in &pipelines.networks {
             let [width, height] = patch_capacity(
                 [max_extent.width, max_extent.height],
                 max_patch_side,
                 network.multiple(),
             );
             let extent = vk::Extent2D { width, height };
-            let made = NetworkPipelines::new(gpu, network, precision).and_then(|mut pipelines| {
-                match NetworkTensors::new(gpu, allocator, &pipelines, extent) {
-                    Ok(tensors) => Ok((pipelines, tensors)),
-                    Err(error) => {
-                        pipelines.destroy(&gpu.device);
-                        Err(error)
-                    }
-                }
-            });
-            match made {
-                Ok(pair) => built.push(pair),
+            match NetworkTensors::new(gpu, allocator, network, precision, extent) {
+                Ok(made) => tensors.push(made),
                 Err(error) => {
-                    for (mut pipelines, mut tensors) in built {
-                        pipelines.destroy(&gpu.device);
-                        tensors.destroy(gpu, allocator);
+                    for mut made in tensors {
+                        made.destroy(gpu, allocator);
                     }
+                    pipelines.destroy(&gpu.device);
                     return Err(error);
                 }
             }
         }
-        let networks = <[_; 2]>::try_from(built).unwrap_or_else(|_| unreachable!("two networks"));
+        let tensors = <[_; 2]>::try_from(tensors).unwrap_or_else(|_| unreachable!("two networks"));
         Ok(Self {
-            networks,
+            pipelines,
+            tensors,
             max_patch_side,
         })
     }
@@ -518,61 +599,54 @@ impl Inpainting {
     pub fn levels(&self, run: [bool; 2]) -> [u32; 2] {
         [0, 1].map(|i| {
             if run[i] {
-                self.networks[i].0.network.widths.len() as u32
+                self.pipelines.networks[i].widths.len() as u32
             } else {
                 0
             }
         })
     }
 
-    /// The layouts of the two networks' descriptor sets, FI's then near-BE's, which every
-    /// region of the frame ring holds.
+    /// The layouts of the networks' descriptor sets, which every region of the frame ring holds.
     pub fn set_layouts(&self) -> Vec<vk::DescriptorSetLayout> {
-        self.networks
-            .iter()
-            .flat_map(|(pipelines, _)| pipelines.set_layouts())
-            .collect()
+        self.pipelines.set_layouts()
     }
 
     /// Descriptor counts of the sets of `set_layouts` together.
     pub fn pool_sizes(&self) -> Vec<vk::DescriptorPoolSize> {
-        pool_sizes(self.networks.iter().flat_map(|(p, _)| p.pipelines()))
+        self.pipelines.pool_sizes()
     }
 
-    /// The two networks' runs with the sets of `passes`' region, on the patches of the region's
-    /// counters `patches`.
-    pub fn runs(&self, passes: &RegionPasses, patches: &CounterRange) -> Vec<NetworkRun<'_>> {
-        let mut sets = (0..).map(|n| passes.network_set(n));
-        [PATCH_SLOT_FI, PATCH_SLOT_NEAR_BE]
-            .into_iter()
-            .zip(&self.networks)
-            .map(|(patch_slot, (pipelines, tensors))| NetworkRun {
-                pipelines,
-                sets: sets.by_ref().take(1 + pipelines.layers.len()).collect(),
-                tensors,
-                patch: patch_record(patches, patch_slot),
-            })
-            .collect()
+    /// The networks' run with the sets of `passes`' region, on the region's patch records
+    /// `patches`.
+    pub fn run(&self, passes: &RegionPasses, patches: &CounterRange) -> NetworkRun<'_> {
+        NetworkRun {
+            pipelines: &self.pipelines,
+            sets: (0..self.pipelines.step_count())
+                .map(|n| passes.network_set(n))
+                .collect(),
+            tensors: self.tensors(),
+            patches: *patches,
+        }
     }
 
     pub fn tensors(&self) -> [&NetworkTensors; 2] {
-        [&self.networks[0].1, &self.networks[1].1]
+        [&self.tensors[0], &self.tensors[1]]
     }
 
     pub fn size_bytes(&self) -> u64 {
-        self.networks.iter().map(|(_, t)| t.size_bytes()).sum()
+        self.tensors.iter().map(NetworkTensors::size_bytes).sum()
     }
 
     /// Every tensor image, for their first layout transition.
     pub fn images(&mut self) -> impl Iterator<Item = &mut OwnedImage> {
-        self.networks
+        self.tensors
             .iter_mut()
-            .flat_map(|(_, t)| std::iter::once(&mut t.input).chain(t.layers.iter_mut()))
+            .flat_map(|t| std::iter::once(&mut t.input).chain(t.layers.iter_mut()))
     }
 
     pub fn destroy(&mut self, gpu: &Gpu, allocator: &mut Allocator) {
-        for (pipelines, tensors) in &mut self.networks {
-            pipelines.destroy(&gpu.device);
+        self.pipelines.destroy(&gpu.device);
+        for tensors in &mut self.tensors {
             tensors.destroy(gpu, allocator);
         }
     }

@@ -116,6 +116,7 @@ impl Buffer {
 }
 
 /// Where a pass's counters live in the frame ring's counter buffer.
+#[derive(Clone, Copy)]
 pub struct CounterRange {
     pub buffer: vk::Buffer,
     pub offset: u64,
