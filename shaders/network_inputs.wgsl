@@ -49,17 +49,21 @@ fn gather(texel: vec2u, origin: vec2u, d: u32) -> Gathered {
 
 @compute @workgroup_size(8, 8, 1)
 fn main(@builtin(workgroup_id) group: vec3u, @builtin(local_invocation_id) local: vec3u) {
+    // Read before the branch, where every invocation reads the same (llvmpipe reads a storage
+    // buffer lane by lane inside control flow).
     let step = step_group(group.xy, first_patch.dispatch[0]);
+    let origin = select(first_patch.origin, second_patch.origin, step.second);
+    let extent = select(first_patch.extent, second_patch.extent, step.second);
+    let divisor = select(first_patch.divisor, second_patch.divisor, step.second);
     let texel = step.group * 8u + local.xy;
-    if (step.second) {
-        if (all(texel < second_patch.extent)) {
-            let g = gather(texel, second_patch.origin, second_patch.divisor);
+    if (all(texel < extent)) {
+        let g = gather(texel, origin, divisor);
+        if (step.second) {
             textureStore(second_input, texel, 0, g.colour_hole);
             textureStore(second_input, texel, 1, g.surface);
+        } else {
+            textureStore(first_input, texel, 0, g.colour_hole);
+            textureStore(first_input, texel, 1, g.surface);
         }
-    } else if (all(texel < first_patch.extent)) {
-        let g = gather(texel, first_patch.origin, first_patch.divisor);
-        textureStore(first_input, texel, 0, g.colour_hole);
-        textureStore(first_input, texel, 1, g.surface);
     }
 }

@@ -128,17 +128,27 @@ fn main(@builtin(workgroup_id) group: vec3u, @builtin(local_invocation_id) local
     match layers {
         [Some(first), Some(_)] => writeln!(
             s,
-            "    let step = step_group(group.xy, network_patch_0.dispatch[{}]);
+            "    let first_extent = network_patch_0.extent;
+    let second_extent = network_patch_1.extent;
+    let step = step_group(group.xy, network_patch_0.dispatch[{}]);
     if (step.second) {{
-        layer_1({texel});
+        layer_1({texel}, second_extent);
     }} else {{
-        layer_0({texel});
+        layer_0({texel}, first_extent);
     }}",
             first.level,
             texel = texel("step.group"),
         ),
-        [Some(_), None] => writeln!(s, "    layer_0({});", texel("group.xy")),
-        [None, Some(_)] => writeln!(s, "    layer_1({});", texel("group.xy")),
+        [Some(_), None] => writeln!(
+            s,
+            "    layer_0({}, network_patch_0.extent);",
+            texel("group.xy")
+        ),
+        [None, Some(_)] => writeln!(
+            s,
+            "    layer_1({}, network_patch_1.extent);",
+            texel("group.xy")
+        ),
         [None, None] => Ok(()),
     }
     .unwrap();
@@ -159,7 +169,7 @@ fn layer_function(s: &mut String, layer: &Layer, network: usize, precision: Tens
 @group(0) @binding({}) var layer_output_{n}: texture_storage_2d_array<{}, write>;
 @group(0) @binding({}) var<storage, read> network_patch_{n}: Patch;
 
-fn layer_{n}(texel: vec2u) {{",
+fn layer_{n}(texel: vec2u, patch_extent: vec2u) {{",
         base + binding::MAIN,
         base + binding::SKIP,
         base + binding::NETWORK_INPUT,
@@ -172,14 +182,10 @@ fn layer_{n}(texel: vec2u) {{",
     // The main input's extent in this layer's coordinates: a stride-2 layer reads the level
     // above at twice its own size, an upsampling one reads the level below doubled.
     let main_level = if layer.stride == 2 { level - 1 } else { level };
+    writeln!(s, "    let extent = patch_extent >> vec2u({level}u);").unwrap();
     writeln!(
         s,
-        "    let extent = network_patch_{n}.extent >> vec2u({level}u);"
-    )
-    .unwrap();
-    writeln!(
-        s,
-        "    let main_extent = vec2i(network_patch_{n}.extent >> vec2u({main_level}u));"
+        "    let main_extent = vec2i(patch_extent >> vec2u({main_level}u));"
     )
     .unwrap();
     s.push_str(
