@@ -22,9 +22,8 @@ use crate::shaders::{Binding, DescriptorKind, ShaderInfo};
 /// Workgroup edge of every step's shader.
 pub const GROUP_EDGE: u32 = 8;
 
-/// The bindings of one network's layer in a step's shader, the first network's at 0 to 4, the
-/// second's at 5 to 9 (`NETWORK_BINDINGS` each past the first); the ones a layer does not read
-/// are bound all the same, so that every step binds the same tensors.
+/// The bindings of one network's layer in a step's shader: the first network's at 0 to 4, the
+/// second's at 5 to 9 (`NETWORK_BINDINGS` past the first's).
 pub const NETWORK_BINDINGS: u32 = 5;
 const BINDINGS: [Binding; 2 * NETWORK_BINDINGS as usize] = [
     network_binding(0, DescriptorKind::SampledImage, "main_input"),
@@ -51,8 +50,9 @@ const fn network_binding(binding: u32, kind: DescriptorKind, name: &'static str)
     }
 }
 
-/// Within a network's bindings: the layer's main input, skip input (its main input when it has
-/// none), the network's gathered input, its output and the network's `Patch` record.
+/// Within a network's bindings: the layer's main input, its skip input (the main input again
+/// for a layer without one, which does not read it), the network's gathered input, the layer's
+/// output and the network's `Patch` record.
 pub mod binding {
     pub const MAIN: u32 = 0;
     pub const SKIP: u32 = 1;
@@ -128,7 +128,8 @@ fn main(@builtin(workgroup_id) group: vec3u, @builtin(local_invocation_id) local
     match layers {
         [Some(first), Some(_)] => writeln!(
             s,
-            "    let first_extent = network_patch_0.extent;
+            "    // Read before the branch, where every invocation reads the same.
+    let first_extent = network_patch_0.extent;
     let second_extent = network_patch_1.extent;
     let step = step_group(group.xy, network_patch_0.dispatch[{}]);
     if (step.second) {{
@@ -156,8 +157,8 @@ fn main(@builtin(workgroup_id) group: vec3u, @builtin(local_invocation_id) local
     s
 }
 
-/// Declares network `network`'s bindings and writes `layer_{network}(texel)`, which computes
-/// every output channel of one texel of `layer`.
+/// Declares network `network`'s bindings and writes `layer_{network}(texel, patch_extent)`,
+/// which computes every output channel of one texel of `layer` over a patch of `patch_extent`.
 fn layer_function(s: &mut String, layer: &Layer, network: usize, precision: TensorPrecision) {
     let base = network as u32 * NETWORK_BINDINGS;
     let n = network;
