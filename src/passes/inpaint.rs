@@ -3,6 +3,9 @@
 //! shader per step (`network::codegen`) runs each network's layer of that step. Every pass is
 //! dispatched indirectly from the step's record, which `plan_patches` writes from both patches,
 //! so that the work follows the patches' area and a frame without one dispatches no workgroup.
+//! Also here, as they share the patch records: their planning (`record_plan`, in the
+//! segmentation's stage) and the blend of the networks' results into the frame
+//! (`record_blend`).
 
 use ash::vk;
 use gpu_allocator::vulkan::Allocator;
