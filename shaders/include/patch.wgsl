@@ -27,8 +27,9 @@ struct PatchSlots {
     steps: array<vec4u, 16>,
 }
 
-// The workgroup of the first network's dispatch `first` that the step's workgroup `group` is,
-// or of the second's (`second` true), with the second's rows below the first's.
+// Which network a step's workgroup `group` works for (the second where `second`, whose rows
+// follow the first network's dispatch `first`), and which workgroup of that network's own
+// dispatch it is.
 struct StepGroup {
     group: vec2u,
     second: bool,
