@@ -298,6 +298,16 @@ fn run_on_gpu(runs: [PatchRun; 2], frame: &PatchFrame, precision: TensorPrecisio
     outputs
 }
 
+/// `run` with the second network off (an empty patch): its output planes.
+fn run_alone(run: PatchRun, frame: &PatchFrame, precision: TensorPrecision) -> Planes {
+    let off = PatchRun {
+        size: [0, 0],
+        ..run
+    };
+    let [output, _] = run_on_gpu([run, off], frame, precision);
+    output
+}
+
 /// On the golden's colour, hole and material planes (the gather makes the LBP plane from the
 /// colour), the GPU meets the f16-storage reference, which meets PyTorch on the golden's own
 /// planes (`reference_matches_pytorch_golden`). The second network is off (an empty patch).
@@ -306,22 +316,12 @@ fn gpu_matches_reference_on_golden_planes() {
     let network = Network::from_safetensors(TINY, "tiny.safetensors").unwrap();
     let (input, _) = golden(TINY_GOLDEN);
     let frame = PatchFrame::from_planes(&input);
-    let [gpu, _] = run_on_gpu(
-        [
-            PatchRun {
-                network: &network,
-                origin: [0, 0],
-                size: [16, 16],
-            },
-            PatchRun {
-                network: &network,
-                origin: [0, 0],
-                size: [0, 0],
-            },
-        ],
-        &frame,
-        TensorPrecision::F16,
-    );
+    let run = PatchRun {
+        network: &network,
+        origin: [0, 0],
+        size: [16, 16],
+    };
+    let gpu = run_alone(run, &frame, TensorPrecision::F16);
     let reference = forward(&network, &frame.planes([0, 0], [16, 16]), true);
     let worst = worst_difference(&gpu, &reference);
     println!("GPU against the f16 reference: worst {worst:e}");
@@ -421,23 +421,12 @@ fn fp16_tensors_stay_within_a_stated_bound_of_fp32() {
     let (origin, size) = ([32, 16], [48, 40]);
     let planes = patch_frame.planes(origin.map(|v| v as usize), size.map(|v| v as usize));
     let run = |precision| {
-        let [output, _] = run_on_gpu(
-            [
-                PatchRun {
-                    network: &network,
-                    origin,
-                    size,
-                },
-                PatchRun {
-                    network: &network,
-                    origin,
-                    size: [0, 0],
-                },
-            ],
-            &patch_frame,
-            precision,
-        );
-        output
+        let run = PatchRun {
+            network: &network,
+            origin,
+            size,
+        };
+        run_alone(run, &patch_frame, precision)
     };
     let fp32 = run(TensorPrecision::F32);
     let fp16 = run(TensorPrecision::F16);
