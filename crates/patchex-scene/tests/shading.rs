@@ -230,7 +230,8 @@ fn final_colour_equals_the_lighting_of_the_gbuffers() {
 }
 
 /// The pane is drawn over the lit surface behind it by its coverage, lit by the same model, and
-/// leaves the G-buffer, the shadows and the light behind it as they were; the mask is its
+/// leaves the G-buffer, the shadows and the light behind it as they were (FinalImageOpaque keeps
+/// the frame before it); the mask is its
 /// coverage, and the translucency's motion is the pane's own, not that of what lies behind it.
 #[test]
 fn glass_is_blended_over_the_lighting_of_what_lies_behind() {
@@ -265,6 +266,11 @@ fn glass_is_blended_over_the_lighting_of_what_lies_behind() {
             let mask = frame.layer(TRANSLUCENCY_MASK).pixel(x, y)[0];
             let lit_behind = v3(&behind, FINAL_IMAGE, x, y);
             let final_image = v3(&frame, FINAL_IMAGE, x, y);
+            assert_eq!(
+                v3(&frame, FINAL_IMAGE_OPAQUE, x, y),
+                lit_behind,
+                "({x},{y}): FinalImageOpaque is the frame before the pane is drawn"
+            );
             let pane = PaneCrossing::of(glass, &lighting, camera, v3(&frame, WORLD_POSITION, x, y));
             if pane.on_edge {
                 continue;

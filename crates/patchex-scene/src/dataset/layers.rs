@@ -38,8 +38,12 @@ pub const STATIC_SHADOW_MASK: &str = "StaticShadowMask";
 pub const TRANSLUCENCY_MASK: &str = "TranslucencyMask";
 /// The translucency's own backward motion in pixels, where TranslucencyMask is above 0.
 pub const TRANSLUCENCY_MOTION: &str = "TranslucencyMotion";
+/// FinalImage before the translucency is drawn over it: the lit opaque surfaces alone, what an
+/// engine's scene colour holds before its translucency pass.
+pub const FINAL_IMAGE_OPAQUE: &str = "FinalImageOpaque";
 /// The layers a scene that draws translucency adds.
-pub const TRANSLUCENCY_LAYERS: [&str; 2] = [TRANSLUCENCY_MASK, TRANSLUCENCY_MOTION];
+pub const TRANSLUCENCY_LAYERS: [&str; 3] =
+    [TRANSLUCENCY_MASK, TRANSLUCENCY_MOTION, FINAL_IMAGE_OPAQUE];
 
 pub const LAYERS: &[LayerSpec] = &[
     LayerSpec {

@@ -9,8 +9,8 @@ use std::ops::{Add, Mul, Sub};
 use glam::{Vec2, Vec3};
 
 use crate::dataset::{
-    FrameLayers, LayerImage, FINAL_IMAGE, FINAL_IMAGE_NO_DYNAMIC_SHADOWS, SPECULAR_LIGHT,
-    TRANSLUCENCY_MASK, TRANSLUCENCY_MOTION,
+    FrameLayers, LayerImage, FINAL_IMAGE, FINAL_IMAGE_NO_DYNAMIC_SHADOWS, FINAL_IMAGE_OPAQUE,
+    SPECULAR_LIGHT, TRANSLUCENCY_MASK, TRANSLUCENCY_MOTION,
 };
 
 /// One texel of a premultiplied layer: radiance and backward motion in pixels, each times
@@ -149,8 +149,13 @@ impl TranslucentLayer {
     }
 
     /// Composites the layer over the frame's lit colours, hides the view-dependent light behind
-    /// it as much as the rest, and adds the mask and motion layers.
+    /// it as much as the rest, and adds the mask and motion layers and the lit colour as it was
+    /// before.
     pub fn composite(self, layers: &mut FrameLayers) {
+        let opaque = LayerImage {
+            name: FINAL_IMAGE_OPAQUE.to_owned(),
+            ..layers.layer(FINAL_IMAGE).clone()
+        };
         for layer in layers
             .layers
             .iter_mut()
@@ -190,7 +195,7 @@ impl TranslucentLayer {
         };
         let mask = layer(TRANSLUCENCY_MASK, &["R"], coverage);
         let motion = layer(TRANSLUCENCY_MOTION, &["R", "G"], motion);
-        layers.layers.extend([mask, motion]);
+        layers.layers.extend([mask, motion, opaque]);
     }
 }
 
