@@ -23,7 +23,8 @@ use patchex::passes::warp::WarpSettings;
 use patchex::passes::{RuntimeGroup, STAGES};
 use patchex_scene::dataset::{
     write_exr, Dataset, FrameLayers, FrameRole, LayerImage, FINAL_IMAGE,
-    FINAL_IMAGE_NO_DYNAMIC_SHADOWS, ROUGHNESS, SHADOW_MASK, SPECULAR_LIGHT, TRANSLUCENCY_MASK,
+    FINAL_IMAGE_NO_DYNAMIC_SHADOWS, FINAL_IMAGE_OPAQUE, ROUGHNESS, SHADOW_MASK, SPECULAR_LIGHT,
+    TRANSLUCENCY_MASK,
 };
 use serde_json::json;
 
@@ -58,6 +59,10 @@ pub enum Method {
     /// The default warp given each frame's translucency mask and motion
     /// (`PatchexTranslucencyInput`): what is drawn over the surfaces moved by its own motion.
     GbufferTranslucency,
+    /// The default warp called before the engine's translucency pass: given frame t's lit colour
+    /// before translucency, its output gets the target's translucency drawn over it, as the
+    /// engine draws it over a rendered frame.
+    GbufferBeforeTranslucency,
     /// The shadow sub-task and the sun's highlights: every input an engine has today.
     GbufferShadowsHighlights,
     /// The target shadow mask and the sun's highlights.
@@ -100,6 +105,9 @@ impl Method {
             Method::GbufferTargetShadows => "G-buffer-guided warp + target shadow mask",
             Method::GbufferHighlights => "G-buffer-guided warp + sun highlights",
             Method::GbufferTranslucency => "G-buffer-guided warp + translucency mask",
+            Method::GbufferBeforeTranslucency => {
+                "G-buffer-guided warp before the translucency pass"
+            }
             Method::GbufferShadowsHighlights => {
                 "G-buffer-guided warp + shadow sub-task + sun highlights"
             }
@@ -138,6 +146,7 @@ impl Method {
             | Method::GbufferTargetShadows
             | Method::GbufferHighlights
             | Method::GbufferTranslucency
+            | Method::GbufferBeforeTranslucency
             | Method::GbufferShadowsHighlights
             | Method::GbufferTargetShadowsHighlights
             | Method::Patchex
@@ -390,6 +399,15 @@ struct DatasetResult {
 }
 
 pub fn run(args: EvalArgs) -> CommandResult {
+    if args.post == PostPlacement::After
+        && args.methods.contains(&Method::GbufferBeforeTranslucency)
+    {
+        return Err(
+            "gbuffer-before-translucency runs before the translucency pass, so before post: \
+             it cannot be scored with --post after"
+                .into(),
+        );
+    }
     let mut methods = args.methods.clone();
     methods.sort();
     methods.dedup();
@@ -515,7 +533,12 @@ fn evaluate(
             highlights(&current),
             translucency(&previous, &current),
         ];
-        let mut run_plugin = |warp,
+        // Frame t as the engine's scene colour holds it before the translucency pass.
+        let previous_opaque = methods
+            .contains(&Method::GbufferBeforeTranslucency)
+            .then(|| before_translucency(&previous));
+        let mut run_plugin = |previous: &FrameLayers,
+                              warp,
                               networks: Option<NetworkChoice>,
                               with_diagnostics,
                               shadows: Option<bool>,
@@ -524,7 +547,7 @@ fn evaluate(
             frame_index += 2;
             driver.extrapolate(
                 frame_index,
-                (&previous, &manifest.frames[source]),
+                (previous, &manifest.frames[source]),
                 (&current, &manifest.frames[target]),
                 alpha,
                 Some(warp),
@@ -541,6 +564,7 @@ fn evaluate(
         };
         // The default warp's diagnostics give every method's regions and holes.
         let reference = run_plugin(
+            &previous,
             WarpSettings::default(),
             None,
             true,
@@ -568,9 +592,22 @@ fn evaluate(
                 Some(_) if method == Method::Gbuffer => {
                     (reference.color.clone(), 4, Some(reference.stats))
                 }
+                Some(warp) if method == Method::GbufferBeforeTranslucency => {
+                    let opaque = previous_opaque.as_ref().expect("made for this method");
+                    let mut run = run_plugin(opaque, warp, None, false, None, method.extras())?;
+                    draw_translucency(&mut run.color, &current);
+                    (run.color, 4, Some(run.stats))
+                }
                 Some(warp) => {
                     let networks = method.networks(args);
-                    let run = run_plugin(warp, networks, false, method.shadows(), method.extras())?;
+                    let run = run_plugin(
+                        &previous,
+                        warp,
+                        networks,
+                        false,
+                        method.shadows(),
+                        method.extras(),
+                    )?;
                     (run.color, 4, Some(run.stats))
                 }
                 None if method == Method::Copy => {
@@ -652,6 +689,40 @@ fn evaluate(
         .into());
     }
     Ok(result)
+}
+
+/// `frame` with its lit colour as it was before the translucency pass (FinalImageOpaque); as it
+/// is in a scene that draws no translucency.
+fn before_translucency(frame: &FrameLayers) -> FrameLayers {
+    let mut frame = frame.clone();
+    if let Some(opaque) = frame.get(FINAL_IMAGE_OPAQUE).map(|l| l.data.clone()) {
+        frame.get_mut(FINAL_IMAGE).expect("a lit frame").data = opaque;
+    }
+    frame
+}
+
+/// Draws the target's translucency over `output` (RGBA) as the engine draws it over its lit
+/// colour: the layer's own light plus what it lets through, `(1 - mask) * output`. The layer's
+/// light is what the target's colour holds beyond its lit opaque colour seen through the mask.
+fn draw_translucency(output: &mut [f32], target: &FrameLayers) {
+    let (Some(mask), Some(opaque)) = (
+        target.get(TRANSLUCENCY_MASK),
+        target.get(FINAL_IMAGE_OPAQUE),
+    ) else {
+        return;
+    };
+    let colour = target.layer(FINAL_IMAGE).data.chunks(3);
+    for (((out, colour), opaque), coverage) in output
+        .chunks_mut(4)
+        .zip(colour)
+        .zip(opaque.data.chunks(3))
+        .zip(&mask.data)
+    {
+        let through = 1.0 - coverage;
+        for ((out, colour), opaque) in out.iter_mut().zip(colour).zip(opaque) {
+            *out = colour - through * opaque + through * *out;
+        }
+    }
 }
 
 /// One method's output as an EXR of one "FinalImage" layer (R, G, B), as the datasets hold the
@@ -1063,4 +1134,53 @@ fn dict(region_pixels: &[u64; REGION_COUNT]) -> serde_json::Value {
         .map(|(name, pixels)| (name.to_string(), json!(pixels)))
         .collect::<serde_json::Map<_, _>>()
         .into()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn layer(name: &str, channels: usize, data: Vec<f32>) -> LayerImage {
+        LayerImage {
+            name: name.to_owned(),
+            channels: ["R", "G", "B"][..channels].iter().map(|c| c.to_string()).collect(),
+            width: 2,
+            height: 1,
+            data,
+        }
+    }
+
+    /// Two pixels: one uncovered, one 75% covered by a layer of light (0.3, 0.2, 0.1).
+    fn target() -> FrameLayers {
+        let opaque = vec![1.0, 2.0, 3.0, 0.5, 0.5, 0.5];
+        let final_image = vec![1.0, 2.0, 3.0, 0.425, 0.325, 0.225];
+        FrameLayers {
+            width: 2,
+            height: 1,
+            layers: vec![
+                layer(FINAL_IMAGE, 3, final_image),
+                layer(FINAL_IMAGE_OPAQUE, 3, opaque),
+                layer(TRANSLUCENCY_MASK, 1, vec![0.0, 0.75]),
+            ],
+        }
+    }
+
+    #[test]
+    fn the_targets_translucency_is_drawn_over_what_lets_it_through() {
+        let close = |a: &[f32], b: &[f32]| a.iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-6);
+        // The target's opaque colour exactly: the target itself.
+        let mut output = vec![1.0, 2.0, 3.0, 1.0, 0.5, 0.5, 0.5, 1.0];
+        draw_translucency(&mut output, &target());
+        assert!(close(&output, &[1.0, 2.0, 3.0, 1.0, 0.425, 0.325, 0.225, 1.0]));
+        // An error under the layer shows through by a quarter; uncovered, in full.
+        let mut output = vec![1.4, 2.0, 3.0, 1.0, 0.9, 0.5, 0.5, 1.0];
+        draw_translucency(&mut output, &target());
+        assert!(close(&output, &[1.4, 2.0, 3.0, 1.0, 0.525, 0.325, 0.225, 1.0]));
+        // Nothing to draw in a frame without translucency.
+        let mut plain = target();
+        plain.layers.truncate(1);
+        let mut output = vec![0.0; 8];
+        draw_translucency(&mut output, &plain);
+        assert_eq!(output, vec![0.0; 8]);
+    }
 }
