@@ -276,7 +276,11 @@ pub struct PatchexFrameDesc {
     pub queue_family_index: u32,
     pub width: u32,
     pub height: u32,
-    /// Final linear HDR colour, before tone mapping and UI; non-negative, up to 65504.
+    /// Final linear HDR colour, before tone mapping and UI; non-negative, up to 65504. Best
+    /// taken before the translucency pass as well, the lit opaque surfaces alone: then draw the
+    /// translucency for the target instant over the extrapolated frame, as over a rendered one
+    /// (the integration guide says what that costs). Colour that holds its translucency wants a
+    /// PatchexTranslucencyInput.
     pub color: PatchexImage,
     /// Base colour (albedo) in RGB. patchex divides the colour by it (plus the specular
     /// reflectance) to warp lighting rather than texture, and multiplies by the target's. Where
@@ -524,6 +528,11 @@ pub struct PatchexSunLight {
 ///
 /// It costs patchex one pass over frame t's covered pixels in the submit and one over the
 /// target's in each extrapolation, and 12 bytes a pixel of memory from the first frame with it.
+///
+/// It is for colour handed over after the translucency pass. An engine that hands over its
+/// colour from before that pass and draws its translucency over the extrapolated frame gives no
+/// mask: nothing in that colour is translucent, and every translucent pixel is then as it is at
+/// the target, which this input only estimates.
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
 pub struct PatchexTranslucencyInput {
