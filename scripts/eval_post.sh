@@ -12,6 +12,8 @@ cargo build --release -p patchex -p patchex-cli
 source scripts/lib/scenes.sh
 source scripts/lib/results.sh
 methods=copy,gbuffer,gbuffer-shadows,gbuffer-translucency,interpolation
+# Called before the translucency pass, patchex is before post as well: scored in that placement.
+before_methods=$methods,gbuffer-before-translucency
 for which in validation test; do
     datasets=()
     for scene in $(split "$which"); do
@@ -20,7 +22,9 @@ for which in validation test; do
         datasets+=("$dataset")
     done
     for placement in before after; do
-        target/release/patchex eval "${datasets[@]}" --methods "$methods" --post "$placement" \
+        placement_methods=$methods
+        [ "$placement" = before ] && placement_methods=$before_methods
+        target/release/patchex eval "${datasets[@]}" --methods "$placement_methods" --post "$placement" \
             --out "out/eval_post/$which/$placement"
         publish "out/eval_post/$which/$placement/eval.md" "eval_post_${placement}_$which.md"
     done
