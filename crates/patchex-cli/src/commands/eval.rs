@@ -1143,7 +1143,10 @@ mod tests {
     fn layer(name: &str, channels: usize, data: Vec<f32>) -> LayerImage {
         LayerImage {
             name: name.to_owned(),
-            channels: ["R", "G", "B"][..channels].iter().map(|c| c.to_string()).collect(),
+            channels: ["R", "G", "B"][..channels]
+                .iter()
+                .map(|c| c.to_string())
+                .collect(),
             width: 2,
             height: 1,
             data,
@@ -1171,11 +1174,17 @@ mod tests {
         // The target's opaque colour exactly: the target itself.
         let mut output = vec![1.0, 2.0, 3.0, 1.0, 0.5, 0.5, 0.5, 1.0];
         draw_translucency(&mut output, &target());
-        assert!(close(&output, &[1.0, 2.0, 3.0, 1.0, 0.425, 0.325, 0.225, 1.0]));
+        assert!(close(
+            &output,
+            &[1.0, 2.0, 3.0, 1.0, 0.425, 0.325, 0.225, 1.0]
+        ));
         // An error under the layer shows through by a quarter; uncovered, in full.
         let mut output = vec![1.4, 2.0, 3.0, 1.0, 0.9, 0.5, 0.5, 1.0];
         draw_translucency(&mut output, &target());
-        assert!(close(&output, &[1.4, 2.0, 3.0, 1.0, 0.525, 0.325, 0.225, 1.0]));
+        assert!(close(
+            &output,
+            &[1.4, 2.0, 3.0, 1.0, 0.525, 0.325, 0.225, 1.0]
+        ));
         // Nothing to draw in a frame without translucency.
         let mut plain = target();
         plain.layers.truncate(1);
