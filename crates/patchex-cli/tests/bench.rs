@@ -20,6 +20,16 @@ fn bench_measures_every_configuration_at_every_size_and_plots_the_trade() {
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.path().join("bench.json")).unwrap())
             .unwrap();
+    // The fixed costs of a command, measured on the device: a dispatch takes time.
+    assert!(
+        json["fixed_costs_us"]["dispatch"].as_f64().unwrap() > 0.0,
+        "{}",
+        json["fixed_costs_us"]
+    );
+    assert!(json["fixed_costs_us"]["barrier"]
+        .as_f64()
+        .unwrap()
+        .is_finite());
     let rows = json["rows"].as_array().unwrap();
     assert_eq!(rows.len(), 2 * 11, "two sizes, eleven configurations");
     for row in rows {
@@ -76,6 +86,10 @@ fn bench_measures_every_configuration_at_every_size_and_plots_the_trade() {
     assert!(markdown.contains("Growth with resolution"), "{markdown}");
     assert!(markdown.contains("| 108p |") && markdown.contains("whole frame / patches"));
     assert!(markdown.contains("Catmull-Rom / bilinear"), "{markdown}");
+    assert!(
+        markdown.contains("µs per dispatch among independent"),
+        "{markdown}"
+    );
     let plot = std::fs::read(out.path().join("trade.png")).unwrap();
     assert!(plot.starts_with(b"\x89PNG"), "trade.png is a PNG");
 }

@@ -6,7 +6,9 @@
 //!   preprocessing, inference, blending), and how the time grows with resolution;
 //! - trade.png: quality against GPU time, one line per configuration through the resolutions;
 //! - the costs of each stage: device memory per configuration, bytes read and written and
-//!   arithmetic per pixel, dispatches and barriers, and a lower bound on three GPUs (`costs`).
+//!   arithmetic per pixel, dispatches and barriers, and a lower bound on three GPUs (`costs`);
+//!   and what a dispatch and a barrier cost on the device however little they do
+//!   (`fixed_costs`).
 //!
 //! GPU times come from the plugin's timestamp queries. Each configuration runs once on every
 //! size before it is measured, so no measurement pays for the driver's lazy compilation, and
@@ -23,12 +25,14 @@ use clap::{Args, ValueEnum};
 use patchex::abi::*;
 use patchex::passes::warp::WarpSettings;
 use patchex::passes::{RuntimeGroup, STAGES};
+use patchex_harness::{Engine, EngineOptions};
 use patchex_scene::dataset::{render_sequence, Dataset, FrameLayers, SequenceOptions, FINAL_IMAGE};
 use patchex_scene::{Gpu, GpuOptions, World};
 use plotters::prelude::*;
 use serde_json::json;
 
 use super::costs::{self, Costs};
+use super::fixed_costs::{self, FixedCosts};
 use super::metrics::{error_maps, Pooled};
 use super::picture::tone_map;
 use super::plugin_driver::{FrameExtras, InputFormats, NetworkChoice, PluginDriver, ShadowRun};
@@ -200,6 +204,12 @@ pub struct BenchArgs {
     font: PathBuf,
 }
 
+/// The device the plugin ran on, and what a command costs there however little it does.
+struct MeasuredDevice {
+    name: String,
+    fixed_costs: FixedCosts,
+}
+
 /// One configuration at one size, over every scene's targets.
 #[derive(Clone, Default)]
 struct Measured {
@@ -235,7 +245,6 @@ pub fn run(args: BenchArgs) -> CommandResult {
     let gpu = Arc::new(Gpu::new(GpuOptions { validation: false })?);
     // results[size][configuration]
     let mut results = vec![vec![Measured::default(); configurations.len()]; args.sizes.len()];
-    let mut device = String::new();
     for scene in &args.scenes {
         let world = World::load(scene, None)?;
         for (size_index, &(width, height)) in args.sizes.iter().enumerate() {
@@ -257,7 +266,7 @@ pub fn run(args: BenchArgs) -> CommandResult {
                 &mut |_, _| {},
             )?;
             eprintln!("measuring");
-            device = measure(
+            measure(
                 &dir,
                 args.input_formats,
                 Duration::from_millis(args.warm_up_ms),
@@ -267,6 +276,16 @@ pub fn run(args: BenchArgs) -> CommandResult {
             )?;
         }
     }
+    eprintln!("measuring the fixed cost of a dispatch and of a barrier");
+    // The device the driver picks for the plugin (validation off, as for the measurements).
+    let engine = Engine::new(&EngineOptions {
+        validation: false,
+        ..EngineOptions::default()
+    })?;
+    let device = MeasuredDevice {
+        fixed_costs: fixed_costs::measure(&engine, Duration::from_millis(args.warm_up_ms))?,
+        name: engine.device_name.clone(),
+    };
     let markdown = report(&args, &device, &configurations, &results);
     std::fs::write(args.out.join("bench.md"), &markdown)?;
     std::fs::write(
@@ -297,7 +316,7 @@ fn measure(
     max_patch_side: Option<u32>,
     configurations: &[Configuration],
     results: &mut [Measured],
-) -> Result<String, Box<dyn std::error::Error>> {
+) -> CommandResult {
     let dataset = Dataset::open(dir)?;
     let manifest = &dataset.manifest;
     let targets: Vec<usize> = (3..manifest.frames.len()).step_by(2).collect();
@@ -362,7 +381,7 @@ fn measure(
                 (extrapolation.fi_fraction + extrapolation.near_be_fraction) as f64;
         }
     }
-    Ok(driver.engine.device_name.clone())
+    Ok(())
 }
 
 fn size_label(size: (u32, u32)) -> String {
@@ -371,7 +390,7 @@ fn size_label(size: (u32, u32)) -> String {
 
 fn report(
     args: &BenchArgs,
-    device: &str,
+    device: &MeasuredDevice,
     configurations: &[Configuration],
     results: &[Vec<Measured>],
 ) -> String {
@@ -388,11 +407,12 @@ fn report(
         .collect();
     writeln!(
         out,
-        "Every configuration on {device}, on the same targets of {} ({} frames each, targets from frame 3 \
+        "Every configuration on {}, on the same targets of {} ({} frames each, targets from frame 3 \
          on, alpha 0.5, the G-buffer in {:?} formats, the networks' patches up to {} texels a \
          side, the whole-frame ablation's the whole frame), quality of the tone-mapped frame against the rendered \
          target; GPU ms per target from timestamp queries (submit plus extrapolation, each \
          call repeated back to back for {} ms first), grouped as the PatchEX runtime table.\n",
+        device.name,
         scenes.join(" and "),
         args.frames,
         args.input_formats,
@@ -478,6 +498,21 @@ fn report(
         .map(|row| row.iter().map(|m| m.costs.clone()).collect())
         .collect();
     costs::report(&mut out, &args.sizes, &labels, &costs, args.sizes.len() - 1);
+    let fixed = device.fixed_costs;
+    writeln!(
+        out,
+        "\nFixed costs on {}, measured: {:.2} µs per dispatch among independent one-workgroup \
+         dispatches, and {:.2} µs more for a barrier on the dispatch before ({} of each, \
+         timestamp queries, the median of {} runs after the warm-up). The bounds above take \
+         {:.0} µs for each.",
+        device.name,
+        fixed.dispatch_us,
+        fixed.barrier_us,
+        fixed_costs::CHAIN,
+        fixed_costs::RUNS,
+        costs::SECONDS_PER_DISPATCH * 1e6,
+    )
+    .unwrap();
     out
 }
 
@@ -604,7 +639,7 @@ fn patch_ratio_table(
 
 fn report_json(
     args: &BenchArgs,
-    device: &str,
+    device: &MeasuredDevice,
     configurations: &[Configuration],
     results: &[Vec<Measured>],
 ) -> serde_json::Value {
@@ -637,7 +672,16 @@ fn report_json(
                 })
         })
         .collect();
-    json!({ "device": device, "frames": args.frames, "warm_up_ms": args.warm_up_ms, "rows": rows })
+    json!({
+        "device": device.name,
+        "fixed_costs_us": {
+            "dispatch": device.fixed_costs.dispatch_us,
+            "barrier": device.fixed_costs.barrier_us,
+        },
+        "frames": args.frames,
+        "warm_up_ms": args.warm_up_ms,
+        "rows": rows,
+    })
 }
 
 /// PSNR against total GPU time; one line per configuration through the sizes, each point

@@ -48,9 +48,9 @@ pub const BOUND_GPUS: [&PeakFigures; 3] = [&H200, &H100_SXM, &RTX_4090];
 /// starts its grid on the front end; a barrier drains the machine before the next command.
 /// An assumption: NVIDIA quotes about 3 µs for launching an empty CUDA kernel from the host
 /// (developer forums, "Too much time for kernel launch latency", 2022); a dispatch recorded in
-/// a command buffer skips the host's part. On the H200 at its idle clock, the shadow flow's 34
-/// dispatches and 31 barriers took 0.29 ms at 160x90 (`patchex bench --warm-up-ms 0`): at most
-/// 4.5 µs each there.
+/// a command buffer skips the host's part. `patchex bench` measures both on the device it runs
+/// on (`fixed_costs`) and prints them beside the bounds; a GPU's measurement replaces this
+/// assumption for that GPU's bound.
 pub const SECONDS_PER_DISPATCH: f64 = 1e-6;
 pub const SECONDS_PER_BARRIER: f64 = 1e-6;
 

@@ -3,6 +3,7 @@ pub mod calibrate;
 pub mod costs;
 pub mod demo;
 pub mod eval;
+pub mod fixed_costs;
 pub mod inspect;
 pub mod interpolate;
 pub mod metrics;
