@@ -39,8 +39,8 @@ fn main(@builtin(local_invocation_index) lane: u32) {
 pub struct FixedCosts {
     /// One dispatch among independent dispatches.
     pub dispatch_us: f64,
-    /// What a barrier on the dispatch before adds to a dispatch (within the noise of zero, it
-    /// can read below it).
+    /// What a barrier on the dispatch before adds to a dispatch; where that is next to nothing,
+    /// the noise can make it read below zero.
     pub barrier_us: f64,
 }
 
@@ -139,6 +139,8 @@ impl<'a> Probe<'a> {
         u64::from(self.stride) * u64::from(CHAIN + 1)
     }
 
+    /// # Safety
+    /// `spirv` is the probe's compiled shader; called once, on a probe of null handles.
     unsafe fn build(&mut self, spirv: &[u32]) -> Result<(), vk::Result> {
         let device = &self.engine.device;
         self.buffer = device.create_buffer(
