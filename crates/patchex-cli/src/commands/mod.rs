@@ -21,19 +21,23 @@ pub type CommandResult = Result<(), Box<dyn std::error::Error>>;
 
 /// A file patchex ships (a default scene, its assets, weights), whatever the working directory:
 /// beside an installed tool, in PREFIX/share/patchex/ as `scripts/install.sh` lays it out, else
-/// in the repository the tool was built from.
+/// in the repository the tool was built from, else in the working directory (a built tool
+/// copied beside another checkout, as on a machine without a toolchain).
 pub fn shipped_path(relative: &str) -> std::path::PathBuf {
     let installed = std::env::current_exe().ok().and_then(|exe| {
         let share = exe.parent()?.parent()?.join("share").join("patchex");
         share.is_dir().then_some(share)
     });
-    let root = installed.unwrap_or_else(|| {
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+    let built_from = || {
+        let repository = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
             .ancestors()
             .nth(2)
-            .expect("crates/patchex-cli is two deep")
-            .to_path_buf()
-    });
+            .expect("crates/patchex-cli is two deep");
+        repository.is_dir().then(|| repository.to_path_buf())
+    };
+    let root = installed
+        .or_else(built_from)
+        .unwrap_or_else(|| std::path::PathBuf::from("."));
     root.join(relative)
 }
 
