@@ -41,6 +41,33 @@ pub fn pool_sizes<'a>(
     sizes
 }
 
+/// The compute pipeline of `spirv`'s `main` under `layout`; the shader module lives only as
+/// long as the creation needs it.
+///
+/// # Safety
+/// `device` is a live device; `spirv` is valid code whose interface `layout` matches.
+pub unsafe fn create_compute_pipeline(
+    device: &ash::Device,
+    layout: vk::PipelineLayout,
+    spirv: &[u32],
+) -> std::result::Result<vk::Pipeline, vk::Result> {
+    let module =
+        device.create_shader_module(&vk::ShaderModuleCreateInfo::default().code(spirv), None)?;
+    let stage = vk::PipelineShaderStageCreateInfo::default()
+        .stage(vk::ShaderStageFlags::COMPUTE)
+        .module(module)
+        .name(c"main");
+    let created = device.create_compute_pipelines(
+        vk::PipelineCache::null(),
+        &[vk::ComputePipelineCreateInfo::default()
+            .stage(stage)
+            .layout(layout)],
+        None,
+    );
+    device.destroy_shader_module(module, None);
+    Ok(created.map_err(|(_, result)| result)?[0])
+}
+
 /// One pass's pipeline, its layout and its descriptor-set layout.
 pub struct ComputePipeline {
     pub shader: ShaderInfo,
@@ -140,21 +167,7 @@ impl ComputePipeline {
                 .push_constant_ranges(push_constant_ranges),
             None,
         )?;
-        let module = device
-            .create_shader_module(&vk::ShaderModuleCreateInfo::default().code(spirv), None)?;
-        let stage = vk::PipelineShaderStageCreateInfo::default()
-            .stage(vk::ShaderStageFlags::COMPUTE)
-            .module(module)
-            .name(c"main");
-        let created = device.create_compute_pipelines(
-            vk::PipelineCache::null(),
-            &[vk::ComputePipelineCreateInfo::default()
-                .stage(stage)
-                .layout(self.layout)],
-            None,
-        );
-        device.destroy_shader_module(module, None);
-        self.pipeline = created.map_err(|(_, result)| result)?[0];
+        self.pipeline = create_compute_pipeline(device, self.layout, spirv)?;
         Ok(())
     }
 

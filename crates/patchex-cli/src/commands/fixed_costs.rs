@@ -15,6 +15,7 @@
 use std::time::{Duration, Instant};
 
 use ash::vk;
+use patchex::vk::pipeline::create_compute_pipeline;
 use patchex_harness::Engine;
 
 /// Dispatches in each section: enough that the time per dispatch dwarfs a timestamp's tick.
@@ -203,21 +204,7 @@ impl<'a> Probe<'a> {
             None,
         )?;
 
-        let module = device
-            .create_shader_module(&vk::ShaderModuleCreateInfo::default().code(spirv), None)?;
-        let stage = vk::PipelineShaderStageCreateInfo::default()
-            .stage(vk::ShaderStageFlags::COMPUTE)
-            .module(module)
-            .name(c"main");
-        let pipelines = device.create_compute_pipelines(
-            vk::PipelineCache::null(),
-            &[vk::ComputePipelineCreateInfo::default()
-                .stage(stage)
-                .layout(self.layout)],
-            None,
-        );
-        device.destroy_shader_module(module, None);
-        self.pipeline = pipelines.map_err(|(_, e)| e)?[0];
+        self.pipeline = create_compute_pipeline(device, self.layout, spirv)?;
 
         self.queries = device.create_query_pool(
             &vk::QueryPoolCreateInfo::default()
