@@ -23,8 +23,8 @@ use patchex::passes::warp::WarpSettings;
 use patchex::passes::{RuntimeGroup, STAGES};
 use patchex_scene::dataset::{
     write_exr, Dataset, FrameLayers, FrameRole, LayerImage, FINAL_IMAGE,
-    FINAL_IMAGE_NO_DYNAMIC_SHADOWS, FINAL_IMAGE_OPAQUE, ROUGHNESS, SHADOW_MASK, SPECULAR_LIGHT,
-    TRANSLUCENCY_MASK,
+    FINAL_IMAGE_NO_DYNAMIC_SHADOWS, FINAL_IMAGE_OPAQUE, FINAL_IMAGE_OPAQUE_NO_DYNAMIC_SHADOWS,
+    ROUGHNESS, SHADOW_MASK, SPECULAR_LIGHT, TRANSLUCENCY_MASK,
 };
 use serde_json::json;
 
@@ -67,6 +67,9 @@ pub enum Method {
     GbufferShadowsHighlights,
     /// The target shadow mask and the sun's highlights.
     GbufferTargetShadowsHighlights,
+    /// The shadow sub-task and the sun's highlights, called before the engine's translucency
+    /// pass: every input an engine has today, where the integration guide places the call.
+    GbufferShadowsHighlightsBeforeTranslucency,
     /// PatchEX: the G-buffer-guided warp, the shadow sub-task and the inpainting networks on
     /// the FI and near-BE patches (PATCHEX_PRESET_FULL).
     Patchex,
@@ -114,6 +117,9 @@ impl Method {
             Method::GbufferTargetShadowsHighlights => {
                 "G-buffer-guided warp + target shadow mask + sun highlights"
             }
+            Method::GbufferShadowsHighlightsBeforeTranslucency => {
+                "G-buffer-guided warp + shadow sub-task + sun highlights, before the translucency pass"
+            }
             Method::Patchex => "PatchEX (warp + shadows + networks on patches)",
             Method::PatchexEveryPixel => {
                 "PatchEX, corrections over every pixel (the paper's blend)"
@@ -149,6 +155,7 @@ impl Method {
             | Method::GbufferBeforeTranslucency
             | Method::GbufferShadowsHighlights
             | Method::GbufferTargetShadowsHighlights
+            | Method::GbufferShadowsHighlightsBeforeTranslucency
             | Method::Patchex
             | Method::PatchexEveryPixel
             | Method::PatchexNoShadows
@@ -167,6 +174,7 @@ impl Method {
         match self {
             Method::GbufferShadows
             | Method::GbufferShadowsHighlights
+            | Method::GbufferShadowsHighlightsBeforeTranslucency
             | Method::Patchex
             | Method::PatchexEveryPixel
             | Method::PatchexWholeFrame
@@ -184,9 +192,19 @@ impl Method {
                 Method::GbufferHighlights
                     | Method::GbufferShadowsHighlights
                     | Method::GbufferTargetShadowsHighlights
+                    | Method::GbufferShadowsHighlightsBeforeTranslucency
             ),
             translucency: self == Method::GbufferTranslucency,
         }
+    }
+
+    /// Whether the method is given frame t's colour before the engine's translucency pass, and
+    /// its output gets the target's translucency drawn over it.
+    fn before_translucency(self) -> bool {
+        matches!(
+            self,
+            Method::GbufferBeforeTranslucency | Method::GbufferShadowsHighlightsBeforeTranslucency
+        )
     }
 
     /// The inpainting networks the method runs, if any.
@@ -399,14 +417,15 @@ struct DatasetResult {
 }
 
 pub fn run(args: EvalArgs) -> CommandResult {
-    if args.post == PostPlacement::After
-        && args.methods.contains(&Method::GbufferBeforeTranslucency)
-    {
-        return Err(
-            "gbuffer-before-translucency runs before the translucency pass, so before post: \
-             it cannot be scored with --post after"
-                .into(),
-        );
+    if args.post == PostPlacement::After {
+        if let Some(method) = args.methods.iter().find(|m| m.before_translucency()) {
+            return Err(format!(
+                "{} runs before the translucency pass, so before post: it cannot be scored \
+                 with --post after",
+                method.name()
+            )
+            .into());
+        }
     }
     let mut methods = args.methods.clone();
     methods.sort();
@@ -533,38 +552,42 @@ fn evaluate(
             highlights(&current),
             translucency(&previous, &current),
         ];
-        // Frame t as the engine's scene colour holds it before the translucency pass.
-        let previous_opaque = methods
-            .contains(&Method::GbufferBeforeTranslucency)
-            .then(|| before_translucency(&previous));
-        let mut run_plugin = |previous: &FrameLayers,
-                              warp,
-                              networks: Option<NetworkChoice>,
-                              with_diagnostics,
-                              shadows: Option<bool>,
-                              extras| {
-            // Two indices a run: frame t-1 and frame t when shadows are tracked.
-            frame_index += 2;
-            driver.extrapolate(
-                frame_index,
-                (previous, &manifest.frames[source]),
-                (&current, &manifest.frames[target]),
-                alpha,
-                Some(warp),
-                networks.as_ref(),
-                with_diagnostics,
-                shadows.map(|target_mask| ShadowRun {
-                    earlier: earlier
-                        .as_ref()
-                        .map(|(layers, index)| (layers, &manifest.frames[*index])),
-                    target_mask,
-                }),
-                extras,
-            )
-        };
+        // Frames t and t-1 as the engine's scene colour holds them before the translucency pass.
+        let opaque = methods.iter().any(|m| m.before_translucency()).then(|| {
+            let earlier = earlier
+                .as_ref()
+                .map(|(layers, index)| (before_translucency(layers), *index));
+            (before_translucency(&previous), earlier)
+        });
+        let mut run_plugin =
+            |(previous, earlier): (&FrameLayers, &Option<(FrameLayers, usize)>),
+             warp,
+             networks: Option<NetworkChoice>,
+             with_diagnostics,
+             shadows: Option<bool>,
+             extras| {
+                // Two indices a run: frame t-1 and frame t when shadows are tracked.
+                frame_index += 2;
+                driver.extrapolate(
+                    frame_index,
+                    (previous, &manifest.frames[source]),
+                    (&current, &manifest.frames[target]),
+                    alpha,
+                    Some(warp),
+                    networks.as_ref(),
+                    with_diagnostics,
+                    shadows.map(|target_mask| ShadowRun {
+                        earlier: earlier
+                            .as_ref()
+                            .map(|(layers, index)| (layers, &manifest.frames[*index])),
+                        target_mask,
+                    }),
+                    extras,
+                )
+            };
         // The default warp's diagnostics give every method's regions and holes.
         let reference = run_plugin(
-            &previous,
+            (&previous, &earlier),
             WarpSettings::default(),
             None,
             true,
@@ -592,16 +615,23 @@ fn evaluate(
                 Some(_) if method == Method::Gbuffer => {
                     (reference.color.clone(), 4, Some(reference.stats))
                 }
-                Some(warp) if method == Method::GbufferBeforeTranslucency => {
-                    let opaque = previous_opaque.as_ref().expect("made for this method");
-                    let mut run = run_plugin(opaque, warp, None, false, None, method.extras())?;
+                Some(warp) if method.before_translucency() => {
+                    let (previous, earlier) = opaque.as_ref().expect("made for these methods");
+                    let mut run = run_plugin(
+                        (previous, earlier),
+                        warp,
+                        None,
+                        false,
+                        method.shadows(),
+                        method.extras(),
+                    )?;
                     draw_translucency(&mut run.color, &current);
                     (run.color, 4, Some(run.stats))
                 }
                 Some(warp) => {
                     let networks = method.networks(args);
                     let run = run_plugin(
-                        &previous,
+                        (&previous, &earlier),
                         warp,
                         networks,
                         false,
@@ -695,8 +725,16 @@ fn evaluate(
 /// is in a scene that draws no translucency.
 fn before_translucency(frame: &FrameLayers) -> FrameLayers {
     let mut frame = frame.clone();
-    if let Some(opaque) = frame.get(FINAL_IMAGE_OPAQUE).map(|l| l.data.clone()) {
-        frame.get_mut(FINAL_IMAGE).expect("a lit frame").data = opaque;
+    for (lit, opaque) in [
+        (FINAL_IMAGE, FINAL_IMAGE_OPAQUE),
+        (
+            FINAL_IMAGE_NO_DYNAMIC_SHADOWS,
+            FINAL_IMAGE_OPAQUE_NO_DYNAMIC_SHADOWS,
+        ),
+    ] {
+        if let Some(opaque) = frame.get(opaque).map(|l| l.data.clone()) {
+            frame.get_mut(lit).expect("a lit frame").data = opaque;
+        }
     }
     frame
 }
@@ -1191,5 +1229,27 @@ mod tests {
         let mut output = vec![0.0; 8];
         draw_translucency(&mut output, &plain);
         assert_eq!(output, vec![0.0; 8]);
+    }
+
+    #[test]
+    fn before_translucency_both_lit_colours_are_the_opaque_ones() {
+        let mut frame = target();
+        frame.layers.extend([
+            layer(FINAL_IMAGE_NO_DYNAMIC_SHADOWS, 3, vec![2.0; 6]),
+            layer(FINAL_IMAGE_OPAQUE_NO_DYNAMIC_SHADOWS, 3, vec![0.7; 6]),
+        ]);
+        let opaque = before_translucency(&frame);
+        assert_eq!(
+            opaque.layer(FINAL_IMAGE).data,
+            frame.layer(FINAL_IMAGE_OPAQUE).data
+        );
+        assert_eq!(
+            opaque.layer(FINAL_IMAGE_NO_DYNAMIC_SHADOWS).data,
+            vec![0.7; 6]
+        );
+        // A frame without translucency is given as it is.
+        let mut plain = target();
+        plain.layers.truncate(1);
+        assert_eq!(before_translucency(&plain).layers, plain.layers);
     }
 }

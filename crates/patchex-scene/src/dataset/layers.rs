@@ -41,9 +41,16 @@ pub const TRANSLUCENCY_MOTION: &str = "TranslucencyMotion";
 /// FinalImage before the translucency is drawn over it: the lit opaque surfaces alone, what an
 /// engine's scene colour holds before its translucency pass.
 pub const FINAL_IMAGE_OPAQUE: &str = "FinalImageOpaque";
+/// FinalImageNoDynamicShadows before the translucency is drawn over it: the shadow input an
+/// engine that hands over its scene colour before its translucency pass gives with it.
+pub const FINAL_IMAGE_OPAQUE_NO_DYNAMIC_SHADOWS: &str = "FinalImageOpaqueNoDynamicShadows";
 /// The layers a scene that draws translucency adds.
-pub const TRANSLUCENCY_LAYERS: [&str; 3] =
-    [TRANSLUCENCY_MASK, TRANSLUCENCY_MOTION, FINAL_IMAGE_OPAQUE];
+pub const TRANSLUCENCY_LAYERS: [&str; 4] = [
+    TRANSLUCENCY_MASK,
+    TRANSLUCENCY_MOTION,
+    FINAL_IMAGE_OPAQUE,
+    FINAL_IMAGE_OPAQUE_NO_DYNAMIC_SHADOWS,
+];
 
 pub const LAYERS: &[LayerSpec] = &[
     LayerSpec {

@@ -10,7 +10,7 @@ use glam::{Vec2, Vec3};
 
 use crate::dataset::{
     FrameLayers, LayerImage, FINAL_IMAGE, FINAL_IMAGE_NO_DYNAMIC_SHADOWS, FINAL_IMAGE_OPAQUE,
-    SPECULAR_LIGHT, TRANSLUCENCY_MASK, TRANSLUCENCY_MOTION,
+    FINAL_IMAGE_OPAQUE_NO_DYNAMIC_SHADOWS, SPECULAR_LIGHT, TRANSLUCENCY_MASK, TRANSLUCENCY_MOTION,
 };
 
 /// One texel of a premultiplied layer: radiance and backward motion in pixels, each times
@@ -149,13 +149,18 @@ impl TranslucentLayer {
     }
 
     /// Composites the layer over the frame's lit colours, hides the view-dependent light behind
-    /// it as much as the rest, and adds the mask and motion layers and the lit colour as it was
-    /// before.
+    /// it as much as the rest, and adds the mask and motion layers and the lit colours as they
+    /// were before.
     pub fn composite(self, layers: &mut FrameLayers) {
-        let opaque = LayerImage {
-            name: FINAL_IMAGE_OPAQUE.to_owned(),
-            ..layers.layer(FINAL_IMAGE).clone()
+        let before = |from: &str, name: &str| LayerImage {
+            name: name.to_owned(),
+            ..layers.layer(from).clone()
         };
+        let opaque = before(FINAL_IMAGE, FINAL_IMAGE_OPAQUE);
+        let opaque_without_dynamic_shadows = before(
+            FINAL_IMAGE_NO_DYNAMIC_SHADOWS,
+            FINAL_IMAGE_OPAQUE_NO_DYNAMIC_SHADOWS,
+        );
         for layer in layers
             .layers
             .iter_mut()
@@ -195,7 +200,9 @@ impl TranslucentLayer {
         };
         let mask = layer(TRANSLUCENCY_MASK, &["R"], coverage);
         let motion = layer(TRANSLUCENCY_MOTION, &["R", "G"], motion);
-        layers.layers.extend([mask, motion, opaque]);
+        layers
+            .layers
+            .extend([mask, motion, opaque, opaque_without_dynamic_shadows]);
     }
 }
 
