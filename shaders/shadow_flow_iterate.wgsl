@@ -8,8 +8,9 @@
 // instead of falling to zero, and keeps G positive definite.
 //
 // The estimate is this level's flow from the last iteration, or the coarser level's scaled up
-// (a level's first iteration; at the coarsest, shadow_flow_start.wgsl's). It is read from one
-// atlas and the new flow written to the other, so no workgroup reads what another writes.
+// (a level's first iteration). The coarsest level's first iteration starts from the motion the
+// cameras give a static receiver (`camera_motion`). It is read from one atlas and the new flow
+// written to the other, so no workgroup reads what another writes.
 //
 // One workgroup solves an 8x8 tile. Its window reaches r texels past the tile, so it computes
 // the equations of the tile and that border in workgroup memory (in strips of rows, for the
@@ -33,8 +34,20 @@ struct Params {
     // Where the estimate lies in its atlas: this level, or the coarser one.
     prior_offset: vec2u,
     prior_size: vec2u,
+    // Frame t's size in pixels.
+    frame_extent: vec2u,
     radius: i32,
     regularization: f32,
+    // 1 where the estimate is the cameras' (`camera_motion`), not the atlas's.
+    from_camera: u32,
+    // Frame t's pixel (x, y) at linear depth z lies in frame t-1 at (w.y, w.z) / w.x, with
+    // w = camera_offset + z * (camera_at_origin + x camera_per_x + y camera_per_y), for a static
+    // surface (`Camera::reprojection_into` in src/camera.rs). camera_at_origin.w is this level's
+    // frame pixels per texel; the other w are padding.
+    camera_offset: vec4f,
+    camera_at_origin: vec4f,
+    camera_per_x: vec4f,
+    camera_per_y: vec4f,
 }
 var<immediate> params: Params;
 
@@ -44,6 +57,8 @@ var<immediate> params: Params;
 @group(0) @binding(3) var poly_xy_previous: texture_2d<f32>;
 @group(0) @binding(4) var estimate: texture_2d<f32>;
 @group(0) @binding(5) var flow: texture_storage_2d<rg32float, write>;
+// Frame t's linear depth, as the G-buffer packing wrote it: the cameras' estimate.
+@group(0) @binding(6) var source_depth: texture_2d<f32>;
 
 // One strip of equations: (G11, G12, G22, h1) and h2 for as many whole rows of the span as
 // fit. With the row sums, 15760 bytes: within the 16 KiB every Vulkan device offers.
@@ -63,11 +78,40 @@ fn radius() -> i32 {
     return min(i32(unspecialised(u32(params.radius), estimate)), MAX_RADIUS);
 }
 
-// The equations of level texel p (inside the level).
-fn equations(p: vec2i) -> Equations {
+// Where static surfaces under level texel p moved from frame t to frame t-1, in texels of this
+// level; zero where that is not finite (sky at infinity). A shadow on the ground moves with the
+// ground as the camera pans, and only its drift across the ground (its caster's motion) is left
+// for the flow to find. Started at zero, a fast pan's 20 pixels a frame were found only to
+// within about 2 pixels.
+fn camera_motion(p: vec2i) -> vec2f {
+    let step = params.camera_at_origin.w;
+    let pixel = (vec2f(p) + 0.5) * step - 0.5;
+    let frame = vec2i(params.frame_extent);
+    let nearest = clamp(vec2i(floor(pixel + 0.5)), vec2i(0), frame - 1);
+    let depth = textureLoad(source_depth, nearest, 0).r;
+    let w = params.camera_offset.xyz + depth * (params.camera_at_origin.xyz
+        + pixel.x * params.camera_per_x.xyz + pixel.y * params.camera_per_y.xyz);
+    let motion = (w.yz / w.x - pixel) / step;
+    // NaN fails both comparisons.
+    if (!(w.x > 0.0) || !all(abs(motion) < vec2f(1e6))) {
+        return vec2f(0.0);
+    }
+    return motion;
+}
+
+// The estimate at level texel p: the cameras', or the atlas's scaled to this level.
+fn estimate_at(p: vec2i) -> vec2f {
+    if (unspecialised(params.from_camera, estimate) != 0u) {
+        return camera_motion(p);
+    }
     let ratio = vec2f(params.level_size) / vec2f(params.prior_size);
     let pos = (vec2f(p) + 0.5) / ratio - 0.5;
-    let d = level_bilinear(estimate, params.prior_offset, params.prior_size, pos).xy * ratio;
+    return level_bilinear(estimate, params.prior_offset, params.prior_size, pos).xy * ratio;
+}
+
+// The equations of level texel p (inside the level).
+fn equations(p: vec2i) -> Equations {
+    let d = estimate_at(p);
     let texel = vec2i(params.level_offset) + p;
     let current = textureLoad(poly_current, texel, 0);
     let current_xy = textureLoad(poly_xy_current, texel, 0).r;

@@ -156,7 +156,6 @@ fn shadow_flow(rec: &mut Recorder, plan: &SubmitPlan) {
                 mask_finest: passes.get(PipelineId::ShadowMaskFinest),
                 mask_pyramid: passes.get(PipelineId::ShadowMaskPyramid),
                 poly: passes.get(PipelineId::ShadowPoly),
-                start: passes.get(PipelineId::ShadowFlowStart),
                 iterate: [0, 1].map(|n| passes.nth(PipelineId::ShadowFlowIterate, n)),
                 upsample: passes.get(PipelineId::ShadowFlowUpsample),
             },

@@ -149,7 +149,6 @@ pipeline_table! {
     ShadowMaskFinest: shadow_mask_finest, 1;
     ShadowMaskPyramid: shadow_mask_pyramid, 1;
     ShadowPoly: shadow_poly, 1;
-    ShadowFlowStart: shadow_flow_start, 1;
     /// Reading the estimate from either flow atlas.
     ShadowFlowIterate: shadow_flow_iterate, 2;
     ShadowFlowUpsample: shadow_flow_upsample, 1;

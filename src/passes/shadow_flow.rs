@@ -21,7 +21,7 @@ use crate::camera::PixelRays;
 use crate::error::{bail, Result};
 use crate::passes::pack_gbuffer::EngineObjects;
 use crate::shaders;
-use crate::vk::image::{OwnedImage, Texture};
+use crate::vk::image::{texel_bytes, OwnedImage, Texture};
 use crate::vk::recorder::{Pass, Recorder};
 
 pub const MAX_LEVELS: u32 = 6;
@@ -250,7 +250,7 @@ pub struct FrameMask<'a> {
     pub source_depth: &'a OwnedImage,
 }
 
-/// The start pass's camera constants: `reprojection` is `Camera::reprojection_into` from
+/// The first iteration's camera constants: `reprojection` is `Camera::reprojection_into` from
 /// frame t's camera into frame t-1's; `step` is the level's frame pixels per texel.
 fn camera_params(reprojection: &PixelRays, step: u32) -> [[f32; 4]; 4] {
     [
@@ -283,9 +283,25 @@ pub struct FlowPasses<'a> {
     pub mask_finest: Pass<'a>,
     pub mask_pyramid: Pass<'a>,
     pub poly: Pass<'a>,
-    pub start: Pass<'a>,
     pub iterate: [Pass<'a>; 2],
     pub upsample: Pass<'a>,
+}
+
+/// The atlases every flow iteration reads or writes over its level: both frames' expansions and
+/// the new flow (the estimate's atlas besides, where it starts from one).
+const ITERATION_ATLASES: [u32; 5] = {
+    use shaders::shadow_flow_iterate::binding::*;
+    [
+        POLY_CURRENT,
+        POLY_XY_CURRENT,
+        POLY_PREVIOUS,
+        POLY_XY_PREVIOUS,
+        FLOW,
+    ]
+};
+
+fn level_texels(level: &Level) -> u64 {
+    level.size[0] as u64 * level.size[1] as u64
 }
 
 fn extent_of(level: &Level) -> vk::Extent2D {
@@ -381,31 +397,8 @@ fn record_flow(
     levels: &[Level],
     reprojection: &PixelRays,
 ) {
-    use shaders::shadow_flow_upsample as u;
-    use shaders::{shadow_flow_iterate as i, shadow_flow_start as s};
+    use shaders::{shadow_flow_iterate as i, shadow_flow_upsample as u};
     let (current, previous) = (images.current, 1 - images.current);
-    let coarsest = levels
-        .last()
-        .expect("the flow runs with at least one level");
-    let start = rec.bind(passes.start, |writes| {
-        writes
-            .image(s::binding::SOURCE_DEPTH, images.frame.source_depth)
-            .image(s::binding::ESTIMATE, images.flow_pyramid[0])
-    });
-    let [camera_offset, camera_at_origin, camera_per_x, camera_per_y] =
-        camera_params(reprojection, images.mask_step << (levels.len() - 1));
-    let params = s::Params {
-        level_offset: coarsest.offset,
-        level_size: coarsest.size,
-        frame_extent: [extent.width, extent.height],
-        camera_offset,
-        camera_at_origin,
-        camera_per_x,
-        camera_per_y,
-        ..Default::default()
-    };
-    rec.dispatch(&start, &params, extent_of(coarsest));
-
     let iterate = [0, 1].map(|from| {
         rec.bind(passes.iterate[from], |writes| {
             writes
@@ -415,30 +408,50 @@ fn record_flow(
                 .image(i::binding::POLY_XY_PREVIOUS, images.poly_xy[previous])
                 .image(i::binding::ESTIMATE, images.flow_pyramid[from])
                 .image(i::binding::FLOW, images.flow_pyramid[1 - from])
+                .image(i::binding::SOURCE_DEPTH, images.frame.source_depth)
         })
     });
+    let depth = images.frame.source_depth;
+    let depth_texel_bytes = texel_bytes(depth.format, vk::ImageAspectFlags::COLOR);
+    // The coarsest level starts where the cameras put static receivers.
+    let [camera_offset, camera_at_origin, camera_per_x, camera_per_y] =
+        camera_params(reprojection, images.mask_step << (levels.len() - 1));
     // The estimate sits in flow_pyramid[n % 2] before iteration n.
     let atlas = images.mask_pyramid.extent;
     let mut n = 0;
     for (index, level) in levels.iter().enumerate().rev() {
         for iteration in 0..settings.iterations {
-            // A level's first estimate is the coarser level's flow (at the coarsest, the
-            // start's, in place).
+            // A level's first estimate is the coarser level's flow; at the coarsest, the
+            // cameras'.
             let prior = match iteration {
-                0 => levels.get(index + 1).unwrap_or(level),
-                _ => level,
+                0 => levels.get(index + 1),
+                _ => Some(level),
             };
+            let estimate_level = prior.unwrap_or(level);
             let params = i::Params {
                 level_offset: level.offset,
                 level_size: level.size,
-                prior_offset: prior.offset,
-                prior_size: prior.size,
+                prior_offset: estimate_level.offset,
+                prior_size: estimate_level.size,
+                frame_extent: [extent.width, extent.height],
                 radius: settings.window_radius as i32,
                 regularization: REGULARIZATION,
+                from_camera: prior.is_none() as u32,
+                camera_offset,
+                camera_at_origin,
+                camera_per_x,
+                camera_per_y,
+                ..Default::default()
             };
-            // One workgroup per tile of the level; it reads this level and the coarser one,
-            // and writes this level.
-            rec.dispatch_level(&iterate[n % 2], &params, extent_of(level), atlas);
+            // One workgroup per tile of the level; it reads this level and the coarser one (or
+            // a depth texel per texel), and writes this level.
+            let (estimate, depth_bytes) = match prior {
+                Some(_) => (Some(i::binding::ESTIMATE), 0),
+                None => (None, level_texels(level) * depth_texel_bytes),
+            };
+            let atlases: Vec<u32> = ITERATION_ATLASES.into_iter().chain(estimate).collect();
+            let extents = (extent_of(level), atlas);
+            rec.dispatch_level(&iterate[n % 2], &params, extents, &atlases, depth_bytes);
             n += 1;
         }
     }

@@ -1,6 +1,6 @@
 //! Mirror of the Farneback flow passes (`shaders/shadow_mask_finest.wgsl`,
-//! `shadow_mask_pyramid.wgsl`, `shadow_poly.wgsl`, `shadow_flow_start.wgsl`,
-//! `shadow_flow_iterate.wgsl`, `shadow_flow_upsample.wgsl` and `include/flow.wgsl`), one image
+//! `shadow_mask_pyramid.wgsl`, `shadow_poly.wgsl`, `shadow_flow_iterate.wgsl`,
+//! `shadow_flow_upsample.wgsl` and `include/flow.wgsl`), one image
 //! per level instead of one atlas per quantity; the pyramid is built level by level here, and on
 //! the GPU its coarser levels in one pass whose workgroups halve their tiles in workgroup memory.
 //! An iteration is three steps here (`equations`, `rows`, `solve`) and one pass on the GPU,
@@ -130,7 +130,7 @@ pub struct FlowStart<'a> {
 }
 
 impl FlowStart<'_> {
-    /// `camera_motion` of shadow_flow_start.wgsl: where static surfaces under texel p of a
+    /// `camera_motion` of shadow_flow_iterate.wgsl: where static surfaces under texel p of a
     /// level of `step` frame pixels a texel moved into frame t-1, in that level's texels.
     fn camera_motion(&self, p: Vec2, step: u32) -> Vec2 {
         let step = step as f32;

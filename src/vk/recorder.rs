@@ -216,22 +216,24 @@ impl<'a> Recorder<'a> {
         self.record_dispatch(bound, bound.traffic(None), params, extent);
     }
 
-    /// One dispatch of `bound` over one level of pyramid atlases (`shadow_flow::pyramid`): every
-    /// image it binds is an atlas of `atlas` texels, and it reads and writes no more of each than
-    /// the level, so its bytes count for the level's share.
+    /// One dispatch of `bound` over one level of pyramid atlases (`shadow_flow::pyramid`). Of
+    /// the atlases of `atlas` texels bound at `atlases` it moves only the level, so they count
+    /// for the level's share; besides them it reads `other_bytes`, and none of its other
+    /// bindings.
     pub fn dispatch_level<P: PushConstants>(
         &mut self,
         bound: &Bound,
         params: &P,
-        level: vk::Extent2D,
-        atlas: vk::Extent2D,
+        (level, atlas): (vk::Extent2D, vk::Extent2D),
+        atlases: &[u32],
+        other_bytes: u64,
     ) {
         let texels = |e: vk::Extent2D| e.width as u64 * e.height as u64;
         let share = |bytes: u64| bytes * texels(level) / texels(atlas).max(1);
-        let whole = bound.traffic(None);
+        let moved = bound.traffic(Some(atlases));
         let traffic = Traffic {
-            bytes_read: share(whole.bytes_read),
-            bytes_written: share(whole.bytes_written),
+            bytes_read: share(moved.bytes_read) + other_bytes,
+            bytes_written: share(moved.bytes_written),
             operations: 0,
         };
         self.record_dispatch(bound, traffic, params, level);

@@ -499,15 +499,22 @@ fn report(
         .collect();
     costs::report(&mut out, &args.sizes, &labels, &costs, args.sizes.len() - 1);
     let fixed = device.fixed_costs;
+    let barrier = if fixed.barrier_us >= 0.0 {
+        format!("{:.2} µs more for a barrier", fixed.barrier_us)
+    } else {
+        // Where a barrier costs next to nothing, the noise can take the difference below zero.
+        format!(
+            "no measurable cost for a barrier ({:.2} µs, within the noise)",
+            fixed.barrier_us
+        )
+    };
     writeln!(
         out,
         "\nFixed costs on {}, measured: {:.2} µs per dispatch among independent one-workgroup \
-         dispatches, and {:.2} µs more for a barrier on the dispatch before ({} of each, \
-         timestamp queries, the median of {} runs after the warm-up). The bounds above take \
-         {:.0} µs for each.",
+         dispatches, and {barrier} on the dispatch before ({} of each, timestamp queries, the \
+         median of {} runs after the warm-up). The bounds above take {:.0} µs for each.",
         device.name,
         fixed.dispatch_us,
-        fixed.barrier_us,
         fixed_costs::CHAIN,
         fixed_costs::RUNS,
         costs::SECONDS_PER_DISPATCH * 1e6,
