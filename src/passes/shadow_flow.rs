@@ -21,7 +21,7 @@ use crate::camera::PixelRays;
 use crate::error::{bail, Result};
 use crate::passes::pack_gbuffer::EngineObjects;
 use crate::shaders;
-use crate::vk::image::{texel_bytes, OwnedImage, Texture};
+use crate::vk::image::{pixels, texel_bytes, OwnedImage, Texture};
 use crate::vk::recorder::{Pass, Recorder};
 
 pub const MAX_LEVELS: u32 = 6;
@@ -300,10 +300,6 @@ const ITERATION_ATLASES: [u32; 5] = {
     ]
 };
 
-fn level_texels(level: &Level) -> u64 {
-    level.size[0] as u64 * level.size[1] as u64
-}
-
 fn extent_of(level: &Level) -> vk::Extent2D {
     vk::Extent2D {
         width: level.size[0],
@@ -447,7 +443,7 @@ fn record_flow(
             // a depth texel per texel), and writes this level.
             let (estimate, depth_bytes) = match prior {
                 Some(_) => (Some(i::binding::ESTIMATE), 0),
-                None => (None, level_texels(level) * depth_texel_bytes),
+                None => (None, pixels(extent_of(level)) * depth_texel_bytes),
             };
             let atlases: Vec<u32> = ITERATION_ATLASES.into_iter().chain(estimate).collect();
             let extents = (extent_of(level), atlas);

@@ -555,7 +555,8 @@ impl From<&OwnedImage> for Texture {
     }
 }
 
-fn pixels(extent: vk::Extent2D) -> u64 {
+/// Texels in an image of `extent`.
+pub fn pixels(extent: vk::Extent2D) -> u64 {
     extent.width as u64 * extent.height as u64
 }
 
