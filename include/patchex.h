@@ -116,6 +116,9 @@
 
 #define PATCHEX_DEFAULT_GROWTH_Y 3.1
 
+// Largest side of a PatchexSkyLight's map.
+#define PATCHEX_MAX_SKY_SIDE 1024
+
 // Farneback optical-flow settings a context uses unless told otherwise: three pyramid levels
 // (motion up to about 4 * window_radius pixels), two iterations per level (a third gained
 // nothing on the generated validation split), a 15x15 window, and a 5x5 polynomial fit with
@@ -435,9 +438,9 @@ typedef struct PatchexExtrapolationStats {
   // Fraction of target pixels whose source fell off-screen.
   float offscreen_fraction;
   // Target pixels whose base colour or material had to be sanitised (as for
-  // `source_sanitized_pixels`; with frame t's PatchexSunLight, also the roughness of the
-  // pixels its highlights are placed on), or whose result exceeded the largest half float
-  // and was clamped to it. A pixel is counted once by each pass that sanitised it.
+  // `source_sanitized_pixels`; with frame t's PatchexSunLight or PatchexSkyLight, also the
+  // roughness of the pixels its reflections are placed on), or whose result exceeded the
+  // largest half float and was clamped to it. A pixel is counted once by each pass that sanitised it.
   uint32_t sanitized_pixels;
   // Fraction of target pixels in the foreground-interaction region (dynamic objects).
   float fi_fraction;
@@ -520,8 +523,9 @@ typedef struct PatchexFrameStats {
   // input, a colour without dynamic shadows) that is NaN, negative, infinite or beyond the
   // largest half float (65504), or a base colour, metallic, specular or shadow-mask value
   // that is NaN or outside [0, 1] (with a PatchexSunLight, also the sun's visibility, and the
-  // roughness of pixels the sun reaches; with a PatchexTranslucencyInput, also its mask, and
-  // its motion vectors where not finite). NaN becomes 0, everything else the nearest usable
+  // roughness of pixels the sun reaches; with a PatchexSkyLight, the roughness of every
+  // pixel, and each texel of its map as a pixel; with a PatchexTranslucencyInput, also its
+  // mask, and its motion vectors where not finite). NaN becomes 0, everything else the nearest usable
   // value. Bright colour within the half-float range is never changed, whatever its base
   // colour. A pixel is counted once by each pass that sanitised it.
   uint32_t source_sanitized_pixels;
@@ -675,8 +679,8 @@ typedef struct PatchexTargetShadowInput {
 // Fresnel from a specular colour of lerp(0.08 * specular, base colour, metallic), read from
 // `base_color` and `material` (R metallic, G specular, B roughness; without a material image,
 // metallic 0, specular 0.5, roughness 0.5). The target's `material` should be given too. Light
-// from the sky and other lights stays in the warped shading. A renderer with another specular
-// model leaves the difference where frame t had it.
+// from the sky (without a PatchexSkyLight) and other lights stays in the warped shading. A
+// renderer with another specular model leaves the difference where frame t had it.
 //
 // It costs patchex one pass over frame t's pixels in the submit, and one over the target's.
 typedef struct PatchexSunLight {
@@ -695,6 +699,36 @@ typedef struct PatchexSunLight {
   // UNORM formats. Values outside [0, 1] or NaN are sanitised and counted.
   struct PatchexImage visibility;
 } PatchexSunLight;
+
+// Chainable on PatchexFrameDesc: the sky that lit frame t, so that its reflection in glossy
+// surfaces moves with the view, as PatchexSunLight moves the sun's highlights. Without it, the
+// sky a floor or a car body mirrors stays where frame t saw it, carried with the surface.
+//
+// How patchex uses it: in frame t it takes the sky's specular reflection out of the shading it
+// warps, and at the target it adds the reflection the target's view sees, from the target's own
+// normals and material. The reflection is the sky's radiance in the mirror direction (read from
+// the map bilinearly, whatever the roughness) times the split-sum environment BRDF in Karis'
+// analytic fit, the one Unreal's mobile renderer uses, from the specular colour and roughness
+// PatchexSunLight describes (roughness below 0.02 evaluated as 0.02). No shadow or occlusion
+// takes from it. An engine whose sky reflection differs (prefiltered by roughness, occluded, a
+// lookup-table BRDF) leaves the difference where frame t had it; reflection captures and
+// screen-space reflections stay in the warped shading. Given with or without a PatchexSunLight.
+//
+// It costs patchex nothing more than PatchexSunLight's two passes (which run for it alone when
+// there is no sun), and a copy of the map, which the first pass makes.
+typedef struct PatchexSkyLight {
+  // PATCHEX_STRUCT_TYPE_SKY_LIGHT, sizeof(PatchexSkyLight), chain.
+  struct PatchexStructHeader header;
+  // The sky's radiance by direction, in linear RGB and the units of `color`: a square
+  // octahedral map of the normals' world space, 2 to PATCHEX_MAX_SKY_SIDE texels a side,
+  // whole (not the frame's extent). Texel (i, j) of a map of side n shows the direction
+  // normalize(x, y, 1 - |x| - |y|) for (x, y) = 2 * (i + 0.5, j + 0.5) / n - 1, where
+  // |x| + |y| <= 1; elsewhere the direction normalize(sx * (1 - |y|), sy * (1 - |x|),
+  // 1 - |x| - |y|), sx and sy the signs of x and y (+ for 0). The formats `color` takes;
+  // texels that are NaN, negative, infinite or beyond 65504 are sanitised and counted in
+  // `source_sanitized_pixels`.
+  struct PatchexImage radiance;
+} PatchexSkyLight;
 
 // Chainable on PatchexFrameDesc: where frame t's colour holds something drawn over the opaque
 // surface of the G-buffer after lighting: alpha-blended glass and foliage, particles (smoke,
@@ -880,6 +914,8 @@ typedef struct PatchexShadowDiagnostics {
 
 #define PATCHEX_STRUCT_TYPE_TRANSLUCENCY_INPUT 17
 
+#define PATCHEX_STRUCT_TYPE_SKY_LIGHT 18
+
 // Demodulate, warp (PatchexWarpSettings), remodulate. Holes keep the warp's nearest colour.
 #define PATCHEX_PRESET_WARP_ONLY 0
 
@@ -1019,9 +1055,9 @@ typedef struct PatchexShadowDiagnostics {
 // target's mask.
 #define PATCHEX_STAGE_TARGET_SHADOWS 14
 
-// Extrapolation of a frame that came with a PatchexSunLight, after remodulation: the sun's
-// highlights, evaluated for the target's view. (Frame t's are taken out of its shading in
-// PATCHEX_STAGE_DEMODULATE.)
+// Extrapolation of a frame that came with a PatchexSunLight or a PatchexSkyLight, after
+// remodulation: the sun's highlights and the sky's reflection, evaluated for the target's view.
+// (Frame t's are taken out of its shading in PATCHEX_STAGE_DEMODULATE.)
 #define PATCHEX_STAGE_HIGHLIGHTS 15
 
 // Extrapolation of a frame that came with a PatchexTranslucencyInput, last before the output's

@@ -11,7 +11,7 @@ scripts/install-deps.sh
 cargo build --release -p patchex -p patchex-cli
 source scripts/lib/scenes.sh
 source scripts/lib/results.sh
-methods=copy,occlusion-motion,gbuffer,gbuffer-bilinear,gbuffer-highlights,gbuffer-translucency,gbuffer-before-translucency,gbuffer-shadows,gbuffer-shadows-highlights,gbuffer-shadows-highlights-before-translucency,gbuffer-target-shadows,gbuffer-target-shadows-highlights,patchex,patchex-every-pixel,interpolation
+methods=copy,occlusion-motion,gbuffer,gbuffer-bilinear,gbuffer-highlights,gbuffer-translucency,gbuffer-before-translucency,gbuffer-shadows,gbuffer-sun-highlights,gbuffer-shadows-highlights,gbuffer-shadows-highlights-before-translucency,gbuffer-target-shadows,gbuffer-target-shadows-highlights,patchex,patchex-every-pixel,interpolation
 for which in validation test; do
     datasets=()
     for scene in $(split "$which"); do

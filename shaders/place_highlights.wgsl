@@ -1,7 +1,8 @@
-// With a PatchexSunLight on frame t: adds the sun's highlights to the extrapolated colour, as the
-// target's view sees them on the target's surfaces, in place of frame t's, which
-// remove_highlights.wgsl took out of the shading the warp carried:
-//   c' = c + visibility * dynamic * specular.
+// With a PatchexSunLight or a PatchexSkyLight on frame t: adds the sun's highlights and the
+// sky's reflection to the extrapolated colour, as the target's view sees them on the target's
+// surfaces, in place of frame t's, which remove_highlights.wgsl took out of the shading the warp
+// carried:
+//   c' = c + visibility * dynamic * sun specular + sky specular.
 // The sun's visibility is frame t's where it saw the target's surface: from the texels around
 // where the motion vectors lead that pass the G-buffer warp's agreement test. `dynamic` is 1
 // without a shadow input; with one, the dynamic casters' visibility at the target where a target
@@ -12,6 +13,7 @@
 // #import surface_match
 // #import fill
 // #import sun_specular
+// #import sky_specular
 // #import tallies
 
 struct Params {
@@ -31,6 +33,9 @@ struct Params {
     inv_sigma_position: f32,
     in_plane_weight: f32,
     pixel_angle: f32,
+    // With a sky: the side of its map as remove_highlights.wgsl kept it.
+    has_sky: u32,
+    sky_side: u32,
     sun_direction: vec3f,
     sun_illuminance: vec3f,
 }
@@ -54,6 +59,7 @@ var<immediate> params: Params;
 @group(0) @binding(11) var source_normal_id: texture_2d<u32>;
 @group(0) @binding(12) var target_stencil: texture_2d<u32>;
 @group(0) @binding(13) var target_mask: texture_2d<f32>;
+@group(0) @binding(14) var kept_sky: texture_2d<f32>;
 
 // The share of q's bilinear footprint agreeing texels must hold, as the warp's (BILINEAR_ACCEPT).
 const BILINEAR_ACCEPT: f32 = 0.5;
@@ -141,6 +147,9 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
                 highlight *= seen.value.x;
             } else if (unspecialised(params.has_shadow_share) != ABSENT) {
                 highlight *= 1.0 + textureLoad(shadow_share, p, 0).rgb;
+            }
+            if (unspecialised(params.has_sky) != ABSENT) {
+                highlight += sky_specular(kept_sky, params.sky_side, t.normal, view, glossy);
             }
             let color = sanitize_color(textureLoad(frame, p).rgb + highlight);
             textureStore(frame, p, vec4f(to_half(color.value), 1.0));

@@ -39,9 +39,11 @@ pub(crate) struct SourceFrame {
     /// tracked, the flow ran and left its expansion for the next frame's; separated, its
     /// shadows await a target mask.
     pub shadow_history: PatchexShadowHistory,
-    /// Its `PatchexSunLight`: its highlights were taken out of its shading, and its visibility
-    /// of the sun is in the highlight images.
+    /// Its `PatchexSunLight` (`NO_SUN` with a sky alone): its highlights and sky reflection
+    /// were taken out of its shading, and its visibility of the sun is in the highlight images.
     pub sun: Option<crate::passes::highlights::Sun>,
+    /// Its `PatchexSkyLight`'s side: its map is kept in the sky images.
+    pub sky_side: Option<u32>,
     /// It came with a `PatchexTranslucencyInput`: its layer is in the translucency images;
     /// `Some(true)` with motion vectors of its own.
     pub translucency: Option<bool>,

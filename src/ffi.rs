@@ -184,6 +184,11 @@ unsafe fn read_chain(
                     read_versioned(next.cast::<PatchexSunLight>(), kind, "PatchexSunLight")?;
                 extensions.sun = Some(input);
             }
+            PATCHEX_STRUCT_TYPE_SKY_LIGHT => {
+                let input =
+                    read_versioned(next.cast::<PatchexSkyLight>(), kind, "PatchexSkyLight")?;
+                extensions.sky = Some(input);
+            }
             PATCHEX_STRUCT_TYPE_TRANSLUCENCY_INPUT => {
                 let input = read_versioned(
                     next.cast::<PatchexTranslucencyInput>(),
@@ -499,6 +504,7 @@ pub unsafe extern "C" fn patchex_submit_gbuffers(
                 PATCHEX_STRUCT_TYPE_SHADOW_INPUT,
                 PATCHEX_STRUCT_TYPE_SHADOW_FLOW_SETTINGS,
                 PATCHEX_STRUCT_TYPE_SUN_LIGHT,
+                PATCHEX_STRUCT_TYPE_SKY_LIGHT,
                 PATCHEX_STRUCT_TYPE_TRANSLUCENCY_INPUT,
             ],
             "PatchexFrameDesc",

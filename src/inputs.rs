@@ -96,6 +96,26 @@ pub fn sun(gpu: &Gpu, input: &PatchexSunLight, extent: vk::Extent2D) -> Result<S
     })
 }
 
+/// A frame's optional sky (`PatchexSkyLight`): its map, checked to be square and of a usable
+/// side, and that side.
+pub fn sky(gpu: &Gpu, input: &PatchexSkyLight) -> Result<(ImportedImage, u32)> {
+    let (width, height) = (input.radiance.width, input.radiance.height);
+    if width != height || !(2..=PATCHEX_MAX_SKY_SIDE).contains(&width) {
+        bail!(
+            ErrorInvalidArgument,
+            "PatchexSkyLight.radiance is {width}x{height}: an octahedral map is square, 2 to \
+             PATCHEX_MAX_SKY_SIDE ({PATCHEX_MAX_SKY_SIDE}) texels a side"
+        );
+    }
+    let map = ImportedImage::import_required(
+        gpu,
+        &input.radiance,
+        &ImageRole::input("PatchexSkyLight.radiance", FLOAT_COLOR_FORMATS),
+        vk::Extent2D { width, height },
+    )?;
+    Ok((map, width))
+}
+
 /// A frame's optional translucency input (`PatchexTranslucencyInput`), checked.
 pub struct TranslucencyInputs {
     pub mask: ImportedImage,

@@ -23,6 +23,8 @@ use support::*;
 
 const WIDTH: u32 = 96;
 const HEIGHT: u32 = 54;
+/// Texels a side of the sky's octahedral map: another size than the frame's.
+const SKY_SIDE: usize = 24;
 
 fn bytes_of<T: Copy>(value: &T) -> &[u8] {
     // SAFETY: a plain-old-data value viewed as its bytes.
@@ -187,6 +189,19 @@ fn c11_engine_reaches_every_feature_and_matches_the_rust_path() {
         .flat_map(|v| v.to_ne_bytes())
         .collect();
     std::fs::write(data.join("sun.bin"), sun_floats).unwrap();
+    let sky = sequence.manifest.sky.expect("the renderer records its sky");
+    let sky = Image {
+        width: SKY_SIDE,
+        height: SKY_SIDE,
+        channels: 4,
+        data: sky.octahedral_map(SKY_SIDE),
+    };
+    let sky_bytes: Vec<u8> = (SKY_SIDE as u32)
+        .to_ne_bytes()
+        .into_iter()
+        .chain(sky.data.iter().flat_map(|v| v.to_ne_bytes()))
+        .collect();
+    std::fs::write(data.join("sky.bin"), sky_bytes).unwrap();
     let (mask, motion) = smoke_over(WIDTH as usize, HEIGHT as usize);
     let translucency: Vec<u8> = mask
         .data
@@ -294,12 +309,22 @@ fn c11_engine_reaches_every_feature_and_matches_the_rust_path() {
     let target_shadows = output_image(engine, WIDTH, HEIGHT);
     let gpu_mask = upload(engine, &mask, vk::Format::R32_SFLOAT, GBUFFER_LAYOUT);
     let gpu_motion = upload(engine, &motion, vk::Format::R32G32_SFLOAT, GBUFFER_LAYOUT);
-    // Frame t goes lit by the sun and with its translucency; frame t-1 with neither.
+    let gpu_sky = upload(
+        engine,
+        &sky,
+        vk::Format::R32G32B32A32_SFLOAT,
+        GBUFFER_LAYOUT,
+    );
+    // Frame t goes lit by the sun and the sky and with its translucency; frame t-1 with none.
     let submit = |cmd, frame: &GpuFrame, index, flow: Option<&PatchexShadowFlowSettings>, lit| {
         let mut shadow = frame.shadow_input();
         shadow.header.next = flow.map_or(std::ptr::null(), link);
+        let reflected = PatchexSkyLight {
+            header: header_of::<PatchexSkyLight>(PATCHEX_STRUCT_TYPE_SKY_LIGHT, link(&shadow)),
+            radiance: gpu_sky.describe(GBUFFER_LAYOUT),
+        };
         let mut light = frame.sun_light(&sun, true);
-        light.header.next = link(&shadow);
+        light.header.next = link(&reflected);
         let over = PatchexTranslucencyInput {
             header: header_of::<PatchexTranslucencyInput>(
                 PATCHEX_STRUCT_TYPE_TRANSLUCENCY_INPUT,

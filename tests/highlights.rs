@@ -1,8 +1,8 @@
-//! The sun's highlights (`PatchexSunLight`) on lavapipe through the C ABI: frame t's taken out
-//! of its shading and the target's placed, against the plain-Rust reference on frames of the
-//! scene renderer (glossy tiled ground, a moving camera, animated characters), with and without
-//! the shadow sub-task; the gain over glossy surfaces; and that bad inputs are refused or
-//! sanitised and counted.
+//! The sun's highlights and the sky's reflection (`PatchexSunLight`, `PatchexSkyLight`) on
+//! lavapipe through the C ABI: frame t's taken out of its shading and the target's placed,
+//! against the plain-Rust reference on frames of the scene renderer (glossy tiled ground, a
+//! moving camera, animated characters), with and without the shadow sub-task; the gain over
+//! glossy surfaces; and that bad inputs are refused or sanitised and counted.
 //!
 //! Tolerance: the colour tolerance of `support/pipeline.rs` (2e-3 relative plus 1e-4),
 //! loosened to 1e-3 absolute: the highlight is a sum of pow(), sqrt() and a division whose last
@@ -22,7 +22,7 @@ use patchex::passes::shadow_flow::{mask_step, FlowSettings};
 use patchex::passes::warp::WarpSettings;
 use patchex::reference::{self, Image, ShadowInputs};
 use patchex_harness::EngineImage;
-use patchex_scene::dataset::SunInfo;
+use patchex_scene::dataset::{SkyInfo, SunInfo};
 use support::pipeline::{assert_stages_agree, inputs, psnr, read_image, worst_output_error};
 use support::scene::Frame;
 use support::*;
@@ -32,14 +32,24 @@ use support::*;
 const SCENE: &str = "generated/autumn_01.toml";
 
 /// Frames t-1 and t (frames 0 and 2 of the doubled stream), the instant halfway to t+1 (frame
-/// 3), and the scene's sun.
-fn rendered_frames(width: u32, height: u32) -> ([Frame; 3], SunInfo) {
+/// 3), the scene's sun, and its sky as a 32-texel octahedral map.
+fn rendered_frames(width: u32, height: u32) -> ([Frame; 3], SunInfo, Image) {
     let sequence = support::rendered::render(SCENE, 4, width, height);
     let sun = sequence.manifest.sun.expect("the renderer records its sun");
+    let sky = sequence.manifest.sky.expect("the renderer records its sky");
     let Ok([previous, _, source, target]) = <[Frame; 4]>::try_from(sequence.frames) else {
         unreachable!("four frames")
     };
-    ([previous, source, target], sun)
+    ([previous, source, target], sun, sky_map(&sky, 32))
+}
+
+fn sky_map(sky: &SkyInfo, side: usize) -> Image {
+    Image {
+        width: side,
+        height: side,
+        channels: 4,
+        data: sky.octahedral_map(side),
+    }
 }
 
 /// What the frames of one run go with.
@@ -50,6 +60,8 @@ struct Inputs<'a> {
     /// The target's shadow mask as a target shadow input.
     target_mask: bool,
     sun: Option<&'a SunInfo>,
+    /// The sky's octahedral map, with both frames.
+    sky: Option<&'a Image>,
 }
 
 struct Outcome {
@@ -73,14 +85,32 @@ fn run([previous, source, target]: [&Frame; 3], with: Inputs) -> Outcome {
     let gpu_target = GpuFrame::upload(engine, target);
     let output = output_image(engine, width as u32, height as u32);
     let shadow_inputs = frames.each_ref().map(GpuFrame::shadow_input);
-    let suns = [0, 1].map(|index| {
-        with.sun.map(|sun| PatchexSunLight {
+    let sky_image = with
+        .sky
+        .map(|map| upload(engine, map, vk::Format::R32G32B32A32_SFLOAT, GBUFFER_LAYOUT));
+    // Each frame's chain, back to front: its shadow input, its sky, its sun.
+    let skies = [0, 1].map(|index| {
+        sky_image.as_ref().map(|map| PatchexSkyLight {
             header: PatchexStructHeader {
                 next: if with.shadows[index] {
                     &shadow_inputs[index] as *const _ as *const c_void
                 } else {
                     std::ptr::null()
                 },
+                ..PatchexStructHeader::of::<PatchexSkyLight>(PATCHEX_STRUCT_TYPE_SKY_LIGHT)
+            },
+            radiance: map.describe(GBUFFER_LAYOUT),
+        })
+    });
+    let below_sun = |index: usize| match (&skies[index], with.shadows[index]) {
+        (Some(sky), _) => sky as *const _ as *const c_void,
+        (None, true) => &shadow_inputs[index] as *const _ as *const c_void,
+        (None, false) => std::ptr::null(),
+    };
+    let suns = [0, 1].map(|index| {
+        with.sun.map(|sun| PatchexSunLight {
+            header: PatchexStructHeader {
+                next: below_sun(index),
                 ..PatchexStructHeader::of::<PatchexSunLight>(PATCHEX_STRUCT_TYPE_SUN_LIGHT)
             },
             ..frames[index].sun_light(sun, with.shadows[index])
@@ -94,10 +124,9 @@ fn run([previous, source, target]: [&Frame; 3], with: Inputs) -> Outcome {
     };
     for (index, frame) in frames.iter().enumerate() {
         let mut desc = frame.frame_desc(1 + index as u64, family);
-        desc.header.next = match (&suns[index], with.shadows[index]) {
-            (Some(sun), _) => sun as *const _ as *const c_void,
-            (None, true) => &shadow_inputs[index] as *const _ as *const c_void,
-            (None, false) => std::ptr::null(),
+        desc.header.next = match &suns[index] {
+            Some(sun) => sun as *const _ as *const c_void,
+            None => below_sun(index),
         };
         engine.run(|cmd| {
             rig.submit_ok(cmd, &desc);
@@ -144,6 +173,7 @@ fn reference_run(
     };
     let source_inputs = reference::FrameInputs {
         sun: with.sun.map(|sun| (sun_of(sun), visibility)),
+        sky: with.sky,
         ..inputs(source, &source_camera)
     };
     let shadows = with.shadows[1].then(|| ShadowInputs {
@@ -183,7 +213,10 @@ fn assert_matches_reference(frames: [&Frame; 3], with: Inputs) -> Outcome {
         assert_stages_agree(&expected, &outcome.stats);
     }
     let ran = |stage: PatchexStage| outcome.stats.extrapolations[0].stages_run & 1 << stage != 0;
-    assert_eq!(ran(PATCHEX_STAGE_HIGHLIGHTS), with.sun.is_some());
+    assert_eq!(
+        ran(PATCHEX_STAGE_HIGHLIGHTS),
+        with.sun.is_some() || with.sky.is_some()
+    );
     let worst = worst_output_error(&outcome.output, &expected.output);
     assert!(worst <= 1.0, "output differs from the reference ({worst})");
     assert_eq!(
@@ -199,22 +232,29 @@ fn assert_matches_reference(frames: [&Frame; 3], with: Inputs) -> Outcome {
 
 #[test]
 fn highlight_passes_match_their_references_under_a_moving_camera() {
-    let (frames, sun) = rendered_frames(128, 72);
-    let with = Inputs {
-        sun: Some(&sun),
-        ..Default::default()
-    };
-    assert_matches_reference(frames.each_ref(), with);
+    let (frames, sun, sky) = rendered_frames(128, 72);
+    for (sun, sky) in [
+        (Some(&sun), None),
+        (Some(&sun), Some(&sky)),
+        (None, Some(&sky)),
+    ] {
+        let with = Inputs {
+            sun,
+            sky,
+            ..Default::default()
+        };
+        assert_matches_reference(frames.each_ref(), with);
+    }
 }
 
 /// With the shadow sub-task: on the first frame with a shadow input, whose shadows stay in its
 /// shading (the visibility it holds is the static casters' times the dynamic mask); on the
 /// second, whose shadows are separated (the layer made again without the highlight) and whose
 /// share at the target takes the highlights' part away; and with the target's mask, which
-/// takes it in the share's place.
+/// takes it in the share's place; the sky's reflection with them, which no shadow takes.
 #[test]
 fn highlight_passes_match_their_references_with_the_shadow_sub_task() {
-    let (frames, sun) = rendered_frames(128, 72);
+    let (frames, sun, sky) = rendered_frames(128, 72);
     for (shadows, target_mask) in [
         ([false, true], false),
         ([true, true], false),
@@ -224,6 +264,7 @@ fn highlight_passes_match_their_references_with_the_shadow_sub_task() {
             shadows,
             target_mask,
             sun: Some(&sun),
+            sky: Some(&sky),
         };
         let outcome = assert_matches_reference(frames.each_ref(), with);
         let ran = outcome.stats.extrapolations[0].stages_run & 1 << PATCHEX_STAGE_TARGET_SHADOWS;
@@ -234,8 +275,8 @@ fn highlight_passes_match_their_references_with_the_shadow_sub_task() {
 /// On the glossy surfaces the sun reaches, the highlights as the target sees them bring the
 /// output closer to the rendered target than frame t's carried with the surface.
 #[test]
-fn the_sun_brings_glossy_surfaces_closer_to_the_rendered_target() {
-    let (frames, sun) = rendered_frames(160, 90);
+fn the_sun_and_the_sky_bring_glossy_surfaces_closer_to_the_rendered_target() {
+    let (frames, sun, sky) = rendered_frames(160, 90);
     let [_, source, target] = &frames;
     let glossy: Vec<usize> = (0..target.color.width * target.color.height)
         .filter(|&i| target.material.data[4 * i + 2] < 0.5 && target.sun_visibility.data[i] > 0.5)
@@ -257,18 +298,26 @@ fn the_sun_brings_glossy_surfaces_closer_to_the_rendered_target() {
         ..Default::default()
     };
     let with_sun = run(frames.each_ref(), with).output;
-    let (before, after) = (
-        psnr(&region(&without), &truth),
-        psnr(&region(&with_sun), &truth),
-    );
+    let with = Inputs {
+        sky: Some(&sky),
+        ..with
+    };
+    let with_sky = run(frames.each_ref(), with).output;
+    let [before, sun_only, both] =
+        [&without, &with_sun, &with_sky].map(|output| psnr(&region(output), &truth));
     eprintln!(
-        "{} glossy lit pixels: {before:.2} dB without the sun, {after:.2} dB with it",
+        "{} glossy lit pixels: {before:.2} dB without the sun, {sun_only:.2} dB with it, \
+         {both:.2} dB with the sky too",
         glossy.len()
     );
     assert!(glossy.len() > 2000, "only {} glossy pixels", glossy.len());
     assert!(
-        after > before + 1.0,
-        "{after} dB with the sun against {before} dB without"
+        sun_only > before + 1.0,
+        "{sun_only} dB with the sun against {before} dB without"
+    );
+    assert!(
+        both > sun_only + 1.0,
+        "{both} dB with the sky too against {sun_only} dB with the sun alone"
     );
 }
 
@@ -276,7 +325,7 @@ fn the_sun_brings_glossy_surfaces_closer_to_the_rendered_target() {
 /// one, bit for bit.
 #[test]
 fn a_sun_that_reaches_nothing_changes_nothing() {
-    let (frames, sun) = rendered_frames(96, 54);
+    let (frames, sun, _) = rendered_frames(96, 54);
     let mut source = frames[1].clone();
     source.sun_visibility.data.fill(0.0);
     let frames = [&frames[0], &source, &frames[2]];
@@ -294,7 +343,7 @@ fn a_sun_that_reaches_nothing_changes_nothing() {
 /// reference counts them, and the output stays finite.
 #[test]
 fn bad_visibility_and_roughness_are_sanitised_and_counted() {
-    let (frames, sun) = rendered_frames(96, 54);
+    let (frames, sun, _) = rendered_frames(96, 54);
     let [previous, source, target] = &frames;
     let (mut source, mut target) = (source.clone(), target.clone());
     let bad = [f32::NAN, f32::INFINITY, -0.5, 1.5, f32::NEG_INFINITY];
@@ -317,7 +366,7 @@ fn bad_visibility_and_roughness_are_sanitised_and_counted() {
 /// with a message naming the field, and the context goes on as before.
 #[test]
 fn unusable_sun_lights_are_refused() {
-    let (frames, sun) = rendered_frames(64, 36);
+    let (frames, sun, _) = rendered_frames(64, 36);
     let rig = Rig::new(64, 36);
     let engine = &rig.engine;
     let source = GpuFrame::upload(engine, &frames[1]);
@@ -392,6 +441,109 @@ fn unusable_sun_lights_are_refused() {
     // Refused calls leave the context as it was: a good sun is taken.
     let mut desc = source.frame_desc(10, engine.queue_family_index);
     desc.header.next = &valid as *const _ as *const c_void;
+    engine.run(|cmd| {
+        assert_eq!(
+            rig.submit(cmd, &desc),
+            PatchexResult::Success,
+            "{}",
+            rig.last_error()
+        )
+    });
+}
+
+/// NaN, negative and infinite texels of the sky's map are sanitised and counted, each once, as
+/// the reference counts them, and the output stays finite.
+#[test]
+fn bad_sky_texels_are_sanitised_and_counted() {
+    let (frames, sun, clean_sky) = rendered_frames(96, 54);
+    let mut sky = clean_sky.clone();
+    let bad = [f32::NAN, f32::INFINITY, -0.5, f32::NEG_INFINITY, 1e6];
+    for (i, value) in bad.iter().enumerate() {
+        sky.data[4 * (37 * i + 5) + i % 3] = *value;
+    }
+    let with = Inputs {
+        sun: Some(&sun),
+        sky: Some(&sky),
+        ..Default::default()
+    };
+    let outcome = assert_matches_reference(frames.each_ref(), with);
+    let clean = Inputs {
+        sky: Some(&clean_sky),
+        ..with
+    };
+    let clean = run(frames.each_ref(), clean);
+    assert_eq!(
+        outcome.stats.source_sanitized_pixels,
+        clean.stats.source_sanitized_pixels + bad.len() as u32
+    );
+    assert!(outcome.output.data.iter().all(|v| v.is_finite()));
+}
+
+/// Each unusable PatchexSkyLight is refused with INVALID_ARGUMENT (or the image's own error),
+/// with a message naming the map, and the context goes on as before.
+#[test]
+fn unusable_sky_lights_are_refused() {
+    let (frames, _, sky) = rendered_frames(64, 36);
+    let rig = Rig::new(64, 36);
+    let engine = &rig.engine;
+    let source = GpuFrame::upload(engine, &frames[1]);
+    let map = |format, width, height| {
+        EngineImage::new(engine, format, width, height, vk::ImageUsageFlags::SAMPLED)
+    };
+    let float = vk::Format::R16G16B16A16_SFLOAT;
+    let images = [
+        map(float, 32, 16),
+        map(float, 1, 1),
+        map(float, PATCHEX_MAX_SKY_SIDE + 1, PATCHEX_MAX_SKY_SIDE + 1),
+        map(vk::Format::R8G8B8A8_UINT, 16, 16),
+    ];
+    let light = |radiance| PatchexSkyLight {
+        header: PatchexStructHeader::of::<PatchexSkyLight>(PATCHEX_STRUCT_TYPE_SKY_LIGHT),
+        radiance,
+    };
+    let cases = [
+        (
+            light(images[0].describe(GBUFFER_LAYOUT)),
+            PatchexResult::ErrorInvalidArgument,
+        ),
+        (
+            light(images[1].describe(GBUFFER_LAYOUT)),
+            PatchexResult::ErrorInvalidArgument,
+        ),
+        (
+            light(images[2].describe(GBUFFER_LAYOUT)),
+            PatchexResult::ErrorInvalidArgument,
+        ),
+        (
+            light(images[3].describe(GBUFFER_LAYOUT)),
+            PatchexResult::ErrorUnsupportedFormat,
+        ),
+        (
+            light(PatchexImage {
+                width: 16,
+                height: 16,
+                ..PatchexImage::default()
+            }),
+            PatchexResult::ErrorNullPointer,
+        ),
+    ];
+    for (index, (light, expected)) in cases.iter().enumerate() {
+        let mut desc = source.frame_desc(1 + index as u64, engine.queue_family_index);
+        desc.header.next = light as *const _ as *const c_void;
+        engine.run(|cmd| assert_eq!(rig.submit(cmd, &desc), *expected, "{}", rig.last_error()));
+        let message = rig.last_error();
+        assert!(message.contains("PatchexSkyLight.radiance"), "{message}");
+    }
+    // Refused calls leave the context as it was: a good sky is taken.
+    let good = upload(
+        engine,
+        &sky,
+        vk::Format::R16G16B16A16_SFLOAT,
+        GBUFFER_LAYOUT,
+    );
+    let good = light(good.describe(GBUFFER_LAYOUT));
+    let mut desc = source.frame_desc(10, engine.queue_family_index);
+    desc.header.next = &good as *const _ as *const c_void;
     engine.run(|cmd| {
         assert_eq!(
             rig.submit(cmd, &desc),

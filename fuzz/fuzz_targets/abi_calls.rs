@@ -276,7 +276,7 @@ fn mostly<T>(
 fn unknown_struct_type(u: &mut Unstructured) -> Result<u32> {
     let struct_type: u32 = u.arbitrary()?;
     Ok(
-        if (1..=PATCHEX_STRUCT_TYPE_TRANSLUCENCY_INPUT).contains(&struct_type) {
+        if (1..=PATCHEX_STRUCT_TYPE_SKY_LIGHT).contains(&struct_type) {
             0
         } else {
             struct_type
@@ -364,6 +364,7 @@ enum Link {
     Diagnostics(Box<PatchexDiagnostics>),
     TargetShadows(Box<PatchexTargetShadowInput>),
     Sun(Box<PatchexSunLight>),
+    Sky(Box<PatchexSkyLight>),
     Translucency(Box<PatchexTranslucencyInput>),
     Unknown(Box<PatchexStructHeader>),
 }
@@ -376,6 +377,7 @@ impl Link {
             Link::Diagnostics(s) => &mut s.header,
             Link::TargetShadows(s) => &mut s.header,
             Link::Sun(s) => &mut s.header,
+            Link::Sky(s) => &mut s.header,
             Link::Translucency(s) => &mut s.header,
             Link::Unknown(h) => h,
         }
@@ -388,6 +390,7 @@ impl Link {
             Link::Diagnostics(s) => &**s as *const _ as *const c_void,
             Link::TargetShadows(s) => &**s as *const _ as *const c_void,
             Link::Sun(s) => &**s as *const _ as *const c_void,
+            Link::Sky(s) => &**s as *const _ as *const c_void,
             Link::Translucency(s) => &**s as *const _ as *const c_void,
             Link::Unknown(h) => &**h as *const _ as *const c_void,
         }
@@ -398,7 +401,7 @@ impl Link {
 fn chain(u: &mut Unstructured, world: &World) -> Result<(Vec<Link>, *const c_void)> {
     let mut links = Vec::new();
     for _ in 0..u.int_in_range(0..=3)? {
-        let link = match u.int_in_range(0..=6)? {
+        let link = match u.int_in_range(0..=7)? {
             0 => Link::Warp(Box::new(PatchexWarpSettings {
                 header: header(
                     u,
@@ -462,6 +465,15 @@ fn chain(u: &mut Unstructured, world: &World) -> Result<(Vec<Link>, *const c_voi
                 mask: image(u, world, DEPTH)?,
                 motion_vectors: image(u, world, MOTION)?,
                 motion_vector_scale: mostly(u, [1.0, 1.0], |u| u.arbitrary())?,
+            })),
+            6 => Link::Sky(Box::new(PatchexSkyLight {
+                header: header(
+                    u,
+                    PATCHEX_STRUCT_TYPE_SKY_LIGHT,
+                    size_of::<PatchexSkyLight>(),
+                )?,
+                // A colour image: square or not, as the frame is.
+                radiance: image(u, world, COLOR)?,
             })),
             _ => Link::Unknown(Box::new(PatchexStructHeader {
                 struct_type: unknown_struct_type(u)?,

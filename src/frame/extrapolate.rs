@@ -7,7 +7,7 @@ use ash::vk;
 use crate::abi::*;
 use crate::context::Context;
 use crate::error::{bail, PatchexResult, Result};
-use crate::frame::images::{Growth, ImageSet, OutputStaging};
+use crate::frame::images::{Growth, ImageSet, OutputStaging, SkyImages};
 use crate::frame::plan::{self, ExtrapolationPlan};
 use crate::frame::settings::Extensions;
 use crate::frame::submit::{engine_gbuffer, shadows_separated};
@@ -112,6 +112,10 @@ impl Context {
             diagnostics: engine.diagnostics,
             shadow_diagnostics: engine.shadow_diagnostics,
             sun: source.sun.zip(self.images.highlights.as_ref()),
+            kept_sky: source
+                .sky_side
+                .zip(self.images.sky.as_ref())
+                .map(|(side, sky)| (&sky[SkyImages::RADIANCE], side)),
             translucency: self.images.translucency.as_ref().zip(source.translucency),
             alpha: inputs.alpha,
         };

@@ -236,6 +236,20 @@ impl HighlightImages {
     )];
 }
 
+/// The sky's map (`PatchexSkyLight.radiance`), kept from the submit for the extrapolations'
+/// reflections; made at the first frame with a sky, at the largest map's size.
+pub type SkyImages = ImageSet<1, Sky>;
+pub struct Sky;
+
+impl SkyImages {
+    pub const RADIANCE: usize = 0;
+
+    const SPECS: [ImageSpec; 1] = [frame_image(
+        "patchex sky radiance",
+        vk::Format::R16G16B16A16_SFLOAT,
+    )];
+}
+
 /// What frame t's translucency needs between the submit and the extrapolations, made at the
 /// first frame with a translucency input.
 pub type TranslucencyImages = ImageSet<2, Translucency>;
@@ -316,8 +330,10 @@ pub struct FrameImages {
     pub shadows: Option<ShadowImages>,
     /// Made at the first frame whose shadow flow runs.
     pub flow: Option<FlowAtlases>,
-    /// Made at the first frame with a sun.
+    /// Made at the first frame with a sun or a sky.
     pub highlights: Option<HighlightImages>,
+    /// Made at the first frame with a sky.
+    pub sky: Option<SkyImages>,
     /// Made at the first frame with a translucency input.
     pub translucency: Option<TranslucencyImages>,
     pub output_staging: Option<OutputStaging>,
@@ -378,6 +394,7 @@ impl FrameImages {
             shadows: None,
             flow: None,
             highlights: None,
+            sky: None,
             translucency: None,
             output_staging: None,
             placeholder_float: float,
@@ -414,6 +431,15 @@ impl FrameImages {
             &HighlightImages::SPECS,
         )
         .map(drop)
+    }
+
+    /// Makes or grows the kept sky map to hold one of `side` texels a side.
+    pub fn ensure_sky(&mut self, growth: &mut Growth, side: u32) -> Result<()> {
+        let extent = vk::Extent2D {
+            width: side,
+            height: side,
+        };
+        grow(growth, &mut self.sky, extent, &SkyImages::SPECS).map(drop)
     }
 
     /// Makes or grows the translucency's images to the working images' extent.
@@ -482,6 +508,7 @@ impl FrameImages {
         let shadows = self.shadows.iter_mut().flat_map(|s| s.images.iter_mut());
         let flow = self.flow.iter_mut().flat_map(|f| f.images.iter_mut());
         let highlights = self.highlights.iter_mut().flat_map(|h| h.images.iter_mut());
+        let sky = self.sky.iter_mut().flat_map(|s| s.images.iter_mut());
         let translucency = self
             .translucency
             .iter_mut()
@@ -489,6 +516,7 @@ impl FrameImages {
         work.chain(shadows)
             .chain(flow)
             .chain(highlights)
+            .chain(sky)
             .chain(translucency)
             .chain([&mut self.placeholder_float, &mut self.placeholder_uint])
     }
@@ -500,6 +528,7 @@ impl FrameImages {
             + self.shadows.as_ref().map_or(0, |s| s.size_bytes())
             + self.flow.as_ref().map_or(0, |f| f.size_bytes())
             + self.highlights.as_ref().map_or(0, |h| h.size_bytes())
+            + self.sky.as_ref().map_or(0, |s| s.size_bytes())
             + self.translucency.as_ref().map_or(0, |t| t.size_bytes())
             + self.output_staging.as_ref().map_or(0, |s| s.size_bytes())
             + self.placeholder_float.size_bytes()
@@ -513,6 +542,7 @@ impl FrameImages {
         let shadows = self.shadows.take().map(|s| s.images);
         let flow = self.flow.take().map(|f| f.images);
         let highlights = self.highlights.take().map(|h| h.images);
+        let sky = self.sky.take().map(|s| s.images);
         let translucency = self.translucency.take().map(|t| t.images);
         let staging = self.output_staging.take().map(|s| s.images);
         for mut image in work
@@ -523,6 +553,7 @@ impl FrameImages {
             .chain(shadows.into_iter().flatten())
             .chain(flow.into_iter().flatten())
             .chain(highlights.into_iter().flatten())
+            .chain(sky.into_iter().flatten())
             .chain(translucency.into_iter().flatten())
             .chain(staging.into_iter().flatten())
         {
@@ -582,6 +613,7 @@ mod tests {
             .chain(&ShadowImages::SPECS)
             .chain(&FlowAtlases::SPECS)
             .chain(&HighlightImages::SPECS)
+            .chain(&SkyImages::SPECS)
             .chain(&TranslucencyImages::SPECS);
         for spec in specs {
             assert!(

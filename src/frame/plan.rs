@@ -25,7 +25,7 @@ use crate::passes::{
     RegionPasses, Texture, SANITIZE_COUNTER_BYTES,
 };
 use crate::shaders::PushConstants;
-use crate::vk::image::ImportedImage;
+use crate::vk::image::{ImportedImage, OwnedImage};
 use crate::vk::recorder::Recorder;
 
 /// Everything frame t's submit records with: its inputs, images and settings, resolved.
@@ -217,8 +217,11 @@ pub struct ExtrapolationPlan<'a> {
     pub deferred_holes: CounterRange,
     pub diagnostics: Option<Texture>,
     pub shadow_diagnostics: Option<Texture>,
-    /// Frame t came with a sun (`PatchexSunLight`): it, and its kept visibility.
+    /// Frame t came with a sun (`PatchexSunLight`) or a sky: the sun (`NO_SUN` without one),
+    /// and its kept visibility.
     pub sun: Option<(highlights::Sun, &'a HighlightImages)>,
+    /// Frame t came with a sky (`PatchexSkyLight`): its kept map, and the map's side.
+    pub kept_sky: Option<(&'a OwnedImage, u32)>,
     /// Frame t came with a translucency input: its kept layer, and whether it has its own
     /// motion.
     pub translucency: Option<(&'a TranslucencyImages, bool)>,
@@ -347,7 +350,7 @@ impl<'a> ExtrapolationPlan<'a> {
     /// `layer` beside it.
     fn warp_inputs(
         &'a self,
-        source_shading: &'a crate::vk::image::OwnedImage,
+        source_shading: &'a OwnedImage,
         motion: Texture,
         layer: Option<warp::CarriedLayer<'a>>,
     ) -> warp::WarpInputs<'a> {
@@ -652,7 +655,8 @@ fn remodulate(rec: &mut Recorder, plan: &ExtrapolationPlan) {
     });
 }
 
-/// The sun's highlights as the target sees them, added to the remodulated frame.
+/// The sun's highlights and the sky's reflection as the target sees them, added to the
+/// remodulated frame.
 fn place_highlights(rec: &mut Recorder, plan: &ExtrapolationPlan) {
     let Some((sun, images)) = plan.sun else {
         return;
@@ -660,6 +664,7 @@ fn place_highlights(rec: &mut Recorder, plan: &ExtrapolationPlan) {
     let inputs = highlights::TargetHighlights {
         sun,
         kept_visibility: &images[HighlightImages::VISIBILITY],
+        kept_sky: plan.kept_sky,
         source_depth: &plan.work[WorkImages::SOURCE_DEPTH],
         source_normal_id: &plan.work[WorkImages::SOURCE_NORMAL_ID],
         target: plan.target,

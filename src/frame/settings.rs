@@ -26,6 +26,7 @@ pub struct Extensions {
     pub target_shadow_mask: Option<PatchexImage>,
     pub flow: Option<FlowSettings>,
     pub sun: Option<PatchexSunLight>,
+    pub sky: Option<PatchexSkyLight>,
     pub translucency: Option<PatchexTranslucencyInput>,
     pub network_weights: Option<NetworkWeightPaths>,
     pub networks: Option<NetworkSwitches>,

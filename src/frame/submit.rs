@@ -8,7 +8,7 @@ use crate::context::{Context, SourceFrame};
 use crate::error::{bail, Result};
 use crate::frame::counters;
 use crate::frame::images::Growth;
-use crate::frame::images::{ShadowImages, WorkImages};
+use crate::frame::images::{ShadowImages, SkyImages, WorkImages};
 use crate::frame::plan::{self, SubmitPlan};
 use crate::frame::settings::{Extensions, NEEDS_SHADOW_PRESET};
 use crate::inputs::{self, GeometryInputs, SourceInputs};
@@ -46,6 +46,10 @@ impl Context {
             .sun
             .map(|input| inputs::sun(&self.gpu, &input, inputs.extent))
             .transpose()?;
+        let sky_inputs = extensions
+            .sky
+            .map(|input| inputs::sky(&self.gpu, &input))
+            .transpose()?;
         let translucency_inputs = extensions
             .translucency
             .map(|input| inputs::translucency(&self.gpu, &input, inputs.extent))
@@ -74,6 +78,10 @@ impl Context {
             .as_ref()
             .map(|sun| access.read(&sun.visibility))
             .transpose()?;
+        let sky_map = match &sky_inputs {
+            Some((map, side)) => Some((access.read(map)?, *side)),
+            None => None,
+        };
         let translucency_images = match &translucency_inputs {
             Some(input) => Some((
                 access.read(&input.mask)?,
@@ -100,8 +108,11 @@ impl Context {
             serial,
         };
         self.images.ensure_work(&mut growth, inputs.extent)?;
-        if sun_inputs.is_some() {
+        if sun_inputs.is_some() || sky_map.is_some() {
             self.images.ensure_highlights(&mut growth)?;
+        }
+        if let Some((_, side)) = sky_map {
+            self.images.ensure_sky(&mut growth, side)?;
         }
         if translucency_inputs.is_some() {
             self.images.ensure_translucency(&mut growth)?;
@@ -161,10 +172,14 @@ impl Context {
             direction: input.direction,
             illuminance: input.illuminance,
         });
-        let highlights = sun.zip(sun_visibility).map(|(sun, visibility)| {
+        let reflects = sun.is_some() || sky_map.is_some();
+        let highlights = reflects.then(|| {
             let highlights = highlights::SourceHighlights {
-                sun,
-                visibility,
+                sun: sun.zip(sun_visibility),
+                sky: sky_map.map(|(map, side)| {
+                    let kept = &self.images.sky.as_ref().expect("allocated above");
+                    (map, side, &kept[SkyImages::RADIANCE])
+                }),
                 shadows: separation_inputs.as_ref().map(|separation| {
                     let layer = &self.images.shadows.as_ref().expect("allocated above")
                         [ShadowImages::LAYER];
@@ -256,7 +271,9 @@ impl Context {
             extent: inputs.extent,
             camera: inputs.geometry.camera,
             shadow_history,
-            sun,
+            // A sky without a sun places the sky's reflection alone.
+            sun: reflects.then(|| sun.unwrap_or(highlights::NO_SUN)),
+            sky_side: sky_map.map(|(_, side)| side),
             translucency: translucency_inputs
                 .as_ref()
                 .map(|input| input.motion_vectors.is_some()),

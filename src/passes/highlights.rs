@@ -1,7 +1,8 @@
-//! The sun's highlights, moved with the view (`PatchexSunLight`): frame t's are taken out of
-//! its shading in the submit (`shaders/remove_highlights.wgsl`), and the target's added to the
-//! extrapolated colour (`shaders/place_highlights.wgsl`), both from the reflection model of
-//! `shaders/include/sun_specular.wgsl`.
+//! The sun's highlights and the sky's reflection, moved with the view (`PatchexSunLight`,
+//! `PatchexSkyLight`): frame t's are taken out of its shading in the submit
+//! (`shaders/remove_highlights.wgsl`), and the target's added to the extrapolated colour
+//! (`shaders/place_highlights.wgsl`), both from the reflection models of
+//! `shaders/include/sun_specular.wgsl` and `sky_specular.wgsl`.
 
 use ash::vk;
 use glam::Vec3;
@@ -20,11 +21,20 @@ pub struct Sun {
     pub illuminance: Vec3,
 }
 
+/// A sky that lights the frame without a sun: no highlight anywhere.
+pub const NO_SUN: Sun = Sun {
+    direction: Vec3::Y,
+    illuminance: Vec3::ZERO,
+};
+
 /// What frame t's highlights are taken out with.
 pub struct SourceHighlights<'a> {
-    pub sun: Sun,
-    /// `PatchexSunLight.visibility`.
-    pub visibility: Texture,
+    /// The frame's sun and `PatchexSunLight.visibility`; without one (a sky alone), no pixel
+    /// is lit by a sun.
+    pub sun: Option<(Sun, Texture)>,
+    /// With a sky: `PatchexSkyLight.radiance`, its side, and where it is kept for the
+    /// extrapolations.
+    pub sky: Option<(Texture, u32, &'a OwnedImage)>,
     /// With a shadow input, how its shadows are in frame t's shading.
     pub shadows: Option<ShadowsInShading<'a>>,
     pub base_color: Texture,
@@ -60,6 +70,7 @@ pub fn record_removal(
     kept_visibility: &OwnedImage,
 ) {
     let material = inputs.material.unwrap_or(inputs.placeholder);
+    let sun = inputs.sun.map_or(NO_SUN, |(sun, _)| sun);
     let shadows = inputs.shadows.as_ref();
     let separated = shadows.and_then(|s| s.separated);
     let placeholder = inputs.placeholder;
@@ -67,22 +78,31 @@ pub fn record_removal(
         .map_or((placeholder, placeholder), |(lit, unshadowed, _)| {
             (lit, unshadowed)
         });
+    // Where a storage image is never touched: any of the format, which the placeholders are not.
+    let untouched = Texture {
+        bytes: 0,
+        ..shading.into()
+    };
     let bound = rec.bind(pass, |writes| {
         use remove_highlights::binding;
         let writes = match separated {
             Some((_, _, layer)) => writes.image(binding::SHADOW_LAYER, layer),
-            // Never touched: any storage image of the format, which the placeholders are not.
-            None => writes.image(
-                binding::SHADOW_LAYER,
-                Texture {
-                    bytes: 0,
-                    ..shading.into()
-                },
-            ),
+            None => writes.image(binding::SHADOW_LAYER, untouched),
+        };
+        let writes = match inputs.sky {
+            Some((map, _, kept)) => writes
+                .image(binding::SKY, map)
+                .image(binding::KEPT_SKY, kept),
+            None => writes
+                .image(binding::SKY, placeholder)
+                .image(binding::KEPT_SKY, untouched),
         };
         writes
             .image(binding::SHADING, shading)
-            .image(binding::VISIBILITY, inputs.visibility)
+            .image(
+                binding::VISIBILITY,
+                inputs.sun.map_or(placeholder, |(_, visibility)| visibility),
+            )
             .image(binding::BASE_COLOR, inputs.base_color)
             .image(binding::MATERIAL, material)
             .image(binding::SOURCE_DEPTH, inputs.source_depth)
@@ -104,20 +124,32 @@ pub fn record_removal(
         has_material: inputs.material.is_some() as u32,
         has_shadow_input: shadows.is_some() as u32,
         separated: separated.is_some() as u32,
+        has_sky: inputs.sky.is_some() as u32,
+        sky_side: inputs.sky.map_or(0, |(_, side, _)| side),
         ray_at_origin: inputs.rays.at_origin.into(),
         ray_per_x: inputs.rays.per_x.into(),
         ray_per_y: inputs.rays.per_y.into(),
-        sun_direction: inputs.sun.direction.into(),
-        sun_illuminance: inputs.sun.illuminance.into(),
+        has_sun: inputs.sun.is_some() as u32,
+        sun_direction: sun.direction.into(),
+        sun_illuminance: sun.illuminance.into(),
         ..Default::default()
     };
-    rec.dispatch(&bound, &params, extent);
+    // The frame, and the sky's map, which the pass copies.
+    let side = params.sky_side;
+    let covered = vk::Extent2D {
+        width: extent.width.max(side),
+        height: extent.height.max(side),
+    };
+    rec.dispatch(&bound, &params, covered);
 }
 
 /// What the target's highlights are placed with.
 pub struct TargetHighlights<'a> {
+    /// Frame t's sun, or `NO_SUN`.
     pub sun: Sun,
     pub kept_visibility: &'a OwnedImage,
+    /// With a sky on frame t: its map as the removal kept it, and its side.
+    pub kept_sky: Option<(&'a OwnedImage, u32)>,
     /// Frame t's packed G-buffer, which says where frame t saw the target's surface.
     pub source_depth: &'a OwnedImage,
     pub source_normal_id: &'a OwnedImage,
@@ -173,6 +205,10 @@ pub fn record_placement(
                 binding::TARGET_MASK,
                 inputs.target_mask.unwrap_or(placeholder),
             )
+            .image(
+                binding::KEPT_SKY,
+                inputs.kept_sky.map_or(placeholder, |(kept, _)| kept.into()),
+            )
             .buffer(binding::CAMERAS, inputs.cameras)
             .buffer(binding::COUNTERS, &inputs.sanitized)
     });
@@ -189,6 +225,8 @@ pub fn record_placement(
         inv_sigma_position: warp.inv_sigma_position,
         in_plane_weight: warp.in_plane_weight,
         pixel_angle: warp.pixel_angle,
+        has_sky: inputs.kept_sky.is_some() as u32,
+        sky_side: inputs.kept_sky.map_or(0, |(_, side)| side),
         sun_direction: inputs.sun.direction.into(),
         sun_illuminance: inputs.sun.illuminance.into(),
         ..Default::default()

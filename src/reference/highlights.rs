@@ -1,5 +1,5 @@
-//! Mirror of `shaders/include/sun_specular.wgsl`, `shaders/remove_highlights.wgsl` and
-//! `shaders/place_highlights.wgsl`.
+//! Mirror of `shaders/include/sun_specular.wgsl`, `shaders/include/sky_specular.wgsl`,
+//! `shaders/remove_highlights.wgsl` and `shaders/place_highlights.wgsl`.
 
 use glam::{IVec2, Vec2, Vec3, Vec4};
 
@@ -10,7 +10,7 @@ use super::separate_shadows::share_lost_to_shadows;
 use super::warp::{TargetPixel, WarpSources, WarpTarget, AGREEMENT_THRESHOLD, BILINEAR_ACCEPT};
 use super::{round_to_f16, Image};
 use crate::camera::PixelRays;
-use crate::passes::highlights::Sun;
+use crate::passes::highlights::{Sun, NO_SUN};
 
 const MIN_ROUGHNESS: f32 = 0.02;
 
@@ -57,10 +57,78 @@ fn sun_specular(sun: &Sun, normal: Vec3, view: Vec3, glossy: &Glossy) -> Vec3 {
     sun.illuminance * distribution * visibility * fresnel * n_dot_l
 }
 
+/// `octahedral_texel`: where unit `direction` falls in an octahedral map of `side` texels.
+fn octahedral_texel(direction: Vec3, side: usize) -> Vec2 {
+    let mut p = direction.truncate() / (direction.x.abs() + direction.y.abs() + direction.z.abs());
+    if direction.z < 0.0 {
+        let sign = Vec2::new(
+            if p.x >= 0.0 { 1.0 } else { -1.0 },
+            if p.y >= 0.0 { 1.0 } else { -1.0 },
+        );
+        p = (Vec2::ONE - Vec2::new(p.y.abs(), p.x.abs())) * sign;
+    }
+    (p * 0.5 + 0.5) * side as f32
+}
+
+/// `octahedral_load`: a texel of the map, the one mirrored along the edge across it.
+fn octahedral_load(map: &Image, x: i32, y: i32) -> Vec3 {
+    let last = map.width as i32 - 1;
+    let (mut x, mut y) = (x, y);
+    if x < 0 || x > last {
+        (x, y) = (x.clamp(0, last), last - y);
+    }
+    if y < 0 || y > last {
+        (x, y) = (last - x, y.clamp(0, last));
+    }
+    sanitize_input_color(Vec3::from_slice(&map.at(x as usize, y as usize)[..3])).0
+}
+
+/// `sky_radiance`: the sky towards unit `direction`, bilinear between the map's texels.
+fn sky_radiance(map: &Image, direction: Vec3) -> Vec3 {
+    let q = octahedral_texel(direction, map.width) - 0.5;
+    let corner = q.floor();
+    let f = q - corner;
+    let (x, y) = (corner.x as i32, corner.y as i32);
+    let top = octahedral_load(map, x, y).lerp(octahedral_load(map, x + 1, y), f.x);
+    let bottom = octahedral_load(map, x, y + 1).lerp(octahedral_load(map, x + 1, y + 1), f.x);
+    top.lerp(bottom, f.y)
+}
+
+/// `environment_brdf`: the split-sum scale and bias on the specular colour (Karis' fit).
+fn environment_brdf(glossy: &Glossy, n_dot_v: f32) -> Vec3 {
+    let c0 = Vec4::new(-1.0, -0.0275, -0.572, 0.022);
+    let c1 = Vec4::new(1.0, 0.0425, 1.04, -0.04);
+    let r = glossy.roughness * c0 + c1;
+    let a004 = (r.x * r.x).min((-9.28 * n_dot_v).exp2()) * r.x + r.y;
+    let ab = Vec2::new(-1.04, 1.04) * a004 + Vec2::new(r.z, r.w);
+    glossy.specular_color * ab.x + Vec3::splat(ab.y)
+}
+
+/// `sky_specular`: the light the sky's reflection sends towards `view`.
+fn sky_specular(map: &Image, normal: Vec3, view: Vec3, glossy: &Glossy) -> Vec3 {
+    let n_dot_v = normal.dot(view).clamp(0.0, 1.0);
+    let mirror = (2.0 * normal.dot(view) * normal - view).normalize();
+    sky_radiance(map, mirror) * environment_brdf(glossy, n_dot_v)
+}
+
+/// The sky's map as the removal keeps it, sanitised and rounded to f16, and the texels
+/// sanitised.
+fn keep_sky(map: &Image) -> (Image, u32) {
+    let mut sanitized = 0;
+    let kept = Image::from_fn(map.width, map.height, 4, |x, y| {
+        let (radiance, changed) = sanitize_input_color(Vec3::from_slice(&map.at(x, y)[..3]));
+        sanitized += changed as u32;
+        round_vec3_to_f16(radiance).extend(1.0).to_array().to_vec()
+    });
+    (kept, sanitized)
+}
+
 /// What frame t's highlights are taken out with, as `SourceHighlights` binds it.
 pub struct SourceHighlights<'a> {
-    pub sun: Sun,
-    pub visibility: &'a Image,
+    /// The sun and its visibility; without one (a sky alone), no pixel is lit by a sun.
+    pub sun: Option<(Sun, &'a Image)>,
+    /// `PatchexSkyLight.radiance`.
+    pub sky: Option<&'a Image>,
     /// With a shadow input, how its shadows are in the shading.
     pub shadows: Option<ShadowsInShading<'a>>,
     pub base_color: &'a Image,
@@ -87,6 +155,8 @@ pub struct Removed {
     pub visibility: Image,
     /// With the shadows separated: the layer made again without the highlight.
     pub shadow_layer: Option<Image>,
+    /// With a sky: its map as kept for the target.
+    pub kept_sky: Option<Image>,
     pub sanitized: u32,
 }
 
@@ -98,7 +168,10 @@ pub fn remove(shading: &Image, inputs: &SourceHighlights) -> Removed {
     // Static pixels of separated shadows hold the colour without them.
     let separated_at = |x, y| separated.is_some() && inputs.normal_id.at(x, y)[3] == 0.0;
     let lit_at = |x, y| {
-        let (seen, changed) = unit(inputs.visibility, x, y);
+        let Some((_, visibility)) = inputs.sun else {
+            return (0.0, false);
+        };
+        let (seen, changed) = unit(visibility, x, y);
         let dynamic = match &inputs.shadows {
             Some(shadows) if !separated_at(x, y) => unit(shadows.mask, x, y).0.x,
             _ => 1.0,
@@ -107,11 +180,20 @@ pub fn remove(shading: &Image, inputs: &SourceHighlights) -> Removed {
     };
     let has_highlight = |x, y, lit: f32| {
         let normal = Vec3::from_slice(&inputs.normal_id.at(x, y)[..3]);
-        lit > 0.0 && !is_sky(inputs.geometry.at(x, y)[3]) && normal != Vec3::ZERO
+        (lit > 0.0 || inputs.sky.is_some())
+            && !is_sky(inputs.geometry.at(x, y)[3])
+            && normal != Vec3::ZERO
+    };
+    let sun = inputs.sun.map_or(NO_SUN, |(sun, _)| sun);
+    let (kept_sky, mut sanitized) = match inputs.sky {
+        Some(map) => {
+            let (kept, sanitized) = keep_sky(map);
+            (Some(kept), sanitized)
+        }
+        None => (None, 0),
     };
     let visibility = Image::from_fn(width, height, 1, |x, y| vec![round_to_f16(lit_at(x, y).0)]);
     let mut shadow_layer = separated.map(|(_, _, layer)| layer.clone());
-    let mut sanitized = 0;
     let output = Image::from_fn(width, height, 4, |x, y| {
         let s = Vec4::from_slice(shading.at(x, y));
         let (lit, changed) = lit_at(x, y);
@@ -124,10 +206,18 @@ pub fn remove(shading: &Image, inputs: &SourceHighlights) -> Removed {
         let normal = Vec3::from_slice(&inputs.normal_id.at(x, y)[..3]);
         let rays = &inputs.rays;
         let ray = rays.at_origin + x as f32 * rays.per_x + y as f32 * rays.per_y;
-        let highlight = lit * sun_specular(&inputs.sun, normal, -ray.normalize(), &glossy);
+        let view = -ray.normalize();
+        let highlight = if lit > 0.0 {
+            lit * sun_specular(&sun, normal, view, &glossy)
+        } else {
+            Vec3::ZERO
+        };
+        let reflection = inputs
+            .sky
+            .map_or(Vec3::ZERO, |map| sky_specular(map, normal, view, &glossy));
         let (factor, _) = pixel_modulation(inputs.base_color, inputs.material, x, y);
         let scale = (s.w / factor.max_element()).max(1.0);
-        let rgb = round_vec3_to_f16(s.truncate() - highlight / (factor * scale));
+        let rgb = round_vec3_to_f16(s.truncate() - (highlight + reflection) / (factor * scale));
         if let (Some((color, unshadowed, _)), Some(layer), true) =
             (separated, shadow_layer.as_mut(), separated_at(x, y))
         {
@@ -137,8 +227,8 @@ pub fn remove(shading: &Image, inputs: &SourceHighlights) -> Removed {
             let lit_color = sanitize_input_color(Vec3::from_slice(&color.at(x, y)[..3])).0;
             let unshadowed = sanitize_input_color(Vec3::from_slice(&unshadowed.at(x, y)[..3])).0;
             let share = share_lost_to_shadows(
-                (lit_color - mask * highlight).max(Vec3::ZERO),
-                (unshadowed - highlight).max(Vec3::ZERO),
+                (lit_color - mask * highlight - reflection).max(Vec3::ZERO),
+                (unshadowed - highlight - reflection).max(Vec3::ZERO),
             );
             let alpha = layer.at(x, y)[3];
             layer.set(x, y, &round_vec3_to_f16(share).extend(alpha).to_array());
@@ -149,15 +239,19 @@ pub fn remove(shading: &Image, inputs: &SourceHighlights) -> Removed {
         shading: output,
         visibility,
         shadow_layer,
+        kept_sky,
         sanitized,
     }
 }
 
 /// What the target's highlights are placed with, as `TargetHighlights` binds it.
 pub struct TargetHighlights<'a> {
+    /// Frame t's sun, or `NO_SUN`.
     pub sun: Sun,
     /// Frame t's visibility, as `remove` kept it.
     pub kept_visibility: &'a Image,
+    /// Frame t's sky map, as `remove` kept it.
+    pub kept_sky: Option<&'a Image>,
     /// Frame t's packed G-buffer (`Packed::geometry` and `normal_id`).
     pub source_geometry: &'a Image,
     pub source_normal_id: &'a Image,
@@ -260,7 +354,8 @@ pub fn place(color: &Image, inputs: &TargetHighlights) -> (Image, u32) {
         );
         let lit = visibility_at(kept, &pixel, q);
         let glossy = glossy_material(inputs.base_color, inputs.material, x, y);
-        let mut highlight = lit * sun_specular(&inputs.sun, normal, -ray.normalize(), &glossy);
+        let view = -ray.normalize();
+        let mut highlight = lit * sun_specular(&inputs.sun, normal, view, &glossy);
         match (inputs.target_mask, inputs.shadow_share) {
             (Some(mask), _) if normal_id[3] == 0.0 => {
                 highlight *= sanitize(Vec3::new(mask.at(x, y)[0], 0.0, 0.0), 0.0, 1.0)
@@ -269,6 +364,9 @@ pub fn place(color: &Image, inputs: &TargetHighlights) -> (Image, u32) {
             }
             (_, Some(share)) => highlight *= Vec3::ONE + Vec3::from_slice(&share.at(x, y)[..3]),
             _ => {}
+        }
+        if let Some(map) = inputs.kept_sky {
+            highlight += sky_specular(map, normal, view, &glossy);
         }
         let (sum, changed) = sanitize_color(c.truncate() + highlight);
         sanitized += (glossy.roughness_changed || changed) as u32;

@@ -32,6 +32,8 @@ pub struct FrameInputs<'a> {
     pub motion_vector_scale: [f32; 2],
     /// Frame t's `PatchexSunLight`: the sun, and its visibility image.
     pub sun: Option<(crate::passes::highlights::Sun, &'a Image)>,
+    /// Frame t's `PatchexSkyLight.radiance`.
+    pub sky: Option<&'a Image>,
     /// Frame t's `PatchexTranslucencyInput`.
     pub translucency: Option<translucency::Input<'a>>,
 }
@@ -148,13 +150,15 @@ pub fn extrapolate(
         Some(separated) => (separated.shading.clone(), separated.sanitized),
         None => demodulate::demodulate(color, source.base_color, source.material),
     };
-    // With a sun: its highlights out of the shading, its visibility kept for the target.
-    let kept_visibility = source.sun.map(|(sun, visibility)| {
+    // With a sun or a sky: their reflections out of the shading, the visibility and the sky
+    // kept for the target.
+    let reflects = source.sun.is_some() || source.sky.is_some();
+    let kept_visibility = reflects.then(|| {
         let removed = highlights::remove(
             &shading,
             &highlights::SourceHighlights {
-                sun,
-                visibility,
+                sun: source.sun,
+                sky: source.sky,
                 shadows: shadow_inputs
                     .zip(separated.as_ref())
                     .map(|(shadow, separation)| highlights::ShadowsInShading {
@@ -177,7 +181,10 @@ pub fn extrapolate(
         if let (Some(separation), Some(layer)) = (separated.as_mut(), removed.shadow_layer) {
             separation.shadow_layer = layer;
         }
-        (sun, removed.visibility)
+        let sun = source
+            .sun
+            .map_or(crate::passes::highlights::NO_SUN, |(sun, _)| sun);
+        (sun, removed.visibility, removed.kept_sky)
     });
     // With a translucency input: what is drawn over the surfaces out of the shading.
     let translucency = source.translucency.map(|input| {
@@ -326,13 +333,14 @@ pub fn extrapolate(
     }
     let mut target_sanitized = remodulate_sanitized + target_mask_sanitized;
     let output = match &kept_visibility {
-        Some((sun, kept)) => {
+        Some((sun, kept, kept_sky)) => {
             stages.push(PATCHEX_STAGE_HIGHLIGHTS);
             let (output, sanitized) = highlights::place(
                 &output,
                 &highlights::TargetHighlights {
                     sun: *sun,
                     kept_visibility: kept,
+                    kept_sky: kept_sky.as_ref(),
                     source_geometry: &source_packed.geometry,
                     source_normal_id: &source_packed.normal_id,
                     geometry: &target_packed.geometry,

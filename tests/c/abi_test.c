@@ -11,10 +11,11 @@
  * halfway to the next frame at 1 and 3), each: a PatchexCamera, then colour, base colour,
  * material, normal and colour without dynamic shadows as RGBA32F, depth, shadow mask and the
  * sun's visibility through static casters as R32F, motion vectors as RG32F and stencil ids as
- * R8_UINT; sun.bin, the sun's direction and illuminance (six floats); and translucency.bin,
- * frame 2's translucency mask as R32F and its motion as RG32F. The program creates a
- * FULL context with every create-time chained struct, submits frames 0 and 2 with their shadow
- * input (frame 2 also with the sun and its translucency), and extrapolates: frame 1 with diagnostics; frame 3 three times, once per warp kind, with
+ * R8_UINT; sun.bin, the sun's direction and illuminance (six floats); sky.bin, the side of the
+ * sky's octahedral map (a uint32) and the map as RGBA32F; and translucency.bin, frame 2's
+ * translucency mask as R32F and its motion as RG32F. The program creates a FULL context with
+ * every create-time chained struct, submits frames 0 and 2 with their shadow input (frame 2
+ * also with the sun, the sky and its translucency), and extrapolates: frame 1 with diagnostics; frame 3 three times, once per warp kind, with
  * segmentation and network settings, both diagnostics and, last, an A2B10G10R10 output; then
  * frame 3 once more with its own shadow mask as the target shadow input. It
  * writes each output image and both frames' statistics to OUT_DIR, and exits 0 only when every
@@ -103,16 +104,21 @@ static PatchexGeometry geometry(const Frame *f) {
 }
 
 /* Frame `f` as frame `index`, with its shadow input, and optionally flow settings, the sun
-   (direction, then illuminance) and a translucency mask and motion (`translucency[0]`, `[1]`). */
+   (direction, then illuminance) with the sky's map, and a translucency mask and motion
+   (`translucency[0]`, `[1]`). */
 static void submit(PatchexContext *ctx, const Frame *f, uint64_t index,
-                   const PatchexShadowFlowSettings *flow, const float *sun,
+                   const PatchexShadowFlowSettings *flow, const float *sun, const Image *sky,
                    const Image *translucency) {
   PatchexShadowInput shadow;
   shadow.header = header(PATCHEX_STRUCT_TYPE_SHADOW_INPUT, sizeof shadow, flow);
   shadow.mask = describe(&f->shadow_mask);
   shadow.color_without_dynamic_shadows = describe(&f->color_without_dynamic_shadows);
+  PatchexSkyLight reflected;
+  reflected.header = header(PATCHEX_STRUCT_TYPE_SKY_LIGHT, sizeof reflected, &shadow);
+  if (sky) reflected.radiance = describe(sky);
   PatchexSunLight light;
-  light.header = header(PATCHEX_STRUCT_TYPE_SUN_LIGHT, sizeof light, &shadow);
+  light.header = header(PATCHEX_STRUCT_TYPE_SUN_LIGHT, sizeof light,
+                        sky ? (const void *)&reflected : &shadow);
   if (sun) {
     memcpy(light.direction, sun, sizeof light.direction);
     memcpy(light.illuminance, sun + 3, sizeof light.illuminance);
@@ -262,6 +268,23 @@ int main(int argc, char **argv) {
     return 2;
   }
   fclose(sun_file);
+  char sky_path[4096];
+  snprintf(sky_path, sizeof sky_path, "%s/sky.bin", data);
+  FILE *sky_file = fopen(sky_path, "rb");
+  uint32_t sky_side = 0;
+  if (!sky_file || fread(&sky_side, sizeof sky_side, 1, sky_file) != 1 || sky_side == 0) {
+    fprintf(stderr, "cannot read %s\n", sky_path);
+    return 2;
+  }
+  size_t sky_size = (size_t)sky_side * sky_side * 16;
+  unsigned char *sky_bytes = malloc(sky_size);
+  if (!sky_bytes || fread(sky_bytes, sky_size, 1, sky_file) != 1) {
+    fprintf(stderr, "cannot read %s\n", sky_path);
+    return 2;
+  }
+  fclose(sky_file);
+  Image sky = input_image_sized(VK_FORMAT_R32G32B32A32_SFLOAT, 16, sky_side, sky_side, sky_bytes);
+  free(sky_bytes);
   char translucency_path[4096];
   snprintf(translucency_path, sizeof translucency_path, "%s/translucency.bin", data);
   FILE *translucency_file = fopen(translucency_path, "rb");
@@ -294,7 +317,7 @@ int main(int argc, char **argv) {
   frame_flow.header.next = NULL;
   frame_flow.iterations = 2;
   begin();
-  submit(ctx, &frames[0], 1, &frame_flow, NULL, NULL);
+  submit(ctx, &frames[0], 1, &frame_flow, NULL, NULL, NULL);
   PatchexDiagnostics first_diag;
   first_diag.header = header(PATCHEX_STRUCT_TYPE_DIAGNOSTICS, sizeof first_diag, NULL);
   first_diag.image = describe(&first_diagnostics);
@@ -302,10 +325,10 @@ int main(int argc, char **argv) {
   expect(patchex_extrapolate(ctx, gpu.cmd, &desc), PATCHEX_RESULT_SUCCESS, "extrapolate 1", ctx);
   submit_and_wait();
 
-  /* Frame t (index 2), with the sun and its translucency: three extrapolations of its halfway
-     instant, one per warp. */
+  /* Frame t (index 2), with the sun, the sky and its translucency: three extrapolations of its
+     halfway instant, one per warp. */
   begin();
-  submit(ctx, &frames[2], 2, NULL, sun, translucency);
+  submit(ctx, &frames[2], 2, NULL, sun, &sky, translucency);
 
   const PatchexWarpKind kinds[3] = {PATCHEX_WARP_GBUFFER_GUIDED, PATCHEX_WARP_MOTION_VECTOR,
                                     PATCHEX_WARP_OCCLUSION_MOTION_VECTOR};
@@ -369,6 +392,7 @@ int main(int argc, char **argv) {
   for (int i = 0; i < 4; ++i) destroy_frame(&frames[i]);
   destroy_image(&translucency[0]);
   destroy_image(&translucency[1]);
+  destroy_image(&sky);
   Image *images[] = {&first, &first_diagnostics, &outputs[0], &outputs[1], &outputs[2],
                      &diagnostics, &shadow_diagnostics, &target_shadows};
   for (size_t i = 0; i < sizeof images / sizeof images[0]; ++i) destroy_image(images[i]);

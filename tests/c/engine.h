@@ -199,21 +199,26 @@ typedef struct Image {
   VkImageUsageFlags usage;
   VkImageLayout layout;
   uint32_t texel_bytes;
+  uint32_t width, height;
 } Image;
 
 static uint32_t width, height;
 
-static Image create_image(VkFormat format, uint32_t texel_bytes, VkImageUsageFlags usage) {
+/* An image of `w` x `h` texels. */
+static Image create_image_sized(VkFormat format, uint32_t texel_bytes, VkImageUsageFlags usage,
+                                uint32_t w, uint32_t h) {
   Image image = {0};
   image.format = format;
   image.texel_bytes = texel_bytes;
+  image.width = w;
+  image.height = h;
   image.usage = usage | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
   image.layout = VK_IMAGE_LAYOUT_UNDEFINED;
   VkImageCreateInfo info = {.sType = VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
   info.imageType = VK_IMAGE_TYPE_2D;
   info.format = format;
-  info.extent.width = width;
-  info.extent.height = height;
+  info.extent.width = w;
+  info.extent.height = h;
   info.extent.depth = 1;
   info.mipLevels = 1;
   info.arrayLayers = 1;
@@ -234,6 +239,11 @@ static Image create_image(VkFormat format, uint32_t texel_bytes, VkImageUsageFla
   view.subresourceRange.layerCount = 1;
   CHECK(vkCreateImageView(gpu.device, &view, NULL, &image.view));
   return image;
+}
+
+/* An image of the frame's extent. */
+static Image create_image(VkFormat format, uint32_t texel_bytes, VkImageUsageFlags usage) {
+  return create_image_sized(format, texel_bytes, usage, width, height);
 }
 
 static void destroy_image(Image *image) {
@@ -285,32 +295,39 @@ static void destroy_buffer(Buffer *b) {
   vkFreeMemory(gpu.device, b->memory, NULL);
 }
 
-static VkBufferImageCopy whole_image(void) {
+static VkBufferImageCopy whole_image(const Image *image) {
   VkBufferImageCopy copy;
   memset(&copy, 0, sizeof copy);
   copy.imageSubresource.aspectMask = VK_IMAGE_ASPECT_COLOR_BIT;
   copy.imageSubresource.layerCount = 1;
-  copy.imageExtent.width = width;
-  copy.imageExtent.height = height;
+  copy.imageExtent.width = image->width;
+  copy.imageExtent.height = image->height;
   copy.imageExtent.depth = 1;
   return copy;
 }
 
-/* An input image filled from `bytes` and left in SHADER_READ_ONLY_OPTIMAL. */
-static Image input_image(VkFormat format, uint32_t texel_bytes, const unsigned char *bytes) {
-  Image image = create_image(format, texel_bytes, VK_IMAGE_USAGE_SAMPLED_BIT);
-  size_t size = (size_t)width * height * texel_bytes;
+/* An input image of `w` x `h` texels filled from `bytes` and left in
+   SHADER_READ_ONLY_OPTIMAL. */
+static Image input_image_sized(VkFormat format, uint32_t texel_bytes, uint32_t w, uint32_t h,
+                               const unsigned char *bytes) {
+  Image image = create_image_sized(format, texel_bytes, VK_IMAGE_USAGE_SAMPLED_BIT, w, h);
+  size_t size = (size_t)w * h * texel_bytes;
   Buffer staging = create_buffer(size);
   memcpy(staging.mapped, bytes, size);
   begin();
   transition(&image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL);
-  VkBufferImageCopy copy = whole_image();
+  VkBufferImageCopy copy = whole_image(&image);
   vkCmdCopyBufferToImage(gpu.cmd, staging.buffer, image.image,
                          VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &copy);
   transition(&image, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
   submit_and_wait();
   destroy_buffer(&staging);
   return image;
+}
+
+/* An input image of the frame's extent. */
+static Image input_image(VkFormat format, uint32_t texel_bytes, const unsigned char *bytes) {
+  return input_image_sized(format, texel_bytes, width, height, bytes);
 }
 
 /* An image patchex writes, kept in GENERAL. */
@@ -322,14 +339,14 @@ static Image output_image(VkFormat format, uint32_t texel_bytes, VkImageUsageFla
   return image;
 }
 
-/* Copies `image` into `bytes` (width * height * texel_bytes), keeping its layout. */
+/* Copies `image` into `bytes` (its width * height * texel_bytes), keeping its layout. */
 static void read_image(Image *image, void *bytes) {
-  size_t size = (size_t)width * height * image->texel_bytes;
+  size_t size = (size_t)image->width * image->height * image->texel_bytes;
   Buffer staging = create_buffer(size);
   begin();
   VkImageLayout kept = image->layout;
   transition(image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
-  VkBufferImageCopy copy = whole_image();
+  VkBufferImageCopy copy = whole_image(image);
   vkCmdCopyImageToBuffer(gpu.cmd, image->image, image->layout, staging.buffer, 1, &copy);
   transition(image, kept);
   VkMemoryBarrier to_host = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER};
@@ -347,8 +364,8 @@ static PatchexImage describe(const Image *image) {
   d.image = image->image;
   d.view = image->view;
   d.format = image->format;
-  d.width = width;
-  d.height = height;
+  d.width = image->width;
+  d.height = image->height;
   d.layout = image->layout;
   d.usage = image->usage;
   return d;

@@ -47,6 +47,7 @@ pub fn inputs<'a>(frame: &'a Frame, camera: &'a Camera) -> FrameInputs<'a> {
         normal_encoding: PATCHEX_NORMAL_SIGNED,
         motion_vector_scale: [1.0, 1.0],
         sun: None,
+        sky: None,
         translucency: None,
     }
 }

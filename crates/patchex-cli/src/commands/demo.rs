@@ -50,8 +50,9 @@ pub struct DemoArgs {
     /// at that instant, as an engine's extra depth-only pass of its moving casters gives them.
     #[arg(long, requires = "shadows")]
     target_shadows: bool,
-    /// Hand the plugin the scene's sun with each frame (PatchexSunLight), so that highlights on
-    /// glossy surfaces move with the view instead of sticking to the surface.
+    /// Hand the plugin the scene's sun and sky with each frame (PatchexSunLight,
+    /// PatchexSkyLight), so that their reflections in glossy surfaces move with the view
+    /// instead of sticking to the surface.
     #[arg(long)]
     highlights: bool,
     /// Hand the plugin each frame's translucency mask and motion (PatchexTranslucencyInput), in
@@ -148,6 +149,7 @@ pub fn run(args: DemoArgs) -> CommandResult {
             }),
             FrameExtras {
                 sun: args.highlights,
+                sky: args.highlights,
                 translucency: args.translucency,
             },
         )?;

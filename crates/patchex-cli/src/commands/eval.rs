@@ -55,6 +55,10 @@ pub enum Method {
     GbufferTargetShadows,
     /// The default warp given the scene's sun (`PatchexSunLight`): its highlights taken out of
     /// frame t and evaluated for the target's view.
+    GbufferSunHighlights,
+    /// The default warp given the scene's sun and sky (`PatchexSunLight`, `PatchexSkyLight`):
+    /// the sun's highlights and the sky's reflection taken out of frame t and evaluated for the
+    /// target's view.
     GbufferHighlights,
     /// The default warp given each frame's translucency mask and motion
     /// (`PatchexTranslucencyInput`): what is drawn over the surfaces moved by its own motion.
@@ -63,12 +67,14 @@ pub enum Method {
     /// before translucency, its output gets the target's translucency drawn over it, as the
     /// engine draws it over a rendered frame.
     GbufferBeforeTranslucency,
-    /// The shadow sub-task and the sun's highlights: every input an engine has today.
+    /// The shadow sub-task and the sun's and sky's highlights: every input an engine has
+    /// without an extra pass.
     GbufferShadowsHighlights,
-    /// The target shadow mask and the sun's highlights.
+    /// The target shadow mask and the sun's and sky's highlights.
     GbufferTargetShadowsHighlights,
-    /// The shadow sub-task and the sun's highlights, called before the engine's translucency
-    /// pass: every input an engine has today, where the integration guide places the call.
+    /// The shadow sub-task and the sun's and sky's highlights, called before the engine's
+    /// translucency pass: every input an engine has without an extra pass, where the
+    /// integration guide places the call.
     GbufferShadowsHighlightsBeforeTranslucency,
     /// PatchEX: the G-buffer-guided warp, the shadow sub-task and the inpainting networks on
     /// the FI and near-BE patches (PATCHEX_PRESET_FULL).
@@ -106,19 +112,20 @@ impl Method {
             Method::GbufferBilinear => "G-buffer-guided warp, bilinear resampling",
             Method::GbufferShadows => "G-buffer-guided warp + shadow sub-task",
             Method::GbufferTargetShadows => "G-buffer-guided warp + target shadow mask",
-            Method::GbufferHighlights => "G-buffer-guided warp + sun highlights",
+            Method::GbufferSunHighlights => "G-buffer-guided warp + sun highlights",
+            Method::GbufferHighlights => "G-buffer-guided warp + sun and sky highlights",
             Method::GbufferTranslucency => "G-buffer-guided warp + translucency mask",
             Method::GbufferBeforeTranslucency => {
                 "G-buffer-guided warp before the translucency pass"
             }
             Method::GbufferShadowsHighlights => {
-                "G-buffer-guided warp + shadow sub-task + sun highlights"
+                "G-buffer-guided warp + shadow sub-task + sun and sky highlights"
             }
             Method::GbufferTargetShadowsHighlights => {
-                "G-buffer-guided warp + target shadow mask + sun highlights"
+                "G-buffer-guided warp + target shadow mask + sun and sky highlights"
             }
             Method::GbufferShadowsHighlightsBeforeTranslucency => {
-                "G-buffer-guided warp + shadow sub-task + sun highlights, before the translucency pass"
+                "G-buffer-guided warp + shadow sub-task + sun and sky highlights, before the translucency pass"
             }
             Method::Patchex => "PatchEX (warp + shadows + networks on patches)",
             Method::PatchexEveryPixel => {
@@ -150,6 +157,7 @@ impl Method {
             Method::Gbuffer
             | Method::GbufferShadows
             | Method::GbufferTargetShadows
+            | Method::GbufferSunHighlights
             | Method::GbufferHighlights
             | Method::GbufferTranslucency
             | Method::GbufferBeforeTranslucency
@@ -186,14 +194,16 @@ impl Method {
 
     /// What frame t goes with besides the shadow sub-task's inputs.
     fn extras(self) -> FrameExtras {
+        let sky = matches!(
+            self,
+            Method::GbufferHighlights
+                | Method::GbufferShadowsHighlights
+                | Method::GbufferTargetShadowsHighlights
+                | Method::GbufferShadowsHighlightsBeforeTranslucency
+        );
         FrameExtras {
-            sun: matches!(
-                self,
-                Method::GbufferHighlights
-                    | Method::GbufferShadowsHighlights
-                    | Method::GbufferTargetShadowsHighlights
-                    | Method::GbufferShadowsHighlightsBeforeTranslucency
-            ),
+            sun: sky || self == Method::GbufferSunHighlights,
+            sky,
             translucency: self == Method::GbufferTranslucency,
         }
     }

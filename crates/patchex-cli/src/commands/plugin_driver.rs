@@ -108,6 +108,9 @@ pub struct PluginDriver {
     contexts: RefCell<Vec<(ContextKey, *mut PatchexContext)>>,
     input_formats: InputFormats,
     library: PatchexLibrary,
+    /// The scene's sky as an octahedral map, for the frames that go with a PatchexSkyLight
+    /// (before `engine`, which outlives it).
+    sky: Option<EngineImage>,
     pub engine: Engine,
     width: u32,
     height: u32,
@@ -124,6 +127,9 @@ pub struct PluginDriver {
 /// The most copies of one call the warm-up runs in a batch: enough to keep a GPU busy for tens
 /// of milliseconds between the CPU's turns.
 const MAX_WARM_UP_COPIES: u32 = 16;
+
+/// Texels a side of the sky's octahedral map: the renderer's sky is a smooth gradient.
+const SKY_SIDE: usize = 64;
 
 /// Interleaves single-channel layers into one RGBA image's values.
 fn interleave(width: usize, height: usize, planes: &[Vec<f32>]) -> Vec<f32> {
@@ -160,6 +166,8 @@ struct UploadedFrame {
 pub struct FrameExtras {
     /// The scene's sun (`PatchexSunLight`).
     pub sun: bool,
+    /// The scene's sky (`PatchexSkyLight`).
+    pub sky: bool,
     /// The translucency mask and motion of frames whose scene has particles
     /// (`PatchexTranslucencyInput`); frames without them go without.
     pub translucency: bool,
@@ -205,6 +213,17 @@ impl PluginDriver {
         // SAFETY: the library is built from this workspace.
         let library = unsafe { PatchexLibrary::open(&path)? };
         let (width, height) = (manifest.width as u32, manifest.height as u32);
+        let sky = manifest.sky.map(|sky| {
+            let map = EngineImage::new(
+                &engine,
+                vk::Format::R16G16B16A16_SFLOAT,
+                SKY_SIDE as u32,
+                SKY_SIDE as u32,
+                vk::ImageUsageFlags::SAMPLED,
+            );
+            map.upload(&engine, &sky.octahedral_map(SKY_SIDE), LAYOUT);
+            map
+        });
         Ok(Self {
             contexts: RefCell::new(Vec::new()),
             input_formats: InputFormats::default(),
@@ -215,6 +234,7 @@ impl PluginDriver {
             near: manifest.near,
             far: manifest.far,
             sun: manifest.sun,
+            sky,
             warm_up: Duration::ZERO,
             repeats: Cell::new(0),
         })
@@ -450,6 +470,20 @@ impl PluginDriver {
             (true, Some(sun)) => Some(sun),
             (true, None) => return Err("the scene's manifest has no sun".to_owned()),
         };
+        let sky = match (extras.sky, &self.sky) {
+            (false, _) => None,
+            (true, Some(sky)) => Some(sky),
+            (true, None) => return Err("the scene's manifest has no sky".to_owned()),
+        };
+        let sky_light = |next| {
+            sky.map(|map| PatchexSkyLight {
+                header: PatchexStructHeader {
+                    next,
+                    ..PatchexStructHeader::of::<PatchexSkyLight>(PATCHEX_STRUCT_TYPE_SKY_LIGHT)
+                },
+                radiance: map.describe(LAYOUT),
+            })
+        };
         let context = self.context_for(networks, with_shadows, with_target_mask, extras)?;
         let earlier = shadows
             .and_then(|s| s.earlier)
@@ -576,10 +610,12 @@ impl PluginDriver {
         let mut copies = 1;
         let (index, results) = loop {
             let index = frame_index + self.repeats.get();
-            // A frame's chain, built back to front: its translucency, its sun, then its shadow
-            // input. Each link points at a local that lives until the frame is submitted.
+            // A frame's chain, built back to front: its translucency, its sun, its sky, then its
+            // shadow input. Each link points at a local that lives until the frame is submitted.
             let source_shadow = shadow_input(&source);
             let mut chain = link(&source_shadow, ptr::null());
+            let source_sky = sky_light(chain);
+            chain = link(&source_sky, chain);
             let source_sun = sun_light(&source, chain);
             chain = link(&source_sun, chain);
             let source_translucency = translucency_input(&source, chain);
@@ -587,6 +623,8 @@ impl PluginDriver {
             frame.header.next = link(&source_translucency, chain);
             let earlier_shadow = earlier.as_ref().and_then(shadow_input);
             let mut chain = link(&earlier_shadow, ptr::null());
+            let earlier_sky = earlier.as_ref().and_then(|_| sky_light(chain));
+            chain = link(&earlier_sky, chain);
             let earlier_sun = earlier.as_ref().and_then(|e| sun_light(e, chain));
             chain = link(&earlier_sun, chain);
             let earlier_translucency = earlier.as_ref().and_then(|e| translucency_input(e, chain));

@@ -109,6 +109,7 @@ pub fn inputs(frame: &Frame) -> FrameInputs<'_> {
         normal_encoding: PATCHEX_NORMAL_SIGNED,
         motion_vector_scale: [1.0, 1.0],
         sun: None,
+        sky: None,
         translucency: None,
     }
 }

@@ -258,6 +258,7 @@ fn check(args: &SelftestArgs, work: &std::path::Path) -> Result<bool, Box<dyn st
             }),
             FrameExtras {
                 sun: configuration.sun,
+                sky: false,
                 translucency: configuration.translucency,
             },
         )?;

@@ -51,6 +51,9 @@ pub struct Manifest {
     /// The sun that lit every frame; older manifests have none.
     #[serde(default)]
     pub sun: Option<SunInfo>,
+    /// The sky that lit every frame; older manifests have none.
+    #[serde(default)]
+    pub sky: Option<SkyInfo>,
 }
 
 /// The scene's sun, as an engine gives it to `PatchexSunLight`.
@@ -60,6 +63,42 @@ pub struct SunInfo {
     pub direction: [f32; 3],
     /// Colour times intensity: a white Lambertian surface facing the sun shows this over pi.
     pub illuminance: [f32; 3],
+}
+
+/// The scene's sky: radiance blended from the horizon's (at and below it) to the zenith's by
+/// the square root of the direction's height (y up), as the renderer lights with it.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SkyInfo {
+    pub zenith: [f32; 3],
+    pub horizon: [f32; 3],
+}
+
+impl SkyInfo {
+    /// The sky's radiance towards unit `direction`.
+    pub fn radiance(&self, direction: glam::Vec3) -> glam::Vec3 {
+        let up = direction.y.clamp(0.0, 1.0).sqrt();
+        glam::Vec3::from(self.horizon).lerp(glam::Vec3::from(self.zenith), up)
+    }
+
+    /// The sky as an engine gives it to `PatchexSkyLight`: an octahedral map of `side` texels
+    /// a side, RGBA, row by row.
+    pub fn octahedral_map(&self, side: usize) -> Vec<f32> {
+        let mut map = Vec::with_capacity(side * side * 4);
+        for j in 0..side {
+            for i in 0..side {
+                let [x, y] = [i, j].map(|k| 2.0 * (k as f32 + 0.5) / side as f32 - 1.0);
+                let z = 1.0 - x.abs() - y.abs();
+                let (x, y) = if z < 0.0 {
+                    ((1.0 - y.abs()) * x.signum(), (1.0 - x.abs()) * y.signum())
+                } else {
+                    (x, y)
+                };
+                let radiance = self.radiance(glam::Vec3::new(x, y, z).normalize());
+                map.extend_from_slice(&radiance.extend(1.0).to_array());
+            }
+        }
+        map
+    }
 }
 
 fn one_target_between() -> usize {

@@ -10,6 +10,6 @@ mod writer;
 pub use exr_io::{read_exr, write_exr};
 pub use frame::{FrameLayers, LayerImage};
 pub use layers::*;
-pub use manifest::{DynamicObject, FrameInfo, FrameRole, Manifest, SunInfo};
+pub use manifest::{DynamicObject, FrameInfo, FrameRole, Manifest, SkyInfo, SunInfo};
 pub use reader::Dataset;
 pub use writer::{frame_time, render_sequence, SequenceOptions};

@@ -2,8 +2,8 @@
 
 use super::reader::frame_file_name;
 use super::{
-    write_exr, DynamicObject, FrameInfo, FrameRole, Manifest, SunInfo, LAYERS, MOTION_VECTOR,
-    TRANSLUCENCY_LAYERS,
+    write_exr, DynamicObject, FrameInfo, FrameRole, Manifest, SkyInfo, SunInfo, LAYERS,
+    MOTION_VECTOR, TRANSLUCENCY_LAYERS,
 };
 use crate::error::{io_error, Result};
 use crate::gpu::Gpu;
@@ -115,6 +115,10 @@ pub fn render_sequence(
         sun: Some(SunInfo {
             direction: world.sun.direction.to_array(),
             illuminance: world.sun.radiance.to_array(),
+        }),
+        sky: Some(SkyInfo {
+            zenith: world.description.sun.sky_zenith,
+            horizon: world.description.sun.sky_horizon,
         }),
     };
     let manifest_path = options.out_dir.join("manifest.json");
