@@ -47,8 +47,8 @@ pub enum Configuration {
     Gbuffer,
     /// The G-buffer-guided warp resampling bilinearly everywhere (PATCHEX_RESAMPLE_BILINEAR).
     GbufferBilinear,
-    /// The G-buffer-guided warp given the scene's sun and sky (PatchexSunLight,
-    /// PatchexSkyLight): their reflections moved with the view.
+    /// The G-buffer-guided warp given the scene's sun (PatchexSunLight): its highlights moved
+    /// with the view.
     GbufferHighlights,
     GbufferShadows,
     /// The shadow sub-task given the target's shadow mask (PatchexTargetShadowInput), its flow
@@ -73,9 +73,7 @@ impl Configuration {
             Configuration::OcclusionMotion => "occlusion-motion-vector warp (WARP_ONLY)",
             Configuration::Gbuffer => "G-buffer-guided warp (WARP_ONLY)",
             Configuration::GbufferBilinear => "G-buffer-guided warp, bilinear (WARP_ONLY)",
-            Configuration::GbufferHighlights => {
-                "G-buffer-guided warp + sun and sky highlights (WARP_ONLY)"
-            }
+            Configuration::GbufferHighlights => "G-buffer-guided warp + sun highlights (WARP_ONLY)",
             Configuration::GbufferShadows => "G-buffer-guided warp + shadows (WARP_AND_SHADOWS)",
             Configuration::GbufferTargetShadows => {
                 "G-buffer-guided warp + target shadow mask, no flow (WARP_AND_SHADOWS)"
@@ -358,7 +356,7 @@ fn measure(
             }),
             FrameExtras {
                 sun: configuration == Configuration::GbufferHighlights,
-                sky: configuration == Configuration::GbufferHighlights,
+                sky: false,
                 translucency: false,
             },
         )

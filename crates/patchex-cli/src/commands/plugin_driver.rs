@@ -129,7 +129,7 @@ pub struct PluginDriver {
 const MAX_WARM_UP_COPIES: u32 = 16;
 
 /// Texels a side of the sky's octahedral map: the renderer's sky is a smooth gradient.
-const SKY_SIDE: usize = 64;
+pub const SKY_SIDE: usize = 64;
 
 /// Interleaves single-channel layers into one RGBA image's values.
 fn interleave(width: usize, height: usize, planes: &[Vec<f32>]) -> Vec<f32> {
@@ -216,7 +216,7 @@ impl PluginDriver {
         let sky = manifest.sky.map(|sky| {
             let map = EngineImage::new(
                 &engine,
-                vk::Format::R16G16B16A16_SFLOAT,
+                vk::Format::R32G32B32A32_SFLOAT,
                 SKY_SIDE as u32,
                 SKY_SIDE as u32,
                 vk::ImageUsageFlags::SAMPLED,

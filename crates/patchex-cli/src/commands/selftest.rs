@@ -16,12 +16,12 @@ use patchex::network::{Network, SHIPPED_FI, SHIPPED_NEAR_BE};
 use patchex::passes::highlights::Sun;
 use patchex::passes::shadow_flow::{mask_step, FlowSettings};
 use patchex::passes::warp::WarpSettings;
-use patchex::reference::{self, inpaint::Networks, translucency, FrameInputs, ShadowInputs};
-use patchex_scene::dataset::{render_sequence, Dataset, SequenceOptions, SunInfo};
+use patchex::reference::{self, inpaint::Networks, translucency, FrameInputs, Image, ShadowInputs};
+use patchex_scene::dataset::{render_sequence, Dataset, Manifest, SequenceOptions};
 use patchex_scene::scene::EmitterDescription;
 use patchex_scene::{Gpu, GpuOptions, World};
 
-use super::plugin_driver::{FrameExtras, NetworkChoice, PluginDriver, ShadowRun};
+use super::plugin_driver::{FrameExtras, NetworkChoice, PluginDriver, ShadowRun, SKY_SIDE};
 use super::reference_frames::{from_layers, inputs, Frame};
 use super::render::parse_size;
 use super::{shipped_path, CommandResult};
@@ -59,7 +59,7 @@ struct Configuration {
     /// The target's shadow mask on the extrapolation, and the flow off.
     target_shadows: bool,
     networks: bool,
-    /// Frame t goes with the scene's sun (`PatchexSunLight`).
+    /// Frame t goes with the scene's sun and sky (`PatchexSunLight`, `PatchexSkyLight`).
     sun: bool,
     /// Frame t goes with its particles' mask and motion (`PatchexTranslucencyInput`).
     translucency: bool,
@@ -112,7 +112,7 @@ const CONFIGURATIONS: [Configuration; 9] = [
         translucency: false,
     },
     Configuration {
-        name: "warp + sun highlights",
+        name: "warp + sun and sky highlights",
         warp: PATCHEX_WARP_GBUFFER_GUIDED,
         shadows: false,
         target_shadows: false,
@@ -258,11 +258,11 @@ fn check(args: &SelftestArgs, work: &std::path::Path) -> Result<bool, Box<dyn st
             }),
             FrameExtras {
                 sun: configuration.sun,
-                sky: false,
+                sky: configuration.sun,
                 translucency: configuration.translucency,
             },
         )?;
-        let want = expected(&frames, configuration, alpha, &warp, &shipped, manifest.sun);
+        let want = expected(&frames, configuration, alpha, &warp, &shipped, manifest);
         let messages = driver.validation_messages();
 
         let pixels = (manifest.width * manifest.height) as f64;
@@ -322,7 +322,7 @@ fn expected(
     alpha: f32,
     warp: &WarpSettings,
     shipped: &[Network; 2],
-    manifest_sun: Option<SunInfo>,
+    manifest: &Manifest,
 ) -> reference::Extrapolation {
     let [earlier, source, target] = frames;
     let extent = ash::vk::Extent2D {
@@ -350,12 +350,19 @@ fn expected(
     } else {
         Networks::default()
     };
-    let sun = manifest_sun.filter(|_| configuration.sun).map(|sun| {
+    let sun = manifest.sun.filter(|_| configuration.sun).map(|sun| {
         let sun = Sun {
             direction: sun.direction.into(),
             illuminance: sun.illuminance.into(),
         };
         (sun, &source.sun_visibility)
+    });
+    // The map the driver gives the plugin.
+    let sky = manifest.sky.filter(|_| configuration.sun).map(|sky| Image {
+        width: SKY_SIDE,
+        height: SKY_SIDE,
+        channels: 4,
+        data: sky.octahedral_map(SKY_SIDE),
     });
     let translucency = source
         .translucency
@@ -368,6 +375,7 @@ fn expected(
     reference::extrapolate(
         &FrameInputs {
             sun,
+            sky: sky.as_ref(),
             translucency,
             ..inputs(source)
         },
