@@ -440,7 +440,8 @@ typedef struct PatchexExtrapolationStats {
   // Target pixels whose base colour or material had to be sanitised (as for
   // `source_sanitized_pixels`; with frame t's PatchexSunLight or PatchexSkyLight, also the
   // roughness of the pixels its reflections are placed on), or whose result exceeded the
-  // largest half float and was clamped to it. A pixel is counted once by each pass that sanitised it.
+  // largest half float and was clamped to it. A pixel is counted once by each pass that
+  // sanitised it.
   uint32_t sanitized_pixels;
   // Fraction of target pixels in the foreground-interaction region (dynamic objects).
   float fi_fraction;
@@ -525,9 +526,9 @@ typedef struct PatchexFrameStats {
   // that is NaN or outside [0, 1] (with a PatchexSunLight, also the sun's visibility, and the
   // roughness of pixels the sun reaches; with a PatchexSkyLight, the roughness of every
   // pixel, and each texel of its map as a pixel; with a PatchexTranslucencyInput, also its
-  // mask, and its motion vectors where not finite). NaN becomes 0, everything else the nearest usable
-  // value. Bright colour within the half-float range is never changed, whatever its base
-  // colour. A pixel is counted once by each pass that sanitised it.
+  // mask, and its motion vectors where not finite). NaN becomes 0, everything else the
+  // nearest usable value. Bright colour within the half-float range is never changed,
+  // whatever its base colour. A pixel is counted once by each pass that sanitised it.
   uint32_t source_sanitized_pixels;
   // Pixels of frame t whose depth is NaN or outside its convention's range, or whose normal
   // has a NaN or infinite component (as for `invalid_geometry_pixels`; its motion vectors are

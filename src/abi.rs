@@ -836,7 +836,8 @@ pub struct PatchexExtrapolationStats {
     /// Target pixels whose base colour or material had to be sanitised (as for
     /// `source_sanitized_pixels`; with frame t's PatchexSunLight or PatchexSkyLight, also the
     /// roughness of the pixels its reflections are placed on), or whose result exceeded the
-    /// largest half float and was clamped to it. A pixel is counted once by each pass that sanitised it.
+    /// largest half float and was clamped to it. A pixel is counted once by each pass that
+    /// sanitised it.
     pub sanitized_pixels: u32,
     /// Fraction of target pixels in the foreground-interaction region (dynamic objects).
     pub fi_fraction: f32,
@@ -909,9 +910,9 @@ pub struct PatchexFrameStats {
     /// that is NaN or outside [0, 1] (with a PatchexSunLight, also the sun's visibility, and the
     /// roughness of pixels the sun reaches; with a PatchexSkyLight, the roughness of every
     /// pixel, and each texel of its map as a pixel; with a PatchexTranslucencyInput, also its
-    /// mask, and its motion vectors where not finite). NaN becomes 0, everything else the nearest usable
-    /// value. Bright colour within the half-float range is never changed, whatever its base
-    /// colour. A pixel is counted once by each pass that sanitised it.
+    /// mask, and its motion vectors where not finite). NaN becomes 0, everything else the
+    /// nearest usable value. Bright colour within the half-float range is never changed,
+    /// whatever its base colour. A pixel is counted once by each pass that sanitised it.
     pub source_sanitized_pixels: u32,
     /// Pixels of frame t whose depth is NaN or outside its convention's range, or whose normal
     /// has a NaN or infinite component (as for `invalid_geometry_pixels`; its motion vectors are
