@@ -50,6 +50,9 @@ pub enum Configuration {
     /// The G-buffer-guided warp given the scene's sun (PatchexSunLight): its highlights moved
     /// with the view.
     GbufferHighlights,
+    /// The same given the scene's sky as well (PatchexSkyLight): its reflection moved with the
+    /// view too.
+    GbufferSkyHighlights,
     GbufferShadows,
     /// The shadow sub-task given the target's shadow mask (PatchexTargetShadowInput), its flow
     /// off.
@@ -74,6 +77,9 @@ impl Configuration {
             Configuration::Gbuffer => "G-buffer-guided warp (WARP_ONLY)",
             Configuration::GbufferBilinear => "G-buffer-guided warp, bilinear (WARP_ONLY)",
             Configuration::GbufferHighlights => "G-buffer-guided warp + sun highlights (WARP_ONLY)",
+            Configuration::GbufferSkyHighlights => {
+                "G-buffer-guided warp + sun and sky highlights (WARP_ONLY)"
+            }
             Configuration::GbufferShadows => "G-buffer-guided warp + shadows (WARP_AND_SHADOWS)",
             Configuration::GbufferTargetShadows => {
                 "G-buffer-guided warp + target shadow mask, no flow (WARP_AND_SHADOWS)"
@@ -109,6 +115,7 @@ impl Configuration {
                 | Configuration::Gbuffer
                 | Configuration::GbufferBilinear
                 | Configuration::GbufferHighlights
+                | Configuration::GbufferSkyHighlights
                 | Configuration::PatchexNoShadows
         )
     }
@@ -138,6 +145,7 @@ impl Configuration {
             Configuration::Gbuffer => RGBColor(0, 158, 115),
             Configuration::GbufferBilinear => RGBColor(100, 200, 160),
             Configuration::GbufferHighlights => RGBColor(0, 110, 80),
+            Configuration::GbufferSkyHighlights => RGBColor(0, 70, 50),
             Configuration::GbufferShadows => RGBColor(204, 121, 167),
             Configuration::GbufferTargetShadows => RGBColor(150, 60, 120),
             Configuration::PatchexNoShadows => RGBColor(0, 0, 0),
@@ -355,8 +363,11 @@ fn measure(
                 target_mask: configuration == Configuration::GbufferTargetShadows,
             }),
             FrameExtras {
-                sun: configuration == Configuration::GbufferHighlights,
-                sky: false,
+                sun: matches!(
+                    configuration,
+                    Configuration::GbufferHighlights | Configuration::GbufferSkyHighlights
+                ),
+                sky: configuration == Configuration::GbufferSkyHighlights,
                 translucency: false,
             },
         )
