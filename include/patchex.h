@@ -119,6 +119,9 @@
 // Largest side of a PatchexSkyLight's map.
 #define PATCHEX_MAX_SKY_SIDE 1024
 
+// Most mips of a PatchexSkyLight's map patchex reads.
+#define PATCHEX_MAX_SKY_MIPS 8
+
 // Farneback optical-flow settings a context uses unless told otherwise: three pyramid levels
 // (motion up to about 4 * window_radius pixels), two iterations per level (a third gained
 // nothing on the generated validation split), a 15x15 window, and a 5x5 polynomial fit with
@@ -708,12 +711,13 @@ typedef struct PatchexSunLight {
 // How patchex uses it: in frame t it takes the sky's specular reflection out of the shading it
 // warps, and at the target it adds the reflection the target's view sees, from the target's own
 // normals and material. The reflection is the sky's radiance in the mirror direction (read from
-// the map bilinearly, whatever the roughness) times the split-sum environment BRDF in Karis'
-// analytic fit, the one Unreal's mobile renderer uses, from the specular colour and roughness
-// PatchexSunLight describes (roughness below 0.02 evaluated as 0.02). No shadow or occlusion
-// takes from it. An engine whose sky reflection differs (prefiltered by roughness, occluded, a
-// lookup-table BRDF) leaves the difference where frame t had it; reflection captures and
-// screen-space reflections stay in the warped shading. Given with or without a PatchexSunLight.
+// the map bilinearly, and between its two mips around the pixel's roughness when it has
+// several) times the split-sum environment BRDF in Karis' analytic fit, the one Unreal's
+// mobile renderer uses, from the specular colour and roughness PatchexSunLight describes
+// (roughness below 0.02 evaluated as 0.02). No shadow or occlusion takes from it. An engine
+// whose sky reflection differs (occluded, a lookup-table BRDF, prefiltered other than the mips
+// say) leaves the difference where frame t had it; reflection captures and screen-space
+// reflections stay in the warped shading. Given with or without a PatchexSunLight.
 //
 // It costs patchex nothing more than PatchexSunLight's two passes (which run for it alone when
 // there is no sun), and a copy of the map, which the first pass makes.
@@ -727,8 +731,14 @@ typedef struct PatchexSkyLight {
   // |x| + |y| <= 1; elsewhere the direction normalize(sx * (1 - |y|), sy * (1 - |x|),
   // 1 - |x| - |y|), sx and sy the signs of x and y (+ for 0). The formats `color` takes;
   // texels that are NaN, negative, infinite or beyond 65504 are sanitised and counted in
-  // `source_sanitized_pixels`.
+  // `source_sanitized_pixels`. `view` shows the map's first `mip_levels` mips.
   struct PatchexImage radiance;
+  // 0 or 1: one map, the sky as a mirror reflects it, read whatever the roughness. 2 to
+  // PATCHEX_MAX_SKY_MIPS: mip m (an octahedral map of side >> m texels a side, at least 2)
+  // holds the sky as a surface of roughness m / (mip_levels - 1) reflects it, prefiltered as
+  // the engine prefilters its sky light; patchex reads between the two mips around each
+  // pixel's roughness.
+  uint32_t mip_levels;
 } PatchexSkyLight;
 
 // Chainable on PatchexFrameDesc: where frame t's colour holds something drawn over the opaque

@@ -33,8 +33,9 @@ struct Params {
     inv_sigma_position: f32,
     in_plane_weight: f32,
     pixel_angle: f32,
-    // With a sky: the side of its map as remove_highlights.wgsl kept it.
-    has_sky: u32,
+    // With a sky: its map's mips (0 without one) and side, as remove_highlights.wgsl kept them
+    // side by side.
+    sky_levels: u32,
     sky_side: u32,
     sun_direction: vec3f,
     sun_illuminance: vec3f,
@@ -148,8 +149,9 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
             } else if (unspecialised(params.has_shadow_share) != ABSENT) {
                 highlight *= 1.0 + textureLoad(shadow_share, p, 0).rgb;
             }
-            if (unspecialised(params.has_sky) != ABSENT) {
-                highlight += sky_specular(kept_sky, params.sky_side, t.normal, view, glossy);
+            let sky_map = SkyMap(params.sky_side, unspecialised(params.sky_levels), true);
+            if (sky_map.levels != 0u) {
+                highlight += sky_specular(kept_sky, sky_map, t.normal, view, glossy);
             }
             let color = sanitize_color(textureLoad(frame, p).rgb + highlight);
             textureStore(frame, p, vec4f(to_half(color.value), 1.0));

@@ -25,8 +25,9 @@ struct Params {
     // With the shadows separated: static pixels hold the colour without the dynamic shadows,
     // and the shadow layer is made again without the highlight.
     separated: u32,
-    // With a sky: its octahedral map's side, which this pass also copies into `kept_sky`.
-    has_sky: u32,
+    // With a sky: its octahedral map's mips (0 without one) and side; this pass also copies
+    // the mips side by side into `kept_sky`.
+    sky_levels: u32,
     sky_side: u32,
     // Without a sun (a sky alone), `visibility` is not read: nothing is lit by a sun.
     has_sun: u32,
@@ -69,13 +70,23 @@ fn unspecialised(setting: u32) -> u32 {
 fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_index) lane: u32) {
     open_tallies(lane);
     let p = id.xy;
-    let has_sky = unspecialised(params.has_sky) != ABSENT;
-    // The dispatch covers the frame and the sky's map, whichever is larger.
-    if (has_sky && all(p < vec2u(params.sky_side))) {
-        let radiance = sanitize_input_color(textureLoad(sky, p, 0).rgb);
-        textureStore(kept_sky, p, vec4f(to_half(radiance.value), 1.0));
-        if (radiance.changed) {
-            atomicAdd(&group_tallies[0u], 1u);
+    let sky_map = SkyMap(params.sky_side, unspecialised(params.sky_levels), false);
+    let has_sky = sky_map.levels != 0u;
+    // The dispatch covers the frame and the sky's mips side by side, whichever is larger.
+    if (has_sky) {
+        var level = 0u;
+        var offset = 0u;
+        while (level + 1u < sky_map.levels && p.x >= offset + mip_side(sky_map, level)) {
+            offset += mip_side(sky_map, level);
+            level++;
+        }
+        let texel = vec2u(p.x - offset, p.y);
+        if (all(texel < vec2u(mip_side(sky_map, level)))) {
+            let radiance = sanitize_input_color(textureLoad(sky, texel, i32(level)).rgb);
+            textureStore(kept_sky, p, vec4f(to_half(radiance.value), 1.0));
+            if (radiance.changed) {
+                atomicAdd(&group_tallies[0u], 1u);
+            }
         }
     }
     if (all(p < params.extent)) {
@@ -107,7 +118,7 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
             }
             var reflection = vec3f(0.0);
             if (has_sky) {
-                reflection = sky_specular(sky, params.sky_side, normal, view, glossy);
+                reflection = sky_specular(sky, sky_map, normal, view, glossy);
             }
             let s = textureLoad(shading, p);
             // The factor the colour was divided by: the pixel's modulation, scaled as the

@@ -42,8 +42,8 @@ pub(crate) struct SourceFrame {
     /// Its `PatchexSunLight` (`NO_SUN` with a sky alone): its highlights and sky reflection
     /// were taken out of its shading, and its visibility of the sun is in the highlight images.
     pub sun: Option<crate::passes::highlights::Sun>,
-    /// Its `PatchexSkyLight`'s side: its map is kept in the sky images.
-    pub sky_side: Option<u32>,
+    /// Its `PatchexSkyLight`'s layout: its mips are kept in the sky images.
+    pub sky: Option<crate::passes::highlights::SkyMap>,
     /// It came with a `PatchexTranslucencyInput`: its layer is in the translucency images;
     /// `Some(true)` with motion vectors of its own.
     pub translucency: Option<bool>,

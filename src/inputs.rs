@@ -9,6 +9,7 @@ use glam::Vec2;
 use crate::abi::*;
 use crate::camera::Camera;
 use crate::error::{bail, Result};
+use crate::passes::highlights::SkyMap;
 use crate::vk::device::Gpu;
 use crate::vk::image::*;
 
@@ -96,9 +97,9 @@ pub fn sun(gpu: &Gpu, input: &PatchexSunLight, extent: vk::Extent2D) -> Result<S
     })
 }
 
-/// A frame's optional sky (`PatchexSkyLight`): its map, checked to be square and of a usable
-/// side, and that side.
-pub fn sky(gpu: &Gpu, input: &PatchexSkyLight) -> Result<(ImportedImage, u32)> {
+/// A frame's optional sky (`PatchexSkyLight`), checked: its map, square, of a usable side and
+/// mips, and how it is laid out.
+pub fn sky(gpu: &Gpu, input: &PatchexSkyLight) -> Result<(ImportedImage, SkyMap)> {
     let (width, height) = (input.radiance.width, input.radiance.height);
     if width != height || !(2..=PATCHEX_MAX_SKY_SIDE).contains(&width) {
         bail!(
@@ -107,13 +108,30 @@ pub fn sky(gpu: &Gpu, input: &PatchexSkyLight) -> Result<(ImportedImage, u32)> {
              PATCHEX_MAX_SKY_SIDE ({PATCHEX_MAX_SKY_SIDE}) texels a side"
         );
     }
-    let map = ImportedImage::import_required(
+    let levels = input.mip_levels.max(1);
+    if levels > PATCHEX_MAX_SKY_MIPS || width >> (levels - 1) < 2 {
+        bail!(
+            ErrorInvalidArgument,
+            "PatchexSkyLight.mip_levels {} for a map of side {width}: at most \
+             PATCHEX_MAX_SKY_MIPS ({PATCHEX_MAX_SKY_MIPS}), and the last mip at least 2 texels \
+             a side",
+            input.mip_levels
+        );
+    }
+    let mut map = ImportedImage::import_required(
         gpu,
         &input.radiance,
         &ImageRole::input("PatchexSkyLight.radiance", FLOAT_COLOR_FORMATS),
         vk::Extent2D { width, height },
     )?;
-    Ok((map, width))
+    map.mip_levels = levels;
+    Ok((
+        map,
+        SkyMap {
+            side: width,
+            levels,
+        },
+    ))
 }
 
 /// A frame's optional translucency input (`PatchexTranslucencyInput`), checked.

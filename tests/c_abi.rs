@@ -322,6 +322,7 @@ fn c11_engine_reaches_every_feature_and_matches_the_rust_path() {
         let reflected = PatchexSkyLight {
             header: header_of::<PatchexSkyLight>(PATCHEX_STRUCT_TYPE_SKY_LIGHT, link(&shadow)),
             radiance: gpu_sky.describe(GBUFFER_LAYOUT),
+            mip_levels: 1,
         };
         let mut light = frame.sun_light(&sun, true);
         light.header.next = link(&reflected);

@@ -32,15 +32,15 @@ use support::*;
 const SCENE: &str = "generated/autumn_01.toml";
 
 /// Frames t-1 and t (frames 0 and 2 of the doubled stream), the instant halfway to t+1 (frame
-/// 3), the scene's sun, and its sky as a 32-texel octahedral map.
-fn rendered_frames(width: u32, height: u32) -> ([Frame; 3], SunInfo, Image) {
+/// 3), the scene's sun, and its sky as a 32-texel octahedral map of one mip.
+fn rendered_frames(width: u32, height: u32) -> ([Frame; 3], SunInfo, Vec<Image>) {
     let sequence = support::rendered::render(SCENE, 4, width, height);
     let sun = sequence.manifest.sun.expect("the renderer records its sun");
     let sky = sequence.manifest.sky.expect("the renderer records its sky");
     let Ok([previous, _, source, target]) = <[Frame; 4]>::try_from(sequence.frames) else {
         unreachable!("four frames")
     };
-    ([previous, source, target], sun, sky_map(&sky, 32))
+    ([previous, source, target], sun, vec![sky_map(&sky, 32)])
 }
 
 fn sky_map(sky: &SkyInfo, side: usize) -> Image {
@@ -60,8 +60,8 @@ struct Inputs<'a> {
     /// The target's shadow mask as a target shadow input.
     target_mask: bool,
     sun: Option<&'a SunInfo>,
-    /// The sky's octahedral map, with both frames.
-    sky: Option<&'a Image>,
+    /// The sky's octahedral map, one image a mip, with both frames.
+    sky: Option<&'a [Image]>,
 }
 
 struct Outcome {
@@ -85,9 +85,15 @@ fn run([previous, source, target]: [&Frame; 3], with: Inputs) -> Outcome {
     let gpu_target = GpuFrame::upload(engine, target);
     let output = output_image(engine, width as u32, height as u32);
     let shadow_inputs = frames.each_ref().map(GpuFrame::shadow_input);
-    let sky_image = with
-        .sky
-        .map(|map| upload(engine, map, vk::Format::R32G32B32A32_SFLOAT, GBUFFER_LAYOUT));
+    let sky_image = with.sky.map(|mips| {
+        let side = mips[0].width as u32;
+        let format = vk::Format::R32G32B32A32_SFLOAT;
+        let usage = vk::ImageUsageFlags::SAMPLED;
+        let image = EngineImage::with_mips(engine, format, side, side, mips.len() as u32, usage);
+        let values: Vec<&[f32]> = mips.iter().map(|mip| &mip.data[..]).collect();
+        image.upload_mips(engine, &values, GBUFFER_LAYOUT);
+        image
+    });
     // Each frame's chain, back to front: its shadow input, its sky, its sun.
     let skies = [0, 1].map(|index| {
         sky_image.as_ref().map(|map| PatchexSkyLight {
@@ -100,6 +106,7 @@ fn run([previous, source, target]: [&Frame; 3], with: Inputs) -> Outcome {
                 ..PatchexStructHeader::of::<PatchexSkyLight>(PATCHEX_STRUCT_TYPE_SKY_LIGHT)
             },
             radiance: map.describe(GBUFFER_LAYOUT),
+            mip_levels: map.mip_levels,
         })
     });
     let below_sun = |index: usize| match (&skies[index], with.shadows[index]) {
@@ -235,8 +242,8 @@ fn highlight_passes_match_their_references_under_a_moving_camera() {
     let (frames, sun, sky) = rendered_frames(128, 72);
     for (sun, sky) in [
         (Some(&sun), None),
-        (Some(&sun), Some(&sky)),
-        (None, Some(&sky)),
+        (Some(&sun), Some(&sky[..])),
+        (None, Some(&sky[..])),
     ] {
         let with = Inputs {
             sun,
@@ -264,7 +271,7 @@ fn highlight_passes_match_their_references_with_the_shadow_sub_task() {
             shadows,
             target_mask,
             sun: Some(&sun),
-            sky: Some(&sky),
+            sky: Some(&sky[..]),
         };
         let outcome = assert_matches_reference(frames.each_ref(), with);
         let ran = outcome.stats.extrapolations[0].stages_run & 1 << PATCHEX_STAGE_TARGET_SHADOWS;
@@ -299,7 +306,7 @@ fn the_sun_and_the_sky_bring_glossy_surfaces_closer_to_the_rendered_target() {
     };
     let with_sun = run(frames.each_ref(), with).output;
     let with = Inputs {
-        sky: Some(&sky),
+        sky: Some(&sky[..]),
         ..with
     };
     let with_sky = run(frames.each_ref(), with).output;
@@ -459,16 +466,16 @@ fn bad_sky_texels_are_sanitised_and_counted() {
     let mut sky = clean_sky.clone();
     let bad = [f32::NAN, f32::INFINITY, -0.5, f32::NEG_INFINITY, 1e6];
     for (i, value) in bad.iter().enumerate() {
-        sky.data[4 * (37 * i + 5) + i % 3] = *value;
+        sky[0].data[4 * (37 * i + 5) + i % 3] = *value;
     }
     let with = Inputs {
         sun: Some(&sun),
-        sky: Some(&sky),
+        sky: Some(&sky[..]),
         ..Default::default()
     };
     let outcome = assert_matches_reference(frames.each_ref(), with);
     let clean = Inputs {
-        sky: Some(&clean_sky),
+        sky: Some(&clean_sky[..]),
         ..with
     };
     let clean = run(frames.each_ref(), clean);
@@ -500,6 +507,18 @@ fn unusable_sky_lights_are_refused() {
     let light = |radiance| PatchexSkyLight {
         header: PatchexStructHeader::of::<PatchexSkyLight>(PATCHEX_STRUCT_TYPE_SKY_LIGHT),
         radiance,
+        mip_levels: 1,
+    };
+    let good = upload(
+        engine,
+        &sky[0],
+        vk::Format::R16G16B16A16_SFLOAT,
+        GBUFFER_LAYOUT,
+    );
+    // A 32-texel map: its sixth mip would be a texel a side.
+    let mips = |mip_levels| PatchexSkyLight {
+        mip_levels,
+        ..light(good.describe(GBUFFER_LAYOUT))
     };
     let cases = [
         (
@@ -526,21 +545,20 @@ fn unusable_sky_lights_are_refused() {
             }),
             PatchexResult::ErrorNullPointer,
         ),
+        (mips(6), PatchexResult::ErrorInvalidArgument),
+        (
+            mips(PATCHEX_MAX_SKY_MIPS + 1),
+            PatchexResult::ErrorInvalidArgument,
+        ),
     ];
     for (index, (light, expected)) in cases.iter().enumerate() {
         let mut desc = source.frame_desc(1 + index as u64, engine.queue_family_index);
         desc.header.next = light as *const _ as *const c_void;
         engine.run(|cmd| assert_eq!(rig.submit(cmd, &desc), *expected, "{}", rig.last_error()));
         let message = rig.last_error();
-        assert!(message.contains("PatchexSkyLight.radiance"), "{message}");
+        assert!(message.contains("PatchexSkyLight."), "{message}");
     }
     // Refused calls leave the context as it was: a good sky is taken.
-    let good = upload(
-        engine,
-        &sky,
-        vk::Format::R16G16B16A16_SFLOAT,
-        GBUFFER_LAYOUT,
-    );
     let good = light(good.describe(GBUFFER_LAYOUT));
     let mut desc = source.frame_desc(10, engine.queue_family_index);
     desc.header.next = &good as *const _ as *const c_void;
@@ -552,4 +570,39 @@ fn unusable_sky_lights_are_refused() {
             rig.last_error()
         )
     });
+}
+
+/// A sky prefiltered by roughness (`mip_levels` above 1): the passes read between the two mips
+/// around each pixel's roughness as the reference does, and the mips change the output.
+#[test]
+fn a_prefiltered_sky_matches_its_reference() {
+    let (frames, sun, sky) = rendered_frames(128, 72);
+    let info = support::rendered::render(SCENE, 1, 16, 16)
+        .manifest
+        .sky
+        .expect("the renderer records its sky");
+    // Three mips, each one tinted apart, so that reading the wrong one shows.
+    let mips: Vec<Image> = (0..3)
+        .map(|level| {
+            let mut mip = sky_map(&info, 32 >> level);
+            for texel in mip.data.chunks_mut(4) {
+                texel[level] *= 2.0;
+            }
+            mip
+        })
+        .collect();
+    let with = Inputs {
+        sun: Some(&sun),
+        sky: Some(&mips),
+        ..Default::default()
+    };
+    let prefiltered = assert_matches_reference(frames.each_ref(), with);
+    let one_mip = run(
+        frames.each_ref(),
+        Inputs {
+            sky: Some(&sky[..]),
+            ..with
+        },
+    );
+    assert_ne!(prefiltered.output, one_mip.output);
 }

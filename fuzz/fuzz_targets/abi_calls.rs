@@ -474,6 +474,7 @@ fn chain(u: &mut Unstructured, world: &World) -> Result<(Vec<Link>, *const c_voi
                 )?,
                 // A colour image: square or not, as the frame is.
                 radiance: image(u, world, COLOR)?,
+                mip_levels: u.int_in_range(0..=9)?,
             })),
             _ => Link::Unknown(Box::new(PatchexStructHeader {
                 struct_type: unknown_struct_type(u)?,

@@ -113,9 +113,9 @@ impl Context {
             shadow_diagnostics: engine.shadow_diagnostics,
             sun: source.sun.zip(self.images.highlights.as_ref()),
             kept_sky: source
-                .sky_side
+                .sky
                 .zip(self.images.sky.as_ref())
-                .map(|(side, sky)| (&sky[SkyImages::RADIANCE], side)),
+                .map(|(sky, kept)| (&kept[SkyImages::RADIANCE], sky)),
             translucency: self.images.translucency.as_ref().zip(source.translucency),
             alpha: inputs.alpha,
         };

@@ -236,8 +236,9 @@ impl HighlightImages {
     )];
 }
 
-/// The sky's map (`PatchexSkyLight.radiance`), kept from the submit for the extrapolations'
-/// reflections; made at the first frame with a sky, at the largest map's size.
+/// The sky's map (`PatchexSkyLight.radiance`), its mips side by side, kept from the submit for
+/// the extrapolations' reflections; made at the first frame with a sky, at the largest map's
+/// size.
 pub type SkyImages = ImageSet<1, Sky>;
 pub struct Sky;
 
@@ -433,12 +434,8 @@ impl FrameImages {
         .map(drop)
     }
 
-    /// Makes or grows the kept sky map to hold one of `side` texels a side.
-    pub fn ensure_sky(&mut self, growth: &mut Growth, side: u32) -> Result<()> {
-        let extent = vk::Extent2D {
-            width: side,
-            height: side,
-        };
+    /// Makes or grows the kept sky map to hold `extent` (its mips side by side).
+    pub fn ensure_sky(&mut self, growth: &mut Growth, extent: vk::Extent2D) -> Result<()> {
         grow(growth, &mut self.sky, extent, &SkyImages::SPECS).map(drop)
     }
 

@@ -220,8 +220,8 @@ pub struct ExtrapolationPlan<'a> {
     /// Frame t came with a sun (`PatchexSunLight`) or a sky: the sun (`NO_SUN` without one),
     /// and its kept visibility.
     pub sun: Option<(highlights::Sun, &'a HighlightImages)>,
-    /// Frame t came with a sky (`PatchexSkyLight`): its kept map, and the map's side.
-    pub kept_sky: Option<(&'a OwnedImage, u32)>,
+    /// Frame t came with a sky (`PatchexSkyLight`): its kept mips, and their layout.
+    pub kept_sky: Option<(&'a OwnedImage, highlights::SkyMap)>,
     /// Frame t came with a translucency input: its kept layer, and whether it has its own
     /// motion.
     pub translucency: Option<(&'a TranslucencyImages, bool)>,

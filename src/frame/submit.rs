@@ -79,7 +79,7 @@ impl Context {
             .map(|sun| access.read(&sun.visibility))
             .transpose()?;
         let sky_map = match &sky_inputs {
-            Some((map, side)) => Some((access.read(map)?, *side)),
+            Some((map, sky)) => Some((access.read(map)?, *sky)),
             None => None,
         };
         let translucency_images = match &translucency_inputs {
@@ -111,8 +111,8 @@ impl Context {
         if sun_inputs.is_some() || sky_map.is_some() {
             self.images.ensure_highlights(&mut growth)?;
         }
-        if let Some((_, side)) = sky_map {
-            self.images.ensure_sky(&mut growth, side)?;
+        if let Some((_, sky)) = sky_map {
+            self.images.ensure_sky(&mut growth, sky.kept_extent())?;
         }
         if translucency_inputs.is_some() {
             self.images.ensure_translucency(&mut growth)?;
@@ -176,9 +176,9 @@ impl Context {
         let highlights = reflects.then(|| {
             let highlights = highlights::SourceHighlights {
                 sun: sun.zip(sun_visibility),
-                sky: sky_map.map(|(map, side)| {
+                sky: sky_map.map(|(map, sky)| {
                     let kept = &self.images.sky.as_ref().expect("allocated above");
-                    (map, side, &kept[SkyImages::RADIANCE])
+                    (map, sky, &kept[SkyImages::RADIANCE])
                 }),
                 shadows: separation_inputs.as_ref().map(|separation| {
                     let layer = &self.images.shadows.as_ref().expect("allocated above")
@@ -273,7 +273,7 @@ impl Context {
             shadow_history,
             // A sky without a sun places the sky's reflection alone.
             sun: reflects.then(|| sun.unwrap_or(highlights::NO_SUN)),
-            sky_side: sky_map.map(|(_, side)| side),
+            sky: sky_map.map(|(_, sky)| sky),
             translucency: translucency_inputs
                 .as_ref()
                 .map(|input| input.motion_vectors.is_some()),

@@ -27,14 +27,37 @@ pub const NO_SUN: Sun = Sun {
     illuminance: Vec3::ZERO,
 };
 
+/// How a sky's octahedral map is laid out (`PatchexSkyLight`): its side and its mips, each half
+/// the side of the one before. patchex keeps them side by side in one image, mip 0 at the left.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SkyMap {
+    pub side: u32,
+    pub levels: u32,
+}
+
+impl SkyMap {
+    /// Where mip `level` starts in the kept image.
+    pub fn offset(self, level: u32) -> u32 {
+        (0..level).map(|m| self.side >> m).sum()
+    }
+
+    /// The kept image's extent: every mip side by side.
+    pub fn kept_extent(self) -> vk::Extent2D {
+        vk::Extent2D {
+            width: self.offset(self.levels),
+            height: self.side,
+        }
+    }
+}
+
 /// What frame t's highlights are taken out with.
 pub struct SourceHighlights<'a> {
     /// The frame's sun and `PatchexSunLight.visibility`; without one (a sky alone), no pixel
     /// is lit by a sun.
     pub sun: Option<(Sun, Texture)>,
-    /// With a sky: `PatchexSkyLight.radiance`, its side, and where it is kept for the
+    /// With a sky: `PatchexSkyLight.radiance`, its layout, and where it is kept for the
     /// extrapolations.
-    pub sky: Option<(Texture, u32, &'a OwnedImage)>,
+    pub sky: Option<(Texture, SkyMap, &'a OwnedImage)>,
     /// With a shadow input, how its shadows are in frame t's shading.
     pub shadows: Option<ShadowsInShading<'a>>,
     pub base_color: Texture,
@@ -124,8 +147,8 @@ pub fn record_removal(
         has_material: inputs.material.is_some() as u32,
         has_shadow_input: shadows.is_some() as u32,
         separated: separated.is_some() as u32,
-        has_sky: inputs.sky.is_some() as u32,
-        sky_side: inputs.sky.map_or(0, |(_, side, _)| side),
+        sky_levels: inputs.sky.map_or(0, |(_, sky, _)| sky.levels),
+        sky_side: inputs.sky.map_or(0, |(_, sky, _)| sky.side),
         ray_at_origin: inputs.rays.at_origin.into(),
         ray_per_x: inputs.rays.per_x.into(),
         ray_per_y: inputs.rays.per_y.into(),
@@ -134,11 +157,13 @@ pub fn record_removal(
         sun_illuminance: sun.illuminance.into(),
         ..Default::default()
     };
-    // The frame, and the sky's map, which the pass copies.
-    let side = params.sky_side;
+    // The frame, and the sky's mips, which the pass copies.
+    let kept = inputs
+        .sky
+        .map_or(vk::Extent2D::default(), |(_, sky, _)| sky.kept_extent());
     let covered = vk::Extent2D {
-        width: extent.width.max(side),
-        height: extent.height.max(side),
+        width: extent.width.max(kept.width),
+        height: extent.height.max(kept.height),
     };
     rec.dispatch(&bound, &params, covered);
 }
@@ -148,8 +173,8 @@ pub struct TargetHighlights<'a> {
     /// Frame t's sun, or `NO_SUN`.
     pub sun: Sun,
     pub kept_visibility: &'a OwnedImage,
-    /// With a sky on frame t: its map as the removal kept it, and its side.
-    pub kept_sky: Option<(&'a OwnedImage, u32)>,
+    /// With a sky on frame t: its mips as the removal kept them, and their layout.
+    pub kept_sky: Option<(&'a OwnedImage, SkyMap)>,
     /// Frame t's packed G-buffer, which says where frame t saw the target's surface.
     pub source_depth: &'a OwnedImage,
     pub source_normal_id: &'a OwnedImage,
@@ -225,8 +250,8 @@ pub fn record_placement(
         inv_sigma_position: warp.inv_sigma_position,
         in_plane_weight: warp.in_plane_weight,
         pixel_angle: warp.pixel_angle,
-        has_sky: inputs.kept_sky.is_some() as u32,
-        sky_side: inputs.kept_sky.map_or(0, |(_, side)| side),
+        sky_levels: inputs.kept_sky.map_or(0, |(_, sky)| sky.levels),
+        sky_side: inputs.kept_sky.map_or(0, |(_, sky)| sky.side),
         sun_direction: inputs.sun.direction.into(),
         sun_illuminance: inputs.sun.illuminance.into(),
         ..Default::default()

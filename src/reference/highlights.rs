@@ -57,6 +57,40 @@ fn sun_specular(sun: &Sun, normal: Vec3, view: Vec3, glossy: &Glossy) -> Vec3 {
     sun.illuminance * distribution * visibility * fresnel * n_dot_l
 }
 
+/// A sky's mips as a pass reads them (`SkyMap` in the shaders): the engine's, one image each,
+/// or patchex's copy, side by side in one image.
+#[derive(Clone, Copy)]
+pub enum SkyMips<'a> {
+    Separate(&'a [Image]),
+    SideBySide { image: &'a Image, levels: usize },
+}
+
+impl<'a> SkyMips<'a> {
+    fn levels(self) -> usize {
+        match self {
+            SkyMips::Separate(mips) => mips.len(),
+            SkyMips::SideBySide { levels, .. } => levels,
+        }
+    }
+
+    fn side(self, level: usize) -> usize {
+        match self {
+            SkyMips::Separate(mips) => mips[level].width,
+            SkyMips::SideBySide { image, .. } => image.height >> level,
+        }
+    }
+
+    fn texel(self, level: usize, x: usize, y: usize) -> &'a [f32] {
+        match self {
+            SkyMips::Separate(mips) => mips[level].at(x, y),
+            SkyMips::SideBySide { image, .. } => {
+                let offset: usize = (0..level).map(|m| image.height >> m).sum();
+                image.at(offset + x, y)
+            }
+        }
+    }
+}
+
 /// `octahedral_texel`: where unit `direction` falls in an octahedral map of `side` texels.
 fn octahedral_texel(direction: Vec3, side: usize) -> Vec2 {
     let mut p = direction.truncate() / (direction.x.abs() + direction.y.abs() + direction.z.abs());
@@ -70,9 +104,9 @@ fn octahedral_texel(direction: Vec3, side: usize) -> Vec2 {
     (p * 0.5 + 0.5) * side as f32
 }
 
-/// `octahedral_load`: a texel of the map, the one mirrored along the edge across it.
-fn octahedral_load(map: &Image, x: i32, y: i32) -> Vec3 {
-    let last = map.width as i32 - 1;
+/// `octahedral_load`: a texel of mip `level`, the one mirrored along the edge across it.
+fn octahedral_load(sky: SkyMips, level: usize, x: i32, y: i32) -> Vec3 {
+    let last = sky.side(level) as i32 - 1;
     let (mut x, mut y) = (x, y);
     if x < 0 || x > last {
         (x, y) = (x.clamp(0, last), last - y);
@@ -80,17 +114,21 @@ fn octahedral_load(map: &Image, x: i32, y: i32) -> Vec3 {
     if y < 0 || y > last {
         (x, y) = (last - x, y.clamp(0, last));
     }
-    sanitize_input_color(Vec3::from_slice(&map.at(x as usize, y as usize)[..3])).0
+    sanitize_input_color(Vec3::from_slice(
+        &sky.texel(level, x as usize, y as usize)[..3],
+    ))
+    .0
 }
 
-/// `sky_radiance`: the sky towards unit `direction`, bilinear between the map's texels.
-fn sky_radiance(map: &Image, direction: Vec3) -> Vec3 {
-    let q = octahedral_texel(direction, map.width) - 0.5;
+/// `sky_radiance`: the sky towards unit `direction` in mip `level`, bilinear.
+fn sky_radiance(sky: SkyMips, level: usize, direction: Vec3) -> Vec3 {
+    let q = octahedral_texel(direction, sky.side(level)) - 0.5;
     let corner = q.floor();
     let f = q - corner;
     let (x, y) = (corner.x as i32, corner.y as i32);
-    let top = octahedral_load(map, x, y).lerp(octahedral_load(map, x + 1, y), f.x);
-    let bottom = octahedral_load(map, x, y + 1).lerp(octahedral_load(map, x + 1, y + 1), f.x);
+    let load = |dx, dy| octahedral_load(sky, level, x + dx, y + dy);
+    let top = load(0, 0).lerp(load(1, 0), f.x);
+    let bottom = load(0, 1).lerp(load(1, 1), f.x);
     top.lerp(bottom, f.y)
 }
 
@@ -104,22 +142,49 @@ fn environment_brdf(glossy: &Glossy, n_dot_v: f32) -> Vec3 {
     glossy.specular_color * ab.x + Vec3::splat(ab.y)
 }
 
-/// `sky_specular`: the light the sky's reflection sends towards `view`.
-fn sky_specular(map: &Image, normal: Vec3, view: Vec3, glossy: &Glossy) -> Vec3 {
+/// `sky_specular`: the light the sky's reflection sends towards `view`, from the two mips
+/// around the roughness.
+fn sky_specular(sky: SkyMips, normal: Vec3, view: Vec3, glossy: &Glossy) -> Vec3 {
     let n_dot_v = normal.dot(view).clamp(0.0, 1.0);
     let mirror = (2.0 * normal.dot(view) * normal - view).normalize();
-    sky_radiance(map, mirror) * environment_brdf(glossy, n_dot_v)
+    let levels = sky.levels();
+    let lod = glossy.roughness * (levels - 1) as f32;
+    let below = (lod.floor() as usize).min(levels - 1);
+    let above = lod - lod.floor();
+    let mut radiance = Vec3::ZERO;
+    for level in 0..levels {
+        if level == below {
+            radiance += (1.0 - above) * sky_radiance(sky, level, mirror);
+        } else if level == below + 1 {
+            radiance += above * sky_radiance(sky, level, mirror);
+        }
+    }
+    radiance * environment_brdf(glossy, n_dot_v)
 }
 
-/// The sky's map as the removal keeps it, sanitised and rounded to f16, and the texels
-/// sanitised.
-fn keep_sky(map: &Image) -> (Image, u32) {
+/// The sky's mips side by side as the removal keeps them, sanitised and rounded to f16, and
+/// the texels sanitised.
+fn keep_sky(mips: &[Image]) -> (Image, u32) {
+    let side = mips[0].width;
+    let width = mips.iter().map(|mip| mip.width).sum();
+    let mut kept = Image::new(width, side, 4);
     let mut sanitized = 0;
-    let kept = Image::from_fn(map.width, map.height, 4, |x, y| {
-        let (radiance, changed) = sanitize_input_color(Vec3::from_slice(&map.at(x, y)[..3]));
-        sanitized += changed as u32;
-        round_vec3_to_f16(radiance).extend(1.0).to_array().to_vec()
-    });
+    let mut offset = 0;
+    for mip in mips {
+        for y in 0..mip.height {
+            for x in 0..mip.width {
+                let (radiance, changed) =
+                    sanitize_input_color(Vec3::from_slice(&mip.at(x, y)[..3]));
+                sanitized += changed as u32;
+                kept.set(
+                    offset + x,
+                    y,
+                    &round_vec3_to_f16(radiance).extend(1.0).to_array(),
+                );
+            }
+        }
+        offset += mip.width;
+    }
     (kept, sanitized)
 }
 
@@ -127,8 +192,8 @@ fn keep_sky(map: &Image) -> (Image, u32) {
 pub struct SourceHighlights<'a> {
     /// The sun and its visibility; without one (a sky alone), no pixel is lit by a sun.
     pub sun: Option<(Sun, &'a Image)>,
-    /// `PatchexSkyLight.radiance`.
-    pub sky: Option<&'a Image>,
+    /// `PatchexSkyLight.radiance`, one image a mip.
+    pub sky: Option<&'a [Image]>,
     /// With a shadow input, how its shadows are in the shading.
     pub shadows: Option<ShadowsInShading<'a>>,
     pub base_color: &'a Image,
@@ -155,7 +220,7 @@ pub struct Removed {
     pub visibility: Image,
     /// With the shadows separated: the layer made again without the highlight.
     pub shadow_layer: Option<Image>,
-    /// With a sky: its map as kept for the target.
+    /// With a sky: its mips side by side, as kept for the target.
     pub kept_sky: Option<Image>,
     pub sanitized: u32,
 }
@@ -212,9 +277,9 @@ pub fn remove(shading: &Image, inputs: &SourceHighlights) -> Removed {
         } else {
             Vec3::ZERO
         };
-        let reflection = inputs
-            .sky
-            .map_or(Vec3::ZERO, |map| sky_specular(map, normal, view, &glossy));
+        let reflection = inputs.sky.map_or(Vec3::ZERO, |mips| {
+            sky_specular(SkyMips::Separate(mips), normal, view, &glossy)
+        });
         let (factor, _) = pixel_modulation(inputs.base_color, inputs.material, x, y);
         let scale = (s.w / factor.max_element()).max(1.0);
         let rgb = round_vec3_to_f16(s.truncate() - (highlight + reflection) / (factor * scale));
@@ -250,8 +315,8 @@ pub struct TargetHighlights<'a> {
     pub sun: Sun,
     /// Frame t's visibility, as `remove` kept it.
     pub kept_visibility: &'a Image,
-    /// Frame t's sky map, as `remove` kept it.
-    pub kept_sky: Option<&'a Image>,
+    /// Frame t's sky mips, as `remove` kept them side by side, and how many.
+    pub kept_sky: Option<(&'a Image, usize)>,
     /// Frame t's packed G-buffer (`Packed::geometry` and `normal_id`).
     pub source_geometry: &'a Image,
     pub source_normal_id: &'a Image,
@@ -365,8 +430,9 @@ pub fn place(color: &Image, inputs: &TargetHighlights) -> (Image, u32) {
             (_, Some(share)) => highlight *= Vec3::ONE + Vec3::from_slice(&share.at(x, y)[..3]),
             _ => {}
         }
-        if let Some(map) = inputs.kept_sky {
-            highlight += sky_specular(map, normal, view, &glossy);
+        if let Some((image, levels)) = inputs.kept_sky {
+            let sky = SkyMips::SideBySide { image, levels };
+            highlight += sky_specular(sky, normal, view, &glossy);
         }
         let (sum, changed) = sanitize_color(c.truncate() + highlight);
         sanitized += (glossy.roughness_changed || changed) as u32;

@@ -32,8 +32,8 @@ pub struct FrameInputs<'a> {
     pub motion_vector_scale: [f32; 2],
     /// Frame t's `PatchexSunLight`: the sun, and its visibility image.
     pub sun: Option<(crate::passes::highlights::Sun, &'a Image)>,
-    /// Frame t's `PatchexSkyLight.radiance`.
-    pub sky: Option<&'a Image>,
+    /// Frame t's `PatchexSkyLight.radiance`, one image a mip.
+    pub sky: Option<&'a [Image]>,
     /// Frame t's `PatchexTranslucencyInput`.
     pub translucency: Option<translucency::Input<'a>>,
 }
@@ -184,7 +184,8 @@ pub fn extrapolate(
         let sun = source
             .sun
             .map_or(crate::passes::highlights::NO_SUN, |(sun, _)| sun);
-        (sun, removed.visibility, removed.kept_sky)
+        let kept_sky = removed.kept_sky.zip(source.sky.map(<[Image]>::len));
+        (sun, removed.visibility, kept_sky)
     });
     // With a translucency input: what is drawn over the surfaces out of the shading.
     let translucency = source.translucency.map(|input| {
@@ -340,7 +341,7 @@ pub fn extrapolate(
                 &highlights::TargetHighlights {
                     sun: *sun,
                     kept_visibility: kept,
-                    kept_sky: kept_sky.as_ref(),
+                    kept_sky: kept_sky.as_ref().map(|(image, levels)| (image, *levels)),
                     source_geometry: &source_packed.geometry,
                     source_normal_id: &source_packed.normal_id,
                     geometry: &target_packed.geometry,

@@ -211,6 +211,7 @@ fn barrier(image: &ImportedImage) -> vk::ImageMemoryBarrier<'static> {
         .image(image.image)
         .subresource_range(vk::ImageSubresourceRange {
             aspect_mask: image.barrier_aspects(),
+            level_count: image.mip_levels,
             ..COLOR_SUBRESOURCE
         })
 }

@@ -143,6 +143,8 @@ pub struct ImportedImage {
     pub written_by_copy: bool,
     /// What the passes read or write of it: the frame's extent, in the aspect its view shows.
     pub bytes: u64,
+    /// Mips its view shows, from mip 0, which barriers cover.
+    pub mip_levels: u32,
 }
 
 impl ImportedImage {
@@ -227,6 +229,7 @@ impl ImportedImage {
             layout: desc.layout,
             written_by_copy: role.copied_formats.contains(&desc.format),
             bytes: texel_bytes(desc.format, aspect) * pixels(extent),
+            mip_levels: 1,
         }))
     }
 

@@ -115,7 +115,10 @@ static void submit(PatchexContext *ctx, const Frame *f, uint64_t index,
   shadow.color_without_dynamic_shadows = describe(&f->color_without_dynamic_shadows);
   PatchexSkyLight reflected;
   reflected.header = header(PATCHEX_STRUCT_TYPE_SKY_LIGHT, sizeof reflected, &shadow);
-  if (sky) reflected.radiance = describe(sky);
+  if (sky) {
+    reflected.radiance = describe(sky);
+    reflected.mip_levels = 1;
+  }
   PatchexSunLight light;
   light.header = header(PATCHEX_STRUCT_TYPE_SUN_LIGHT, sizeof light,
                         sky ? (const void *)&reflected : &shadow);

@@ -5,7 +5,8 @@ use ash::vk;
 use crate::texel::{decode, encode, texel_layout};
 use crate::Engine;
 
-/// A 2D image owned by the engine (mip 0, layer 0), with its view and dedicated memory.
+/// A 2D image owned by the engine (layer 0, mip 0 and any mips below it), with a view of all
+/// its mips and dedicated memory.
 pub struct EngineImage {
     pub image: vk::Image,
     pub view: vk::ImageView,
@@ -13,6 +14,7 @@ pub struct EngineImage {
     pub width: u32,
     pub height: u32,
     pub usage: vk::ImageUsageFlags,
+    pub mip_levels: u32,
     memory: vk::DeviceMemory,
     device: ash::Device,
 }
@@ -32,6 +34,18 @@ impl EngineImage {
         height: u32,
         usage: vk::ImageUsageFlags,
     ) -> Self {
+        Self::with_mips(engine, format, width, height, 1, usage)
+    }
+
+    /// An image of `mip_levels` mips, each half the size of the one before.
+    pub fn with_mips(
+        engine: &Engine,
+        format: vk::Format,
+        width: u32,
+        height: u32,
+        mip_levels: u32,
+        usage: vk::ImageUsageFlags,
+    ) -> Self {
         let device = &engine.device;
         let usage = usage | vk::ImageUsageFlags::TRANSFER_SRC | vk::ImageUsageFlags::TRANSFER_DST;
         // SAFETY: plain object creation on the engine's device; destroyed in Drop.
@@ -46,7 +60,7 @@ impl EngineImage {
                             height,
                             depth: 1,
                         })
-                        .mip_levels(1)
+                        .mip_levels(mip_levels)
                         .array_layers(1)
                         .samples(vk::SampleCountFlags::TYPE_1)
                         .tiling(vk::ImageTiling::OPTIMAL)
@@ -66,7 +80,10 @@ impl EngineImage {
                         .image(image)
                         .view_type(vk::ImageViewType::TYPE_2D)
                         .format(format)
-                        .subresource_range(range(format)),
+                        .subresource_range(vk::ImageSubresourceRange {
+                            level_count: mip_levels,
+                            ..range(format)
+                        }),
                     None,
                 )
                 .expect("vkCreateImageView");
@@ -77,6 +94,7 @@ impl EngineImage {
                 width,
                 height,
                 usage,
+                mip_levels,
                 memory,
                 device: device.clone(),
             }
@@ -86,38 +104,65 @@ impl EngineImage {
     /// Fills the image with `values` (row-major, the format's channels interleaved) and leaves
     /// it in `layout`. The image's previous contents are discarded.
     pub fn upload(&self, engine: &Engine, values: &[f32], layout: vk::ImageLayout) {
-        let bytes = encode(self.format, values);
-        let (channels, _) = texel_layout(self.format);
+        self.upload_mips(engine, &[values], layout);
+    }
+
+    /// Fills each mip of the image with its values, mip 0 first, and leaves it in `layout`.
+    pub fn upload_mips(&self, engine: &Engine, mips: &[&[f32]], layout: vk::ImageLayout) {
         assert_eq!(
-            values.len(),
-            (self.width * self.height) as usize * channels,
-            "upload size"
+            mips.len(),
+            self.mip_levels as usize,
+            "one set of values a mip"
         );
+        let (channels, _) = texel_layout(self.format);
+        let mut bytes = Vec::new();
+        let mut regions = Vec::new();
+        for (level, values) in mips.iter().enumerate() {
+            let (width, height) = ((self.width >> level).max(1), (self.height >> level).max(1));
+            assert_eq!(
+                values.len(),
+                (width * height) as usize * channels,
+                "upload size of mip {level}"
+            );
+            let mut region = self.as_image_ref().copy_region();
+            region.buffer_offset = bytes.len() as u64;
+            region.image_subresource.mip_level = level as u32;
+            region.image_extent = vk::Extent3D {
+                width,
+                height,
+                depth: 1,
+            };
+            regions.push(region);
+            bytes.extend(encode(self.format, values));
+        }
         let staging = StagingBuffer::new(engine, bytes.len() as u64);
         staging.write(&bytes);
+        let barrier = |old, new| {
+            let mut barrier = self.as_image_ref().barrier(old, new);
+            barrier.subresource_range.level_count = self.mip_levels;
+            barrier
+        };
         engine.run(|cmd| {
-            self.as_image_ref().record_barrier(
-                &engine.device,
-                cmd,
-                vk::ImageLayout::UNDEFINED,
-                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-            );
-            // SAFETY: cmd is recording; the buffer holds exactly the image's texels.
+            // SAFETY: cmd is recording; the buffer holds exactly the mips' texels.
             unsafe {
-                engine.device.cmd_copy_buffer_to_image(
+                let device = &engine.device;
+                let stages = vk::PipelineStageFlags::ALL_COMMANDS;
+                let flags = vk::DependencyFlags::empty();
+                let to_copy = barrier(
+                    vk::ImageLayout::UNDEFINED,
+                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                );
+                device.cmd_pipeline_barrier(cmd, stages, stages, flags, &[], &[], &[to_copy]);
+                device.cmd_copy_buffer_to_image(
                     cmd,
                     staging.buffer,
                     self.image,
                     vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                    &[self.as_image_ref().copy_region()],
+                    &regions,
                 );
+                let after = barrier(vk::ImageLayout::TRANSFER_DST_OPTIMAL, layout);
+                device.cmd_pipeline_barrier(cmd, stages, stages, flags, &[], &[], &[after]);
             }
-            self.as_image_ref().record_barrier(
-                &engine.device,
-                cmd,
-                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                layout,
-            );
         });
     }
 

@@ -482,6 +482,7 @@ impl PluginDriver {
                     ..PatchexStructHeader::of::<PatchexSkyLight>(PATCHEX_STRUCT_TYPE_SKY_LIGHT)
                 },
                 radiance: map.describe(LAYOUT),
+                mip_levels: 1,
             })
         };
         let context = self.context_for(networks, with_shadows, with_target_mask, extras)?;

@@ -375,7 +375,7 @@ fn expected(
     reference::extrapolate(
         &FrameInputs {
             sun,
-            sky: sky.as_ref(),
+            sky: sky.as_ref().map(std::slice::from_ref),
             translucency,
             ..inputs(source)
         },
