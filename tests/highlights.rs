@@ -32,15 +32,20 @@ use support::*;
 const SCENE: &str = "generated/autumn_01.toml";
 
 /// Frames t-1 and t (frames 0 and 2 of the doubled stream), the instant halfway to t+1 (frame
-/// 3), the scene's sun, and its sky as a 32-texel octahedral map of one mip.
-fn rendered_frames(width: u32, height: u32) -> ([Frame; 3], SunInfo, Vec<Image>) {
+/// 3), the scene's sun, and its sky.
+fn rendered_frames(width: u32, height: u32) -> ([Frame; 3], SunInfo, SkyInfo) {
     let sequence = support::rendered::render(SCENE, 4, width, height);
     let sun = sequence.manifest.sun.expect("the renderer records its sun");
     let sky = sequence.manifest.sky.expect("the renderer records its sky");
     let Ok([previous, _, source, target]) = <[Frame; 4]>::try_from(sequence.frames) else {
         unreachable!("four frames")
     };
-    ([previous, source, target], sun, vec![sky_map(&sky, 32)])
+    ([previous, source, target], sun, sky)
+}
+
+/// The sky as a 32-texel octahedral map of one mip.
+fn one_mip(sky: &SkyInfo) -> Vec<Image> {
+    vec![sky_map(sky, 32)]
 }
 
 fn sky_map(sky: &SkyInfo, side: usize) -> Image {
@@ -240,6 +245,7 @@ fn assert_matches_reference(frames: [&Frame; 3], with: Inputs) -> Outcome {
 #[test]
 fn highlight_passes_match_their_references_under_a_moving_camera() {
     let (frames, sun, sky) = rendered_frames(128, 72);
+    let sky = one_mip(&sky);
     for (sun, sky) in [
         (Some(&sun), None),
         (Some(&sun), Some(&sky[..])),
@@ -262,6 +268,7 @@ fn highlight_passes_match_their_references_under_a_moving_camera() {
 #[test]
 fn highlight_passes_match_their_references_with_the_shadow_sub_task() {
     let (frames, sun, sky) = rendered_frames(128, 72);
+    let sky = one_mip(&sky);
     for (shadows, target_mask) in [
         ([false, true], false),
         ([true, true], false),
@@ -284,6 +291,7 @@ fn highlight_passes_match_their_references_with_the_shadow_sub_task() {
 #[test]
 fn the_sun_and_the_sky_bring_glossy_surfaces_closer_to_the_rendered_target() {
     let (frames, sun, sky) = rendered_frames(160, 90);
+    let sky = one_mip(&sky);
     let [_, source, target] = &frames;
     let glossy: Vec<usize> = (0..target.color.width * target.color.height)
         .filter(|&i| target.material.data[4 * i + 2] < 0.5 && target.sun_visibility.data[i] > 0.5)
@@ -435,27 +443,7 @@ fn unusable_sun_lights_are_refused() {
             "visibility",
         ),
     ];
-    for (index, (light, expected, field)) in cases.iter().enumerate() {
-        let mut desc = source.frame_desc(1 + index as u64, engine.queue_family_index);
-        desc.header.next = light as *const _ as *const c_void;
-        engine.run(|cmd| assert_eq!(rig.submit(cmd, &desc), *expected, "{}", rig.last_error()));
-        let message = rig.last_error();
-        assert!(
-            message.contains("PatchexSunLight") && message.contains(field),
-            "{message}"
-        );
-    }
-    // Refused calls leave the context as it was: a good sun is taken.
-    let mut desc = source.frame_desc(10, engine.queue_family_index);
-    desc.header.next = &valid as *const _ as *const c_void;
-    engine.run(|cmd| {
-        assert_eq!(
-            rig.submit(cmd, &desc),
-            PatchexResult::Success,
-            "{}",
-            rig.last_error()
-        )
-    });
+    assert_refused_then_taken(&rig, &source, "PatchexSunLight", &cases, &valid);
 }
 
 /// NaN, negative and infinite texels of the sky's map are sanitised and counted, each once, as
@@ -463,6 +451,7 @@ fn unusable_sun_lights_are_refused() {
 #[test]
 fn bad_sky_texels_are_sanitised_and_counted() {
     let (frames, sun, clean_sky) = rendered_frames(96, 54);
+    let clean_sky = one_mip(&clean_sky);
     let mut sky = clean_sky.clone();
     let bad = [f32::NAN, f32::INFINITY, -0.5, f32::NEG_INFINITY, 1e6];
     for (i, value) in bad.iter().enumerate() {
@@ -491,6 +480,7 @@ fn bad_sky_texels_are_sanitised_and_counted() {
 #[test]
 fn unusable_sky_lights_are_refused() {
     let (frames, _, sky) = rendered_frames(64, 36);
+    let sky = one_mip(&sky);
     let rig = Rig::new(64, 36);
     let engine = &rig.engine;
     let source = GpuFrame::upload(engine, &frames[1]);
@@ -524,18 +514,22 @@ fn unusable_sky_lights_are_refused() {
         (
             light(images[0].describe(GBUFFER_LAYOUT)),
             PatchexResult::ErrorInvalidArgument,
+            "radiance",
         ),
         (
             light(images[1].describe(GBUFFER_LAYOUT)),
             PatchexResult::ErrorInvalidArgument,
+            "radiance",
         ),
         (
             light(images[2].describe(GBUFFER_LAYOUT)),
             PatchexResult::ErrorInvalidArgument,
+            "radiance",
         ),
         (
             light(images[3].describe(GBUFFER_LAYOUT)),
             PatchexResult::ErrorUnsupportedFormat,
+            "radiance",
         ),
         (
             light(PatchexImage {
@@ -544,25 +538,44 @@ fn unusable_sky_lights_are_refused() {
                 ..PatchexImage::default()
             }),
             PatchexResult::ErrorNullPointer,
+            "radiance",
         ),
-        (mips(6), PatchexResult::ErrorInvalidArgument),
+        (mips(6), PatchexResult::ErrorInvalidArgument, "mip_levels"),
         (
             mips(PATCHEX_MAX_SKY_MIPS + 1),
             PatchexResult::ErrorInvalidArgument,
+            "mip_levels",
         ),
     ];
-    for (index, (light, expected)) in cases.iter().enumerate() {
-        let mut desc = source.frame_desc(1 + index as u64, engine.queue_family_index);
-        desc.header.next = light as *const _ as *const c_void;
-        engine.run(|cmd| assert_eq!(rig.submit(cmd, &desc), *expected, "{}", rig.last_error()));
-        let message = rig.last_error();
-        assert!(message.contains("PatchexSkyLight."), "{message}");
-    }
-    // Refused calls leave the context as it was: a good sky is taken.
     let good = light(good.describe(GBUFFER_LAYOUT));
-    let mut desc = source.frame_desc(10, engine.queue_family_index);
-    desc.header.next = &good as *const _ as *const c_void;
-    engine.run(|cmd| {
+    assert_refused_then_taken(&rig, &source, "PatchexSkyLight.", &cases, &good);
+}
+
+/// Submits `source` with each of `cases` chained, each refused with its result and a message
+/// naming `name` and the case's field; then with `good`, which is taken: refused calls leave
+/// the context as it was.
+fn assert_refused_then_taken<T>(
+    rig: &Rig,
+    source: &GpuFrame,
+    name: &str,
+    cases: &[(T, PatchexResult, &str)],
+    good: &T,
+) {
+    let family = rig.engine.queue_family_index;
+    for (index, (light, expected, field)) in cases.iter().enumerate() {
+        let mut desc = source.frame_desc(1 + index as u64, family);
+        desc.header.next = light as *const T as *const c_void;
+        rig.engine
+            .run(|cmd| assert_eq!(rig.submit(cmd, &desc), *expected, "{}", rig.last_error()));
+        let message = rig.last_error();
+        assert!(
+            message.contains(name) && message.contains(field),
+            "{message}"
+        );
+    }
+    let mut desc = source.frame_desc(cases.len() as u64 + 1, family);
+    desc.header.next = good as *const T as *const c_void;
+    rig.engine.run(|cmd| {
         assert_eq!(
             rig.submit(cmd, &desc),
             PatchexResult::Success,
@@ -576,11 +589,8 @@ fn unusable_sky_lights_are_refused() {
 /// around each pixel's roughness as the reference does, and the mips change the output.
 #[test]
 fn a_prefiltered_sky_matches_its_reference() {
-    let (frames, sun, sky) = rendered_frames(128, 72);
-    let info = support::rendered::render(SCENE, 1, 16, 16)
-        .manifest
-        .sky
-        .expect("the renderer records its sky");
+    let (frames, sun, info) = rendered_frames(128, 72);
+    let sky = one_mip(&info);
     // Three mips, each one tinted apart, so that reading the wrong one shows.
     let mips: Vec<Image> = (0..3)
         .map(|level| {
