@@ -108,7 +108,9 @@ impl Context {
             serial,
         };
         self.images.ensure_work(&mut growth, inputs.extent)?;
-        if sun_inputs.is_some() || sky_map.is_some() {
+        // A sun or a sky: their reflections are taken out of frame t and placed at the target.
+        let reflects = sun_inputs.is_some() || sky_map.is_some();
+        if reflects {
             self.images.ensure_highlights(&mut growth)?;
         }
         if let Some((_, sky)) = sky_map {
@@ -172,7 +174,6 @@ impl Context {
             direction: input.direction,
             illuminance: input.illuminance,
         });
-        let reflects = sun.is_some() || sky_map.is_some();
         let highlights = reflects.then(|| {
             let highlights = highlights::SourceHighlights {
                 sun: sun.zip(sun_visibility),
