@@ -168,6 +168,46 @@ fn uncovered_side_fill_beats_the_nearest_texel_over_holes() {
     );
 }
 
+/// A camera panning past a tree brings sky in at the frame's left edge, where frame t showed the
+/// tree across the whole of the fill's window (the validation scene autumn_06): the fill looks
+/// further in and finds the sky, instead of spreading the tree's shading over it, which the
+/// sky's modulation turned nearly black.
+#[test]
+fn sky_entering_beside_an_occluder_at_the_edge_is_filled_with_sky() {
+    let (width, height) = (640, 360);
+    let sequence = support::rendered::render("generated/autumn_06.toml", 2, width, height);
+    let (source, target) = (&sequence.frames[0], &sequence.frames[1]);
+    let chained = Chained::default();
+    let rig = Rig::new(width, height);
+    let outcome = run_plugin(&rig, source, target, 0.5, &chained);
+    assert_matches_reference(source, target, &outcome, &chained);
+    // The target's sky whose motion leads off frame t's left edge.
+    let (mut error, mut truth, mut pixels) = (0.0f64, 0.0f64, 0);
+    for y in 0..height as usize {
+        for x in 0..width as usize {
+            let entering = x as f32 + 0.5 + target.motion.at(x, y)[0] < 0.0;
+            if entering && target.depth.at(x, y)[0] >= sequence.manifest.far {
+                for c in 0..3 {
+                    let want = target.color.at(x, y)[c] as f64;
+                    error += (outcome.output.at(x, y)[c] as f64 - want).abs();
+                    truth += want;
+                }
+                pixels += 1;
+            }
+        }
+    }
+    assert!(
+        pixels > 100,
+        "the case brings sky in at the edge: {pixels} pixels"
+    );
+    let relative = error / truth;
+    println!("entering sky: {pixels} pixels, mean error {relative:.3} of the sky's colour");
+    assert!(
+        relative < 0.1,
+        "the entering sky is filled with sky: relative error {relative:.3}"
+    );
+}
+
 #[test]
 fn zero_motion_gives_back_the_submitted_frame() {
     let mut scene = Scene::new(WIDTH, HEIGHT);

@@ -13,10 +13,15 @@ pub const AGREEMENT_THRESHOLD: f32 = 0.5;
 const MIN_FACING: f32 = 0.25;
 pub const BILINEAR_ACCEPT: f32 = 0.5;
 const MIN_TOTAL_WEIGHT: f32 = 1e-6;
-/// The hole fill's window radius and tap spacing, and the cost of another object's texel.
+/// The hole fill's window radius and tap spacing, and the cost of another object's texel; the
+/// cheapest cost above which a window holds none of the target's surface, and the wider window
+/// looked at then (`include/fill.wgsl`).
 const FILL_RADIUS: i32 = 12;
 const FILL_STEP: usize = 3;
 const FILL_OTHER_OBJECT: f32 = 20.0;
+const FILL_NO_MATCH: f32 = 9.0;
+const FILL_WIDE_RADIUS: i32 = 96;
+const FILL_WIDE_STEP: usize = 12;
 /// The object id of a target pixel whose geometry is unusable: no 8-bit stencil holds it.
 const NO_OBJECT: f32 = 256.0;
 
@@ -273,37 +278,53 @@ impl<'a> PixelWarp<'a> {
         })
     }
 
-    /// Mirror of `fill_hole` in `fill_holes.wgsl`: the window's texels weighted by
-    /// exp(least cost - cost), rescaled as a cheaper texel appears.
+    /// Mirror of `fill_hole` in `include/fill.wgsl`: the window around q, or a wider one when
+    /// it holds none of the target's surface.
     fn fill_hole(&self, q: Vec2) -> Vec4 {
         let centre = self.texel_of(q);
-        let r = FILL_RADIUS;
-        let mut least = 3.4e38f32;
-        let (mut sum, mut total) = (Vec4::ZERO, 0.0f32);
-        for dy in (-r..=r).step_by(FILL_STEP) {
-            for dx in (-r..=r).step_by(FILL_STEP) {
+        let mut window = self.fill_window(centre, FILL_RADIUS, FILL_STEP);
+        if window.least > FILL_NO_MATCH {
+            let wide = self.fill_window(centre, FILL_WIDE_RADIUS, FILL_WIDE_STEP);
+            if wide.least < window.least {
+                window = wide;
+            }
+        }
+        // As the shader, which spreads matrices too and so cannot divide.
+        window.sum * (1.0 / window.total)
+    }
+
+    /// Mirror of `fill_window`: the window's texels weighted by exp(least cost - cost),
+    /// rescaled as a cheaper texel appears.
+    fn fill_window(&self, centre: IVec2, r: i32, step: usize) -> FillWindow {
+        let mut window = FillWindow {
+            sum: Vec4::ZERO,
+            total: 0.0,
+            least: 3.4e38,
+        };
+        for dy in (-r..=r).step_by(step) {
+            for dx in (-r..=r).step_by(step) {
                 let offset = IVec2::new(dx, dy);
                 let s = centre
                     .wrapping_add(offset)
                     .clamp(IVec2::ZERO, self.extent() - 1);
-                let cost = self.fill_cost(s, offset);
-                if cost < least {
-                    let rescale = (cost - least).exp();
-                    sum *= rescale;
-                    total *= rescale;
-                    least = cost;
+                let cost = self.fill_cost(s, offset, r);
+                if cost < window.least {
+                    let rescale = (cost - window.least).exp();
+                    window.sum *= rescale;
+                    window.total *= rescale;
+                    window.least = cost;
                 }
-                let w = (least - cost).exp();
-                sum += w * texel(self.source.shading, s);
-                total += w;
+                let w = (window.least - cost).exp();
+                window.sum += w * texel(self.source.shading, s);
+                window.total += w;
             }
         }
-        // As the shader, which spreads matrices too and so cannot divide.
-        sum * (1.0 / total)
+        window
     }
 
-    /// Mirror of `fill_cost`: -log of texel `s`'s weight at window offset `offset`.
-    fn fill_cost(&self, s: IVec2, offset: IVec2) -> f32 {
+    /// Mirror of `fill_cost`: -log of texel `s`'s weight at offset `offset` in a window of
+    /// radius `r`.
+    fn fill_cost(&self, s: IVec2, offset: IVec2, r: i32) -> f32 {
         let source_nid = texel(self.source.normal_id, s);
         let other_object = if source_nid.w != self.target_nid.w {
             FILL_OTHER_OBJECT
@@ -312,7 +333,7 @@ impl<'a> PixelWarp<'a> {
         };
         let source = (texel(self.source.geometry, s).w, source_nid.truncate());
         let target = (self.target_geo.w, self.target_nid.truncate());
-        surface_cost(target, source, offset, FILL_RADIUS) + other_object
+        surface_cost(target, source, offset, r) + other_object
     }
 
     fn bilinear_shading(&self, q: Vec2) -> Vec4 {
@@ -542,4 +563,11 @@ pub fn warp(
         offscreen_pixels,
         largest_motion,
     }
+}
+
+/// A fill window's weighted sum, its total weight and its cheapest texel's cost.
+struct FillWindow {
+    sum: Vec4,
+    total: f32,
+    least: f32,
 }
