@@ -989,7 +989,8 @@ typedef struct PatchexShadowDiagnostics {
 // the target pixel's own surface and by its distance. The occluder that hid the pixel is
 // nearer than the surface it uncovers, so it is not smeared into the hole; scenery entering at
 // the frame's edge (an off-screen source point) takes the texels inside the edge that face the
-// same way.
+// same way. Where no texel within 12 pixels shows the pixel's surface (sky entering beside an
+// occluder that filled frame t's edge), texels within 96 pixels are weighed instead.
 #define PATCHEX_HOLE_FILL_BACKGROUND 0
 
 // The source texel nearest to where the pixel's own motion lands: usually the occluder itself,
