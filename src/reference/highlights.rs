@@ -10,7 +10,7 @@ use super::separate_shadows::share_lost_to_shadows;
 use super::warp::{TargetPixel, WarpSources, WarpTarget, AGREEMENT_THRESHOLD, BILINEAR_ACCEPT};
 use super::{round_to_f16, Image};
 use crate::camera::PixelRays;
-use crate::passes::highlights::{Sun, NO_SUN};
+use crate::passes::highlights::{SkyMap, Sun, NO_SUN};
 
 const MIN_ROUGHNESS: f32 = 0.02;
 
@@ -62,30 +62,29 @@ fn sun_specular(sun: &Sun, normal: Vec3, view: Vec3, glossy: &Glossy) -> Vec3 {
 #[derive(Clone, Copy)]
 pub enum SkyMips<'a> {
     Separate(&'a [Image]),
-    SideBySide { image: &'a Image, levels: usize },
+    SideBySide { image: &'a Image, map: SkyMap },
 }
 
 impl<'a> SkyMips<'a> {
     fn levels(self) -> usize {
         match self {
             SkyMips::Separate(mips) => mips.len(),
-            SkyMips::SideBySide { levels, .. } => levels,
+            SkyMips::SideBySide { map, .. } => map.levels as usize,
         }
     }
 
     fn side(self, level: usize) -> usize {
         match self {
             SkyMips::Separate(mips) => mips[level].width,
-            SkyMips::SideBySide { image, .. } => image.height >> level,
+            SkyMips::SideBySide { map, .. } => (map.side >> level) as usize,
         }
     }
 
     fn texel(self, level: usize, x: usize, y: usize) -> &'a [f32] {
         match self {
             SkyMips::Separate(mips) => mips[level].at(x, y),
-            SkyMips::SideBySide { image, .. } => {
-                let offset: usize = (0..level).map(|m| image.height >> m).sum();
-                image.at(offset + x, y)
+            SkyMips::SideBySide { image, map } => {
+                image.at(map.offset(level as u32) as usize + x, y)
             }
         }
     }
@@ -151,13 +150,10 @@ fn sky_specular(sky: SkyMips, normal: Vec3, view: Vec3, glossy: &Glossy) -> Vec3
     let lod = glossy.roughness * (levels - 1) as f32;
     let below = (lod.floor() as usize).min(levels - 1);
     let above = lod - lod.floor();
-    let mut radiance = Vec3::ZERO;
-    for level in 0..levels {
-        if level == below {
-            radiance += (1.0 - above) * sky_radiance(sky, level, mirror);
-        } else if level == below + 1 {
-            radiance += above * sky_radiance(sky, level, mirror);
-        }
+    // The shader reads each mip under a loop level (which lavapipe needs); the sum is the same.
+    let mut radiance = (1.0 - above) * sky_radiance(sky, below, mirror);
+    if below + 1 < levels {
+        radiance += above * sky_radiance(sky, below + 1, mirror);
     }
     radiance * environment_brdf(glossy, n_dot_v)
 }
@@ -431,7 +427,11 @@ pub fn place(color: &Image, inputs: &TargetHighlights) -> (Image, u32) {
             _ => {}
         }
         if let Some((image, levels)) = inputs.kept_sky {
-            let sky = SkyMips::SideBySide { image, levels };
+            let map = SkyMap {
+                side: image.height as u32,
+                levels: levels as u32,
+            };
+            let sky = SkyMips::SideBySide { image, map };
             highlight += sky_specular(sky, normal, view, &glossy);
         }
         let (sum, changed) = sanitize_color(c.truncate() + highlight);
