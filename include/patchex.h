@@ -686,6 +686,13 @@ typedef struct PatchexTargetShadowInput {
 // from the sky (without a PatchexSkyLight) and other lights stays in the warped shading. A
 // renderer with another specular model leaves the difference where frame t had it.
 //
+// On moving objects (a non-zero stencil id), whose surfaces may turn towards or away from the
+// sun between frames, it also relights the sun's diffuse reflection: Lambert's, base colour
+// times (1 - metallic) over pi, times the sun's illuminance and the cosine to the sun. It adds
+// the difference between that term at the target's normal and at frame t's normal where the
+// warp took the pixel from, times the same visibility. Static surfaces do not turn: their
+// diffuse light is warped as it is.
+//
 // It costs patchex one pass over frame t's pixels in the submit, and one over the target's.
 typedef struct PatchexSunLight {
   // PATCHEX_STRUCT_TYPE_SUN_LIGHT, sizeof(PatchexSunLight), chain.

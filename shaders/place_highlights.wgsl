@@ -2,7 +2,9 @@
 // sky's reflection to the extrapolated colour, as the target's view sees them on the target's
 // surfaces, in place of frame t's, which remove_highlights.wgsl took out of the shading the warp
 // carried:
-//   c' = c + visibility * dynamic * sun specular + sky specular.
+//   c' = c + visibility * dynamic * (sun specular + sun diffuse change) + sky specular.
+// The sun's diffuse change is what a moving object's Lambert reflection of the sun gains or loses
+// by turning: the warp carries it as frame t lit it, at frame t's normal.
 // The sun's visibility is frame t's where it saw the target's surface: from the texels around
 // where the motion vectors lead that pass the G-buffer warp's agreement test. `dynamic` is 1
 // without a shadow input; with one, the dynamic casters' visibility at the target where a target
@@ -77,19 +79,26 @@ fn agrees(t: Surface, s: vec2i) -> bool {
     return agreement_at(t, s) >= AGREEMENT_THRESHOLD;
 }
 
-// What the fill spreads (fill.wgsl): frame t's visibility.
+// What the fill spreads (fill.wgsl): frame t's visibility, and its normal.
 alias FillValue = vec4f;
 
 fn fill_value(s: vec2i) -> vec4f {
-    return vec4f(textureLoad(kept_visibility, s, 0).r);
+    return vec4f(textureLoad(kept_visibility, s, 0).r, source_normal(s));
 }
 
-// Frame t's visibility of the sun where it saw surface `t` around `q`: the bilinear blend of the
-// texels that agree with it when they hold enough of the blend, else the mean of the 3x3 texels
-// around q that agree. Where none does (a hole, off screen or uncovered), frame t's visibility
-// spread as the G-buffer warp's fill spreads its shading there: from the texels whose surface
-// matches, which the fill's shading came from.
-fn visibility_at(t: Surface, q: vec2f) -> f32 {
+// What frame t saw of surface `t` around `q`: the sun's visibility, and the normal its
+// shading was lit with.
+struct SeenFromSource {
+    visibility: f32,
+    normal: vec3f,
+}
+
+// Frame t's visibility of the sun and normal where it saw surface `t` around `q`: the bilinear
+// blend of the texels that agree with it when they hold enough of the blend, else the mean of
+// the 3x3 texels around q that agree. Where none does (a hole, off screen or uncovered), frame
+// t's visibility and normal spread as the G-buffer warp's fill spreads its shading there: from
+// the texels whose surface matches, which the fill's shading came from.
+fn seen_from_source(t: Surface, q: vec2f) -> SeenFromSource {
     let corner = vec2i(floor(q - 0.5));
     let f = q - 0.5 - floor(q - 0.5);
     let last = vec2i(params.extent) - 1;
@@ -105,22 +114,37 @@ fn visibility_at(t: Surface, q: vec2f) -> f32 {
         select(0.0, 1.0, agrees(t, s01)), select(0.0, 1.0, agrees(t, s11)));
     let weight = agreeing.x + agreeing.y + agreeing.z + agreeing.w;
     if (weight >= BILINEAR_ACCEPT) {
-        return dot(agreeing, v) / weight;
+        let normal = agreeing.x * source_normal(s00) + agreeing.y * source_normal(s10)
+            + agreeing.z * source_normal(s01) + agreeing.w * source_normal(s11);
+        return SeenFromSource(dot(agreeing, v) / weight, unit_or_zero(normal));
     }
     let centre = clamp(vec2i(floor(q)), vec2i(0), last);
     var count = 0.0;
     var sum = 0.0;
+    var normal = vec3f(0.0);
     for (var i = 0; i < 9; i++) {
         let s = clamp(centre + vec2i(i % 3 - 1, i / 3 - 1), vec2i(0), last);
         if (agrees(t, s)) {
             count += 1.0;
             sum += textureLoad(kept_visibility, s, 0).r;
+            normal += source_normal(s);
         }
     }
     if (count > 0.0) {
-        return sum / count;
+        return SeenFromSource(sum / count, unit_or_zero(normal));
     }
-    return fill_hole(q, t).x;
+    let filled = fill_hole(q, t);
+    return SeenFromSource(filled.x, unit_or_zero(filled.yzw));
+}
+
+fn source_normal(s: vec2i) -> vec3f {
+    return unpack_normal(textureLoad(source_normal_id, s, 0).r);
+}
+
+// `v` made unit, or zero where it has no direction (normals that cancel out).
+fn unit_or_zero(v: vec3f) -> vec3f {
+    let length2 = dot(v, v);
+    return select(vec3f(0.0), v * inverseSqrt(length2), length2 > 1e-12);
 }
 
 @compute @workgroup_size(8, 8, 1)
@@ -137,15 +161,21 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
             let ray = cameras.target_at_origin + f32(p.x) * cameras.target_per_x
                 + f32(p.y) * cameras.target_per_y;
             let view = -normalize(ray);
-            let lit = visibility_at(t, q);
+            let seen = seen_from_source(t, q);
             let glossy = glossy_material(base_color, material, p, unspecialised(params.has_material));
             let sun = Sun(params.sun_direction, params.sun_illuminance);
-            var highlight = lit * sun_specular(sun, t.normal, view, glossy);
+            var sun_light = sun_specular(sun, t.normal, view, glossy);
+            // A moving object may have turned towards or away from the sun; a static surface
+            // has not, and its normals differ only by resampling.
+            if (t.id != 0u) {
+                sun_light += sun_diffuse_change(sun, seen.normal, t.normal, glossy);
+            }
+            var highlight = seen.visibility * sun_light;
             // The dynamic shadows at the target: a highlight is the sun's alone, so the mask
             // takes it where there is one; the share, the part of all light they take, elsewhere.
             if (unspecialised(params.has_target_mask) != ABSENT && t.id == 0u) {
-                let seen = sanitize_unit(vec3f(textureLoad(target_mask, p, 0).r, 0.0, 0.0));
-                highlight *= seen.value.x;
+                let mask = sanitize_unit(vec3f(textureLoad(target_mask, p, 0).r, 0.0, 0.0));
+                highlight *= mask.value.x;
             } else if (unspecialised(params.has_shadow_share) != ABSENT) {
                 highlight *= 1.0 + textureLoad(shadow_share, p, 0).rgb;
             }

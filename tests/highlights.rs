@@ -336,6 +336,71 @@ fn the_sun_and_the_sky_bring_glossy_surfaces_closer_to_the_rendered_target() {
     );
 }
 
+/// On the animated characters the sun lights, inside their outlines where a limb turned towards
+/// or away from the sun between frame t and the target, the sun's input brings the output
+/// closer to the rendered target: the warp carries the Lambert term as frame t lit it, and it is
+/// lit again at the target's normal. Here the highlights' placement alone gains 1.8 dB, and with
+/// the relighting 3.0 (measured by switching the relighting off).
+#[test]
+fn the_sun_relights_moving_objects_that_turned() {
+    let (frames, sun, _) = rendered_frames(640, 360);
+    let [_, source, target] = &frames;
+    let direction = Vec3::from(sun.direction);
+    let facing = |frame: &Frame, i: usize| {
+        Vec3::from_slice(&frame.normal.data[4 * i..4 * i + 3])
+            .dot(direction)
+            .max(0.0)
+    };
+    let (width, height) = (target.color.width, target.color.height);
+    let turned: Vec<usize> = (0..width * height)
+        .filter(|&i| target.stencil.data[i] != 0.0 && target.sun_visibility.data[i] > 0.5)
+        .filter(|&i| {
+            // Frame t's texel the motion leads to, on the same object.
+            let (x, y) = ((i % width) as f32 + 0.5, (i / width) as f32 + 0.5);
+            let [dx, dy] = [0, 1].map(|c| target.motion.data[target.motion.channels * i + c]);
+            let (sx, sy) = ((x + dx).floor(), (y + dy).floor());
+            let inside = sx >= 0.0 && sy >= 0.0 && sx < width as f32 && sy < height as f32;
+            let (sx, sy) = (sx as usize, sy as usize);
+            let s = sx + sy * width;
+            // Away from the object's outline, where the warp's own errors would dominate.
+            let interior = sx > 0 && sy > 0 && sx + 1 < width && sy + 1 < height && {
+                (0..9).all(|n| {
+                    let neighbour = s + n % 3 + (n / 3) * width - 1 - width;
+                    source.stencil.data[neighbour] == target.stencil.data[i]
+                })
+            };
+            interior && (facing(target, i) - facing(source, s)).abs() > 0.1
+        })
+        .collect();
+    let region = |image: &Image| Image {
+        width: turned.len(),
+        height: 1,
+        channels: 4,
+        data: turned
+            .iter()
+            .flat_map(|&i| image.data[4 * i..4 * i + 4].to_vec())
+            .collect(),
+    };
+    let truth = region(&target.color);
+    let without = run(frames.each_ref(), Inputs::default()).output;
+    let with = Inputs {
+        sun: Some(&sun),
+        ..Default::default()
+    };
+    let with_sun = run(frames.each_ref(), with).output;
+    let [before, after] = [&without, &with_sun].map(|output| psnr(&region(output), &truth));
+    eprintln!(
+        "{} lit pixels of moving objects that turned: {before:.2} dB without the sun, \
+         {after:.2} dB with it",
+        turned.len()
+    );
+    assert!(turned.len() > 100, "only {} pixels", turned.len());
+    assert!(
+        after > before + 2.4,
+        "{after} dB with the sun against {before} dB without"
+    );
+}
+
 /// A sun that reaches no pixel takes nothing out and adds nothing: the frames are those without
 /// one, bit for bit.
 #[test]

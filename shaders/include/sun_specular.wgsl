@@ -18,6 +18,8 @@ struct Sun {
 // A pixel's material as its reflection needs it.
 struct Glossy {
     specular_color: vec3f,
+    // Lambert's albedo, base colour times (1 - metallic).
+    diffuse_color: vec3f,
     roughness: f32,
     // The roughness was sanitised. (The base colour, metallic and specular are the pixel's
     // modulation, which counts them.)
@@ -34,7 +36,7 @@ fn glossy_material(base_color: texture_2d<f32>, material: texture_2d<f32>, p: ve
         msr = sanitize_unit(textureLoad(material, p, 0).rgb);
     }
     let roughness = sanitize_unit(vec3f(msr.value.z, 0.0, 0.0));
-    return Glossy(mix(vec3f(0.08 * msr.value.y), base, msr.value.x),
+    return Glossy(mix(vec3f(0.08 * msr.value.y), base, msr.value.x), base * (1.0 - msr.value.x),
         max(roughness.value.x, MIN_ROUGHNESS), roughness.changed);
 }
 
@@ -59,4 +61,16 @@ fn sun_specular(sun: Sun, normal: vec3f, view: vec3f, glossy: Glossy) -> vec3f {
     let fresnel_weight = pow(1.0 - v_dot_h, 5.0);
     let fresnel = glossy.specular_color * (1.0 - fresnel_weight) + vec3f(fresnel_weight);
     return sun.illuminance * distribution * visibility * fresnel * n_dot_l;
+}
+
+// How much more light the sun's diffuse (Lambert) reflection sends from a surface of unit
+// `normal` than frame t's shading holds from it lit at `source_normal`, unshadowed: what a
+// surface that turned towards or away from the sun gains or loses. Zero where the surface did
+// not turn, or where frame t's normal is unknown (zero).
+fn sun_diffuse_change(sun: Sun, source_normal: vec3f, normal: vec3f, glossy: Glossy) -> vec3f {
+    if (all(source_normal == vec3f(0.0))) {
+        return vec3f(0.0);
+    }
+    let turned = max(dot(normal, sun.direction), 0.0) - max(dot(source_normal, sun.direction), 0.0);
+    return sun.illuminance * glossy.diffuse_color / PI * turned;
 }

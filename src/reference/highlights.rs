@@ -17,6 +17,7 @@ const MIN_ROUGHNESS: f32 = 0.02;
 /// `Glossy`: the specular colour, the roughness, and whether the roughness was sanitised.
 struct Glossy {
     specular_color: Vec3,
+    diffuse_color: Vec3,
     roughness: f32,
     roughness_changed: bool,
 }
@@ -30,6 +31,7 @@ fn glossy_material(base_color: &Image, material: Option<&Image>, x: usize, y: us
     let (roughness, roughness_changed) = sanitize(Vec3::new(msr.z, 0.0, 0.0), 0.0, 1.0);
     Glossy {
         specular_color: Vec3::splat(0.08 * msr.y).lerp(base, msr.x),
+        diffuse_color: base * (1.0 - msr.x),
         roughness: roughness.x.max(MIN_ROUGHNESS),
         roughness_changed,
     }
@@ -55,6 +57,16 @@ fn sun_specular(sun: &Sun, normal: Vec3, view: Vec3, glossy: &Glossy) -> Vec3 {
     let fresnel_weight = (1.0 - v_dot_h).powf(5.0);
     let fresnel = glossy.specular_color * (1.0 - fresnel_weight) + Vec3::splat(fresnel_weight);
     sun.illuminance * distribution * visibility * fresnel * n_dot_l
+}
+
+/// `sun_diffuse_change`: how much more light the sun's Lambert reflection sends from `normal`
+/// than frame t's shading holds from `source_normal` (zero: unknown), unshadowed.
+fn sun_diffuse_change(sun: &Sun, source_normal: Vec3, normal: Vec3, glossy: &Glossy) -> Vec3 {
+    if source_normal == Vec3::ZERO {
+        return Vec3::ZERO;
+    }
+    let turned = normal.dot(sun.direction).max(0.0) - source_normal.dot(sun.direction).max(0.0);
+    sun.illuminance * glossy.diffuse_color / std::f32::consts::PI * turned
 }
 
 /// A sky's mips as a pass reads them (`SkyMap` in the shaders): the engine's, one image each,
@@ -334,48 +346,63 @@ pub struct TargetHighlights<'a> {
     pub rays: PixelRays,
 }
 
-/// `visibility_at`: frame t's visibility where it saw the surface of target pixel `pixel`
-/// around `q`; where no texel around q shows it, the visibility as the fill spreads it.
-fn visibility_at(kept: &Image, pixel: &TargetPixel, q: Vec2) -> f32 {
+/// `seen_from_source`: frame t's visibility and normal where it saw the surface of target pixel
+/// `pixel` around `q`; where no texel around q shows it, both as the fill spreads them
+/// (from `spread_visibility`).
+fn seen_from_source(
+    kept: &Image,
+    source_normal_id: &Image,
+    pixel: &TargetPixel,
+    q: Vec2,
+) -> (f32, Vec3) {
     let agrees = |x: i32, y: i32| pixel.agreement_at(IVec2::new(x, y)) >= AGREEMENT_THRESHOLD;
+    let normal_at = |x: i32, y: i32| Vec3::from_slice(&source_normal_id.clamped(x, y)[..3]);
     let corner = (q - 0.5).floor();
     let f = q - 0.5 - corner;
     let (cx, cy) = (corner.x as i32, corner.y as i32);
-    let (mut weight, mut agreeing) = (0.0, 0.0);
+    let (mut weight, mut agreeing, mut normal) = (0.0, 0.0, Vec3::ZERO);
     for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
         let w = if dx == 1 { f.x } else { 1.0 - f.x } * if dy == 1 { f.y } else { 1.0 - f.y };
         if agrees(cx + dx, cy + dy) {
             weight += w;
             agreeing += w * kept.clamped(cx + dx, cy + dy)[0];
+            normal += w * normal_at(cx + dx, cy + dy);
         }
     }
     if weight >= BILINEAR_ACCEPT {
-        return agreeing / weight;
+        return (agreeing / weight, normal.normalize_or_zero());
     }
     let (centre_x, centre_y) = (q.x.floor() as i32, q.y.floor() as i32);
     let last = (kept.width as i32 - 1, kept.height as i32 - 1);
     let (centre_x, centre_y) = (centre_x.clamp(0, last.0), centre_y.clamp(0, last.1));
-    let (mut count, mut sum) = (0.0, 0.0);
+    let (mut count, mut sum, mut normal) = (0.0, 0.0, Vec3::ZERO);
     for i in 0..9 {
         let (x, y) = (centre_x + i % 3 - 1, centre_y + i / 3 - 1);
         if agrees(x, y) {
             count += 1.0;
             sum += kept.clamped(x, y)[0];
+            normal += normal_at(x, y);
         }
     }
     if count > 0.0 {
-        return sum / count;
+        return (sum / count, normal.normalize_or_zero());
     }
-    pixel.fill_hole(q).x
+    let filled = pixel.fill_hole(q);
+    (
+        filled.x,
+        Vec3::new(filled.y, filled.z, filled.w).normalize_or_zero(),
+    )
 }
 
 /// The colour with the target's highlights added, and the pixels sanitised.
 pub fn place(color: &Image, inputs: &TargetHighlights) -> (Image, u32) {
     let mut sanitized = 0;
-    // Frame t's visibility as the fill reads shading, in four channels.
+    // Frame t's visibility and normals, as the fill reads shading.
     let kept = inputs.kept_visibility;
-    let spread_visibility =
-        Image::from_fn(kept.width, kept.height, 4, |x, y| vec![kept.at(x, y)[0]; 4]);
+    let spread_visibility = Image::from_fn(kept.width, kept.height, 4, |x, y| {
+        let normal = &inputs.source_normal_id.at(x, y)[..3];
+        vec![kept.at(x, y)[0], normal[0], normal[1], normal[2]]
+    });
     let sources = WarpSources {
         shading: &spread_visibility,
         geometry: inputs.source_geometry,
@@ -413,10 +440,14 @@ pub fn place(color: &Image, inputs: &TargetHighlights) -> (Image, u32) {
             &target,
             IVec2::new(x as i32, y as i32),
         );
-        let lit = visibility_at(kept, &pixel, q);
+        let (lit, source_normal) = seen_from_source(kept, inputs.source_normal_id, &pixel, q);
         let glossy = glossy_material(inputs.base_color, inputs.material, x, y);
         let view = -ray.normalize();
-        let mut highlight = lit * sun_specular(&inputs.sun, normal, view, &glossy);
+        let mut sun_light = sun_specular(&inputs.sun, normal, view, &glossy);
+        if normal_id[3] != 0.0 {
+            sun_light += sun_diffuse_change(&inputs.sun, source_normal, normal, &glossy);
+        }
+        let mut highlight = lit * sun_light;
         match (inputs.target_mask, inputs.shadow_share) {
             (Some(mask), _) if normal_id[3] == 0.0 => {
                 highlight *= sanitize(Vec3::new(mask.at(x, y)[0], 0.0, 0.0), 0.0, 1.0)
