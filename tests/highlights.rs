@@ -355,20 +355,19 @@ fn the_sun_relights_moving_objects_that_turned() {
     let turned: Vec<usize> = (0..width * height)
         .filter(|&i| target.stencil.data[i] != 0.0 && target.sun_visibility.data[i] > 0.5)
         .filter(|&i| {
-            // Frame t's texel the motion leads to, on the same object.
+            // Frame t's texel the motion leads to, inside the object's outline there (its 3x3
+            // on the same object), where the warp's own errors would not dominate.
             let (x, y) = ((i % width) as f32 + 0.5, (i / width) as f32 + 0.5);
             let [dx, dy] = [0, 1].map(|c| target.motion.data[target.motion.channels * i + c]);
             let (sx, sy) = ((x + dx).floor(), (y + dy).floor());
-            let inside = sx >= 0.0 && sy >= 0.0 && sx < width as f32 && sy < height as f32;
-            let (sx, sy) = (sx as usize, sy as usize);
-            let s = sx + sy * width;
-            // Away from the object's outline, where the warp's own errors would dominate.
-            let interior = sx > 0 && sy > 0 && sx + 1 < width && sy + 1 < height && {
-                (0..9).all(|n| {
+            let inside =
+                sx >= 1.0 && sy >= 1.0 && sx + 1.0 < width as f32 && sy + 1.0 < height as f32;
+            let s = sx as usize + sy as usize * width;
+            let interior = inside
+                && (0..9).all(|n| {
                     let neighbour = s + n % 3 + (n / 3) * width - 1 - width;
                     source.stencil.data[neighbour] == target.stencil.data[i]
-                })
-            };
+                });
             interior && (facing(target, i) - facing(source, s)).abs() > 0.1
         })
         .collect();
