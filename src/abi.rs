@@ -602,12 +602,13 @@ pub struct PatchexTranslucencyInput {
     pub motion_vector_scale: [f32; 2],
 }
 
-/// Farneback optical-flow settings a context uses unless told otherwise: three pyramid levels
-/// (motion up to about 4 * window_radius pixels), two iterations per level (a third gained
-/// nothing on the generated validation split), a 15x15 window, and a 5x5 polynomial fit with
-/// sigma 1.1 (Farneback's own choice for that size).
-pub const PATCHEX_DEFAULT_FLOW_LEVELS: u32 = 3;
-pub const PATCHEX_DEFAULT_FLOW_ITERATIONS: u32 = 2;
+/// Farneback optical-flow settings a context uses unless told otherwise: four pyramid levels
+/// (motion up to about 8 * window_radius texels of the finest level), one iteration per level
+/// (on the generated validation split, two iterations a level or a fifth level scored lower over
+/// the shadows), a 15x15 window, and a 5x5 polynomial fit with sigma 1.1 (Farneback's own
+/// choice for that size).
+pub const PATCHEX_DEFAULT_FLOW_LEVELS: u32 = 4;
+pub const PATCHEX_DEFAULT_FLOW_ITERATIONS: u32 = 1;
 pub const PATCHEX_DEFAULT_FLOW_WINDOW_RADIUS: u32 = 7;
 pub const PATCHEX_DEFAULT_FLOW_POLY_RADIUS: u32 = 2;
 pub const PATCHEX_DEFAULT_FLOW_POLY_SIGMA: f32 = 1.1;
