@@ -137,6 +137,7 @@ fn seen_from_source(t: Surface, q: vec2f) -> SeenFromSource {
     return SeenFromSource(filled.x, unit_or_zero(filled.yzw));
 }
 
+// Frame t's normal at texel `s` (zero where it has none).
 fn source_normal(s: vec2i) -> vec3f {
     return unpack_normal(textureLoad(source_normal_id, s, 0).r);
 }

@@ -1,6 +1,7 @@
 // The sun's specular reflection, as PatchexSunLight's header says the engine shades it: a GGX
 // distribution of alpha = roughness^2, height-correlated Smith visibility and Schlick's Fresnel
-// (the glTF metallic-roughness model; Unreal's default lit). Needs gbuffer.wgsl.
+// (the glTF metallic-roughness model; Unreal's default lit); and the change in its Lambert
+// reflection where a surface turned. Needs gbuffer.wgsl.
 // src/reference/highlights.rs mirrors it.
 
 const PI: f32 = 3.14159265;

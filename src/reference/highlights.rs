@@ -14,7 +14,8 @@ use crate::passes::highlights::{SkyMap, Sun, NO_SUN};
 
 const MIN_ROUGHNESS: f32 = 0.02;
 
-/// `Glossy`: the specular colour, the roughness, and whether the roughness was sanitised.
+/// `Glossy`: the specular and diffuse colours, the roughness, and whether the roughness was
+/// sanitised.
 struct Glossy {
     specular_color: Vec3,
     diffuse_color: Vec3,
