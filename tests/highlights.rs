@@ -23,7 +23,9 @@ use patchex::passes::warp::WarpSettings;
 use patchex::reference::{self, Image, ShadowInputs};
 use patchex_harness::EngineImage;
 use patchex_scene::dataset::{SkyInfo, SunInfo};
-use support::pipeline::{assert_stages_agree, inputs, psnr, read_image, worst_output_error};
+use support::pipeline::{
+    assert_stages_agree, inputs, pixels_of, psnr, read_image, worst_output_error,
+};
 use support::scene::Frame;
 use support::*;
 
@@ -297,15 +299,7 @@ fn the_sun_and_the_sky_bring_glossy_surfaces_closer_to_the_rendered_target() {
         .filter(|&i| target.material.data[4 * i + 2] < 0.5 && target.sun_visibility.data[i] > 0.5)
         .filter(|&i| source.stencil.data[i] == 0.0 && target.stencil.data[i] == 0.0)
         .collect();
-    let region = |image: &Image| Image {
-        width: glossy.len(),
-        height: 1,
-        channels: 4,
-        data: glossy
-            .iter()
-            .flat_map(|&i| image.data[4 * i..4 * i + 4].to_vec())
-            .collect(),
-    };
+    let region = |image: &Image| pixels_of(image, &glossy);
     let truth = region(&target.color);
     let without = run(frames.each_ref(), Inputs::default()).output;
     let with = Inputs {
@@ -371,15 +365,7 @@ fn the_sun_relights_moving_objects_that_turned() {
             interior && (facing(target, i) - facing(source, s)).abs() > 0.1
         })
         .collect();
-    let region = |image: &Image| Image {
-        width: turned.len(),
-        height: 1,
-        channels: 4,
-        data: turned
-            .iter()
-            .flat_map(|&i| image.data[4 * i..4 * i + 4].to_vec())
-            .collect(),
-    };
+    let region = |image: &Image| pixels_of(image, &turned);
     let truth = region(&target.color);
     let without = run(frames.each_ref(), Inputs::default()).output;
     let with = Inputs {

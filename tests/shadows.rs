@@ -23,7 +23,7 @@ use patchex::frame::counters::REGION_BYTES;
 use patchex::passes::shadow_flow::{mask_step, FlowSettings, MAX_LEVELS, MAX_WINDOW_RADIUS};
 use patchex::passes::warp::WarpSettings;
 use patchex::reference::{self, round_to_f16, Image, ShadowInputs};
-use support::pipeline::{inputs, psnr, read_image, worst_output_error};
+use support::pipeline::{inputs, pixels_of, psnr, read_image, worst_output_error};
 use support::scene::{Frame, Scene};
 use support::*;
 
@@ -202,19 +202,6 @@ fn run_validated(
     let messages = rig.engine.take_validation_messages();
     assert!(messages.is_empty(), "validation: {messages:?}");
     outcome
-}
-
-/// The pixels `indices` of `image`, in one row.
-fn pixels_of(image: &Image, indices: &[usize]) -> Image {
-    Image {
-        width: indices.len(),
-        height: 1,
-        channels: 4,
-        data: indices
-            .iter()
-            .flat_map(|&i| image.data[4 * i..4 * i + 4].to_vec())
-            .collect(),
-    }
 }
 
 #[test]

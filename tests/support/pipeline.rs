@@ -63,6 +63,19 @@ pub fn worst_output_error(got: &Image, want: &Image) -> f32 {
         .fold(0.0, f32::max)
 }
 
+/// The pixels `indices` of `image` (RGBA), in one row.
+pub fn pixels_of(image: &Image, indices: &[usize]) -> Image {
+    Image {
+        width: indices.len(),
+        height: 1,
+        channels: 4,
+        data: indices
+            .iter()
+            .flat_map(|&i| image.data[4 * i..4 * i + 4].to_vec())
+            .collect(),
+    }
+}
+
 /// PSNR of the RGB channels, for values in [0, 1].
 pub fn psnr(a: &Image, b: &Image) -> f64 {
     let mut squared = 0.0;
