@@ -25,9 +25,12 @@ use crate::vk::image::{pixels, texel_bytes, OwnedImage, Texture};
 use crate::vk::recorder::{Pass, Recorder};
 
 pub const MAX_LEVELS: u32 = 6;
-/// Finest-level texels on a side of a workgroup's tile in `shadow_mask_pyramid.wgsl` (`TILE`):
+/// Levels `shadow_mask_finest.wgsl` makes, halving its workgroup's 8x8 tile: the default
+/// pyramid's, so that only a deeper one needs `shadow_mask_pyramid.wgsl`.
+const FINEST_PASS_LEVELS: u32 = 4;
+/// Base-level texels on a side of a workgroup's tile in `shadow_mask_pyramid.wgsl` (`TILE`):
 /// one texel of the coarsest level.
-const MASK_PYRAMID_TILE: u32 = 1 << (MAX_LEVELS - 1);
+const MASK_PYRAMID_TILE: u32 = 1 << (MAX_LEVELS - FINEST_PASS_LEVELS);
 pub const MAX_ITERATIONS: u32 = 10;
 pub const MAX_WINDOW_RADIUS: u32 = 15;
 /// The expansion's weights travel as four push constants.
@@ -354,22 +357,28 @@ fn record_expansion(
         level_size: levels[0].size,
         block: images.mask_step,
         has_stencil: images.frame.source_objects.has_stencil,
+        levels: (levels.len() as u32).min(FINEST_PASS_LEVELS),
+        ..Default::default()
     };
     rec.dispatch(&mask_finest, &params, finest);
-    if levels.len() > 1 {
+    // A deeper pyramid goes on from the coarsest level the finest pass made.
+    let base = FINEST_PASS_LEVELS as usize - 1;
+    if levels.len() > base + 1 {
         let mask_pyramid = rec.bind(passes.mask_pyramid, |writes| {
             writes.image(m::binding::PYRAMID, images.mask_pyramid)
         });
         let params = m::Params {
-            finest_size: levels[0].size,
-            levels: levels.len() as u32,
-            _pad_end: Default::default(),
+            base_offset: levels[base].offset,
+            base_size: levels[base].size,
+            column_offset: levels[base + 1].offset,
+            levels: (levels.len() - base) as u32,
+            ..Default::default()
         };
-        // A workgroup per MASK_PYRAMID_TILE texels of the finest level on a side.
+        // A workgroup per MASK_PYRAMID_TILE texels of the base level on a side.
         let [group_x, group_y, _] = m::SHADER.workgroup_size;
         let groups = vk::Extent2D {
-            width: finest.width.div_ceil(MASK_PYRAMID_TILE) * group_x,
-            height: finest.height.div_ceil(MASK_PYRAMID_TILE) * group_y,
+            width: levels[base].size[0].div_ceil(MASK_PYRAMID_TILE) * group_x,
+            height: levels[base].size[1].div_ceil(MASK_PYRAMID_TILE) * group_y,
         };
         rec.dispatch(&mask_pyramid, &params, groups);
     }
