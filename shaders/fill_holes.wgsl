@@ -10,6 +10,7 @@
 // #import gbuffer
 // #import cameras
 // #import surface
+// #import atlas
 // #import warp
 // #import surface_match
 // #import fill
@@ -32,7 +33,7 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
     if (i < atomicLoad(&deferred.count)) {
         let entry = textureLoad(hole_list, vec2u(i % params.extent.x, i / params.extent.x), 0).r;
         let p = vec2u(entry & 0xffffu, entry >> 16u);
-        let q = source_point(p, textureLoad(motion, p, 0).xy);
+        let q = source_point(p, motion_at(p));
         store_pixel(p, fill_hole(q, target_surface(p)), true);
     }
     if (close_tallies(lane)) {

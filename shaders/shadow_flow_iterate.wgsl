@@ -16,6 +16,7 @@
 // the equations of the tile and that border in workgroup memory (in strips of rows, for the
 // wider windows), sums each row's window there, then each column's: the equations never leave
 // the chip, and the iteration is one dispatch.
+// #import atlas
 // #import flow
 
 // The tile's edge, and the workgroup's.

@@ -6,6 +6,7 @@
 // function and take their coefficient from one weighted sum; c, a11 and a22 share a 3x3 system
 // whose inverse the host computes once per settings (src/passes/shadow_flow.rs).
 // Writes (b1, b2, a11, a22) and a12 in two atlases.
+// #import atlas
 // #import flow
 
 struct Params {

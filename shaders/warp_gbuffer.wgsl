@@ -10,6 +10,7 @@
 // #import gbuffer
 // #import cameras
 // #import surface
+// #import atlas
 // #import warp
 // #import warp_entry
 // #import tallies

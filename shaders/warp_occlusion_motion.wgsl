@@ -7,6 +7,7 @@
 // #import gbuffer
 // #import cameras
 // #import surface
+// #import atlas
 // #import warp
 // #import warp_entry
 // #import tallies
@@ -32,7 +33,7 @@ fn warp_pixel(p: vec2u, t: Surface, motion_vector: vec2f) -> WarpedPixel {
         for (var dy = -r; dy <= r; dy += 2) {
             for (var dx = -r; dx <= r; dx += 2) {
                 let neighbour = clamp(vec2i(p) + vec2i(dx, dy), vec2i(0), last);
-                let candidate = source_point(p, textureLoad(motion, neighbour, 0).xy);
+                let candidate = source_point(p, motion_at(vec2u(neighbour)));
                 if (is_offscreen(candidate)) {
                     continue;
                 }

@@ -5,7 +5,12 @@ use naga::back::spv;
 use naga::valid::{Capabilities, ValidationFlags, Validator};
 
 pub fn validator() -> Validator {
-    Validator::new(ValidationFlags::all(), Capabilities::IMMEDIATES)
+    // `quantizeToF16` and the half-float packing, which naga gates for targets that lack them,
+    // are core SPIR-V for Vulkan (OpQuantizeToF16, GLSL.std.450's PackHalf2x16).
+    Validator::new(
+        ValidationFlags::all(),
+        Capabilities::IMMEDIATES | Capabilities::SHADER_FLOAT16_IN_FLOAT32,
+    )
 }
 
 pub fn spirv_options() -> spv::Options<'static> {

@@ -3,7 +3,7 @@
 // from frame t (its shading and, with a shadow input, its shadow layer, blended with one set of
 // weights), and how a pixel is stored, remodulated when nothing else runs between the warp and
 // the output. The entry point is warp_entry.wgsl; fill_holes.wgsl shares the rest. Needs
-// gbuffer.wgsl, cameras.wgsl, surface.wgsl and tallies.wgsl.
+// gbuffer.wgsl, cameras.wgsl, surface.wgsl, atlas.wgsl and tallies.wgsl.
 // src/reference/warp.rs mirrors it.
 
 // Below this total weight a weighted fetch found nothing usable.
@@ -45,6 +45,10 @@ struct Params {
     agreeing_bilinear: u32,
     // G-buffer-guided warp: PATCHEX_RESAMPLE_* (0 Catmull-Rom, 1 bilinear).
     resample: u32,
+    // The shadow layer's warp: `motion` is the shadow flow's atlas, and the motion its finest
+    // level here, scaled up to the frame (`motion_at`); 0 x 0 for the engine's motion vectors.
+    motion_level_offset: vec2u,
+    motion_level_size: vec2u,
 }
 var<immediate> params: Params;
 
@@ -88,6 +92,14 @@ struct WarpCounters {
 // each warp compiles once. For any driver the select always yields `setting`.
 fn unspecialised(setting: u32) -> u32 {
     return select(0u, setting, textureDimensions(source_shading).x != 0u);
+}
+
+// The motion at target pixel p: the engine's vector, or the shadow flow's.
+fn motion_at(p: vec2u) -> vec2f {
+    if (unspecialised(params.motion_level_size.x) == 0u) {
+        return textureLoad(motion, p, 0).xy;
+    }
+    return frame_flow(motion, params.motion_level_offset, params.motion_level_size, params.extent, p);
 }
 
 // The workgroup's tallies (tallies.wgsl).

@@ -8,7 +8,7 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
     let p = id.xy;
     if (all(p < params.extent)) {
         // Each of the target's inputs is read once, here.
-        let motion_vector = textureLoad(motion, p, 0).xy;
+        let motion_vector = motion_at(p);
         let t = target_surface(p);
         let result = warp_pixel(p, t, motion_vector);
         if (!result.deferred) {

@@ -79,7 +79,12 @@ impl Context {
             work,
             shadows,
             shadows_separated: shadows_separated(source.shadow_history),
-            shadows_tracked: source.shadow_history == PATCHEX_SHADOW_HISTORY_TRACKED,
+            shadow_flow: self
+                .images
+                .flow
+                .as_ref()
+                .filter(|_| source.shadow_history == PATCHEX_SHADOW_HISTORY_TRACKED)
+                .map(|atlases| atlases.frame_flow(inputs.extent)),
             target_shadow_mask: engine.target_shadow_mask,
             analysis,
             diagnostic_images,

@@ -192,7 +192,7 @@ impl OutputStaging {
 }
 
 /// The shadow sub-task's images, made at the first frame with a shadow input.
-pub type ShadowImages = ImageSet<3, Shadows>;
+pub type ShadowImages = ImageSet<2, Shadows>;
 pub struct Shadows;
 
 impl ShadowImages {
@@ -202,20 +202,13 @@ impl ShadowImages {
     /// shadows' share at the target: moved where the flow found a receiver, carried elsewhere.
     /// Cleared when there was no flow to move it by (frame t-1's shadows were not tracked).
     pub const SHADOW_SHARE: usize = 1;
-    /// The mask's flow at frame t's pixels; cleared when the flow is off.
-    pub const FLOW: usize = 2;
 
-    const SPECS: [ImageSpec; 3] = [
+    const SPECS: [ImageSpec; 2] = [
         // Shading, as the frame's: RGBA16F.
         frame_image("patchex shadow layer", vk::Format::R16G16B16A16_SFLOAT),
         ImageSpec {
             cleared: true,
             ..frame_image("patchex shadow share", vk::Format::R16G16B16A16_SFLOAT)
-        },
-        // Displacements: two channels, in half floats, as motion vectors come.
-        ImageSpec {
-            cleared: true,
-            ..frame_image("patchex shadow flow", vk::Format::R16G16_SFLOAT)
         },
     ];
 }
@@ -281,7 +274,8 @@ impl FlowAtlases {
     /// Frame t's and frame t-1's expansions, alternating (`Context::shadow_current`).
     pub const POLY: [usize; 2] = [1, 2];
     pub const POLY_XY: [usize; 2] = [3, 4];
-    /// Each iteration's estimate and result, alternating (`shadow_flow::FlowImages`).
+    /// Each iteration's estimate and result, alternating (`shadow_flow::FlowImages`); the
+    /// first holds the flow when it is done (`shadow_flow::FrameFlow`).
     pub const FLOW_PYRAMID: [usize; 2] = [5, 6];
 
     const SPECS: [ImageSpec; 7] = [
@@ -300,11 +294,9 @@ impl FlowAtlases {
         atlas_image("patchex shadow flow pyramid B", vk::Format::R32G32_SFLOAT),
     ];
 
-    /// What the flow reads and writes: these atlases, frame t's `frame` mask, and the shadow
-    /// images' flow, which it leaves at the frame's size.
+    /// What the flow reads and writes: these atlases and frame t's `frame` mask.
     pub fn flow_images<'a>(
         &'a self,
-        shadows: &'a ShadowImages,
         current: usize,
         frame: shadow_flow::FrameMask<'a>,
     ) -> shadow_flow::FlowImages<'a> {
@@ -315,9 +307,14 @@ impl FlowAtlases {
             poly_xy: Self::POLY_XY.map(|index| &self[index]),
             current,
             flow_pyramid: Self::FLOW_PYRAMID.map(|index| &self[index]),
-            flow: &shadows[ShadowImages::FLOW],
             mask_step: shadow_flow::mask_step(self.extent),
         }
+    }
+
+    /// The flow the last submit measured for a frame of `extent`.
+    pub fn frame_flow(&self, extent: vk::Extent2D) -> shadow_flow::FrameFlow<'_> {
+        let atlas = &self[Self::FLOW_PYRAMID[0]];
+        shadow_flow::FrameFlow::of(atlas, shadow_flow::mask_step(self.extent), extent)
     }
 }
 

@@ -7,8 +7,9 @@
 
 use ash::vk;
 
+use crate::passes::shadow_flow::FrameFlow;
 use crate::passes::Texture;
-use crate::shaders::{write_diagnostics, write_shadow_diagnostics};
+use crate::shaders::{write_diagnostics, write_shadow_diagnostics, PushConstants};
 use crate::vk::image::OwnedImage;
 use crate::vk::recorder::{Pass, Recorder};
 
@@ -20,30 +21,55 @@ pub fn frame_sources(warped: Texture, regions: &OwnedImage, lbp: &OwnedImage) ->
     [warped, regions.into(), lbp.into()]
 }
 
-/// What `write_shadow_diagnostics` reads: the flow, the shadow layer and the shadows' share at
-/// the target.
-pub fn shadow_sources<'a>(
-    flow: &'a OwnedImage,
-    shadow_layer: &'a OwnedImage,
-    shadow_share: &'a OwnedImage,
+/// What `write_shadow_diagnostics` reads: the flow's atlas, the shadow layer and the shadows'
+/// share at the target.
+pub fn shadow_sources(
+    flow_atlas: Texture,
+    shadow_layer: &OwnedImage,
+    shadow_share: &OwnedImage,
 ) -> [Texture; 3] {
     use write_shadow_diagnostics::binding;
     debug_assert_eq!(
-        [binding::FLOW, binding::SHADOW_LAYER, binding::SHADOW_SHARE],
+        [
+            binding::FLOW_ATLAS,
+            binding::SHADOW_LAYER,
+            binding::SHADOW_SHARE
+        ],
         [0, 1, 2]
     );
-    [flow, shadow_layer, shadow_share].map(Texture::from)
+    [flow_atlas, shadow_layer.into(), shadow_share.into()]
+}
+
+pub fn frame_params(extent: vk::Extent2D) -> write_diagnostics::Params {
+    write_diagnostics::Params {
+        extent: [extent.width, extent.height],
+    }
+}
+
+/// `write_shadow_diagnostics`'s parameters, and the flow's atlas where the last submit measured
+/// a flow (zero flow without).
+pub fn shadow_params(
+    extent: vk::Extent2D,
+    flow: Option<FrameFlow>,
+) -> (Option<Texture>, write_shadow_diagnostics::Params) {
+    let params = write_shadow_diagnostics::Params {
+        extent: [extent.width, extent.height],
+        level_offset: flow.map_or([0; 2], |f| f.finest.offset),
+        level_size: flow.map_or([0; 2], |f| f.finest.size),
+    };
+    (flow.map(|f| f.atlas.into()), params)
 }
 
 /// Records either pass (`pass`) over `extent`.
-pub fn record(
+pub fn record<P: PushConstants>(
     rec: &mut Recorder,
     pass: Pass,
+    params: &P,
     extent: vk::Extent2D,
     sources: [Texture; 3],
     diagnostics: Texture,
 ) {
-    use write_diagnostics::{binding, Params};
+    use write_diagnostics::binding;
     debug_assert_eq!(
         binding::DIAGNOSTICS,
         write_shadow_diagnostics::binding::DIAGNOSTICS
@@ -55,8 +81,5 @@ pub fn record(
             .image(2, sources[2])
             .image(binding::DIAGNOSTICS, diagnostics)
     });
-    let params = Params {
-        extent: [extent.width, extent.height],
-    };
-    rec.dispatch(&bound, &params, extent);
+    rec.dispatch(&bound, params, extent);
 }

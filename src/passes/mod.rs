@@ -151,7 +151,6 @@ pipeline_table! {
     ShadowPoly: shadow_poly, 1;
     /// Reading the estimate from either flow atlas.
     ShadowFlowIterate: shadow_flow_iterate, 2;
-    ShadowFlowUpsample: shadow_flow_upsample, 1;
     /// The frame's warp (when chosen), which carries the shadow layer beside it.
     WarpGbuffer: warp_gbuffer, 1;
     WarpMotionVector: warp_motion_vector, 1;

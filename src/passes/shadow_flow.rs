@@ -1,10 +1,10 @@
 //! Farneback dense optical flow between the dynamic-caster shadow masks of frames t and t-1
 //! (Farneback 2003, "Two-frame motion estimation based on polynomial expansion"): a mask
 //! pyramid, each level's polynomial expansion, then coarse to fine a few iterations of
-//! per-texel equations, a box sum over the window and a 2x2 solve, and last the finest level's
-//! flow scaled up to the frame. The result is the displacement of each pixel of frame t to
-//! frame t-1 in pixels: the convention of motion vectors, so the occlusion-motion-vector warp
-//! can carry the shadow layer with it.
+//! per-texel equations, a box sum over the window and a 2x2 solve. The result is the finest
+//! level's flow, which the occlusion-motion-vector warp of the shadow layer scales up to the
+//! frame as it reads it (`FrameFlow`): the displacement of each pixel of frame t to frame t-1 in
+//! pixels, the convention of motion vectors.
 //!
 //! The pyramid starts at half the frame's resolution, or coarser in a context whose frames have
 //! been larger than 1280 pixels a side (`mask_step`): shadows are soft and move as wholes, and
@@ -273,10 +273,8 @@ pub struct FlowImages<'a> {
     pub poly_xy: [&'a OwnedImage; 2],
     pub current: usize,
     /// The flow of every level, twice: each iteration reads its estimate from one and writes
-    /// into the other.
+    /// into the other, the last into the first (`FrameFlow`).
     pub flow_pyramid: [&'a OwnedImage; 2],
-    /// The result, at the frame's resolution.
-    pub flow: &'a OwnedImage,
     /// Frame pixels per texel of the finest level (`mask_step` of the images' extent).
     pub mask_step: u32,
 }
@@ -287,7 +285,25 @@ pub struct FlowPasses<'a> {
     pub mask_pyramid: Pass<'a>,
     pub poly: Pass<'a>,
     pub iterate: [Pass<'a>; 2],
-    pub upsample: Pass<'a>,
+}
+
+/// The flow a submit measured, as the extrapolations read it: its finest level, in the first
+/// of the flow atlases, which `warp_occlusion_motion.wgsl` scales up to the frame
+/// (`frame_flow` in `include/atlas.wgsl`).
+#[derive(Clone, Copy)]
+pub struct FrameFlow<'a> {
+    pub atlas: &'a OwnedImage,
+    pub finest: Level,
+}
+
+impl<'a> FrameFlow<'a> {
+    /// The flow of a frame of `extent` in `atlas`, made with `mask_step` (`FlowImages`).
+    pub fn of(atlas: &'a OwnedImage, mask_step: u32, extent: vk::Extent2D) -> Self {
+        Self {
+            atlas,
+            finest: pyramid(flow_extent(extent, mask_step), 1)[0],
+        }
+    }
 }
 
 /// The atlases every flow iteration reads or writes over its level: both frames' expansions and
@@ -311,8 +327,8 @@ fn extent_of(level: &Level) -> vk::Extent2D {
 }
 
 /// Records the mask pyramid and frame t's expansion; then, when `tracked` (frame t-1's expansion
-/// is there), the flow, or else a zero flow. `tracked` holds `Camera::reprojection_into` from
-/// frame t's camera into frame t-1's, which starts the flow at the motion of static receivers.
+/// is there), the flow. `tracked` holds `Camera::reprojection_into` from frame t's camera into
+/// frame t-1's, which starts the flow at the motion of static receivers.
 pub fn record(
     rec: &mut Recorder,
     passes: &FlowPasses,
@@ -323,12 +339,9 @@ pub fn record(
 ) {
     let levels = pyramid(flow_extent(extent, images.mask_step), settings.levels);
     record_expansion(rec, passes, extent, settings, images, &levels);
-    match tracked {
-        Some(reprojection) => {
-            record_flow(rec, passes, extent, settings, images, &levels, reprojection)
-        }
-        // No frame t-1 to track from: the shadow stays where it is.
-        None => rec.clear(images.flow),
+    // Without frame t-1 to track from, the shadows stay where they are (`ShadowHistory`).
+    if let Some(reprojection) = tracked {
+        record_flow(rec, passes, settings, images, &levels, extent, reprojection);
     }
 }
 
@@ -392,17 +405,17 @@ fn record_expansion(
     rec.dispatch(&poly, &settings.poly_params(finest), span(levels));
 }
 
-/// The flow from frame t's and frame t-1's expansions, coarse to fine, scaled up to the frame.
+/// The flow from frame t's and frame t-1's expansions, coarse to fine, into `flow_pyramid[0]`.
 fn record_flow(
     rec: &mut Recorder,
     passes: &FlowPasses,
-    extent: vk::Extent2D,
     settings: &FlowSettings,
     images: &FlowImages,
     levels: &[Level],
+    extent: vk::Extent2D,
     reprojection: &PixelRays,
 ) {
-    use shaders::{shadow_flow_iterate as i, shadow_flow_upsample as u};
+    use shaders::shadow_flow_iterate as i;
     let (current, previous) = (images.current, 1 - images.current);
     let iterate = [0, 1].map(|from| {
         rec.bind(passes.iterate[from], |writes| {
@@ -421,7 +434,9 @@ fn record_flow(
     // The coarsest level starts where the cameras put static receivers.
     let [camera_offset, camera_at_origin, camera_per_x, camera_per_y] =
         camera_params(reprojection, images.mask_step << (levels.len() - 1));
-    // The estimate sits in flow_pyramid[n % 2] before iteration n.
+    // Iteration n of `total` writes flow_pyramid[(total - 1 - n) % 2], so that the last writes
+    // the first, and reads its estimate from the other.
+    let total = levels.len() * settings.iterations as usize;
     let atlas = images.mask_pyramid.extent;
     let mut n = 0;
     for (index, level) in levels.iter().enumerate().rev() {
@@ -456,21 +471,16 @@ fn record_flow(
             };
             let atlases: Vec<u32> = ITERATION_ATLASES.into_iter().chain(estimate).collect();
             let extents = (extent_of(level), atlas);
-            rec.dispatch_level(&iterate[n % 2], &params, extents, &atlases, depth_bytes);
+            rec.dispatch_level(
+                &iterate[(total - n) % 2],
+                &params,
+                extents,
+                &atlases,
+                depth_bytes,
+            );
             n += 1;
         }
     }
-    let upsample = rec.bind(passes.upsample, |writes| {
-        writes
-            .image(u::binding::FLOW_PYRAMID, images.flow_pyramid[n % 2])
-            .image(u::binding::FLOW, images.flow)
-    });
-    let params = u::Params {
-        extent: [extent.width, extent.height],
-        level_offset: levels[0].offset,
-        level_size: levels[0].size,
-    };
-    rec.dispatch(&upsample, &params, extent);
 }
 
 #[cfg(test)]

@@ -1,8 +1,8 @@
 //! Mirror of the Farneback flow passes (`shaders/shadow_mask_finest.wgsl`,
 //! `shadow_mask_pyramid.wgsl`, `shadow_poly.wgsl`, `shadow_flow_iterate.wgsl`,
-//! `shadow_flow_upsample.wgsl` and `include/flow.wgsl`), one image
-//! per level instead of one atlas per quantity; the pyramid is built level by level here, and on
-//! the GPU its coarser levels in one pass whose workgroups halve their tiles in workgroup memory.
+//! `include/flow.wgsl` and `include/atlas.wgsl`), one image per level instead of one atlas per
+//! quantity; the pyramid is built level by level here, and on the GPU in the finest level's pass,
+//! whose workgroups halve their tiles in workgroup memory.
 //! An iteration is three steps here (`equations`, `rows`, `solve`) and one pass on the GPU,
 //! which keeps the equations and their row sums in workgroup memory.
 
@@ -259,7 +259,8 @@ pub fn flow(
     coarser.expect("at least one level")
 }
 
-/// The finest level's flow scaled up to `width` x `height`.
+/// The finest level's flow scaled up to `width` x `height`, as the shadow layer's warp reads it
+/// (`frame_flow` in `include/atlas.wgsl`).
 pub fn upsample(flow: &Image, width: usize, height: usize) -> Image {
     let ratio =
         Vec2::new(width as f32, height as f32) / Vec2::new(flow.width as f32, flow.height as f32);
