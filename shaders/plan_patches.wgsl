@@ -1,6 +1,6 @@
 // Plans where the two inpainting networks run, from the objects' totals that object_bounds
 // left: the FI patch bounds every dynamic object's pixels, the near-BE patch every grown
-// rectangle (`grown_rect`, as grow_regions makes them beside this pass).
+// rectangle (`grown_rect`), which it lists as grow_regions would, in its place.
 // Each is widened by a margin of context, clamped to the frame, rounded up to its network's
 // multiple (patch texels past the frame read as zero), and given the indirect dispatch of each
 // of its network's levels. With a resolution divisor d a network texel covers d x d pixels, so
@@ -34,6 +34,7 @@ var<immediate> params: Params;
 
 @group(0) @binding(0) var<storage, read> totals: ObjectTable;
 @group(0) @binding(1) var<storage, read_write> slots: PatchSlots;
+@group(0) @binding(2) var<storage, read_write> list: RectTable;
 
 const EMPTY: u32 = 0xffffffffu;
 
@@ -120,6 +121,7 @@ fn main() {
     let nothing = Span(vec2u(EMPTY), vec2u(0u));
     var fi = nothing;
     var near_be = nothing;
+    var rects = 0u;
     for (var object = 1u; object < MAX_OBJECTS; object++) {
         let o = totals.objects[object];
         if (o.pixels == 0u) {
@@ -129,8 +131,11 @@ fn main() {
         let hi = vec2u(o.max[0], o.max[1]) + vec2u(1u);
         fi = union_span(fi, Span(lo, hi));
         let rect = grown_rect(object, o, params.growth, params.extent);
+        list.rects[rects] = rect;
+        rects++;
         near_be = union_span(near_be, Span(vec2u(rect.left, rect.top), vec2u(rect.right, rect.bottom)));
     }
+    list.rect_count = rects;
     if (params.whole_frame != 0u) {
         fi = Span(vec2u(0u), params.extent);
     }

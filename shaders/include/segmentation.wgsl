@@ -65,7 +65,7 @@ struct RectList {
     rects: array<RegionRect, MAX_OBJECTS>,
 }
 
-// The same list, read once grow_regions is done.
+// The same list, read once grow_regions is done, or written by plan_patches alone.
 struct RectTable {
     rect_count: u32,
     reserved: array<u32, 3>,

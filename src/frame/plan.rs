@@ -105,10 +105,6 @@ fn demodulate(rec: &mut Recorder, plan: &SubmitPlan) {
                     &sanitized,
                     plan.separates,
                 );
-                if !plan.flow.runs() {
-                    // The flow is off: no motion, for the diagnostics to show.
-                    rec.clear(&shadows[ShadowImages::FLOW]);
-                }
             }
             None => demodulate::record(
                 rec,
@@ -145,7 +141,7 @@ fn demodulate(rec: &mut Recorder, plan: &SubmitPlan) {
 /// How the shadow mask moved from frame t-1 to frame t.
 fn shadow_flow(rec: &mut Recorder, plan: &SubmitPlan) {
     let atlases = plan.flow_atlases.filter(|_| plan.flow.runs());
-    let (Some((separation, shadows)), Some(atlases)) = (plan.separation, atlases) else {
+    let (Some((separation, _)), Some(atlases)) = (plan.separation, atlases) else {
         return;
     };
     let passes = &plan.passes;
@@ -157,12 +153,10 @@ fn shadow_flow(rec: &mut Recorder, plan: &SubmitPlan) {
                 mask_pyramid: passes.get(PipelineId::ShadowMaskPyramid),
                 poly: passes.get(PipelineId::ShadowPoly),
                 iterate: [0, 1].map(|n| passes.nth(PipelineId::ShadowFlowIterate, n)),
-                upsample: passes.get(PipelineId::ShadowFlowUpsample),
             },
             plan.extent,
             &plan.flow,
             &atlases.flow_images(
-                shadows,
                 plan.shadow_current,
                 shadow_flow::FrameMask {
                     mask: separation.mask,
@@ -184,8 +178,8 @@ pub struct ExtrapolationPlan<'a> {
     pub shadows: Option<&'a ShadowImages>,
     /// Frame t's shadows were separated from its shading (`submit::shadows_separated`).
     pub shadows_separated: bool,
-    /// Frame t-1 came with one too: the flow measured how the shadows drift.
-    pub shadows_tracked: bool,
+    /// Frame t-1 came with one too: how the flow measured the shadows drift.
+    pub shadow_flow: Option<shadow_flow::FrameFlow<'a>>,
     /// `PatchexTargetShadowInput.mask`: the shadows at the target, in place of the flow's.
     pub target_shadow_mask: Option<Texture>,
     /// The regions, for the networks and the diagnostics.
@@ -288,7 +282,7 @@ impl<'a> ExtrapolationPlan<'a> {
     fn moves_shadows(&self) -> bool {
         self.shadows.is_some()
             && self.shadows_separated
-            && self.shadows_tracked
+            && self.shadow_flow.is_some()
             && !self.places_target_shadows()
     }
 
@@ -409,19 +403,24 @@ fn move_shadows(rec: &mut Recorder, plan: &ExtrapolationPlan) {
             rec.clear(share);
             return;
         }
+        let flow = plan
+            .shadow_flow
+            .expect("moving the shadows needs their flow");
         // The occlusion-motion warp's sets: the frame's own warp uses the first when it is
         // that warp.
         let flow_warp = PipelineId::WarpOcclusionMotion;
         let flow_set = (plan.warp_pipeline() == flow_warp) as usize;
+        // It reads its motion from the flow's finest level.
+        let params = warp::Params {
+            motion_level_offset: flow.finest.offset,
+            motion_level_size: flow.finest.size,
+            ..plan.shadow_params
+        };
         warp::record(
             rec,
             plan.passes.nth(flow_warp, flow_set),
-            &plan.shadow_params,
-            &plan.warp_inputs(
-                &shadows[ShadowImages::LAYER],
-                (&shadows[ShadowImages::FLOW]).into(),
-                None,
-            ),
+            &params,
+            &plan.warp_inputs(&shadows[ShadowImages::LAYER], flow.atlas.into(), None),
             Store::Shading,
             share.into(),
             &plan
@@ -501,8 +500,8 @@ fn target_shadows(rec: &mut Recorder, plan: &ExtrapolationPlan) {
     });
 }
 
-/// The objects' rectangles; with the networks, their patches, planned beside the rectangles from
-/// the same totals; with the networks or the diagnostics, every pixel's region.
+/// The objects' rectangles; with the networks, their patches, planned from the same totals, which
+/// list the rectangles too; with the networks or the diagnostics, every pixel's region.
 fn segment(rec: &mut Recorder, plan: &ExtrapolationPlan) {
     let table = plan
         .passes
@@ -513,34 +512,41 @@ fn segment(rec: &mut Recorder, plan: &ExtrapolationPlan) {
         motion_scale: plan.motion_scale,
     };
     rec.stage(PATCHEX_STAGE_SEGMENT, |rec| {
-        segmentation::record_rects(
+        let passes = &plan.passes;
+        segmentation::record_bounds(
             rec,
-            [
-                plan.passes.get(PipelineId::ObjectBounds),
-                plan.passes.get(PipelineId::GrowRegions),
-            ],
+            passes.get(PipelineId::ObjectBounds),
             plan.extent,
-            &plan.segmentation,
             &inputs,
             &table,
         );
-        if let Some(inpainting) = plan.inpainting {
-            let networks = &plan.networks;
-            inpaint::record_plan(
+        match plan.inpainting {
+            // The networks' planning lists the grown rectangles as well.
+            Some(inpainting) => {
+                let networks = &plan.networks;
+                inpaint::record_plan(
+                    rec,
+                    passes.get(PipelineId::PlanPatches),
+                    plan.extent,
+                    &inpaint::PatchPlan {
+                        levels: inpainting.levels(networks.running()),
+                        whole_frame: networks.whole_frame,
+                        divisor: networks.divisor,
+                        max_patch_side: inpainting.max_patch_side,
+                        growth: plan.segmentation.growth,
+                        step_levels: inpainting.pipelines.step_table(),
+                    },
+                    &table,
+                    &plan.patches(),
+                )
+            }
+            None => segmentation::record_growth(
                 rec,
-                plan.passes.get(PipelineId::PlanPatches),
+                passes.get(PipelineId::GrowRegions),
                 plan.extent,
-                &inpaint::PatchPlan {
-                    levels: inpainting.levels(networks.running()),
-                    whole_frame: networks.whole_frame,
-                    divisor: networks.divisor,
-                    max_patch_side: inpainting.max_patch_side,
-                    growth: plan.segmentation.growth,
-                    step_levels: inpainting.pipelines.step_table(),
-                },
-                &segmentation::object_totals(&table),
-                &plan.patches(),
-            );
+                &plan.segmentation,
+                &table,
+            ),
         }
         if let Some(analysis) = plan.analysis {
             segmentation::record_masks(
@@ -625,16 +631,18 @@ fn diagnostics(rec: &mut Recorder, plan: &ExtrapolationPlan) {
                 &lbp[DiagnosticImages::LBP],
             );
             let pass = plan.passes.get(PipelineId::WriteDiagnostics);
-            diagnostics::record(rec, pass, plan.extent, sources, image);
+            let params = diagnostics::frame_params(plan.extent);
+            diagnostics::record(rec, pass, &params, plan.extent, sources, image);
         }
         if let Some((image, shadows)) = shadow_diagnostics {
+            let (atlas, params) = diagnostics::shadow_params(plan.extent, plan.shadow_flow);
             let sources = diagnostics::shadow_sources(
-                &shadows[ShadowImages::FLOW],
+                atlas.unwrap_or(plan.placeholders.0),
                 &shadows[ShadowImages::LAYER],
                 &shadows[ShadowImages::SHADOW_SHARE],
             );
             let pass = plan.passes.get(PipelineId::WriteShadowDiagnostics);
-            diagnostics::record(rec, pass, plan.extent, sources, image);
+            diagnostics::record(rec, pass, &params, plan.extent, sources, image);
         }
     });
 }

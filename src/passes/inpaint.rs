@@ -17,6 +17,7 @@ use crate::network::codegen::{
 use crate::network::weights::MAX_LEVELS;
 use crate::network::{Network, Tensor, TensorPrecision, INPUT_CHANNELS};
 use crate::passes::remodulate::RemodulateInputs;
+use crate::passes::segmentation;
 use crate::passes::{CounterRange, RegionPasses, Texture};
 use crate::shaders::network_inputs::{binding, Params, SHADER};
 use crate::vk::access::GpuShare;
@@ -448,20 +449,21 @@ pub struct PatchPlan {
 }
 
 /// Records `plan_patches`: the FI, near-BE and blend patches from the objects' totals in the
-/// object table (`segmentation::object_totals`).
+/// object `table`, whose list of grown rectangles it fills as well.
 pub fn record_plan(
     rec: &mut Recorder,
     pass: Pass,
     extent: vk::Extent2D,
     plan: &PatchPlan,
-    totals: &CounterRange,
+    table: &CounterRange,
     patches: &CounterRange,
 ) {
     use crate::shaders::plan_patches::{binding, Params};
     let bound = rec.bind(pass, |writes| {
         writes
-            .buffer(binding::TOTALS, totals)
+            .buffer(binding::TOTALS, &segmentation::object_totals(table))
             .buffer(binding::SLOTS, patches)
+            .buffer(binding::LIST, &segmentation::rect_list(table))
     });
     let params = Params {
         extent: [extent.width, extent.height],

@@ -1,8 +1,9 @@
 //! Foveated segmentation (PatchEX section 4, Algorithm 1), three dispatches over one object table
 //! in the frame's counters (`shaders/include/segmentation.wgsl`):
 //! `object_bounds` accumulates each dynamic object's bounds and motion, `grow_regions` turns them
-//! into grown rectangles, `region_masks` labels every pixel FI, near-BE or far-BE. The networks'
-//! patches are planned from the same totals (`inpaint::record_plan`), beside `grow_regions`.
+//! into grown rectangles, `region_masks` labels every pixel FI, near-BE or far-BE. With the
+//! networks, their patches' planning (`inpaint::record_plan`) lists the grown rectangles in
+//! place of `grow_regions`, as it reads every object's totals anyway.
 
 use ash::vk;
 
@@ -75,7 +76,7 @@ pub fn object_totals(table: &CounterRange) -> CounterRange {
 }
 
 /// The grown rectangles in `table` (`RectList`, `RectTable`).
-fn rect_list(table: &CounterRange) -> CounterRange {
+pub fn rect_list(table: &CounterRange) -> CounterRange {
     CounterRange {
         buffer: table.buffer,
         offset: table.offset + RECT_LIST_OFFSET,
@@ -95,12 +96,11 @@ pub struct SegmentationInputs {
     pub motion_scale: [f32; 2],
 }
 
-/// Records object bounds and grown rectangles into `table`, which must be zero-filled.
-pub fn record_rects(
+/// Records every object's bounds and motion into `table`, which must be zero-filled.
+pub fn record_bounds(
     rec: &mut Recorder,
-    [object_bounds, grow_regions]: [Pass; 2],
+    object_bounds: Pass,
     extent: vk::Extent2D,
-    settings: &SegmentationSettings,
     inputs: &SegmentationInputs,
     table: &CounterRange,
 ) {
@@ -126,7 +126,16 @@ pub fn record_rects(
         height: extent.height.div_ceil(OBJECT_BOUNDS_BLOCK),
     };
     rec.dispatch(&object_bounds, &params, blocks);
+}
 
+/// Records the grown rectangles of the objects in `table` into its list.
+pub fn record_growth(
+    rec: &mut Recorder,
+    grow_regions: Pass,
+    extent: vk::Extent2D,
+    settings: &SegmentationSettings,
+    table: &CounterRange,
+) {
     use shaders::grow_regions as grow;
     let grow_regions = rec.bind(grow_regions, |writes| {
         writes
