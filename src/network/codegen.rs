@@ -8,14 +8,17 @@
 //! Every tensor lives in an RGBA16F (or, with `TensorPrecision::F32`, RGBA32F) image array, four
 //! channels a layer, the patch at its origin; layer `level` covers `patch.extent >> level`
 //! texels. Each invocation computes every output channel of one texel, so each input texel is
-//! fetched once per tap.
+//! fetched once per tap. The first layer reads the frame instead: its workgroup gathers the
+//! input planes of its tile and the tile's border into workgroup memory
+//! (`shaders/include/network_gather.wgsl`), convolves them from there, and stores its own texels
+//! for the output layer and the blend, so no pass of its own runs before the networks.
 
 use std::fmt::Write;
 
 use naga::back::spv;
 
 use super::weights::MAX_LEVELS;
-use super::{ConvWeights, Layer, LayerKind, TensorPrecision};
+use super::{ConvWeights, Layer, LayerKind, Tensor, TensorPrecision, INPUT_CHANNELS};
 use crate::error::{bail, Result};
 use crate::shaders::{Binding, DescriptorKind, ShaderInfo};
 
@@ -37,6 +40,27 @@ const BINDINGS: [Binding; 2 * NETWORK_BINDINGS as usize] = [
     network_binding(8, DescriptorKind::StorageImage, "layer_output"),
     network_binding(9, DescriptorKind::StorageBuffer, "network_patch"),
 ];
+/// The first layers' bindings: each network's input tensor, which they write, its output and
+/// its `Patch` record; between the two networks', the frame they gather from.
+const GATHER_BINDINGS: [Binding; 8] = [
+    Binding {
+        reads: false,
+        ..network_binding(2, DescriptorKind::StorageImage, "network_input")
+    },
+    network_binding(3, DescriptorKind::StorageImage, "layer_output"),
+    network_binding(4, DescriptorKind::StorageBuffer, "network_patch"),
+    Binding {
+        writes: false,
+        ..network_binding(binding::WARPED, DescriptorKind::StorageImage, "warped")
+    },
+    network_binding(binding::MATERIAL, DescriptorKind::SampledImage, "material"),
+    Binding {
+        reads: false,
+        ..network_binding(7, DescriptorKind::StorageImage, "network_input")
+    },
+    network_binding(8, DescriptorKind::StorageImage, "layer_output"),
+    network_binding(9, DescriptorKind::StorageBuffer, "network_patch"),
+];
 
 /// Binding `binding`: the layer's output is written, everything else read.
 const fn network_binding(binding: u32, kind: DescriptorKind, name: &'static str) -> Binding {
@@ -51,19 +75,45 @@ const fn network_binding(binding: u32, kind: DescriptorKind, name: &'static str)
 }
 
 /// Within a network's bindings: the layer's main input, its skip input (the main input again
-/// for a layer without one, which does not read it), the network's gathered input, the layer's
-/// output and the network's `Patch` record.
+/// for a layer without one, which does not read it), the network's gathered input (which the
+/// first layer writes), the layer's output and the network's `Patch` record. Past both
+/// networks', the frame the first layer gathers from (`network_gather.wgsl`).
 pub mod binding {
     pub const MAIN: u32 = 0;
     pub const SKIP: u32 = 1;
     pub const NETWORK_INPUT: u32 = 2;
     pub const OUTPUT: u32 = 3;
     pub const PATCH: u32 = 4;
+    pub const WARPED: u32 = 10;
+    pub const MATERIAL: u32 = 11;
+}
+
+/// `GatherParams` in `shaders/include/network_gather.wgsl`, the first layer's push constants.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default)]
+pub struct GatherParams {
+    pub frame_extent: [u32; 2],
+    pub has_material: u32,
+    pub _pad_end: u32,
+}
+
+impl crate::shaders::PushConstants for GatherParams {}
+
+/// The layer gathers the network's input from the frame: the first.
+pub fn gathers(layer: &Layer) -> bool {
+    layer.main == Tensor::Input
 }
 
 /// The `Patch` record the layers read: origin, padded extent and resolution divisor of the
 /// patch, then the indirect dispatch of each level.
 pub const PATCH_WGSL: &str = include_str!("../../shaders/include/patch.wgsl");
+/// What every step's code uses of the hand-written shaders' helpers, and what the first
+/// layer's gather does.
+const GBUFFER_WGSL: &str = include_str!("../../shaders/include/gbuffer.wgsl");
+const GATHER_WGSL: [&str; 2] = [
+    include_str!("../../shaders/include/lbp.wgsl"),
+    include_str!("../../shaders/include/network_gather.wgsl"),
+];
 /// Where the extent (two u32), the divisor (a u32) and the dispatches start in the record.
 pub const PATCH_EXTENT_OFFSET: u64 = 8;
 pub const PATCH_DIVISOR_OFFSET: u64 = 16;
@@ -78,20 +128,39 @@ pub type StepLayers<'a> = [Option<&'a Layer>; 2];
 /// the networks that have a layer at this step.
 pub fn shader_info(layers: StepLayers) -> ShaderInfo {
     let n = NETWORK_BINDINGS as usize;
-    let bindings: &'static [Binding] = match layers {
-        [Some(_), Some(_)] => &BINDINGS,
-        [Some(_), None] => &BINDINGS[..n],
-        [None, Some(_)] => &BINDINGS[n..],
-        [None, None] => &[],
+    let gather = step_gathers(layers);
+    let bindings: &'static [Binding] = match (layers, gather) {
+        ([Some(_), Some(_)], false) => &BINDINGS,
+        ([Some(_), None], false) => &BINDINGS[..n],
+        ([None, Some(_)], false) => &BINDINGS[n..],
+        ([Some(_), Some(_)], true) => &GATHER_BINDINGS,
+        ([Some(_), None], true) => &GATHER_BINDINGS[..5],
+        ([None, Some(_)], true) => &GATHER_BINDINGS[3..],
+        ([None, None], _) => &[],
     };
     ShaderInfo {
         name: "network step",
         spirv: &[],
         workgroup_size: [GROUP_EDGE, GROUP_EDGE, 1],
         bindings,
-        push_constant_size: 0,
+        push_constant_size: if gather {
+            size_of::<GatherParams>() as u32
+        } else {
+            0
+        },
         arithmetic: 0,
     }
+}
+
+/// The step's layers gather their input from the frame: the networks' first layers, which
+/// come together at the first step (`Network::from_safetensors` starts every network so).
+pub fn step_gathers(layers: StepLayers) -> bool {
+    let gather = layers.iter().flatten().any(|layer| gathers(layer));
+    debug_assert!(layers
+        .iter()
+        .flatten()
+        .all(|layer| gathers(layer) == gather));
+    gather
 }
 
 /// WGSL source of a step running `layers` side by side: one function per network's layer, and
@@ -100,10 +169,14 @@ pub fn shader_info(layers: StepLayers) -> ShaderInfo {
 pub fn wgsl(layers: StepLayers, precision: TensorPrecision) -> String {
     let mut s = String::new();
     s.push_str(PATCH_WGSL);
+    // Every output is held to the half-float range (its `MAX_HALF`), so that FP16 storage never
+    // makes an infinity.
+    s.push_str(GBUFFER_WGSL);
+    if step_gathers(layers) {
+        GATHER_WGSL.iter().for_each(|text| s.push_str(text));
+    }
     s.push_str(
-        "// Every output is held to the half-float range, so that FP16 storage never makes an infinity.
-const MAX_HALF: f32 = 65504.0;
-
+        "
 fn elu(x: vec4f) -> vec4f {
     return select(exp(x) - 1.0, x, x > vec4f(0.0));
 }
@@ -124,7 +197,8 @@ fn sigmoid(x: vec4f) -> vec4f {
 fn main(@builtin(workgroup_id) group: vec3u, @builtin(local_invocation_id) local: vec3u) {{"
     )
     .unwrap();
-    let texel = |group: &str| format!("{group} * {GROUP_EDGE}u + local.xy");
+    // A layer takes its workgroup's tile (its first texel) and the invocation's place in it.
+    let texel = |group: &str| format!("{group} * {GROUP_EDGE}u, local.xy");
     match layers {
         [Some(first), Some(_)] => writeln!(
             s,
@@ -157,23 +231,41 @@ fn main(@builtin(workgroup_id) group: vec3u, @builtin(local_invocation_id) local
     s
 }
 
-/// Declares network `network`'s bindings and writes `layer_{network}(texel, patch_extent)`,
-/// which computes every output channel of one texel of `layer` over a patch of `patch_extent`.
+/// Declares network `network`'s bindings and writes `layer_{network}(tile, local, patch_extent)`,
+/// which computes every output channel of texel `tile + local` of `layer` over a patch of
+/// `patch_extent`.
 fn layer_function(s: &mut String, layer: &Layer, network: usize, precision: TensorPrecision) {
     let base = network as u32 * NETWORK_BINDINGS;
     let n = network;
+    let gather = gathers(layer);
+    if gather {
+        // The planes of the tile and its border, written once, read by all of the taps.
+        writeln!(
+            s,
+            "@group(0) @binding({}) var network_input_{n}: texture_storage_2d_array<rgba16float, write>;
+var<workgroup> gathered_{n}: array<vec4f, {}>;",
+            base + binding::NETWORK_INPUT,
+            INPUT_CHANNELS.div_ceil(4) * gathered_side(layer).pow(2) as usize,
+        )
+        .unwrap();
+    } else {
+        writeln!(
+            s,
+            "@group(0) @binding({}) var main_input_{n}: texture_2d_array<f32>;
+@group(0) @binding({}) var skip_input_{n}: texture_2d_array<f32>;
+@group(0) @binding({}) var network_input_{n}: texture_2d_array<f32>;",
+            base + binding::MAIN,
+            base + binding::SKIP,
+            base + binding::NETWORK_INPUT,
+        )
+        .unwrap();
+    }
     writeln!(
         s,
-        "@group(0) @binding({}) var main_input_{n}: texture_2d_array<f32>;
-@group(0) @binding({}) var skip_input_{n}: texture_2d_array<f32>;
-@group(0) @binding({}) var network_input_{n}: texture_2d_array<f32>;
-@group(0) @binding({}) var layer_output_{n}: texture_storage_2d_array<{}, write>;
+        "@group(0) @binding({}) var layer_output_{n}: texture_storage_2d_array<{}, write>;
 @group(0) @binding({}) var<storage, read> network_patch_{n}: Patch;
 
-fn layer_{n}(texel: vec2u, patch_extent: vec2u) {{",
-        base + binding::MAIN,
-        base + binding::SKIP,
-        base + binding::NETWORK_INPUT,
+fn layer_{n}(tile: vec2u, local: vec2u, patch_extent: vec2u) {{",
         base + binding::OUTPUT,
         precision.wgsl_format(),
         base + binding::PATCH,
@@ -189,9 +281,35 @@ fn layer_{n}(texel: vec2u, patch_extent: vec2u) {{",
         "    let main_extent = vec2i(patch_extent >> vec2u({main_level}u));"
     )
     .unwrap();
+    if gather {
+        gather_tile(s, layer, n);
+    }
     s.push_str(
-        "    if (any(texel >= extent)) {\n        return;\n    }\n    let p = vec2i(texel);\n",
+        "    let texel = tile + local;
+    if (any(texel >= extent)) {
+        return;
+    }
+    let p = vec2i(texel);
+",
     );
+    if gather {
+        // The output layer adds its result to the input colour, and the blend reads it back.
+        let border = layer.dilation;
+        let side = gathered_side(layer);
+        writeln!(
+            s,
+            "    let own = (local.y + {border}u) * {side}u + local.x + {border}u;"
+        )
+        .unwrap();
+        for g in 0..INPUT_CHANNELS.div_ceil(4) {
+            writeln!(
+                s,
+                "    textureStore(network_input_{n}, texel, {g}, gathered_{n}[{}u + own]);",
+                g as u32 * side * side
+            )
+            .unwrap();
+        }
+    }
 
     let (convs, outputs): (Vec<&ConvWeights>, usize) = match &layer.kind {
         LayerKind::Gated { feature, gate } => (vec![feature, gate], feature.outputs),
@@ -213,26 +331,37 @@ fn layer_{n}(texel: vec2u, patch_extent: vec2u) {{",
             let d = layer.dilation as i32;
             let (dx, dy) = ((kx as i32 - 1) * d, (ky as i32 - 1) * d);
             writeln!(s, "    {{").unwrap();
-            writeln!(
-                s,
-                "        let q = p * {}i + vec2i({dx}, {dy});",
-                layer.stride
-            )
-            .unwrap();
-            writeln!(
-                s,
-                "        let inside = all(q >= vec2i(0)) && all(q < main_extent);"
-            )
-            .unwrap();
-            writeln!(
-                s,
-                "        let c = vec2u(clamp(q, vec2i(0), main_extent - 1));"
-            )
-            .unwrap();
+            if gather {
+                // The tap's texel in the gathered tile, zero outside the patch already.
+                let side = gathered_side(layer);
+                let at = |offset: i32, axis: &str| format!("(i32(local.{axis}) + {})", offset + d);
+                writeln!(
+                    s,
+                    "        let t = u32({} * {side} + {});",
+                    at(dy, "y"),
+                    at(dx, "x")
+                )
+                .unwrap();
+            } else {
+                writeln!(
+                    s,
+                    "        let q = p * {}i + vec2i({dx}, {dy});
+        let inside = all(q >= vec2i(0)) && all(q < main_extent);
+        let c = vec2u(clamp(q, vec2i(0), main_extent - 1));",
+                    layer.stride
+                )
+                .unwrap();
+            }
             // An upsampled main input is read at half the coordinates.
             let m = if layer.upsample { "c / 2u" } else { "c" };
             let mut inputs = Vec::new();
             for g in 0..main_groups {
+                if gather {
+                    let plane = g as u32 * gathered_side(layer).pow(2);
+                    writeln!(s, "        let x{g} = gathered_{n}[{plane}u + t];").unwrap();
+                    inputs.push(g);
+                    continue;
+                }
                 writeln!(
                     s,
                     "        let x{g} = select(vec4f(0.0), textureLoad(main_input_{n}, {m}, {g}, 0), inside);"
@@ -276,6 +405,37 @@ fn layer_{n}(texel: vec2u, patch_extent: vec2u) {{",
         .unwrap();
     }
     s.push_str("}\n\n");
+}
+
+/// Texels on a side of the tile a first layer gathers: the workgroup's, and the taps' reach
+/// around it.
+fn gathered_side(layer: &Layer) -> u32 {
+    GROUP_EDGE + 2 * layer.dilation
+}
+
+/// Writes the first layer's gather of its tile and border into `gathered_{n}`, every plane at
+/// every texel, zero outside the patch as the convolution pads. Every invocation takes part, so
+/// the function returns before none of them has.
+fn gather_tile(s: &mut String, layer: &Layer, n: usize) {
+    debug_assert!(layer.stride == 1 && !layer.upsample && layer.skip.is_none());
+    let side = gathered_side(layer);
+    let texels = side * side;
+    let lanes = GROUP_EDGE * GROUP_EDGE;
+    writeln!(
+        s,
+        "    for (var i = local.y * {GROUP_EDGE}u + local.x; i < {texels}u; i += {lanes}u) {{
+        let q = vec2i(tile) - {border} + vec2i(vec2u(i % {side}u, i / {side}u));
+        var g = Gathered(vec4f(0.0), vec4f(0.0));
+        if (all(q >= vec2i(0)) && all(q < main_extent)) {{
+            g = gather(vec2u(q), network_patch_{n}.origin, network_patch_{n}.divisor);
+        }}
+        gathered_{n}[i] = g.colour_hole;
+        gathered_{n}[{texels}u + i] = g.surface;
+    }}
+    workgroupBarrier();",
+        border = layer.dilation,
+    )
+    .unwrap();
 }
 
 fn bias_at(conv: &ConvWeights, output: usize) -> f32 {

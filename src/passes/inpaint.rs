@@ -1,6 +1,6 @@
-//! Inference of the FI and near-BE networks side by side, each on its own patch:
-//! `network_inputs` gathers both networks' input planes from the frame, then one generated
-//! shader per step (`network::codegen`) runs each network's layer of that step. Every pass is
+//! Inference of the FI and near-BE networks side by side, each on its own patch: one generated
+//! shader per step (`network::codegen`) runs each network's layer of that step, the first
+//! gathering both networks' input planes from the frame as it goes. Every pass is
 //! dispatched indirectly from the step's record, which `plan_patches` writes from both patches,
 //! so that the work follows the patches' area and a frame without one dispatches no workgroup.
 //! Also here, as they share the patch records: their planning (`record_plan`, in the
@@ -12,14 +12,14 @@ use gpu_allocator::vulkan::Allocator;
 
 use crate::error::Result;
 use crate::network::codegen::{
-    self, GROUP_EDGE, PATCH_BYTES, PATCH_DISPATCH_OFFSET, PATCH_DIVISOR_OFFSET, PATCH_EXTENT_OFFSET,
+    self, GatherParams, GROUP_EDGE, PATCH_BYTES, PATCH_DISPATCH_OFFSET, PATCH_DIVISOR_OFFSET,
+    PATCH_EXTENT_OFFSET,
 };
 use crate::network::weights::MAX_LEVELS;
 use crate::network::{Network, Tensor, TensorPrecision, INPUT_CHANNELS};
 use crate::passes::remodulate::RemodulateInputs;
 use crate::passes::segmentation;
 use crate::passes::{CounterRange, RegionPasses, Texture};
-use crate::shaders::network_inputs::{binding, Params, SHADER};
 use crate::vk::access::GpuShare;
 use crate::vk::device::Gpu;
 use crate::vk::image::OwnedImage;
@@ -39,21 +39,21 @@ pub fn patch_capacity(extent: [u32; 2], max_patch_side: u32, multiple: u32) -> [
     extent.map(|side| side.min(max_patch_side).next_multiple_of(multiple))
 }
 
-/// The most steps the networks run in: the gather, then as many layers as the deeper network
-/// has (`Network::from_safetensors`: an encoder, bottleneck and decoder layer per level, less
+/// The most steps the networks run in: as many as the deeper network has layers
+/// (`Network::from_safetensors`: an encoder, bottleneck and decoder layer per level, less
 /// one, and the output layer), as many as `PatchSlots` holds dispatches for.
 const MAX_STEPS: usize = 16;
-const _: () = assert!(2 * MAX_LEVELS + 2 <= MAX_STEPS);
+const MAX_LAYERS: usize = 2 * MAX_LEVELS + 1;
+const _: () = assert!(MAX_LAYERS <= MAX_STEPS);
 
-/// The FI and near-BE networks compiled to run side by side: the gather, then one generated
-/// shader per step, each running both networks' layers of that step in one dispatch. Their
-/// descriptor sets are the frame ring's, after the fixed pipelines' (`Inpainting::set_layouts`).
+/// The FI and near-BE networks compiled to run side by side: one generated shader per step,
+/// each running both networks' layers of that step in one dispatch. Their descriptor sets are
+/// the frame ring's, after the fixed pipelines' (`Inpainting::set_layouts`).
 pub struct NetworkPipelines {
     /// FI, then near-BE.
     pub networks: [Network; 2],
     /// The format every layer writes its output in.
     pub precision: TensorPrecision,
-    gather: ComputePipeline,
     steps: Vec<ComputePipeline>,
 }
 
@@ -62,10 +62,9 @@ impl NetworkPipelines {
         let mut built = Self {
             networks,
             precision,
-            gather: ComputePipeline::new(gpu, SHADER)?,
             steps: Vec::new(),
         };
-        for step in 1..built.step_count() {
+        for step in 0..built.step_count() {
             let layers = built.step_layers(step);
             let what = format!("network step {step}");
             let compiled =
@@ -84,27 +83,23 @@ impl NetworkPipelines {
         Ok(built)
     }
 
-    /// The gather, then a step per layer of the deeper network.
+    /// A step per layer of the deeper network.
     fn step_count(&self) -> usize {
-        1 + self
-            .networks
+        self.networks
             .iter()
             .map(|n| n.layers.len())
             .max()
             .unwrap_or(0)
     }
 
-    /// Each network's layer at `step` (1 and on; the gather is step 0).
+    /// Each network's layer at `step`.
     fn step_layers(&self, step: usize) -> codegen::StepLayers<'_> {
-        [0, 1].map(|n| self.networks[n].layers.get(step - 1))
+        [0, 1].map(|n| self.networks[n].layers.get(step))
     }
 
     /// The level network `network`'s pass at `step` runs at, if it has one.
     fn step_level(&self, network: usize, step: usize) -> Option<u32> {
-        match step {
-            0 => Some(0),
-            _ => self.step_layers(step)[network].map(|layer| layer.level),
-        }
+        self.step_layers(step)[network].map(|layer| layer.level)
     }
 
     /// For `plan_patches`: per network two words, four bits per step, the level of its pass at
@@ -121,12 +116,12 @@ impl NetworkPipelines {
         table
     }
 
-    /// The gather's, then each step's, in the order a run's sets take.
+    /// Each step's, in the order a run's sets take.
     fn pipelines(&self) -> impl Iterator<Item = &ComputePipeline> {
-        std::iter::once(&self.gather).chain(&self.steps)
+        self.steps.iter()
     }
 
-    /// The layouts of one run's descriptor sets: the gather's, then one per step.
+    /// The layouts of one run's descriptor sets: one per step.
     pub fn set_layouts(&self) -> Vec<vk::DescriptorSetLayout> {
         self.pipelines().map(|p| p.set_layout).collect()
     }
@@ -137,7 +132,6 @@ impl NetworkPipelines {
     }
 
     pub fn destroy(&mut self, device: &ash::Device) {
-        self.gather.destroy(device);
         for step in &mut self.steps {
             step.destroy(device);
         }
@@ -290,63 +284,43 @@ pub struct NetworkRun<'a> {
     pub patches: CounterRange,
 }
 
-/// Records the gather and each step of the two networks side by side: one dispatch and one
-/// barrier a step. Each network's part counts the bytes of the share of the frame and of its
-/// tensors that its patch spans.
+/// Records each step of the two networks side by side: one dispatch and one barrier a step.
+/// Each network's part counts the bytes of the share of the frame and of its tensors that its
+/// patch spans.
 pub fn record(rec: &mut Recorder, inputs: &FrameInputs, run: &NetworkRun) {
-    let material = inputs.material.unwrap_or(inputs.placeholder);
-    let frame_pixels = inputs.frame_extent.width as u64 * inputs.frame_extent.height as u64;
     let patch = [PATCH_SLOT_FI, PATCH_SLOT_NEAR_BE].map(|slot| patch_record(&run.patches, slot));
-    let [first, second] = run.tensors;
-    let gather = Pass {
-        pipeline: &run.pipelines.gather,
-        set: run.sets[0],
-    };
-    let gather = rec.bind(gather, |writes| {
-        writes
-            .image(binding::WARPED, inputs.warped)
-            .image(binding::MATERIAL, material)
-            .image(binding::FIRST_INPUT, &first.input)
-            .buffer(binding::FIRST_PATCH, &patch[0].range())
-            .image(binding::SECOND_INPUT, &second.input)
-            .buffer(binding::SECOND_PATCH, &patch[1].range())
-    });
-    let params = Params {
-        frame_extent: [inputs.frame_extent.width, inputs.frame_extent.height],
-        has_material: inputs.material.is_some() as u32,
-        _pad_end: [0; 4],
-    };
-    let frame = [binding::WARPED, binding::MATERIAL];
-    rec.dispatch_over_patch(
-        &gather,
-        &params,
-        &step_dispatch(&run.patches, 0),
-        &[
-            (&frame, patch[0].pixels(frame_pixels)),
-            (&frame, patch[1].pixels(frame_pixels)),
-            (&[binding::FIRST_INPUT], patch[0].texels(first)),
-            (&[binding::SECOND_INPUT], patch[1].texels(second)),
-        ],
-    );
-    for step in 1..run.pipelines.step_count() {
-        record_step(rec, run, &patch, step);
+    for step in 0..run.pipelines.step_count() {
+        record_step(rec, inputs, run, &patch, step);
     }
 }
 
-/// Records `step` (1 and on) of the networks side by side: each network's layer of that step
-/// over its patch `patch`, where it has one.
-fn record_step(rec: &mut Recorder, run: &NetworkRun, patch: &[PatchRecord; 2], step: usize) {
-    use codegen::binding::{MAIN, NETWORK_INPUT, OUTPUT, PATCH, SKIP};
+/// Records `step` of the networks side by side: each network's layer of that step over its
+/// patch `patch`, where it has one; the first step gathers from the frame in `inputs`.
+fn record_step(
+    rec: &mut Recorder,
+    inputs: &FrameInputs,
+    run: &NetworkRun,
+    patch: &[PatchRecord; 2],
+    step: usize,
+) {
+    use codegen::binding::{MAIN, MATERIAL, NETWORK_INPUT, OUTPUT, PATCH, SKIP, WARPED};
     let layers = run.pipelines.step_layers(step);
+    let gathers = codegen::step_gathers(layers);
     let pass = Pass {
-        pipeline: &run.pipelines.steps[step - 1],
+        pipeline: &run.pipelines.steps[step],
         set: run.sets[step],
     };
     let tensor_bindings = [0, 1].map(|network| {
         let base = network as u32 * codegen::NETWORK_BINDINGS;
         [MAIN, SKIP, NETWORK_INPUT, OUTPUT, PATCH].map(|binding| base + binding)
     });
+    let material = inputs.material.unwrap_or(inputs.placeholder);
     let bound = rec.bind(pass, |mut writes| {
+        if gathers {
+            writes = writes
+                .image(WARPED, inputs.warped)
+                .image(MATERIAL, material);
+        }
         for (network, layer) in layers.iter().enumerate() {
             let Some(layer) = layer else { continue };
             let tensors = run.tensors[network];
@@ -354,28 +328,43 @@ fn record_step(rec: &mut Recorder, run: &NetworkRun, patch: &[PatchRecord; 2], s
                 Tensor::Input => &tensors.input,
                 Tensor::Layer(n) => &tensors.layers[n],
             };
-            let main = tensor(layer.main);
-            let [main_binding, skip, input, output, patch_binding] = tensor_bindings[network];
+            let [main, skip, input, output, patch_binding] = tensor_bindings[network];
+            if !gathers {
+                let main_tensor = tensor(layer.main);
+                writes = writes
+                    .image(main, main_tensor)
+                    .image(skip, layer.skip.map_or(main_tensor, tensor));
+            }
             writes = writes
-                .image(main_binding, main)
-                .image(skip, layer.skip.map_or(main, tensor))
                 .image(input, &tensors.input)
-                .image(output, &tensors.layers[step - 1])
+                .image(output, &tensors.layers[step])
                 .buffer(patch_binding, &patch[network].range());
         }
         writes
     });
-    // Each network's tensors are read and written over its patch; its record is read whole.
-    let shares: Vec<(&[u32], GpuShare)> = (0..2)
-        .filter(|&network| layers[network].is_some())
-        .map(|network| {
-            (
-                &tensor_bindings[network][..4],
-                patch[network].texels(run.tensors[network]),
-            )
-        })
-        .collect();
-    rec.dispatch_over_patch(&bound, &(), &step_dispatch(&run.patches, step), &shares);
+    // Each network's tensors are read and written over its patch, and the frame it gathers
+    // from over the pixels the patch covers; its record is read whole.
+    let frame = [WARPED, MATERIAL];
+    let frame_pixels = inputs.frame_extent.width as u64 * inputs.frame_extent.height as u64;
+    let mut shares: Vec<(&[u32], GpuShare)> = Vec::new();
+    for network in (0..2).filter(|&network| layers[network].is_some()) {
+        let texels = patch[network].texels(run.tensors[network]);
+        shares.push((&tensor_bindings[network][..4], texels));
+        if gathers {
+            shares.push((&frame, patch[network].pixels(frame_pixels)));
+        }
+    }
+    let step_dispatch = step_dispatch(&run.patches, step);
+    if gathers {
+        let params = GatherParams {
+            frame_extent: [inputs.frame_extent.width, inputs.frame_extent.height],
+            has_material: inputs.material.is_some() as u32,
+            ..Default::default()
+        };
+        rec.dispatch_over_patch(&bound, &params, &step_dispatch, &shares);
+    } else {
+        rec.dispatch_over_patch(&bound, &(), &step_dispatch, &shares);
+    }
 }
 
 /// The indirect dispatch of `step` in the patch records `patches`.

@@ -1,5 +1,5 @@
 //! Mirror of the passes around the inpainting networks: `plan_patches.wgsl` (where each network
-//! runs), `network_inputs.wgsl` (what it reads) and `blend_patches.wgsl` (where its result
+//! runs), `include/network_gather.wgsl` (what it reads) and `blend_patches.wgsl` (where its result
 //! goes). The networks themselves are `reference::network::forward`.
 
 use glam::Vec3;
@@ -183,7 +183,7 @@ pub fn plan_patches(
     Patches { fi, near_be, blend }
 }
 
-/// The network's input planes over `patch` (`network_inputs.wgsl`), rounded to f16 as the GPU
+/// The network's input planes over `patch` (`include/network_gather.wgsl`), rounded to f16 as the GPU
 /// stores them: warped colour (held to the half-float range), hole, roughness, metallic, LBP,
 /// zero. A texel is the mean of its `divisor` x `divisor` pixels, those outside the frame zero.
 pub fn gather_inputs(warped: &Image, material: Option<&Image>, patch: Patch) -> Planes {
