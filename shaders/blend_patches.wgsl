@@ -1,5 +1,6 @@
 // Scatters the networks' repaired colour back into the warped frame under the region masks
-// (PatchEX's F = M1*F1 + M2*F2 + M3*F3) and remodulates as it writes (include/remodulation.wgsl),
+// (PatchEX's F = M1*F1 + M2*F2 + M3*F3; each pixel's region from the target's stencil and the
+// grown rectangles, `region_of`, where a network could repair it) and remodulates as it writes (include/remodulation.wgsl),
 // in place in the frame image, over every pixel: FI pixels take the FI network's result, near-BE
 // pixels the near-BE network's, far-BE pixels keep the warp's. Unless `correct_valid_pixels` (the
 // paper's blend), only the warp's holes take a correction: where the warp found its source,
@@ -13,6 +14,7 @@
 // #import gbuffer
 // #import patch
 // #import segmentation
+// #import regions
 // #import tallies
 // #import remodulation
 
@@ -23,12 +25,14 @@ struct Params {
     has_shadow_share: u32,
     whole_frame: u32,
     correct_valid_pixels: u32,
+    has_stencil: u32,
 }
 var<immediate> params: Params;
 
 // Bindings 1, 2, 4 and 5 are include/remodulation.wgsl's.
 @group(0) @binding(0) var frame: texture_storage_2d<rgba16float, read_write>;
-@group(0) @binding(6) var regions: texture_2d<u32>;
+@group(0) @binding(6) var target_stencil: texture_2d<u32>;
+@group(0) @binding(12) var<storage, read> rects: RectTable;
 @group(0) @binding(7) var fi_input: texture_2d_array<f32>;
 @group(0) @binding(8) var fi_output: texture_2d_array<f32>;
 @group(0) @binding(9) var near_be_input: texture_2d_array<f32>;
@@ -81,7 +85,7 @@ fn blended(p: vec2u, here: vec4f) -> vec4f {
     }
     let fi_patch = placement(PATCH_FI);
     let near_be_patch = placement(PATCH_NEAR_BE);
-    let region = textureLoad(regions, p, 0).r;
+    let region = region_of(p, params.has_stencil);
     if ((region == REGION_FI || params.whole_frame != 0u) && inside(p, fi_patch)) {
         return repaired(fi_input, fi_output, fi_patch, p, here);
     }

@@ -30,10 +30,9 @@ impl Context {
     ) -> Result<PatchexResult> {
         let (inputs, slot, done, serial) = self.check_target(desc, &extensions)?;
         let engine = self.import_engine_images(&inputs, &extensions)?;
-        // The regions, for the networks and the diagnostics only; the LBP map for the latter.
+        // The regions' and the LBP map's images, for the diagnostics only.
         let diagnose = engine.diagnostics.is_some();
-        let analyse = self.inpainting.is_some() || diagnose;
-        self.allocate(serial, inputs.output.written_by_copy, analyse, diagnose)?;
+        self.allocate(serial, inputs.output.written_by_copy, diagnose)?;
 
         // Everything is validated and allocated: from here on the call cannot fail.
         let source = self.source.as_ref().expect("checked");
@@ -49,7 +48,7 @@ impl Context {
             self.images.output_staging.as_mut(),
             inputs.output.written_by_copy,
         );
-        let analysis = in_use(&mut rec, self.images.analysis.as_mut(), analyse);
+        let analysis = in_use(&mut rec, self.images.analysis.as_mut(), diagnose);
         let diagnostic_images = in_use(&mut rec, self.images.diagnostics.as_mut(), diagnose);
         // The warp writes its shading here; the later passes refine it in place.
         let frame: Texture = staging.map_or(engine.output, |s| (&s[OutputStaging::FRAME]).into());
@@ -150,15 +149,9 @@ impl Context {
     }
 
     /// The images this extrapolation needs beyond the submit's: the staging of an output the
-    /// passes cannot store (`staging`), the regions (`analysis`) and the diagnostics' LBP map
+    /// passes cannot store (`staging`), and the diagnostics' regions and LBP map
     /// (`diagnostics`).
-    fn allocate(
-        &mut self,
-        serial: u64,
-        staging: bool,
-        analysis: bool,
-        diagnostics: bool,
-    ) -> Result<()> {
+    fn allocate(&mut self, serial: u64, staging: bool, diagnostics: bool) -> Result<()> {
         let mut growth = Growth {
             gpu: &self.gpu,
             allocator: &mut self.allocator,
@@ -168,10 +161,8 @@ impl Context {
         if staging {
             self.images.ensure_output_staging(&mut growth)?;
         }
-        if analysis {
-            self.images.ensure_analysis(&mut growth)?;
-        }
         if diagnostics {
+            self.images.ensure_analysis(&mut growth)?;
             self.images.ensure_diagnostics(&mut growth)?;
         }
         Ok(())

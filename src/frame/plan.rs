@@ -182,7 +182,7 @@ pub struct ExtrapolationPlan<'a> {
     pub shadow_flow: Option<shadow_flow::FrameFlow<'a>>,
     /// `PatchexTargetShadowInput.mask`: the shadows at the target, in place of the flow's.
     pub target_shadow_mask: Option<Texture>,
-    /// The regions, for the networks and the diagnostics.
+    /// The regions, for the diagnostics.
     pub analysis: Option<&'a AnalysisImages>,
     /// The LBP map, for the diagnostics.
     pub diagnostic_images: Option<&'a DiagnosticImages>,
@@ -226,10 +226,10 @@ pub struct ExtrapolationPlan<'a> {
 /// Records the extrapolation's stages in order.
 pub fn record(rec: &mut Recorder, plan: &ExtrapolationPlan) {
     move_shadows(rec, plan);
+    segment(rec, plan);
     warp_frame(rec, plan);
     fill_holes(rec, plan);
     target_shadows(rec, plan);
-    segment(rec, plan);
     lbp(rec, plan);
     diagnostics(rec, plan);
     inference_and_blend(rec, plan);
@@ -307,12 +307,18 @@ impl<'a> ExtrapolationPlan<'a> {
     /// With nothing to run between the warp and the output but the highlights (no shadow layers,
     /// networks or diagnostics), the warp remodulates as it writes.
     fn remodulates_in_warp(&self) -> bool {
-        self.shadows.is_none() && self.analysis.is_none()
+        self.shadows.is_none() && self.inpainting.is_none() && self.analysis.is_none()
     }
 
     /// The networks run, and their blend remodulates as it writes.
     fn blends(&self) -> bool {
-        self.inpainting.is_some() && self.analysis.is_some()
+        self.inpainting.is_some()
+    }
+
+    /// The segmentation's object totals and grown rectangles.
+    fn object_table(&self) -> CounterRange {
+        self.passes
+            .counters(counters::OBJECT_TABLE, segmentation::TABLE_BYTES)
     }
 
     fn remodulation_inputs(&self) -> remodulate::RemodulateInputs {
@@ -503,9 +509,7 @@ fn target_shadows(rec: &mut Recorder, plan: &ExtrapolationPlan) {
 /// The objects' rectangles; with the networks, their patches, planned from the same totals, which
 /// list the rectangles too; with the networks or the diagnostics, every pixel's region.
 fn segment(rec: &mut Recorder, plan: &ExtrapolationPlan) {
-    let table = plan
-        .passes
-        .counters(counters::OBJECT_TABLE, segmentation::TABLE_BYTES);
+    let table = plan.object_table();
     let inputs = segmentation::SegmentationInputs {
         target_objects: plan.target.objects(plan.placeholders.1),
         motion: plan.motion,
@@ -579,7 +583,7 @@ fn lbp(rec: &mut Recorder, plan: &ExtrapolationPlan) {
 
 /// The networks on the patches the segmentation planned, then their blend.
 fn inference_and_blend(rec: &mut Recorder, plan: &ExtrapolationPlan) {
-    let Some((inpainting, analysis)) = plan.inpainting.zip(plan.analysis) else {
+    let Some(inpainting) = plan.inpainting else {
         return;
     };
     let patches = plan.patches();
@@ -603,7 +607,8 @@ fn inference_and_blend(rec: &mut Recorder, plan: &ExtrapolationPlan) {
             plan.extent,
             &inpaint::BlendInputs {
                 patches,
-                regions: &analysis[AnalysisImages::REGIONS],
+                target_objects: plan.target.objects(plan.placeholders.1),
+                table: plan.object_table(),
                 networks: inpainting.tensors(),
                 whole_frame: networks.whole_frame,
                 correct_valid_pixels: networks.correct_valid_pixels,

@@ -17,6 +17,7 @@ use crate::network::codegen::{
 };
 use crate::network::weights::MAX_LEVELS;
 use crate::network::{Network, Tensor, TensorPrecision, INPUT_CHANNELS};
+use crate::passes::pack_gbuffer::EngineObjects;
 use crate::passes::remodulate::RemodulateInputs;
 use crate::passes::segmentation;
 use crate::passes::{CounterRange, RegionPasses, Texture};
@@ -473,12 +474,15 @@ pub fn record_plan(
     rec.dispatch(&bound, &params, one);
 }
 
-/// What `blend_patches` reads: the region mask and the FI and near-BE networks' tensors (a
-/// network that is off this frame has an empty patch, and its tensors are not read).
+/// What `blend_patches` reads: the target's stencil and the grown rectangles, which give each
+/// pixel's region, and the FI and near-BE networks' tensors (a network that is off this frame
+/// has an empty patch, and its tensors are not read).
 pub struct BlendInputs<'a> {
     /// The patch records `plan_patches` wrote.
     pub patches: CounterRange,
-    pub regions: &'a OwnedImage,
+    pub target_objects: EngineObjects,
+    /// The segmentation's object table (`segmentation::TABLE_BYTES`).
+    pub table: CounterRange,
     pub networks: [&'a NetworkTensors; 2],
     /// Every pixel of the FI patch takes the FI network's result.
     pub whole_frame: bool,
@@ -503,7 +507,8 @@ pub fn record_blend(
     let bound = rec.bind(pass, |writes| {
         remodulation
             .bind(writes, frame, sanitized)
-            .image(blend::REGIONS, inputs.regions)
+            .image(blend::TARGET_STENCIL, inputs.target_objects.stencil)
+            .buffer(blend::RECTS, &segmentation::rect_list(&inputs.table))
             .image(blend::FI_INPUT, &fi.input)
             .image(blend::FI_OUTPUT, fi.output())
             .image(blend::NEAR_BE_INPUT, &near_be.input)
@@ -517,8 +522,10 @@ pub fn record_blend(
         has_shadow_share,
         whole_frame: inputs.whole_frame as u32,
         correct_valid_pixels: inputs.correct_valid_pixels as u32,
+        has_stencil: inputs.target_objects.has_stencil,
+        ..Default::default()
     };
-    // The regions are read over the blend patch, each network's tensors over its own.
+    // The stencil is read over the blend patch, each network's tensors over its own.
     let blend_patch = patch_record(patches, PATCH_SLOT_BLEND);
     rec.dispatch_sharing(
         &bound,
@@ -526,7 +533,7 @@ pub fn record_blend(
         extent,
         &[
             (
-                &[blend::REGIONS],
+                &[blend::TARGET_STENCIL],
                 blend_patch.pixels(extent.width as u64 * extent.height as u64),
             ),
             (

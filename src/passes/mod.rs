@@ -96,10 +96,12 @@ pub const STAGES: [Stage; 16] = {
         stage(PATCHEX_STAGE_DEMODULATE, "demodulate", Preprocessing),
         stage(PATCHEX_STAGE_SHADOW_FLOW, "shadow flow", Preprocessing),
         stage(PATCHEX_STAGE_SHADOW_WARP, "shadow warp", Warping),
+        // Before the warp, which it does not wait for: its dependent passes run beside the
+        // warp's, and the networks wait for both chains at one barrier.
+        stage(PATCHEX_STAGE_SEGMENT, "segment", Preprocessing),
         stage(PATCHEX_STAGE_WARP, "warp", Warping),
         stage(PATCHEX_STAGE_FILL_HOLES, "fill holes", Warping),
         stage(PATCHEX_STAGE_TARGET_SHADOWS, "target shadows", Warping),
-        stage(PATCHEX_STAGE_SEGMENT, "segment", Preprocessing),
         stage(PATCHEX_STAGE_LBP, "lbp", Preprocessing),
         stage(PATCHEX_STAGE_DIAGNOSTICS, "diagnostics", Output),
         stage(PATCHEX_STAGE_INFERENCE, "inference", Inference),

@@ -251,6 +251,13 @@ pub fn extrapolate(
                 &warp.shadow_params(extent, target.camera, alpha),
             ))
         });
+    let segmented = segmentation::segment(
+        &target_packed.normal_id,
+        motion,
+        target.motion_vector_scale,
+        segmentation.growth,
+    );
+    stages.push(PATCHEX_STAGE_SEGMENT);
     let warped = warp::warp(
         warp.kind,
         &warp::WarpSources::of(&shading, &source_packed),
@@ -302,13 +309,6 @@ pub fn extrapolate(
                 share,
             }
         });
-    let segmented = segmentation::segment(
-        &target_packed.normal_id,
-        motion,
-        target.motion_vector_scale,
-        segmentation.growth,
-    );
-    stages.push(PATCHEX_STAGE_SEGMENT);
     // Computed always, for the tests of the diagnostics: the plugin's stage runs for them only.
     let lbp = lbp::lbp(&warped.warped);
     let inpainted = networks.any().then(|| {
