@@ -507,7 +507,7 @@ fn target_shadows(rec: &mut Recorder, plan: &ExtrapolationPlan) {
 }
 
 /// The objects' rectangles; with the networks, their patches, planned from the same totals, which
-/// list the rectangles too; with the networks or the diagnostics, every pixel's region.
+/// list the rectangles too; with the diagnostics, every pixel's region.
 fn segment(rec: &mut Recorder, plan: &ExtrapolationPlan) {
     let table = plan.object_table();
     let inputs = segmentation::SegmentationInputs {
