@@ -11,6 +11,7 @@
 // src/reference/optical_flow.rs the levels.
 // #import gbuffer
 // #import flow
+// #import mask_tile
 
 struct Params {
     frame_size: vec2u,
@@ -81,14 +82,7 @@ fn main(
         let local = vec2u(lane % side, lane / side);
         let c = origin + local;
         if (lane < side * side && all(c < size)) {
-            var sum = 0.0;
-            for (var dy = 0u; dy < 2u; dy++) {
-                for (var dx = 0u; dx < 2u; dx++) {
-                    let finer = min(2u * c + vec2u(dx, dy), finer_size - 1u) - finer_origin;
-                    sum += tile[finer_base + finer.y * finer_side + finer.x];
-                }
-            }
-            let value = sum / 4.0;
+            let value = coarser_texel(c, finer_base, finer_side, finer_origin, finer_size);
             tile[base + lane] = value;
             textureStore(pyramid, offset + c, vec4f(value, 0.0, 0.0, 0.0));
         }

@@ -5,6 +5,7 @@
 // TILE x TILE tile of its base level and halves it in workgroup memory, level by level: the
 // texels a coarser texel covers, clamped at the level's edge, lie in its own tile, so no level
 // waits for another workgroup. src/reference/optical_flow.rs mirrors it.
+// #import mask_tile
 
 struct Params {
     // The level it starts from: its place in the atlas and its size.
@@ -52,14 +53,7 @@ fn main(@builtin(workgroup_id) group: vec3u, @builtin(local_invocation_index) la
             let local = vec2u(i % side, i / side);
             let p = origin + local;
             if (all(p < size)) {
-                var sum = 0.0;
-                for (var dy = 0u; dy < 2u; dy++) {
-                    for (var dx = 0u; dx < 2u; dx++) {
-                        let finer = min(2u * p + vec2u(dx, dy), finer_size - 1u) - finer_origin;
-                        sum += tile[finer_base + finer.y * finer_side + finer.x];
-                    }
-                }
-                let value = sum / 4.0;
+                let value = coarser_texel(p, finer_base, finer_side, finer_origin, finer_size);
                 tile[base + i] = value;
                 textureStore(pyramid, offset + p, vec4f(value, 0.0, 0.0, 0.0));
             }
