@@ -1,14 +1,19 @@
 // With a PatchexTranslucencyInput on frame t: blends frame t's translucency layer
 // (separate_translucency.wgsl) over the extrapolated frame, moved to the target instant:
 //   c' = max(layer.rgb + (1 - layer.a) * c, 0)
-// The layer is read where its content at the target was in frame t: with its own motion, the
-// point x with x = p + alpha * motion(x) (constant velocity), found by two steps from where the
-// surface behind p was; without, where the target's motion vectors say that surface was. Each
-// step reads the motion of the most covered texel around x, so that the edge of a puff moving
-// ahead of its texels still finds them; with none around, x stays where the surface was.
-// Where frame t did not see the target's surface (a disocclusion, which the warp fills from the
-// uncovered side), what lay over it was hidden too: the layer is spread there as the fill
-// spreads the shading, from the texels whose surface matches. A dynamic object takes the layer
+// The layer is read where its content at the target was in frame t: with its own motion, around
+// the point x with x = p + alpha * motion(x) (constant velocity), found by two steps from where
+// the surface behind p was; without, where the target's motion vectors say that surface was.
+// Each step reads the motion of the most covered texel around x, so that the edge of a puff
+// moving ahead of its texels still finds them; with none around, x stays where the surface was.
+// With its own motion, the texels around x are splatted forward: each moves by its own motion
+// and adds itself to the pixels its centre lands between, with bilinear weights, so that a puff
+// keeps its light where its motion stretches or squeezes it, and particles moving apart stay
+// apart. Where splats pile up beyond full cover, they are scaled back to it.
+// Without its own motion, where frame t did not see the target's surface (a disocclusion, which
+// the warp fills from the uncovered side), what lay over it was hidden too: the layer is spread
+// there as the fill spreads the shading, from the texels whose surface matches. With it, the
+// splat brings there what moved there. A dynamic object takes the layer
 // only where frame t's layer lay over it: one that moved in front of the translucency (whose
 // depth no input gives) must not be covered by it.
 // #import gbuffer
@@ -110,6 +115,23 @@ fn layer_at(x: vec2f) -> vec4f {
     return mix(mix(l00, l10, f.x), mix(l01, l11, f.x), f.y);
 }
 
+// The layer's texels around x, moved to the target instant by their own motion, splatted onto
+// the pixel centred at `centre`.
+fn layer_splatted(x: vec2f, centre: vec2f) -> vec4f {
+    let around = vec2i(floor(clamp(x, vec2f(-1.0), vec2f(params.extent) + 1.0)));
+    var sum = vec4f(0.0);
+    for (var i = 0; i < 9; i++) {
+        let s = around + vec2i(i % 3 - 1, i / 3 - 1);
+        if (any(s < vec2i(0)) || any(s >= vec2i(params.extent))) {
+            continue;
+        }
+        let moved = vec2f(s) + 0.5 - params.alpha * textureLoad(layer_motion, s, 0).xy;
+        let w = max(vec2f(1.0) - abs(moved - centre), vec2f(0.0));
+        sum += (w.x * w.y) * textureLoad(layer, s, 0);
+    }
+    return sum / max(1.0, sum.a);
+}
+
 @compute @workgroup_size(8, 8, 1)
 fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_index) lane: u32) {
     open_tallies(lane);
@@ -121,14 +143,15 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
         let finite = all(abs(x) <= vec2f(MAX_FINITE));
         var over = vec4f(0.0);
         let t = target_surface(p);
-        if (finite && t.valid && !seen_around(t, clamp(x, vec2f(0.0), vec2f(params.extent)))) {
-            over = fill_hole(x, t);
-        } else if (finite && (t.id == 0u || layer_at(x).a > 0.0)) {
-            if (unspecialised(params.has_motion) != ABSENT) {
-                for (var step = 0; step < 2; step++) {
-                    x = step_from(x, centre);
-                }
+        let takes_layer = finite && (t.id == 0u || layer_at(x).a > 0.0);
+        if (takes_layer && unspecialised(params.has_motion) != ABSENT) {
+            for (var step = 0; step < 2; step++) {
+                x = step_from(x, centre);
             }
+            over = layer_splatted(x, centre);
+        } else if (finite && t.valid && !seen_around(t, clamp(x, vec2f(0.0), vec2f(params.extent)))) {
+            over = fill_hole(x, t);
+        } else if (takes_layer) {
             over = layer_at(x);
         }
         if (over.a > 0.0) {

@@ -8,6 +8,8 @@
 // remains of the colour, premultiplied by a (held to [0, colour]), kept with a and with the
 // translucency's own motion for place_translucency.wgsl. A covered texel with no uncovered one
 // of its surface in reach keeps its shading, and its layer is a times its colour.
+// Given frame t's colour from before its translucency pass, the surface behind is that colour,
+// and the layer is taken apart exactly.
 // A layer is left in the colour, carried with the surface behind it, where that is right already
 // and taking it apart would only add the estimate's errors: where it is the same all around a
 // texel (inside a pane of glass or a fog card), since nothing in it moves that could show, and
@@ -27,6 +29,7 @@ struct Params {
     // The same for frame t's geometry motion vectors, when it came with them.
     surface_motion_scale: vec2f,
     has_surface_motion: u32,
+    has_opaque: u32,
 }
 var<immediate> params: Params;
 
@@ -47,6 +50,8 @@ var<immediate> params: Params;
 @group(0) @binding(10) var<storage, read_write> counters: SanitizeCounters;
 // Frame t's geometry motion vectors: where the surfaces behind the layer move.
 @group(0) @binding(11) var surface_motion: texture_2d<f32>;
+// Frame t's colour before its translucency pass, when the engine gave it.
+@group(0) @binding(12) var opaque_color: texture_2d<f32>;
 
 // The window's radius and tap spacing, in pixels.
 const BEHIND_RADIUS: i32 = 48;
@@ -141,8 +146,11 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
     open_tallies(lane);
     let p = id.xy;
     if (all(p < params.extent)) {
+        // Given frame t's colour before its translucency, the layer is taken apart exactly, so
+        // none of it is left in the colour.
+        let exact = unspecialised(params.has_opaque) != ABSENT;
         var a = coverage(vec2i(p));
-        if (a.value.x > 0.0 && uniform_layer(vec2i(p), a.value.x)) {
+        if (a.value.x > 0.0 && !exact && uniform_layer(vec2i(p), a.value.x)) {
             a.value = vec3f(0.0);
         }
         var changed = a.changed;
@@ -155,7 +163,7 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
             changed = changed || (a.value.x > 0.0 && !usable);
             if (unspecialised(params.has_surface_motion) != ABSENT) {
                 let surface = textureLoad(surface_motion, p, 0).xy * params.surface_motion_scale;
-                if (usable && length(own - surface) <= SAME_MOTION) {
+                if (usable && !exact && length(own - surface) <= SAME_MOTION) {
                     a.value = vec3f(0.0);
                 }
             }
@@ -165,11 +173,18 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
             let c = sanitize_input_color(textureLoad(color, p, 0).rgb);
             changed = changed || c.changed;
             var surface = c.value;
-            let behind = shading_behind(vec2i(p));
-            if (behind.a > 0.0) {
-                let m = pixel_modulation(base_color, material, p, unspecialised(params.has_material));
-                surface = min(behind.rgb * m.factor, vec3f(MAX_HALF));
+            let m = pixel_modulation(base_color, material, p, unspecialised(params.has_material));
+            if (unspecialised(params.has_opaque) != ABSENT) {
+                let opaque = sanitize_input_color(textureLoad(opaque_color, p, 0).rgb);
+                changed = changed || opaque.changed;
+                surface = opaque.value;
                 textureStore(shading, p, demodulated(surface, m.factor));
+            } else {
+                let behind = shading_behind(vec2i(p));
+                if (behind.a > 0.0) {
+                    surface = min(behind.rgb * m.factor, vec3f(MAX_HALF));
+                    textureStore(shading, p, demodulated(surface, m.factor));
+                }
             }
             // Light the layer adds, so never below 0, nor above the colour it is part of: an
             // estimate of the surface off by more than that is not carried with the layer.

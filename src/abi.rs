@@ -563,14 +563,17 @@ pub struct PatchexSkyLight {
 /// albedo of the wall behind it and moves it with the wall.
 ///
 /// How patchex uses it: in frame t, where the mask covers a pixel, it takes the opaque surface
-/// behind (the shading of nearby uncovered texels of the same surface) for the shading it warps,
-/// and keeps the rest as a premultiplied layer over it: colour = layer + (1 - mask) * surface.
-/// At the target, it moves that layer by its own motion, extrapolated at constant velocity to
-/// the target instant, or, without motion vectors of its own, as the target's motion vectors say
-/// the surface behind it moves; then blends it over the extrapolated frame. A layer the same all
-/// around a pixel (inside a pane of glass, a full-screen tint), one whose own motion is that of
-/// the surface behind it (given frame t's geometry motion vectors), and a fully covered region
-/// far from any uncovered texel stay in the colour and move with the surface behind them.
+/// behind for the shading it warps: `opaque_color` where the engine gives it, else an estimate
+/// from the shading of nearby uncovered texels of the same surface. It keeps the rest as a
+/// premultiplied layer over it: colour = layer + (1 - mask) * surface. At the target, it moves
+/// that layer by its own motion, extrapolated at constant velocity to the target instant (each
+/// texel splatted where its motion takes it), or, without motion vectors of its own, as the
+/// target's motion vectors say the surface behind it moves; then blends it over the
+/// extrapolated frame. Without `opaque_color`, a layer the same all around a pixel (inside a
+/// pane of glass, a full-screen tint), one whose own motion is that of the surface behind it
+/// (given frame t's geometry motion vectors), and a fully covered region far from any uncovered
+/// texel stay in the colour and move with the surface behind them, where the estimate would
+/// only add its errors.
 ///
 /// What an engine provides, after the conventions of FSR's transparency-and-composition mask:
 /// the mask's first channel is the opacity with which everything drawn after the G-buffer's
@@ -581,6 +584,8 @@ pub struct PatchexSkyLight {
 ///
 /// It costs patchex one pass over frame t's covered pixels in the submit and one over the
 /// target's in each extrapolation, and 12 bytes a pixel of memory from the first frame with it.
+/// `opaque_color` costs the engine a copy of its scene colour before the translucency pass
+/// (none where that pass draws into a target of its own), and saves patchex the estimate.
 ///
 /// It is for colour handed over after the translucency pass. An engine that hands over its
 /// colour from before that pass and draws its translucency over the extrapolated frame gives no
@@ -600,6 +605,12 @@ pub struct PatchexTranslucencyInput {
     /// are taken as zero and counted.
     pub motion_vectors: PatchexImage,
     pub motion_vector_scale: [f32; 2],
+    /// Optional: frame t's lit colour before the translucency pass, in the colour's space (the
+    /// engine's scene colour copied before it draws its translucency). Given it, patchex takes
+    /// the layer apart exactly, layer = colour - (1 - mask) * opaque colour, where without it it
+    /// estimates the surface behind. Formats as PatchexFrameDesc.color; texels that are NaN,
+    /// negative, infinite or beyond 65504 are sanitised and counted.
+    pub opaque_color: PatchexImage,
 }
 
 /// Farneback optical-flow settings a context uses unless told otherwise: four pyramid levels

@@ -139,6 +139,7 @@ pub struct TranslucencyInputs {
     pub mask: ImportedImage,
     pub motion_vectors: Option<ImportedImage>,
     pub motion_vector_scale: [f32; 2],
+    pub opaque_color: Option<ImportedImage>,
 }
 
 pub fn translucency(
@@ -167,6 +168,12 @@ pub fn translucency(
         )?,
         motion_vectors,
         motion_vector_scale: input.motion_vector_scale,
+        opaque_color: ImportedImage::import(
+            gpu,
+            &input.opaque_color,
+            &ImageRole::input("PatchexTranslucencyInput.opaque_color", FLOAT_COLOR_FORMATS),
+            extent,
+        )?,
     })
 }
 

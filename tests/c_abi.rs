@@ -152,9 +152,11 @@ fn c11_engine_meets_the_values_real_frames_hold() {
     assert!(printed.contains("ok (0 failures, 0 validation messages)"));
 }
 
-/// A puff of smoke over the frame, drifting up and to the right: a translucency mask (a soft
-/// disc) and its motion to the previous instant.
-fn smoke_over(width: usize, height: usize) -> (Image, Image) {
+/// A puff of smoke over `frame`, drifting up and to the right: a translucency mask (a soft
+/// disc), its motion to the previous instant, and the colour before it (the frame's colour,
+/// which the puff brightens, dimmed).
+fn smoke_over(frame: &Image) -> (Image, Image, Image) {
+    let (width, height) = (frame.width, frame.height);
     let (centre_x, centre_y, radius) =
         (0.6 * width as f32, 0.4 * height as f32, 0.3 * height as f32);
     let mask = Image::from_fn(width, height, 1, |x, y| {
@@ -164,7 +166,9 @@ fn smoke_over(width: usize, height: usize) -> (Image, Image) {
         vec![0.6 * (1.0 - r2) * (1.0 - r2)]
     });
     let motion = Image::from_fn(width, height, 2, |_, _| vec![-3.0, 2.0]);
-    (mask, motion)
+    let mut opaque_color = frame.clone();
+    opaque_color.data.iter_mut().for_each(|v| *v *= 0.8);
+    (mask, motion, opaque_color)
 }
 
 #[test]
@@ -202,11 +206,12 @@ fn c11_engine_reaches_every_feature_and_matches_the_rust_path() {
         .chain(sky.data.iter().flat_map(|v| v.to_ne_bytes()))
         .collect();
     std::fs::write(data.join("sky.bin"), sky_bytes).unwrap();
-    let (mask, motion) = smoke_over(WIDTH as usize, HEIGHT as usize);
+    let (mask, motion, opaque_color) = smoke_over(&sequence.frames[2].color);
     let translucency: Vec<u8> = mask
         .data
         .iter()
         .chain(&motion.data)
+        .chain(&opaque_color.data)
         .flat_map(|v| v.to_ne_bytes())
         .collect();
     std::fs::write(data.join("translucency.bin"), translucency).unwrap();
@@ -309,6 +314,12 @@ fn c11_engine_reaches_every_feature_and_matches_the_rust_path() {
     let target_shadows = output_image(engine, WIDTH, HEIGHT);
     let gpu_mask = upload(engine, &mask, vk::Format::R32_SFLOAT, GBUFFER_LAYOUT);
     let gpu_motion = upload(engine, &motion, vk::Format::R32G32_SFLOAT, GBUFFER_LAYOUT);
+    let gpu_opaque = upload(
+        engine,
+        &opaque_color,
+        vk::Format::R32G32B32A32_SFLOAT,
+        GBUFFER_LAYOUT,
+    );
     let gpu_sky = upload(
         engine,
         &sky,
@@ -334,6 +345,7 @@ fn c11_engine_reaches_every_feature_and_matches_the_rust_path() {
             mask: gpu_mask.describe(GBUFFER_LAYOUT),
             motion_vectors: gpu_motion.describe(GBUFFER_LAYOUT),
             motion_vector_scale: [1.0, 1.0],
+            opaque_color: gpu_opaque.describe(GBUFFER_LAYOUT),
         };
         let mut desc = frame.frame_desc(index, family);
         desc.header.next = if lit { link(&over) } else { link(&shadow) };

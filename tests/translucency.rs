@@ -1,9 +1,10 @@
 //! What is drawn over the surfaces (`PatchexTranslucencyInput`) on lavapipe through the C ABI:
 //! taken apart from frame t's surfaces and placed at the target by its own motion, against the
 //! plain-Rust reference on frames of the scene renderer (smoke, sparks and panes of glass over a
-//! moving camera and animated characters), with and without the translucency's own motion; the
-//! gain where the particles are; the extremes of the mask (empty, full, uniform, and values at
-//! every threshold); and bad inputs sanitised and counted or refused.
+//! moving camera and animated characters), with and without the translucency's own motion and
+//! frame t's colour before its translucency; the gain where the particles are; the extremes of
+//! the mask (empty, full, uniform, and values at every threshold); and bad inputs sanitised and
+//! counted or refused.
 //!
 //! Tolerance: the colour tolerance of `support/pipeline.rs` (2e-3 relative plus 1e-4),
 //! loosened to 1e-3 absolute: the surface behind is a weighted mean of exponentials whose last
@@ -21,6 +22,7 @@ use patchex::error::PatchexResult;
 use patchex::passes::warp::WarpSettings;
 use patchex::reference::{self, Image};
 use support::pipeline::{inputs, psnr, read_image, worst_output_error};
+use support::rendered::Translucency;
 use support::scene::{Frame, Scene};
 use support::*;
 
@@ -38,12 +40,11 @@ enum Content {
 }
 
 /// Frame t and the instant halfway to t+1 (frames 2 and 3 of the doubled stream), with frame t's
-/// translucency mask and motion and the target's mask.
+/// translucency input and the target's mask.
 struct Frames {
     source: Frame,
     target: Frame,
-    mask: Image,
-    motion: Image,
+    input: Translucency,
     target_mask: Image,
 }
 
@@ -57,21 +58,18 @@ fn rendered_frames(width: u32, height: u32, content: Content) -> Frames {
                 .expect("the scene without its glass loads");
     }
     let sequence = support::rendered::render_world(&world, 4, width, height);
-    let mut translucency = sequence.translucency.into_iter().skip(2);
-    let (mask, motion) = translucency
-        .next()
-        .flatten()
-        .expect("the scene draws translucency");
-    let (target_mask, _) = translucency
-        .next()
-        .flatten()
-        .expect("the scene draws translucency");
+    let mut translucency = sequence
+        .translucency
+        .into_iter()
+        .skip(2)
+        .map(|t| t.expect("the scene draws translucency"));
+    let input = translucency.next().expect("frame 2");
+    let target_mask = translucency.next().expect("frame 3").mask;
     let mut frames = sequence.frames.into_iter().skip(2);
     Frames {
         source: frames.next().expect("frame 2"),
         target: frames.next().expect("frame 3"),
-        mask,
-        motion,
+        input,
         target_mask,
     }
 }
@@ -84,6 +82,8 @@ enum With {
     Mask,
     /// The mask and the particles' motion.
     MaskAndMotion,
+    /// The mask, the particles' motion and the colour before the translucency.
+    Everything,
 }
 
 struct Outcome {
@@ -91,9 +91,9 @@ struct Outcome {
     stats: PatchexFrameStats,
 }
 
-/// Submits `source` with `mask` and `motion` as `with` says, and extrapolates the target at
+/// Submits `source` with as much of `given` as `with` says, and extrapolates the target at
 /// alpha 1/2, on a fresh rig under validation that must stay silent.
-fn run(frames: &Frames, mask: &Image, motion: &Image, with: With) -> Outcome {
+fn run(frames: &Frames, given: &Translucency, with: With) -> Outcome {
     let (width, height) = (frames.source.color.width, frames.source.color.height);
     let rig = Rig::new(width as u32, height as u32);
     let engine = &rig.engine;
@@ -101,18 +101,33 @@ fn run(frames: &Frames, mask: &Image, motion: &Image, with: With) -> Outcome {
     let source = GpuFrame::upload(engine, &frames.source);
     let target = GpuFrame::upload(engine, &frames.target);
     let output = output_image(engine, width as u32, height as u32);
-    let gpu_mask = upload(engine, mask, vk::Format::R32_SFLOAT, GBUFFER_LAYOUT);
-    let gpu_motion = upload(engine, motion, vk::Format::R32G32_SFLOAT, MOTION_LAYOUT);
+    let gpu_mask = upload(engine, &given.mask, vk::Format::R32_SFLOAT, GBUFFER_LAYOUT);
+    let gpu_motion = upload(
+        engine,
+        &given.motion,
+        vk::Format::R32G32_SFLOAT,
+        MOTION_LAYOUT,
+    );
+    let gpu_opaque = upload(
+        engine,
+        &given.opaque_color,
+        vk::Format::R32G32B32A32_SFLOAT,
+        GBUFFER_LAYOUT,
+    );
     let input = PatchexTranslucencyInput {
         header: PatchexStructHeader::of::<PatchexTranslucencyInput>(
             PATCHEX_STRUCT_TYPE_TRANSLUCENCY_INPUT,
         ),
         mask: gpu_mask.describe(GBUFFER_LAYOUT),
         motion_vectors: match with {
-            With::MaskAndMotion => gpu_motion.describe(MOTION_LAYOUT),
+            With::MaskAndMotion | With::Everything => gpu_motion.describe(MOTION_LAYOUT),
             _ => PatchexImage::default(),
         },
         motion_vector_scale: [1.0, 1.0],
+        opaque_color: match with {
+            With::Everything => gpu_opaque.describe(GBUFFER_LAYOUT),
+            _ => PatchexImage::default(),
+        },
     };
     let mut desc = source.frame_desc(1, family);
     if !matches!(with, With::Nothing) {
@@ -133,21 +148,19 @@ fn run(frames: &Frames, mask: &Image, motion: &Image, with: With) -> Outcome {
     }
 }
 
-fn reference_run(
-    frames: &Frames,
-    mask: &Image,
-    motion: &Image,
-    with: With,
-) -> reference::Extrapolation {
+fn reference_run(frames: &Frames, given: &Translucency, with: With) -> reference::Extrapolation {
     let source_camera = Camera::from_abi(&frames.source.camera, "source").unwrap();
     let target_camera = Camera::from_abi(&frames.target.camera, "target").unwrap();
     let translucency = match with {
         With::Nothing => None,
-        With::Mask => Some(reference::translucency::Input { mask, motion: None }),
-        With::MaskAndMotion => Some(reference::translucency::Input {
-            mask,
-            motion: Some((motion, [1.0, 1.0])),
-        }),
+        With::Mask | With::MaskAndMotion | With::Everything => {
+            Some(reference::translucency::Input {
+                mask: &given.mask,
+                motion: matches!(with, With::MaskAndMotion | With::Everything)
+                    .then_some((&given.motion, [1.0, 1.0])),
+                opaque: matches!(with, With::Everything).then_some(&given.opaque_color),
+            })
+        }
     };
     reference::extrapolate(
         &reference::FrameInputs {
@@ -164,9 +177,9 @@ fn reference_run(
 }
 
 /// The plugin against the reference: the same output, stages and counts.
-fn assert_matches_reference(frames: &Frames, mask: &Image, motion: &Image, with: With) -> Outcome {
-    let outcome = run(frames, mask, motion, with);
-    let expected = reference_run(frames, mask, motion, with);
+fn assert_matches_reference(frames: &Frames, given: &Translucency, with: With) -> Outcome {
+    let outcome = run(frames, given, with);
+    let expected = reference_run(frames, given, with);
     let worst = worst_output_error(&outcome.output, &expected.output);
     assert!(worst <= 1.0, "output differs from the reference ({worst})");
     assert_eq!(
@@ -181,23 +194,25 @@ fn assert_matches_reference(frames: &Frames, mask: &Image, motion: &Image, with:
 }
 
 #[test]
-fn translucency_passes_match_their_references_with_and_without_their_motion() {
+fn translucency_passes_match_their_references_with_each_input() {
     let frames = rendered_frames(128, 72, Content::Everything);
-    for with in [With::Mask, With::MaskAndMotion] {
-        let outcome = assert_matches_reference(&frames, &frames.mask, &frames.motion, with);
+    for with in [With::Mask, With::MaskAndMotion, With::Everything] {
+        let outcome = assert_matches_reference(&frames, &frames.input, with);
         let ran = outcome.stats.extrapolations[0].stages_run & 1 << PATCHEX_STAGE_TRANSLUCENCY;
         assert_ne!(ran, 0);
     }
 }
 
 /// Where the particles are, in frame t or at the target, the mask and their motion bring the
-/// output closer to the rendered target than smoke carried as the surfaces behind it. (Panes of
-/// glass, which the warp already carries well, gain less: the guides measure them.)
+/// output closer to the rendered target than smoke carried as the surfaces behind it, and the
+/// colour before the translucency closer still. (Panes of glass, which the warp already carries
+/// well, gain less: the guides measure them.)
 #[test]
 fn the_mask_brings_the_particles_closer_to_the_rendered_target() {
     let frames = rendered_frames(320, 180, Content::Particles);
-    let covered: Vec<usize> = (0..frames.mask.data.len())
-        .filter(|&i| frames.mask.data[i] > 0.02 || frames.target_mask.data[i] > 0.02)
+    let mask = &frames.input.mask;
+    let covered: Vec<usize> = (0..mask.data.len())
+        .filter(|&i| mask.data[i] > 0.02 || frames.target_mask.data[i] > 0.02)
         .collect();
     // Tone-mapped as the eval scores, so that the sparks' HDR does not outweigh the smoke.
     let region = |image: &Image| Image {
@@ -210,21 +225,23 @@ fn the_mask_brings_the_particles_closer_to_the_rendered_target() {
             .collect(),
     };
     let truth = region(&frames.target.color);
-    let score = |with| {
-        psnr(
-            &region(&run(&frames, &frames.mask, &frames.motion, with).output),
-            &truth,
-        )
-    };
-    let (without, with) = (score(With::Nothing), score(With::MaskAndMotion));
+    let score = |with| psnr(&region(&run(&frames, &frames.input, with).output), &truth);
+    let without = score(With::Nothing);
+    let with = score(With::MaskAndMotion);
+    let exact = score(With::Everything);
     eprintln!(
-        "{} covered pixels: {without:.2} dB without the mask, {with:.2} dB with it",
+        "{} covered pixels: {without:.2} dB without the mask, {with:.2} dB with it, {exact:.2} \
+         dB with the colour before the translucency as well",
         covered.len()
     );
     assert!(covered.len() > 200, "only {} covered pixels", covered.len());
     assert!(
         with > without + 0.3,
         "{with} dB with the mask against {without} dB without"
+    );
+    assert!(
+        exact > with + 0.3,
+        "{exact} dB with the colour before the translucency against {with} dB without it"
     );
 }
 
@@ -234,64 +251,75 @@ fn the_mask_brings_the_particles_closer_to_the_rendered_target() {
 #[test]
 fn an_empty_full_uniform_or_surface_bound_mask_changes_nothing() {
     let frames = rendered_frames(96, 54, Content::Everything);
-    let (width, height) = (frames.mask.width, frames.mask.height);
-    let without = run(&frames, &frames.mask, &frames.motion, With::Nothing).output;
+    let (width, height) = (frames.input.mask.width, frames.input.mask.height);
+    let without = run(&frames, &frames.input, With::Nothing).output;
     for coverage in [0.0, 1.0, 0.3] {
         let mut mask = Image::new(width, height, 1);
         mask.data.fill(coverage);
-        let with = assert_matches_reference(&frames, &mask, &frames.motion, With::MaskAndMotion);
+        let given = Translucency {
+            mask,
+            ..frames.input.clone()
+        };
+        let with = assert_matches_reference(&frames, &given, With::MaskAndMotion);
         assert_eq!(with.output, without, "a mask of {coverage} everywhere");
     }
-    let bound = &frames.source.motion;
-    let with = assert_matches_reference(&frames, &frames.mask, bound, With::MaskAndMotion);
+    let given = Translucency {
+        motion: frames.source.motion.clone(),
+        ..frames.input.clone()
+    };
+    let with = assert_matches_reference(&frames, &given, With::MaskAndMotion);
     assert_eq!(with.output, without, "the mask moving with the surfaces");
 }
 
 /// Coverage on each side of every threshold the passes hold it to (the least taken apart, the
 /// uniform test's tolerance, subnormal, 1 and just under), and motion at and past what a half
-/// float holds, match the reference and leave the output finite.
+/// float holds, match the reference with each input and leave the output finite.
 #[test]
 fn mask_and_motion_at_their_thresholds_match_the_reference() {
     let frames = rendered_frames(96, 54, Content::Everything);
-    let (mut mask, mut motion) = (frames.mask.clone(), frames.motion.clone());
+    let mut given = frames.input.clone();
     let coverages = [0.05 - 1e-6, 0.05, 1e-40, 1.0 - 1e-7, 1.0, 0.3, 0.31, 0.2999];
     let motions = [65504.0, -65504.0, 65520.0, 1e-8, -0.5];
-    for (i, value) in mask.data.iter_mut().enumerate().step_by(3) {
+    for (i, value) in given.mask.data.iter_mut().enumerate().step_by(3) {
         *value = coverages[(i / 3) % coverages.len()];
     }
-    for (i, value) in motion.data.iter_mut().enumerate().step_by(5) {
+    for (i, value) in given.motion.data.iter_mut().enumerate().step_by(5) {
         *value = motions[(i / 5) % motions.len()];
     }
-    let outcome = assert_matches_reference(&frames, &mask, &motion, With::MaskAndMotion);
-    assert!(outcome.output.data.iter().all(|v| v.is_finite()));
-    let outcome = assert_matches_reference(&frames, &mask, &motion, With::Mask);
-    assert!(outcome.output.data.iter().all(|v| v.is_finite()));
-}
-
-/// NaN, infinite and out-of-range coverage and motion are sanitised and counted as the
-/// reference counts them, and the output stays finite.
-#[test]
-fn bad_mask_and_motion_are_sanitised_and_counted() {
-    let frames = rendered_frames(96, 54, Content::Everything);
-    let (mut mask, mut motion) = (frames.mask.clone(), frames.motion.clone());
-    let bad = [f32::NAN, f32::INFINITY, -0.5, 1.5, f32::NEG_INFINITY];
-    let covered: Vec<usize> = (0..mask.data.len())
-        .filter(|&i| mask.data[i] > 0.1)
-        .collect();
-    assert!(covered.len() > 2 * bad.len(), "too few covered pixels");
-    for (i, value) in bad.iter().enumerate() {
-        mask.data[7 * i + 3] = *value;
-        motion.data[2 * covered[2 * i]] = *value;
-        motion.data[2 * covered[2 * i + 1] + 1] = 1e6;
+    for with in [With::Mask, With::MaskAndMotion, With::Everything] {
+        let outcome = assert_matches_reference(&frames, &given, with);
+        assert!(outcome.output.data.iter().all(|v| v.is_finite()));
     }
-    let outcome = assert_matches_reference(&frames, &mask, &motion, With::MaskAndMotion);
-    assert!(outcome.stats.source_sanitized_pixels >= bad.len() as u32);
-    assert!(outcome.output.data.iter().all(|v| v.is_finite()));
 }
 
-/// A mask of another size than the frame, or none at all, is refused by name.
+/// NaN, infinite and out-of-range coverage, motion and colour before the translucency are
+/// sanitised and counted as the reference counts them, and the output stays finite.
 #[test]
-fn a_missing_or_unusable_mask_is_refused() {
+fn bad_mask_motion_and_colour_are_sanitised_and_counted() {
+    let frames = rendered_frames(96, 54, Content::Everything);
+    let mut given = frames.input.clone();
+    let bad = [f32::NAN, f32::INFINITY, -0.5, 1.5, f32::NEG_INFINITY];
+    let covered: Vec<usize> = (0..given.mask.data.len())
+        .filter(|&i| given.mask.data[i] > 0.1)
+        .collect();
+    assert!(covered.len() > 3 * bad.len(), "too few covered pixels");
+    for (i, value) in bad.iter().enumerate() {
+        given.mask.data[7 * i + 3] = *value;
+        given.motion.data[2 * covered[3 * i]] = *value;
+        given.motion.data[2 * covered[3 * i + 1] + 1] = 1e6;
+        given.opaque_color.data[4 * covered[3 * i + 2] + i % 3] = *value * 1e5;
+    }
+    for with in [With::MaskAndMotion, With::Everything] {
+        let outcome = assert_matches_reference(&frames, &given, with);
+        assert!(outcome.stats.source_sanitized_pixels >= bad.len() as u32);
+        assert!(outcome.output.data.iter().all(|v| v.is_finite()));
+    }
+}
+
+/// A mask of another size than the frame, or none at all, and a colour before the translucency
+/// of another size, are refused by name.
+#[test]
+fn a_missing_or_unusable_mask_or_colour_is_refused() {
     let rig = Rig::new(64, 36);
     let engine = &rig.engine;
     let frame = Scene::new(64, 36).render(0.0, Vec2::ZERO, 0.0);
@@ -302,11 +330,30 @@ fn a_missing_or_unusable_mask_is_refused() {
         vk::Format::R32_SFLOAT,
         GBUFFER_LAYOUT,
     );
-    for (mask, expected) in [
-        (PatchexImage::default(), "PatchexTranslucencyInput.mask"),
+    let mask = upload(
+        engine,
+        &Image::new(64, 36, 1),
+        vk::Format::R32_SFLOAT,
+        GBUFFER_LAYOUT,
+    );
+    let small_color = upload(
+        engine,
+        &Image::new(32, 18, 4),
+        vk::Format::R32G32B32A32_SFLOAT,
+        GBUFFER_LAYOUT,
+    );
+    let none = PatchexImage::default();
+    for (mask, opaque_color, expected) in [
+        (none, none, "PatchexTranslucencyInput.mask"),
         (
             small.describe(GBUFFER_LAYOUT),
+            none,
             "PatchexTranslucencyInput.mask",
+        ),
+        (
+            mask.describe(GBUFFER_LAYOUT),
+            small_color.describe(GBUFFER_LAYOUT),
+            "PatchexTranslucencyInput.opaque_color",
         ),
     ] {
         let input = PatchexTranslucencyInput {
@@ -314,8 +361,9 @@ fn a_missing_or_unusable_mask_is_refused() {
                 PATCHEX_STRUCT_TYPE_TRANSLUCENCY_INPUT,
             ),
             mask,
-            motion_vectors: PatchexImage::default(),
+            motion_vectors: none,
             motion_vector_scale: [1.0, 1.0],
+            opaque_color,
         };
         let mut desc = source.frame_desc(1, engine.queue_family_index);
         desc.header.next = &input as *const _ as *const c_void;

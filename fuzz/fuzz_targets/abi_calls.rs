@@ -465,6 +465,7 @@ fn chain(u: &mut Unstructured, world: &World) -> Result<(Vec<Link>, *const c_voi
                 mask: image(u, world, DEPTH)?,
                 motion_vectors: image(u, world, MOTION)?,
                 motion_vector_scale: mostly(u, [1.0, 1.0], |u| u.arbitrary())?,
+                opaque_color: image(u, world, COLOR)?,
             })),
             6 => Link::Sky(Box::new(PatchexSkyLight {
                 header: header(

@@ -95,6 +95,7 @@ impl Context {
                     }
                     None => None,
                 },
+                access.read_optional(input.opaque_color.as_ref())?,
             )),
             None => None,
         };
@@ -207,7 +208,7 @@ impl Context {
             let images = self.images.highlights.as_ref().expect("allocated above");
             (highlights, images)
         });
-        let translucency = translucency_images.map(|(mask, motion, surface_motion)| {
+        let translucency = translucency_images.map(|(mask, motion, surface_motion, opaque)| {
             translucency::SourceTranslucency {
                 color,
                 base_color,
@@ -215,6 +216,7 @@ impl Context {
                 mask,
                 motion,
                 surface_motion,
+                opaque,
                 placeholder,
                 source_depth: &work[WorkImages::SOURCE_DEPTH],
                 source_normal_id: &work[WorkImages::SOURCE_NORMAL_ID],

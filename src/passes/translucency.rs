@@ -22,6 +22,8 @@ pub struct SourceTranslucency<'a> {
     pub motion: Option<(Texture, [f32; 2])>,
     /// Frame t's geometry motion vectors, with their scale, when it came with them.
     pub surface_motion: Option<(Texture, [f32; 2])>,
+    /// `PatchexTranslucencyInput.opaque_color`: frame t's colour before its translucency.
+    pub opaque: Option<Texture>,
     pub placeholder: Texture,
     pub source_depth: &'a OwnedImage,
     pub source_normal_id: &'a OwnedImage,
@@ -67,6 +69,10 @@ pub fn record_separation(
                     .surface_motion
                     .map_or(inputs.placeholder, |(motion, _)| motion),
             )
+            .image(
+                binding::OPAQUE_COLOR,
+                inputs.opaque.unwrap_or(inputs.placeholder),
+            )
     });
     let params = separate_translucency::Params {
         extent: [extent.width, extent.height],
@@ -75,7 +81,7 @@ pub fn record_separation(
         motion_scale: inputs.motion.map_or([0.0; 2], |(_, scale)| scale),
         surface_motion_scale: inputs.surface_motion.map_or([0.0; 2], |(_, scale)| scale),
         has_surface_motion: inputs.surface_motion.is_some() as u32,
-        _pad_end: [0; 4],
+        has_opaque: inputs.opaque.is_some() as u32,
     };
     rec.dispatch(&bound, &params, extent);
 }

@@ -198,6 +198,7 @@ pub fn extrapolate(
                 mask: input.mask,
                 motion: input.motion,
                 surface_motion: source.motion.map(|m| (m, source.motion_vector_scale)),
+                opaque: input.opaque,
                 geometry: &source_packed.geometry,
                 normal_id: &source_packed.normal_id,
             },

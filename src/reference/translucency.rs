@@ -23,6 +23,8 @@ const MOTION_SEARCH_STEP: i32 = 2;
 pub struct Input<'a> {
     pub mask: &'a Image,
     pub motion: Option<(&'a Image, [f32; 2])>,
+    /// Frame t's colour before its translucency pass.
+    pub opaque: Option<&'a Image>,
 }
 
 /// Frame t's inputs to the separation.
@@ -35,6 +37,8 @@ pub struct SourceTranslucency<'a> {
     pub motion: Option<(&'a Image, [f32; 2])>,
     /// Frame t's geometry motion vectors and their scale, when it came with them.
     pub surface_motion: Option<(&'a Image, [f32; 2])>,
+    /// Frame t's colour before its translucency pass, when the engine gave it.
+    pub opaque: Option<&'a Image>,
     /// Frame t's packed G-buffer: (position, linear depth) and (normal, object id).
     pub geometry: &'a Image,
     pub normal_id: &'a Image,
@@ -117,8 +121,9 @@ pub fn separate(shading: &Image, inputs: &SourceTranslucency) -> Separated {
     for y in 0..height {
         for x in 0..width {
             let p = IVec2::new(x as i32, y as i32);
+            let exact = inputs.opaque.is_some();
             let (mut a, mut changed) = coverage(inputs.mask, x, y);
-            if a > 0.0 && uniform_layer(inputs.mask, p, a) {
+            if a > 0.0 && !exact && uniform_layer(inputs.mask, p, a) {
                 a = 0.0;
             }
             let mut own = Vec2::ZERO;
@@ -131,7 +136,7 @@ pub fn separate(shading: &Image, inputs: &SourceTranslucency) -> Separated {
                 changed |= a > 0.0 && !usable;
                 if let Some((surface_motion, scale)) = inputs.surface_motion {
                     let surface = Vec2::from_slice(surface_motion.at(x, y)) * Vec2::from(scale);
-                    if usable && (own - surface).length() <= SAME_MOTION {
+                    if usable && !exact && (own - surface).length() <= SAME_MOTION {
                         a = 0.0;
                     }
                 }
@@ -141,8 +146,15 @@ pub fn separate(shading: &Image, inputs: &SourceTranslucency) -> Separated {
                     sanitize_input_color(Vec3::from_slice(&inputs.color.at(x, y)[..3]));
                 changed |= color_changed;
                 let mut surface = c;
-                if let Some(behind) = shading_behind(shading, inputs, p) {
-                    let (factor, _) = pixel_modulation(inputs.base_color, inputs.material, x, y);
+                let (factor, _) = pixel_modulation(inputs.base_color, inputs.material, x, y);
+                if let Some(opaque) = inputs.opaque {
+                    let (o, opaque_changed) =
+                        sanitize_input_color(Vec3::from_slice(&opaque.at(x, y)[..3]));
+                    changed |= opaque_changed;
+                    surface = o;
+                    out.shading
+                        .set(x, y, &demodulated(surface, factor).to_array());
+                } else if let Some(behind) = shading_behind(shading, inputs, p) {
                     surface = (behind * factor).min(Vec3::splat(MAX_HALF));
                     out.shading
                         .set(x, y, &demodulated(surface, factor).to_array());
@@ -211,6 +223,26 @@ fn layer_at(layer: &Image, x: Vec2) -> Vec4 {
     )
 }
 
+/// `layer_splatted`: the layer's texels around `x`, moved by their own motion, splatted onto the
+/// pixel centred at `centre`.
+fn layer_splatted(inputs: &TargetTranslucency, motion: &Image, x: Vec2, centre: Vec2) -> Vec4 {
+    let layer = inputs.layer;
+    let extent = Vec2::new(layer.width as f32, layer.height as f32);
+    let around = x.clamp(Vec2::splat(-1.0), extent + 1.0).floor().as_ivec2();
+    let mut sum = Vec4::ZERO;
+    for i in 0..9 {
+        let s = around + IVec2::new(i % 3 - 1, i / 3 - 1);
+        if s.cmplt(IVec2::ZERO).any() || s.cmpge(extent.as_ivec2()).any() {
+            continue;
+        }
+        let (sx, sy) = (s.x as usize, s.y as usize);
+        let moved = s.as_vec2() + 0.5 - inputs.alpha * Vec2::from_slice(motion.at(sx, sy));
+        let w = (Vec2::ONE - (moved - centre).abs()).max(Vec2::ZERO);
+        sum += (w.x * w.y) * Vec4::from_slice(layer.at(sx, sy));
+    }
+    sum / sum.w.max(1.0)
+}
+
 /// `seen_around`: whether frame t saw the pixel's surface at one of the 3x3 texels around q.
 fn seen_around(pixel: &TargetPixel, q: Vec2, extent: IVec2) -> bool {
     let centre = q.floor().as_ivec2().clamp(IVec2::ZERO, extent - 1);
@@ -244,18 +276,19 @@ pub fn place(frame: &mut Image, inputs: &TargetTranslucency) -> u32 {
             let valid = inputs.target.valid[x + y * frame.width];
             let finite = point.abs().cmple(Vec2::splat(f32::MAX)).all();
             let static_surface = valid && inputs.target.normal_id.at(x, y)[3] == 0.0;
+            let takes_layer = finite && (static_surface || layer_at(inputs.layer, point).w > 0.0);
             let mut over = Vec4::ZERO;
-            if finite
+            if let Some(motion) = inputs.motion.filter(|_| takes_layer) {
+                for _ in 0..2 {
+                    point = step_from(inputs, motion, point, centre);
+                }
+                over = layer_splatted(inputs, motion, point, centre);
+            } else if finite
                 && valid
                 && !seen_around(&pixel, point.clamp(Vec2::ZERO, extent.as_vec2()), extent)
             {
                 over = pixel.fill_hole(point);
-            } else if finite && (static_surface || layer_at(inputs.layer, point).w > 0.0) {
-                if let Some(motion) = inputs.motion {
-                    for _ in 0..2 {
-                        point = step_from(inputs, motion, point, centre);
-                    }
-                }
+            } else if takes_layer {
                 over = layer_at(inputs.layer, point);
             }
             if over.w > 0.0 {

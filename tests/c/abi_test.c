@@ -13,7 +13,8 @@
  * sun's visibility through static casters as R32F, motion vectors as RG32F and stencil ids as
  * R8_UINT; sun.bin, the sun's direction and illuminance (six floats); sky.bin, the side of the
  * sky's octahedral map (a uint32) and the map as RGBA32F; and translucency.bin, frame 2's
- * translucency mask as R32F and its motion as RG32F. The program creates a FULL context with
+ * translucency mask as R32F, its motion as RG32F and its colour before the translucency as
+ * RGBA32F. The program creates a FULL context with
  * every create-time chained struct, submits frames 0 and 2 with their shadow input (frame 2
  * also with the sun, the sky and its translucency), and extrapolates: frame 1 with diagnostics; frame 3 three times, once per warp kind, with
  * segmentation and network settings, both diagnostics and, last, an A2B10G10R10 output; then
@@ -104,8 +105,8 @@ static PatchexGeometry geometry(const Frame *f) {
 }
 
 /* Frame `f` as frame `index`, with its shadow input, and optionally flow settings, the sun
-   (direction, then illuminance) with the sky's map, and a translucency mask and motion
-   (`translucency[0]`, `[1]`). */
+   (direction, then illuminance) with the sky's map, and a translucency mask, motion and colour
+   before the translucency (`translucency[0]`, `[1]`, `[2]`). */
 static void submit(PatchexContext *ctx, const Frame *f, uint64_t index,
                    const PatchexShadowFlowSettings *flow, const float *sun, const Image *sky,
                    const Image *translucency) {
@@ -135,6 +136,7 @@ static void submit(PatchexContext *ctx, const Frame *f, uint64_t index,
     over.mask = describe(&translucency[0]);
     over.motion_vectors = describe(&translucency[1]);
     over.motion_vector_scale[0] = over.motion_vector_scale[1] = 1.0f;
+    over.opaque_color = describe(&translucency[2]);
     chain = &over;
   }
   PatchexFrameDesc desc;
@@ -292,16 +294,17 @@ int main(int argc, char **argv) {
   snprintf(translucency_path, sizeof translucency_path, "%s/translucency.bin", data);
   FILE *translucency_file = fopen(translucency_path, "rb");
   size_t pixels = (size_t)width * height;
-  unsigned char *translucency_bytes = malloc(pixels * 12);
+  unsigned char *translucency_bytes = malloc(pixels * 28);
   if (!translucency_file || !translucency_bytes ||
-      fread(translucency_bytes, pixels * 12, 1, translucency_file) != 1) {
+      fread(translucency_bytes, pixels * 28, 1, translucency_file) != 1) {
     fprintf(stderr, "cannot read %s\n", translucency_path);
     return 2;
   }
   fclose(translucency_file);
-  Image translucency[2] = {
+  Image translucency[3] = {
       input_image(VK_FORMAT_R32_SFLOAT, 4, translucency_bytes),
-      input_image(VK_FORMAT_R32G32_SFLOAT, 8, translucency_bytes + pixels * 4)};
+      input_image(VK_FORMAT_R32G32_SFLOAT, 8, translucency_bytes + pixels * 4),
+      input_image(VK_FORMAT_R32G32B32A32_SFLOAT, 16, translucency_bytes + pixels * 12)};
   free(translucency_bytes);
   const VkImageUsageFlags storage = VK_IMAGE_USAGE_STORAGE_BIT;
   Image first = output_image(VK_FORMAT_R16G16B16A16_SFLOAT, 8, storage);
@@ -395,6 +398,7 @@ int main(int argc, char **argv) {
   for (int i = 0; i < 4; ++i) destroy_frame(&frames[i]);
   destroy_image(&translucency[0]);
   destroy_image(&translucency[1]);
+  destroy_image(&translucency[2]);
   destroy_image(&sky);
   Image *images[] = {&first, &first_diagnostics, &outputs[0], &outputs[1], &outputs[2],
                      &diagnostics, &shadow_diagnostics, &target_shadows};

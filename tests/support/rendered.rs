@@ -8,8 +8,9 @@ use patchex::abi::*;
 use patchex::reference::Image;
 use patchex_scene::dataset::{
     render_sequence, SequenceOptions, BASE_COLOR, CUSTOM_STENCIL, FINAL_IMAGE,
-    FINAL_IMAGE_NO_DYNAMIC_SHADOWS, METALLIC, MOTION_VECTOR, ROUGHNESS, SCENE_DEPTH, SHADOW_MASK,
-    SPECULAR, STATIC_SHADOW_MASK, TRANSLUCENCY_MASK, TRANSLUCENCY_MOTION, WORLD_NORMAL,
+    FINAL_IMAGE_NO_DYNAMIC_SHADOWS, FINAL_IMAGE_OPAQUE, METALLIC, MOTION_VECTOR, ROUGHNESS,
+    SCENE_DEPTH, SHADOW_MASK, SPECULAR, STATIC_SHADOW_MASK, TRANSLUCENCY_MASK, TRANSLUCENCY_MOTION,
+    WORLD_NORMAL,
 };
 use patchex_scene::{Dataset, FrameLayers, Gpu, GpuOptions, Manifest, World};
 
@@ -18,9 +19,19 @@ use super::scene::Frame;
 pub struct RenderedSequence {
     pub manifest: Manifest,
     pub frames: Vec<Frame>,
-    /// Each frame's translucency mask (1 channel) and motion (2), in a scene that draws
-    /// translucency.
-    pub translucency: Vec<Option<(Image, Image)>>,
+    /// Each frame's translucency, in a scene that draws translucency.
+    pub translucency: Vec<Option<Translucency>>,
+}
+
+/// A frame's `PatchexTranslucencyInput`, as the renderer writes it.
+#[derive(Clone)]
+pub struct Translucency {
+    /// Coverage, 1 channel.
+    pub mask: Image,
+    /// The translucency's own motion, 2 channels.
+    pub motion: Image,
+    /// The lit colour before the translucency is drawn, RGBA.
+    pub opaque_color: Image,
 }
 
 /// The repository's assets folder.
@@ -57,15 +68,17 @@ pub fn render_world(world: &World, frames: usize, width: u32, height: u32) -> Re
     let (frames, translucency) = (0..frames)
         .map(|index| {
             let layers = dataset.read_frame(index).expect("frame reads");
-            let translucency = layers.get(TRANSLUCENCY_MASK).is_some().then(|| {
-                (
-                    gather(&layers, &[(TRANSLUCENCY_MASK, 0)]),
-                    gather(
+            let translucency = layers
+                .get(TRANSLUCENCY_MASK)
+                .is_some()
+                .then(|| Translucency {
+                    mask: gather(&layers, &[(TRANSLUCENCY_MASK, 0)]),
+                    motion: gather(
                         &layers,
                         &[(TRANSLUCENCY_MOTION, 0), (TRANSLUCENCY_MOTION, 1)],
                     ),
-                )
-            });
+                    opaque_color: rgba(&layers, FINAL_IMAGE_OPAQUE),
+                });
             (frame(&layers, &dataset.manifest, index), translucency)
         })
         .unzip();

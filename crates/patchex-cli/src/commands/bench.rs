@@ -369,6 +369,7 @@ fn measure(
                 ),
                 sky: configuration == Configuration::GbufferSkyHighlights,
                 translucency: false,
+                opaque_color: false,
             },
         )
     };

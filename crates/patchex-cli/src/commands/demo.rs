@@ -151,6 +151,7 @@ pub fn run(args: DemoArgs) -> CommandResult {
                 sun: args.highlights,
                 sky: args.highlights,
                 translucency: args.translucency,
+                opaque_color: false,
             },
         )?;
         let (width, height) = (manifest.width, manifest.height);

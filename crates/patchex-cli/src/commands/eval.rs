@@ -63,6 +63,9 @@ pub enum Method {
     /// The default warp given each frame's translucency mask and motion
     /// (`PatchexTranslucencyInput`): what is drawn over the surfaces moved by its own motion.
     GbufferTranslucency,
+    /// The translucency mask and motion with frame t's colour before the translucency pass
+    /// (`PatchexTranslucencyInput.opaque_color`): the layer taken apart exactly.
+    GbufferTranslucencyOpaque,
     /// The default warp called before the engine's translucency pass: given frame t's lit colour
     /// before translucency, its output gets the target's translucency drawn over it, as the
     /// engine draws it over a rendered frame.
@@ -115,6 +118,9 @@ impl Method {
             Method::GbufferSunHighlights => "G-buffer-guided warp + sun highlights",
             Method::GbufferHighlights => "G-buffer-guided warp + sun and sky highlights",
             Method::GbufferTranslucency => "G-buffer-guided warp + translucency mask",
+            Method::GbufferTranslucencyOpaque => {
+                "G-buffer-guided warp + translucency mask and opaque colour"
+            }
             Method::GbufferBeforeTranslucency => {
                 "G-buffer-guided warp before the translucency pass"
             }
@@ -160,6 +166,7 @@ impl Method {
             | Method::GbufferSunHighlights
             | Method::GbufferHighlights
             | Method::GbufferTranslucency
+            | Method::GbufferTranslucencyOpaque
             | Method::GbufferBeforeTranslucency
             | Method::GbufferShadowsHighlights
             | Method::GbufferTargetShadowsHighlights
@@ -204,7 +211,11 @@ impl Method {
         FrameExtras {
             sun: sky || self == Method::GbufferSunHighlights,
             sky,
-            translucency: self == Method::GbufferTranslucency,
+            translucency: matches!(
+                self,
+                Method::GbufferTranslucency | Method::GbufferTranslucencyOpaque
+            ),
+            opaque_color: self == Method::GbufferTranslucencyOpaque,
         }
     }
 

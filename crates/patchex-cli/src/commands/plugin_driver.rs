@@ -20,8 +20,9 @@ use patchex::passes::warp::WarpSettings;
 use patchex_harness::{Engine, EngineImage, EngineOptions};
 use patchex_scene::dataset::{
     FrameInfo, FrameLayers, Manifest, SunInfo, BASE_COLOR, CUSTOM_STENCIL, FINAL_IMAGE,
-    FINAL_IMAGE_NO_DYNAMIC_SHADOWS, METALLIC, MOTION_VECTOR, ROUGHNESS, SCENE_DEPTH, SHADOW_MASK,
-    SPECULAR, STATIC_SHADOW_MASK, TRANSLUCENCY_MASK, TRANSLUCENCY_MOTION, WORLD_NORMAL,
+    FINAL_IMAGE_NO_DYNAMIC_SHADOWS, FINAL_IMAGE_OPAQUE, METALLIC, MOTION_VECTOR, ROUGHNESS,
+    SCENE_DEPTH, SHADOW_MASK, SPECULAR, STATIC_SHADOW_MASK, TRANSLUCENCY_MASK, TRANSLUCENCY_MOTION,
+    WORLD_NORMAL,
 };
 
 /// The layout the driver keeps every engine image in between calls.
@@ -156,8 +157,8 @@ struct UploadedFrame {
     /// The sun's visibility (`PatchexSunLight.visibility`), when asked for.
     sun_visibility: Option<EngineImage>,
     /// The translucency's mask and motion (`PatchexTranslucencyInput`), when asked for and the
-    /// frame has them.
-    translucency: Option<(EngineImage, EngineImage)>,
+    /// frame has them, and its colour before the translucency pass when asked for.
+    translucency: Option<(EngineImage, EngineImage, Option<EngineImage>)>,
     camera: PatchexCamera,
 }
 
@@ -171,6 +172,9 @@ pub struct FrameExtras {
     /// The translucency mask and motion of frames whose scene has particles
     /// (`PatchexTranslucencyInput`); frames without them go without.
     pub translucency: bool,
+    /// With the translucency input, frame t's colour before its translucency pass
+    /// (`PatchexTranslucencyInput.opaque_color`).
+    pub opaque_color: bool,
 }
 
 /// The shadow sub-task's inputs of one extrapolation.
@@ -379,6 +383,8 @@ impl PluginDriver {
                     (
                         image(F::R32_SFLOAT, &mask.data),
                         image(pick(F::R32G32_SFLOAT, F::R16G16_SFLOAT), &motion.data),
+                        (extras.opaque_color && layers.get(FINAL_IMAGE_OPAQUE).is_some())
+                            .then(|| image(color, &rgb(FINAL_IMAGE_OPAQUE))),
                     )
                 }),
             camera: PatchexCamera {
@@ -574,7 +580,7 @@ impl PluginDriver {
             frame
                 .translucency
                 .as_ref()
-                .map(|(mask, motion)| PatchexTranslucencyInput {
+                .map(|(mask, motion, opaque)| PatchexTranslucencyInput {
                     header: PatchexStructHeader {
                         next,
                         ..PatchexStructHeader::of::<PatchexTranslucencyInput>(
@@ -584,6 +590,9 @@ impl PluginDriver {
                     mask: mask.describe(LAYOUT),
                     motion_vectors: motion.describe(LAYOUT),
                     motion_vector_scale: [1.0, 1.0],
+                    opaque_color: opaque
+                        .as_ref()
+                        .map_or(PatchexImage::default(), |o| o.describe(LAYOUT)),
                 })
         };
         let sun_light = |frame: &UploadedFrame, next| {

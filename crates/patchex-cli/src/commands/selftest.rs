@@ -260,6 +260,7 @@ fn check(args: &SelftestArgs, work: &std::path::Path) -> Result<bool, Box<dyn st
                 sun: configuration.sun,
                 sky: configuration.sun,
                 translucency: configuration.translucency,
+                opaque_color: false,
             },
         )?;
         let want = expected(&frames, configuration, alpha, &warp, &shipped, manifest);
@@ -371,6 +372,7 @@ fn expected(
         .map(|(mask, motion)| translucency::Input {
             mask,
             motion: Some((motion, [1.0, 1.0])),
+            opaque: None,
         });
     reference::extrapolate(
         &FrameInputs {
