@@ -6,16 +6,16 @@
 // the surface behind p was; without, where the target's motion vectors say that surface was.
 // Each step reads the motion of the most covered texel around x, so that the edge of a puff
 // moving ahead of its texels still finds them; with none around, x stays where the surface was.
-// With its own motion, the texels around x are splatted forward: each moves by its own motion
-// and adds itself to the pixels its centre lands between, with bilinear weights, so that a puff
-// keeps its light where its motion stretches or squeezes it, and particles moving apart stay
-// apart. Where splats pile up beyond full cover, they are scaled back to it.
-// Without its own motion, where frame t did not see the target's surface (a disocclusion, which
-// the warp fills from the uncovered side), what lay over it was hidden too: the layer is spread
-// there as the fill spreads the shading, from the texels whose surface matches. With it, the
-// splat brings there what moved there. A dynamic object takes the layer
-// only where frame t's layer lay over it: one that moved in front of the translucency (whose
-// depth no input gives) must not be covered by it.
+// With its own motion, the 3x3 texels around x are splatted forward: each moves by its own
+// motion and adds itself to the pixels its centre lands between, with bilinear weights, so that
+// a puff keeps its light where its motion stretches or squeezes it, and particles moving apart
+// stay apart. Where splats pile up beyond full cover, they are scaled back to it. Without its
+// own motion, the layer is read bilinear at x, and where frame t did not see the target's
+// surface (a disocclusion, which the warp fills from the uncovered side), what lay over it was
+// hidden too: the layer is spread there as the fill spreads the shading, from the texels whose
+// surface matches (with its own motion, the splat brings there what moved there).
+// Either way, a dynamic object takes the layer only where frame t's layer lay over it: one that
+// moved in front of the translucency (whose depth no input gives) must not be covered by it.
 // #import gbuffer
 // #import cameras
 // #import surface

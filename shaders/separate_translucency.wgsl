@@ -1,21 +1,21 @@
 // With a PatchexTranslucencyInput on frame t: takes what is drawn over the opaque surface apart
 // from it, where the mask covers a pixel:
 //   colour = layer + (1 - a) * surface
-// The surface is estimated from the nearby texels the mask leaves uncovered that show the same
-// surface (same object, depth and normal), weighted as the hole fill weights its texels
-// (surface_match.wgsl) over a wider, sparser window, since a puff of smoke covers more than a hole; its
-// shading replaces the covered texel's, so the warp carries the surface alone. The layer is what
-// remains of the colour, premultiplied by a (held to [0, colour]), kept with a and with the
-// translucency's own motion for place_translucency.wgsl. A covered texel with no uncovered one
-// of its surface in reach keeps its shading, and its layer is a times its colour.
-// Given frame t's colour from before its translucency pass, the surface behind is that colour,
-// and the layer is taken apart exactly.
-// A layer is left in the colour, carried with the surface behind it, where that is right already
-// and taking it apart would only add the estimate's errors: where it is the same all around a
-// texel (inside a pane of glass or a fog card), since nothing in it moves that could show, and
-// where its own motion is the surface's to within half a pixel a frame. Only where the mask
-// changes (smoke, sparks, a pane's edges) and moves otherwise than the surface behind it is the
-// layer taken apart.
+// Given frame t's colour from before its translucency pass, the surface is that colour, and the
+// layer is taken apart exactly. Without it, the surface is estimated from the nearby texels the
+// mask leaves uncovered that show the same surface (same object, depth and normal), weighted as
+// the hole fill weights its texels (surface_match.wgsl) over a wider, sparser window, since a
+// puff of smoke covers more than a hole. The surface's shading replaces the covered texel's, so
+// the warp carries the surface alone. The layer is what remains of the colour, premultiplied by
+// a (held to [0, colour]), kept with a and with the translucency's own motion for
+// place_translucency.wgsl. A covered texel with no uncovered one of its surface in reach keeps
+// its shading, and its layer is a times its colour.
+// Without the colour before the pass, a layer is left in the colour, carried with the surface
+// behind it, where that is right already and taking it apart would only add the estimate's
+// errors: where it is the same all around a texel (inside a pane of glass or a fog card), since
+// nothing in it moves that could show, and where its own motion is the surface's to within half
+// a pixel a frame. Only where the mask changes (smoke, sparks, a pane's edges) and moves
+// otherwise than the surface behind it is the layer taken apart.
 // #import gbuffer
 // #import surface_match
 // #import tallies
@@ -174,7 +174,7 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
             changed = changed || c.changed;
             var surface = c.value;
             let m = pixel_modulation(base_color, material, p, unspecialised(params.has_material));
-            if (unspecialised(params.has_opaque) != ABSENT) {
+            if (exact) {
                 let opaque = sanitize_input_color(textureLoad(opaque_color, p, 0).rgb);
                 changed = changed || opaque.changed;
                 surface = opaque.value;
