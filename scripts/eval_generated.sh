@@ -11,7 +11,7 @@ scripts/install-deps.sh
 cargo build --release -p patchex -p patchex-cli
 source scripts/lib/scenes.sh
 source scripts/lib/results.sh
-methods=copy,occlusion-motion,gbuffer,gbuffer-bilinear,gbuffer-highlights,gbuffer-translucency,gbuffer-before-translucency,gbuffer-shadows,gbuffer-sun-highlights,gbuffer-shadows-highlights,gbuffer-shadows-highlights-before-translucency,gbuffer-target-shadows,gbuffer-target-shadows-highlights,patchex,patchex-every-pixel,interpolation
+methods=copy,occlusion-motion,gbuffer,gbuffer-bilinear,gbuffer-highlights,gbuffer-translucency,gbuffer-translucency-opaque,gbuffer-before-translucency,gbuffer-shadows,gbuffer-sun-highlights,gbuffer-shadows-highlights,gbuffer-shadows-highlights-before-translucency,gbuffer-target-shadows,gbuffer-target-shadows-highlights,patchex,patchex-every-pixel,interpolation
 for which in validation test; do
     datasets=()
     for scene in $(split "$which"); do
@@ -28,6 +28,6 @@ publish out/eval_generated/test/eval.json eval_generated_test.json
 publish out/eval_generated/test/strips/desert_02.png eval_generated_strip.png
 # The test scenes with particles, with the methods their strip compares.
 target/release/patchex eval out/eval_generated/datasets/tokyo_04 out/eval_generated/datasets/desert_04 \
-    --methods copy,gbuffer,gbuffer-translucency,gbuffer-before-translucency,interpolation \
+    --methods copy,gbuffer,gbuffer-translucency,gbuffer-translucency-opaque,gbuffer-before-translucency,interpolation \
     --out out/eval_generated/particles
 publish out/eval_generated/particles/strips/tokyo_04.png eval_generated_particles_strip.png
