@@ -260,7 +260,7 @@ fn an_installed_selftest_passes_and_fails_on_a_broken_pass() {
     assert!(report.contains("selftest: PASS"), "{report}");
     assert_eq!(
         report.matches("\nPASS ").count(),
-        9,
+        10,
         "a line per configuration: {report}"
     );
     assert!(

@@ -5,9 +5,9 @@ use patchex::abi::{PatchexCamera, PATCHEX_DEPTH_LINEAR_VIEW_Z, PATCHEX_NORMAL_SI
 use patchex::camera::Camera;
 use patchex::reference::{FrameInputs, Image};
 use patchex_scene::dataset::{
-    Dataset, BASE_COLOR, CUSTOM_STENCIL, FINAL_IMAGE, FINAL_IMAGE_NO_DYNAMIC_SHADOWS, METALLIC,
-    MOTION_VECTOR, ROUGHNESS, SCENE_DEPTH, SHADOW_MASK, SPECULAR, STATIC_SHADOW_MASK,
-    TRANSLUCENCY_MASK, TRANSLUCENCY_MOTION, WORLD_NORMAL,
+    Dataset, BASE_COLOR, CUSTOM_STENCIL, FINAL_IMAGE, FINAL_IMAGE_NO_DYNAMIC_SHADOWS,
+    FINAL_IMAGE_OPAQUE, METALLIC, MOTION_VECTOR, ROUGHNESS, SCENE_DEPTH, SHADOW_MASK, SPECULAR,
+    STATIC_SHADOW_MASK, TRANSLUCENCY_MASK, TRANSLUCENCY_MOTION, WORLD_NORMAL,
 };
 use patchex_scene::FrameLayers;
 
@@ -28,9 +28,16 @@ pub struct Frame {
     /// The sun's visibility through every caster (`PatchexSunLight.visibility` without a
     /// shadow input).
     pub sun_visibility: Image,
-    /// In a scene with particles, the translucency input an engine would give: its mask and
-    /// motion.
-    pub translucency: Option<(Image, Image)>,
+    /// In a scene with particles, the translucency input an engine would give.
+    pub translucency: Option<Translucency>,
+}
+
+/// A frame's `PatchexTranslucencyInput`.
+pub struct Translucency {
+    pub mask: Image,
+    pub motion: Image,
+    /// The lit colour before the translucency pass.
+    pub opaque_color: Image,
 }
 
 fn gather(layers: &FrameLayers, names: &[(&str, usize)]) -> Image {
@@ -84,15 +91,17 @@ pub fn from_layers(
             let through = |name| layers.layer(name).value(x, y, 0);
             vec![through(STATIC_SHADOW_MASK) * through(SHADOW_MASK)]
         }),
-        translucency: layers.get(TRANSLUCENCY_MASK).is_some().then(|| {
-            (
-                gather(layers, &[(TRANSLUCENCY_MASK, 0)]),
-                gather(
+        translucency: layers
+            .get(TRANSLUCENCY_MASK)
+            .is_some()
+            .then(|| Translucency {
+                mask: gather(layers, &[(TRANSLUCENCY_MASK, 0)]),
+                motion: gather(
                     layers,
                     &[(TRANSLUCENCY_MOTION, 0), (TRANSLUCENCY_MOTION, 1)],
                 ),
-            )
-        }),
+                opaque_color: rgb1(layers, FINAL_IMAGE_OPAQUE),
+            }),
     })
 }
 

@@ -61,11 +61,20 @@ struct Configuration {
     networks: bool,
     /// Frame t goes with the scene's sun and sky (`PatchexSunLight`, `PatchexSkyLight`).
     sun: bool,
-    /// Frame t goes with its particles' mask and motion (`PatchexTranslucencyInput`).
-    translucency: bool,
+    /// What of its translucency frame t goes with (`PatchexTranslucencyInput`).
+    translucency: TranslucencyGiven,
 }
 
-const CONFIGURATIONS: [Configuration; 9] = [
+/// How much of the particles' `PatchexTranslucencyInput` frame t goes with.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum TranslucencyGiven {
+    Nothing,
+    MaskAndMotion,
+    /// The mask, the motion and the colour before the translucency pass.
+    Everything,
+}
+
+const CONFIGURATIONS: [Configuration; 10] = [
     Configuration {
         name: "G-buffer-guided warp (WARP_ONLY)",
         warp: PATCHEX_WARP_GBUFFER_GUIDED,
@@ -73,7 +82,7 @@ const CONFIGURATIONS: [Configuration; 9] = [
         target_shadows: false,
         networks: false,
         sun: false,
-        translucency: false,
+        translucency: TranslucencyGiven::Nothing,
     },
     Configuration {
         name: "motion-vector warp",
@@ -82,7 +91,7 @@ const CONFIGURATIONS: [Configuration; 9] = [
         target_shadows: false,
         networks: false,
         sun: false,
-        translucency: false,
+        translucency: TranslucencyGiven::Nothing,
     },
     Configuration {
         name: "occlusion-motion-vector warp",
@@ -91,7 +100,7 @@ const CONFIGURATIONS: [Configuration; 9] = [
         target_shadows: false,
         networks: false,
         sun: false,
-        translucency: false,
+        translucency: TranslucencyGiven::Nothing,
     },
     Configuration {
         name: "warp + shadows (WARP_AND_SHADOWS)",
@@ -100,7 +109,7 @@ const CONFIGURATIONS: [Configuration; 9] = [
         target_shadows: false,
         networks: false,
         sun: false,
-        translucency: false,
+        translucency: TranslucencyGiven::Nothing,
     },
     Configuration {
         name: "warp + target shadow mask, no flow",
@@ -109,7 +118,7 @@ const CONFIGURATIONS: [Configuration; 9] = [
         target_shadows: true,
         networks: false,
         sun: false,
-        translucency: false,
+        translucency: TranslucencyGiven::Nothing,
     },
     Configuration {
         name: "warp + sun and sky highlights",
@@ -118,16 +127,25 @@ const CONFIGURATIONS: [Configuration; 9] = [
         target_shadows: false,
         networks: false,
         sun: true,
-        translucency: false,
+        translucency: TranslucencyGiven::Nothing,
     },
     Configuration {
-        name: "warp + translucency",
+        name: "warp + translucency mask and motion",
         warp: PATCHEX_WARP_GBUFFER_GUIDED,
         shadows: false,
         target_shadows: false,
         networks: false,
         sun: false,
-        translucency: true,
+        translucency: TranslucencyGiven::MaskAndMotion,
+    },
+    Configuration {
+        name: "warp + translucency, opaque colour",
+        warp: PATCHEX_WARP_GBUFFER_GUIDED,
+        shadows: false,
+        target_shadows: false,
+        networks: false,
+        sun: false,
+        translucency: TranslucencyGiven::Everything,
     },
     Configuration {
         name: "warp + networks (NETWORKS)",
@@ -136,7 +154,7 @@ const CONFIGURATIONS: [Configuration; 9] = [
         target_shadows: false,
         networks: true,
         sun: false,
-        translucency: false,
+        translucency: TranslucencyGiven::Nothing,
     },
     Configuration {
         name: "PatchEX (FULL)",
@@ -145,7 +163,7 @@ const CONFIGURATIONS: [Configuration; 9] = [
         target_shadows: false,
         networks: true,
         sun: false,
-        translucency: false,
+        translucency: TranslucencyGiven::Nothing,
     },
 ];
 
@@ -259,8 +277,8 @@ fn check(args: &SelftestArgs, work: &std::path::Path) -> Result<bool, Box<dyn st
             FrameExtras {
                 sun: configuration.sun,
                 sky: configuration.sun,
-                translucency: configuration.translucency,
-                opaque_color: false,
+                translucency: configuration.translucency != TranslucencyGiven::Nothing,
+                opaque_color: configuration.translucency == TranslucencyGiven::Everything,
             },
         )?;
         let want = expected(&frames, configuration, alpha, &warp, &shipped, manifest);
@@ -368,11 +386,12 @@ fn expected(
     let translucency = source
         .translucency
         .as_ref()
-        .filter(|_| configuration.translucency)
-        .map(|(mask, motion)| translucency::Input {
-            mask,
-            motion: Some((motion, [1.0, 1.0])),
-            opaque: None,
+        .filter(|_| configuration.translucency != TranslucencyGiven::Nothing)
+        .map(|given| translucency::Input {
+            mask: &given.mask,
+            motion: Some((&given.motion, [1.0, 1.0])),
+            opaque: (configuration.translucency == TranslucencyGiven::Everything)
+                .then_some(&given.opaque_color),
         });
     reference::extrapolate(
         &FrameInputs {
