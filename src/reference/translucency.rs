@@ -118,10 +118,11 @@ pub fn separate(shading: &Image, inputs: &SourceTranslucency) -> Separated {
         motion: Image::new(width, height, 2),
         sanitized: 0,
     };
+    // Given the colour before the translucency pass, the layer is taken apart exactly.
+    let exact = inputs.opaque.is_some();
     for y in 0..height {
         for x in 0..width {
             let p = IVec2::new(x as i32, y as i32);
-            let exact = inputs.opaque.is_some();
             let (mut a, mut changed) = coverage(inputs.mask, x, y);
             if a > 0.0 && !exact && uniform_layer(inputs.mask, p, a) {
                 a = 0.0;
