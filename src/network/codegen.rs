@@ -289,9 +289,12 @@ fn layer_{n}(tile: vec2u, local: vec2u, patch_extent: vec2u) {{",
     if (any(texel >= extent)) {
         return;
     }
-    let p = vec2i(texel);
 ",
     );
+    if !gather {
+        // The texel the taps are read around; a gathering layer reads its tile instead.
+        s.push_str("    let p = vec2i(texel);\n");
+    }
     if gather {
         // The output layer adds its result to the input colour, and the blend reads it back.
         let border = layer.dilation;
