@@ -5,6 +5,7 @@ use serde::Deserialize;
 
 use super::glass::GlassDescription;
 use super::particles::EmitterDescription;
+use super::wall::WallDescription;
 
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -28,6 +29,8 @@ pub struct SceneDescription {
     pub character: Vec<CharacterDescription>,
     #[serde(default)]
     pub glass: Vec<GlassDescription>,
+    #[serde(default)]
+    pub wall: Vec<WallDescription>,
     #[serde(default)]
     pub particles: Vec<EmitterDescription>,
 }

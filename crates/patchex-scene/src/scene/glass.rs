@@ -31,21 +31,6 @@ fn default_roughness() -> f32 {
 impl GlassDescription {
     /// The pane as a one-quad model in its own frame, and where it stands.
     pub(crate) fn model(&self) -> (Model, Mat4) {
-        let [w, h] = self.size;
-        let corners = [(-0.5 * w, 0.0), (0.5 * w, 0.0), (0.5 * w, h), (-0.5 * w, h)];
-        let primitive = Primitive {
-            positions: corners.iter().map(|&(x, y)| Vec3::new(x, y, 0.0)).collect(),
-            normals: vec![Vec3::Z; 4],
-            tangents: None,
-            uvs: corners.iter().map(|&(x, y)| Vec2::new(x, y)).collect(),
-            colors: vec![Vec4::ONE; 4],
-            joints: None,
-            weights: None,
-            // Counter-clockwise seen from +z.
-            indices: vec![0, 1, 2, 0, 2, 3],
-            material: Some(0),
-            morph_targets: Vec::new(),
-        };
         let material = Material {
             base_color: Vec3::from(self.color).extend(self.opacity),
             metallic: 0.0,
@@ -53,13 +38,35 @@ impl GlassDescription {
             alpha_mode: AlphaMode::Blend,
             ..Material::default()
         };
-        let transform = Mat4::from_rotation_translation(
-            Quat::from_rotation_y(self.yaw_deg.to_radians()),
-            Vec3::from(self.position),
-        );
         (
-            one_primitive_model("glass", primitive, material, Vec::new()),
-            transform,
+            one_primitive_model("glass", upright_quad(self.size), material, Vec::new()),
+            upright_transform(self.position, self.yaw_deg),
         )
     }
+}
+
+/// A `width` x `height` quad standing on the middle of its bottom edge, facing +z.
+pub(crate) fn upright_quad([w, h]: [f32; 2]) -> Primitive {
+    let corners = [(-0.5 * w, 0.0), (0.5 * w, 0.0), (0.5 * w, h), (-0.5 * w, h)];
+    Primitive {
+        positions: corners.iter().map(|&(x, y)| Vec3::new(x, y, 0.0)).collect(),
+        normals: vec![Vec3::Z; 4],
+        tangents: None,
+        uvs: corners.iter().map(|&(x, y)| Vec2::new(x, y)).collect(),
+        colors: vec![Vec4::ONE; 4],
+        joints: None,
+        weights: None,
+        // Counter-clockwise seen from +z.
+        indices: vec![0, 1, 2, 0, 2, 3],
+        material: Some(0),
+        morph_targets: Vec::new(),
+    }
+}
+
+/// Stands an upright quad at `position`, turned `yaw_deg` about the vertical.
+pub(crate) fn upright_transform(position: [f32; 3], yaw_deg: f32) -> Mat4 {
+    Mat4::from_rotation_translation(
+        Quat::from_rotation_y(yaw_deg.to_radians()),
+        Vec3::from(position),
+    )
 }

@@ -14,6 +14,7 @@ mod placement;
 mod projection;
 mod sun;
 pub mod variation;
+mod wall;
 mod world;
 
 pub use batch::{Draw, MeshBatch, Vertex};
@@ -27,4 +28,5 @@ pub use ground::GroundSurface;
 pub use particles::{EmitterDescription, Particle};
 pub use path::PathMotion;
 pub use sun::SunLight;
+pub use wall::{WallDescription, WindowsDescription};
 pub use world::{Character, World};

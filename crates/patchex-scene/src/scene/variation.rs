@@ -103,8 +103,8 @@ struct Family {
     cameras: &'static [CameraKind],
     characters: &'static [CharacterKind],
     /// Writes the ground, the environment and the scatters, given the bearing of the camera
-    /// from the action (radians about +y from +x).
-    setting: fn(&mut SplitMix64, &mut String, f32),
+    /// from the action (radians about +y from +x) and whether the ground is wet.
+    setting: fn(&mut SplitMix64, &mut String, f32, bool),
 }
 
 const FAMILIES: [Family; 5] = [
@@ -165,33 +165,56 @@ const FAMILIES: [Family; 5] = [
     },
 ];
 
-/// Scenes of each family, after its `count`, that also hold particle emitters and panes of
-/// glass: every split has translucency to be scored on, and the scenes before them stay as they
-/// were.
-const PARTICLE_SCENES: usize = 1;
+/// The scenes of each family after its `count` hold translucency: every split has some to be
+/// scored on, and the scenes before them stay as they were.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Translucency {
+    /// Smoke, sparks or embers, and free-standing panes of glass around the action.
+    ParticlesAndPanes,
+    /// Smoke, sparks or embers over wet (glossier) ground, and walls behind the action with
+    /// windows glazed onto them: glass that moves with the surface it lies on, a few pixels
+    /// across.
+    ParticlesAndWindows,
+}
+
+const TRANSLUCENCY_SCENES: [Translucency; 2] = [
+    Translucency::ParticlesAndPanes,
+    Translucency::ParticlesAndWindows,
+];
 
 /// The whole set for `seed`: the same seed always gives the same files.
 pub fn generate_set(seed: u64) -> Vec<GeneratedScene> {
     let mut scenes = Vec::new();
     for (f, family) in FAMILIES.iter().enumerate() {
-        for i in 0..family.count + PARTICLE_SCENES {
+        for i in 0..family.count + TRANSLUCENCY_SCENES.len() {
             let mut rng = SplitMix64(seed ^ ((f as u64) << 32 | i as u64).wrapping_mul(0x9E37));
-            let with_particles = i >= family.count;
-            let camera = if with_particles {
+            let translucency = i.checked_sub(family.count).map(|t| TRANSLUCENCY_SCENES[t]);
+            let camera = match i.checked_sub(family.count) {
                 // A camera on the action, where the emitters are.
-                *family
-                    .cameras
-                    .iter()
-                    .find(|kind| !matches!(kind, CameraKind::Follow | CameraKind::Pan))
-                    .expect("every family has a camera on the action")
-            } else {
-                family.cameras[i % family.cameras.len()]
+                Some(t) => {
+                    let on_the_action: Vec<CameraKind> = family
+                        .cameras
+                        .iter()
+                        .copied()
+                        .filter(|kind| !matches!(kind, CameraKind::Follow | CameraKind::Pan))
+                        .collect();
+                    on_the_action[t % on_the_action.len()]
+                }
+                None => family.cameras[i % family.cameras.len()],
             };
+            let wet = translucency == Some(Translucency::ParticlesAndWindows);
             let name = format!("{}_{:02}", family.name, i + 1);
-            let mut text = scene_text(&mut rng, &name, family, camera, seed);
-            if with_particles {
-                particles(&mut rng, &mut text);
-                glass(&mut rng, &mut text);
+            let (mut text, camera_bearing) = scene_text(&mut rng, &name, family, camera, seed, wet);
+            match translucency {
+                None => {}
+                Some(Translucency::ParticlesAndPanes) => {
+                    particles(&mut rng, &mut text);
+                    glass(&mut rng, &mut text);
+                }
+                Some(Translucency::ParticlesAndWindows) => {
+                    particles(&mut rng, &mut text);
+                    walls(&mut rng, &mut text, camera_bearing);
+                }
             }
             scenes.push(GeneratedScene {
                 text,
@@ -275,13 +298,51 @@ fn glass(rng: &mut SplitMix64, text: &mut String) {
     }
 }
 
+/// Two or three walls behind the action as the camera sees it, 6 to 9 m out and facing it, each
+/// with a grid of windows from slits a few centimetres wide to panes half a metre across.
+fn walls(rng: &mut SplitMix64, text: &mut String, camera_bearing: f32) {
+    let count = 2 + rng.next_u64() % 2;
+    for _ in 0..count {
+        let angle = camera_bearing + std::f32::consts::PI + range(rng, -0.9, 0.9);
+        let distance = range(rng, 6.0, 9.0);
+        let (width, height) = (range(rng, 3.0, 6.0), range(rng, 2.5, 4.0));
+        let (columns, rows) = (3 + rng.next_u64() % 4, 2 + rng.next_u64() % 2);
+        let window = [
+            range(rng, 0.04, 0.5).min(0.8 * width / columns as f32),
+            range(rng, 0.3, 1.0).min(0.8 * height / rows as f32),
+        ];
+        let shade = range(rng, 0.35, 0.75);
+        let tint = [
+            range(rng, 0.55, 0.8),
+            range(rng, 0.7, 0.9),
+            range(rng, 0.75, 0.95),
+        ];
+        *text += &format!(
+            "\n[[wall]]\nposition = {}\nsize = [{width:.2}, {height:.2}]\nyaw_deg = {:.1}\n\
+             color = {}\nroughness = {:.2}\nwindows = {{ columns = {columns}, rows = {rows}, \
+             size = [{:.2}, {:.2}], color = {}, opacity = {:.2}, roughness = {:.2} }}\n",
+            point([distance * angle.cos(), 0.0, distance * angle.sin()]),
+            // Facing the action: the wall's +z towards the origin.
+            (-angle.cos()).atan2(-angle.sin()).to_degrees(),
+            point([shade, shade * 0.92, shade * 0.85]),
+            range(rng, 0.5, 0.9),
+            window[0],
+            window[1],
+            point(tint),
+            range(rng, 0.3, 0.6),
+            range(rng, 0.03, 0.15),
+        );
+    }
+}
+
 fn scene_text(
     rng: &mut SplitMix64,
     name: &str,
     family: &Family,
     camera: CameraKind,
     seed: u64,
-) -> String {
+    wet: bool,
+) -> (String, f32) {
     let start_time = (range(rng, 0.0, 3.0) * 100.0).round() / 100.0;
     let mut text = format!(
         "# Generated by `patchex scenes --seed {seed}` ({} split, {} family, {camera:?} camera).\n\
@@ -300,8 +361,8 @@ fn scene_text(
     }
     let bearing = camera_text(rng, &mut text, camera, start_time);
     sun(rng, &mut text);
-    (family.setting)(rng, &mut text, bearing);
-    text + &characters
+    (family.setting)(rng, &mut text, bearing, wet);
+    (text + &characters, bearing)
 }
 
 fn range(rng: &mut SplitMix64, low: f32, high: f32) -> f32 {
@@ -490,24 +551,30 @@ struct Paving {
     roughness: f32,
 }
 
-fn ground(text: &mut String, height: f32, color: [f32; 3], paving: Option<Paving>) {
+/// Wet ground is glossier: its paving's roughness (or, unpaved, the default 1) times this.
+const WET_ROUGHNESS: f32 = 0.4;
+
+fn ground(text: &mut String, height: f32, color: [f32; 3], paving: Option<Paving>, wet: bool) {
     writeln!(
         text,
         "\n[ground]\nsize = 90.0\nheight = {height}\nbase_color = {}",
         point(color)
     )
     .expect("writing to a String");
-    if let Some(Paving {
-        tile_size,
-        roughness,
-    }) = paving
-    {
-        writeln!(
+    let wetness = if wet { WET_ROUGHNESS } else { 1.0 };
+    match paving {
+        Some(Paving {
+            tile_size,
+            roughness,
+        }) => writeln!(
             text,
-            "roughness = {roughness}\ntiles = {{ size = {tile_size} }}"
-        )
-        .expect("writing to a String");
+            "roughness = {:.2}\ntiles = {{ size = {tile_size} }}",
+            roughness * wetness
+        ),
+        None if wet => writeln!(text, "roughness = {WET_ROUGHNESS}"),
+        None => Ok(()),
     }
+    .expect("writing to a String");
 }
 
 fn prop(text: &mut String, asset: &str, position: [f32; 3], yaw: f32, scale: f32) {
@@ -549,7 +616,7 @@ fn scatter(
 }
 
 /// A crossing of the street kit with lights and signs at its corners.
-fn street(rng: &mut SplitMix64, text: &mut String, _: f32) {
+fn street(rng: &mut SplitMix64, text: &mut String, _: f32, wet: bool) {
     ground(
         text,
         -0.12,
@@ -558,6 +625,7 @@ fn street(rng: &mut SplitMix64, text: &mut String, _: f32) {
             tile_size: 0.5,
             roughness: 0.35,
         }),
+        wet,
     );
     let centre = pick(rng, &["Street_4Way", "Street_3Way"]);
     let kit = |piece: &str| format!("quaternius_street/{piece}.glb");
@@ -601,8 +669,8 @@ fn street(rng: &mut SplitMix64, text: &mut String, _: f32) {
 
 /// Thin geometry: trees around (beyond the cameras, which stand at most 8.5 m out), grass and
 /// flowers underfoot.
-fn forest(rng: &mut SplitMix64, text: &mut String, _: f32) {
-    ground(text, 0.0, [0.3, 0.42, 0.2], None);
+fn forest(rng: &mut SplitMix64, text: &mut String, _: f32, wet: bool) {
+    ground(text, 0.0, [0.3, 0.42, 0.2], None, wet);
     let trees = [
         "CommonTree_1",
         "CommonTree_2",
@@ -624,7 +692,7 @@ fn forest(rng: &mut SplitMix64, text: &mut String, _: f32) {
 }
 
 /// Validation's wood: autumn trees, willows, logs and mossy rocks.
-fn autumn(rng: &mut SplitMix64, text: &mut String, _: f32) {
+fn autumn(rng: &mut SplitMix64, text: &mut String, _: f32, wet: bool) {
     ground(
         text,
         0.0,
@@ -633,6 +701,7 @@ fn autumn(rng: &mut SplitMix64, text: &mut String, _: f32) {
             tile_size: 0.8,
             roughness: 0.45,
         }),
+        wet,
     );
     let trees = [
         "CommonTree_Autumn_1",
@@ -656,7 +725,7 @@ fn autumn(rng: &mut SplitMix64, text: &mut String, _: f32) {
 }
 
 /// Test's desert: cacti, palms and bare rocks, wide and bright.
-fn desert(rng: &mut SplitMix64, text: &mut String, _: f32) {
+fn desert(rng: &mut SplitMix64, text: &mut String, _: f32, wet: bool) {
     ground(
         text,
         0.0,
@@ -665,6 +734,7 @@ fn desert(rng: &mut SplitMix64, text: &mut String, _: f32) {
             tile_size: 0.6,
             roughness: 0.55,
         }),
+        wet,
     );
     let tall = [
         "Cactus_1",
@@ -682,7 +752,7 @@ fn desert(rng: &mut SplitMix64, text: &mut String, _: f32) {
 
 /// Test's city block: the Littlest Tokyo diorama (dense and textured, its own animation not
 /// played: environments are static) behind the action, with street furniture in front.
-fn tokyo(rng: &mut SplitMix64, text: &mut String, camera_bearing: f32) {
+fn tokyo(rng: &mut SplitMix64, text: &mut String, camera_bearing: f32, wet: bool) {
     ground(
         text,
         0.0,
@@ -691,6 +761,7 @@ fn tokyo(rng: &mut SplitMix64, text: &mut String, camera_bearing: f32) {
             tile_size: 0.4,
             roughness: 0.25,
         }),
+        wet,
     );
     // The diorama's lowest point is 2.1 m below its origin at this scale.
     // Behind the action as the camera sees it.

@@ -143,6 +143,19 @@ impl World {
             let index = cache.insert(format!("(glass {index})"), model);
             instances.push((index, transform, false));
         }
+        for (index, wall) in description.wall.iter().enumerate() {
+            let (model, transform) = wall.model();
+            let wall_model = cache.insert(format!("(wall {index})"), model);
+            instances.push((wall_model, transform, false));
+            // Every window of a wall is the same pane: one model, placed once per window.
+            let panes = wall.panes();
+            if let Some(first) = panes.first() {
+                let pane_model = cache.insert(format!("(wall {index} window)"), first.model().0);
+                for pane in &panes {
+                    instances.push((pane_model, pane.model().1, false));
+                }
+            }
+        }
         for prop in &props {
             let model = cache.get(&prop.asset)?;
             let transform = Mat4::from_scale_rotation_translation(
