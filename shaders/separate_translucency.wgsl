@@ -16,6 +16,9 @@
 // nothing in it moves that could show, and where its own motion is the surface's to within half
 // a pixel a frame. Only where the mask changes (smoke, sparks, a pane's edges) and moves
 // otherwise than the surface behind it is the layer taken apart.
+// Given that colour, only a layer lying on its surface (glass set in a wall, a decal), whose
+// motion is the surface's to within a tenth of a pixel, is left: the warp follows its surface's
+// geometry, while a separated layer one or two aliased pixels wide would be smeared by the splat.
 // #import gbuffer
 // #import surface_match
 // #import tallies
@@ -67,8 +70,12 @@ const MIN_COVERAGE: f32 = 0.05;
 const FLAT_REACH: i32 = 8;
 const FLAT_TOLERANCE: f32 = 0.01;
 // A layer moving with the surface behind it to within this many pixels a frame is left in the
-// colour (chosen on validation among 0.1, 0.25, 0.5 and 1).
+// colour (chosen on validation among 0.1, 0.25, 0.5 and 1)...
 const SAME_MOTION: f32 = 0.5;
+// ...and within this many given the colour before the pass (chosen on validation among 0.02,
+// 0.1, 0.25 and 0.5; the two smallest tie, and this one is above half floats' rounding of
+// motions up to 100 pixels).
+const SAME_MOTION_EXACT: f32 = 0.1;
 
 // A setting as this pass branches on it, tied to an image's size so that lavapipe does not
 // compile the shader again for each value (include/warp.wgsl `unspecialised`).
@@ -147,7 +154,7 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
     let p = id.xy;
     if (all(p < params.extent)) {
         // Given frame t's colour before its translucency, the layer is taken apart exactly, so
-        // none of it is left in the colour.
+        // only a layer lying on its surface is left in the colour.
         let exact = unspecialised(params.has_opaque) != ABSENT;
         var a = coverage(vec2i(p));
         if (a.value.x > 0.0 && !exact && uniform_layer(vec2i(p), a.value.x)) {
@@ -163,7 +170,7 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
             changed = changed || (a.value.x > 0.0 && !usable);
             if (unspecialised(params.has_surface_motion) != ABSENT) {
                 let surface = textureLoad(surface_motion, p, 0).xy * params.surface_motion_scale;
-                if (usable && !exact && length(own - surface) <= SAME_MOTION) {
+                if (usable && length(own - surface) <= select(SAME_MOTION, SAME_MOTION_EXACT, exact)) {
                     a.value = vec3f(0.0);
                 }
             }

@@ -16,6 +16,7 @@ const MIN_COVERAGE: f32 = 0.05;
 const FLAT_REACH: i32 = 8;
 const FLAT_TOLERANCE: f32 = 0.01;
 const SAME_MOTION: f32 = 0.5;
+const SAME_MOTION_EXACT: f32 = 0.1;
 const MOTION_SEARCH_STEP: i32 = 2;
 
 /// A `PatchexTranslucencyInput`: the mask, and the motion vectors with their scale.
@@ -137,7 +138,8 @@ pub fn separate(shading: &Image, inputs: &SourceTranslucency) -> Separated {
                 changed |= a > 0.0 && !usable;
                 if let Some((surface_motion, scale)) = inputs.surface_motion {
                     let surface = Vec2::from_slice(surface_motion.at(x, y)) * Vec2::from(scale);
-                    if usable && !exact && (own - surface).length() <= SAME_MOTION {
+                    let same = if exact { SAME_MOTION_EXACT } else { SAME_MOTION };
+                    if usable && (own - surface).length() <= same {
                         a = 0.0;
                     }
                 }
