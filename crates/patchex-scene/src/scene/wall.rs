@@ -92,3 +92,36 @@ impl WallDescription {
         panes
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn windows_lie_on_the_wall_front_within_its_outline() {
+        let wall: WallDescription = toml::from_str(
+            "position = [1.0, 0.0, 2.0]\nsize = [4.0, 3.0]\nyaw_deg = 90.0\n\
+             color = [0.5, 0.5, 0.5]\nwindows = { columns = 4, rows = 2, size = [0.5, 0.6], \
+             color = [0.7, 0.8, 0.9], opacity = 0.4 }",
+        )
+        .expect("a wall parses");
+        let (_, to_world) = wall.model();
+        let to_wall = to_world.inverse();
+        let panes = wall.panes();
+        assert_eq!(panes.len(), 8);
+        for pane in &panes {
+            assert_eq!(pane.yaw_deg, wall.yaw_deg);
+            // In the wall's frame: just before its front, and inside its outline.
+            let bottom = to_wall.transform_point3(Vec3::from(pane.position));
+            assert!((bottom.z - GLAZING_OFFSET).abs() < 1e-5, "{bottom}");
+            assert!(
+                bottom.x.abs() + 0.5 * pane.size[0] <= 2.0 + 1e-5,
+                "{bottom}"
+            );
+            assert!(
+                bottom.y >= 0.0 && bottom.y + pane.size[1] <= 3.0 + 1e-5,
+                "{bottom}"
+            );
+        }
+    }
+}
