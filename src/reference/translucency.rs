@@ -138,7 +138,11 @@ pub fn separate(shading: &Image, inputs: &SourceTranslucency) -> Separated {
                 changed |= a > 0.0 && !usable;
                 if let Some((surface_motion, scale)) = inputs.surface_motion {
                     let surface = Vec2::from_slice(surface_motion.at(x, y)) * Vec2::from(scale);
-                    let same = if exact { SAME_MOTION_EXACT } else { SAME_MOTION };
+                    let same = if exact {
+                        SAME_MOTION_EXACT
+                    } else {
+                        SAME_MOTION
+                    };
                     if usable && (own - surface).length() <= same {
                         a = 0.0;
                     }
