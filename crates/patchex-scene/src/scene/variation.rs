@@ -188,8 +188,10 @@ pub fn generate_set(seed: u64) -> Vec<GeneratedScene> {
     for (f, family) in FAMILIES.iter().enumerate() {
         for i in 0..family.count + TRANSLUCENCY_SCENES.len() {
             let mut rng = SplitMix64(seed ^ ((f as u64) << 32 | i as u64).wrapping_mul(0x9E37));
-            let translucency = i.checked_sub(family.count).map(|t| TRANSLUCENCY_SCENES[t]);
-            let camera = match i.checked_sub(family.count) {
+            // Which of the translucency scenes this is, if it is one.
+            let nth_translucent = i.checked_sub(family.count);
+            let translucency = nth_translucent.map(|t| TRANSLUCENCY_SCENES[t]);
+            let camera = match nth_translucent {
                 // A camera on the action, where the emitters are.
                 Some(t) => {
                     let on_the_action: Vec<CameraKind> = family
