@@ -119,8 +119,14 @@ pub fn separate(shading: &Image, inputs: &SourceTranslucency) -> Separated {
         motion: Image::new(width, height, 2),
         sanitized: 0,
     };
-    // Given the colour before the translucency pass, the layer is taken apart exactly.
+    // Given the colour before the translucency pass, the layer is taken apart exactly, and only
+    // a layer lying on its surface is left in the colour.
     let exact = inputs.opaque.is_some();
+    let same_motion = if exact {
+        SAME_MOTION_EXACT
+    } else {
+        SAME_MOTION
+    };
     for y in 0..height {
         for x in 0..width {
             let p = IVec2::new(x as i32, y as i32);
@@ -138,12 +144,7 @@ pub fn separate(shading: &Image, inputs: &SourceTranslucency) -> Separated {
                 changed |= a > 0.0 && !usable;
                 if let Some((surface_motion, scale)) = inputs.surface_motion {
                     let surface = Vec2::from_slice(surface_motion.at(x, y)) * Vec2::from(scale);
-                    let same = if exact {
-                        SAME_MOTION_EXACT
-                    } else {
-                        SAME_MOTION
-                    };
-                    if usable && (own - surface).length() <= same {
+                    if usable && (own - surface).length() <= same_motion {
                         a = 0.0;
                     }
                 }

@@ -24,7 +24,7 @@ pub struct GlassDescription {
     pub roughness: f32,
 }
 
-fn default_roughness() -> f32 {
+pub(crate) fn default_roughness() -> f32 {
     0.05
 }
 
@@ -40,8 +40,13 @@ impl GlassDescription {
         };
         (
             one_primitive_model("glass", upright_quad(self.size), material, Vec::new()),
-            upright_transform(self.position, self.yaw_deg),
+            self.transform(),
         )
+    }
+
+    /// Where the pane stands.
+    pub(crate) fn transform(&self) -> Mat4 {
+        upright_transform(self.position, self.yaw_deg)
     }
 }
 

@@ -3,7 +3,7 @@
 //! opaque surface that moves exactly as it does, and at a distance a window is a few pixels
 //! across.
 
-use super::glass::{upright_quad, upright_transform, GlassDescription};
+use super::glass::{self, upright_quad, upright_transform, GlassDescription};
 use super::ground_plane::one_primitive_model;
 use crate::asset::{AlphaMode, Material, Model};
 use glam::{Mat4, Quat, Vec3};
@@ -40,16 +40,12 @@ pub struct WindowsDescription {
     /// The glass's tint, opacity and roughness, as `[[glass]]`'s.
     pub color: [f32; 3],
     pub opacity: f32,
-    #[serde(default = "default_glass_roughness")]
+    #[serde(default = "glass::default_roughness")]
     pub roughness: f32,
 }
 
 fn default_wall_roughness() -> f32 {
     0.8
-}
-
-fn default_glass_roughness() -> f32 {
-    0.05
 }
 
 impl WallDescription {

@@ -152,7 +152,7 @@ impl World {
             if let Some(first) = panes.first() {
                 let pane_model = cache.insert(format!("(wall {index} window)"), first.model().0);
                 for pane in &panes {
-                    instances.push((pane_model, pane.model().1, false));
+                    instances.push((pane_model, pane.transform(), false));
                 }
             }
         }
