@@ -8,9 +8,11 @@
 // instead of falling to zero, and keeps G positive definite.
 //
 // The estimate is this level's flow from the last iteration, or the coarser level's scaled up
-// (a level's first iteration). The coarsest level's first iteration starts from the motion the
-// cameras give a static receiver (`camera_motion`). It is read from one atlas and the new flow
-// written to the other, so no workgroup reads what another writes.
+// (a level's first iteration). The coarsest level's first iteration, the start, takes the motion
+// the cameras give a static receiver (`camera_motion`), and expands frame t's mask there itself
+// (expansion.wgsl): it runs beside shadow_poly.wgsl, which expands every level for the later
+// iterations and the next frame, rather than after it. The estimate is read from one atlas and
+// the new flow written to the other, so no workgroup reads what another writes.
 //
 // One workgroup solves an 8x8 tile. Its window reaches r texels past the tile, so it computes
 // the equations of the tile and that border in workgroup memory (in strips of rows, for the
@@ -18,6 +20,7 @@
 // the chip, and the iteration is one dispatch.
 // #import atlas
 // #import flow
+// #import expansion
 
 // The tile's edge, and the workgroup's.
 const TILE: i32 = 8;
@@ -39,8 +42,9 @@ struct Params {
     frame_extent: vec2u,
     radius: i32,
     regularization: f32,
-    // 1 where the estimate is the cameras' (`camera_motion`), not the atlas's.
-    from_camera: u32,
+    // 1 at the start: the estimate is the cameras' (`camera_motion`), not the atlas's, and frame
+    // t's expansion is made from `mask_pyramid`, not read from `poly_current`.
+    starts: u32,
     // Frame t's pixel (x, y) at linear depth z lies in frame t-1 at (w.y, w.z) / w.x, with
     // w = camera_offset + z * (camera_at_origin + x camera_per_x + y camera_per_y), for a static
     // surface (`Camera::reprojection_into` in src/camera.rs). camera_at_origin.w is this level's
@@ -60,6 +64,10 @@ var<immediate> params: Params;
 @group(0) @binding(5) var flow: texture_storage_2d<rg32float, write>;
 // Frame t's linear depth, as the G-buffer packing wrote it: the cameras' estimate.
 @group(0) @binding(6) var source_depth: texture_2d<f32>;
+// The start's frame t: its mask, and how to expand it. The other iterations read
+// `poly_current` instead.
+@group(0) @binding(7) var mask_pyramid: texture_2d<f32>;
+@group(0) @binding(8) var<uniform> expansion: ExpansionConstants;
 
 // One strip of equations: (G11, G12, G22, h1) and h2 for as many whole rows of the span as
 // fit. With the row sums, 15760 bytes: within the 16 KiB every Vulkan device offers.
@@ -100,9 +108,22 @@ fn camera_motion(p: vec2i) -> vec2f {
     return motion;
 }
 
+fn starts() -> bool {
+    return unspecialised(params.starts, estimate) != 0u;
+}
+
+// Frame t's expansion at level texel p.
+fn current_at(p: vec2i) -> Expanded {
+    if (starts()) {
+        return expand(params.level_offset, params.level_size, p);
+    }
+    let texel = vec2i(params.level_offset) + p;
+    return Expanded(textureLoad(poly_current, texel, 0), textureLoad(poly_xy_current, texel, 0).r);
+}
+
 // The estimate at level texel p: the cameras', or the atlas's scaled to this level.
 fn estimate_at(p: vec2i) -> vec2f {
-    if (unspecialised(params.from_camera, estimate) != 0u) {
+    if (starts()) {
         return camera_motion(p);
     }
     let ratio = vec2f(params.level_size) / vec2f(params.prior_size);
@@ -113,9 +134,9 @@ fn estimate_at(p: vec2i) -> vec2f {
 // The equations of level texel p (inside the level).
 fn equations(p: vec2i) -> Equations {
     let d = estimate_at(p);
-    let texel = vec2i(params.level_offset) + p;
-    let current = textureLoad(poly_current, texel, 0);
-    let current_xy = textureLoad(poly_xy_current, texel, 0).r;
+    let expanded = current_at(p);
+    let current = expanded.coefficients;
+    let current_xy = expanded.xy;
     let at = vec2f(p) + d;
     let previous = level_bilinear(poly_previous, params.level_offset, params.level_size, at);
     let previous_xy = level_bilinear(poly_xy_previous, params.level_offset, params.level_size, at).r;

@@ -2,7 +2,7 @@
 //! submit or one extrapolation). Every offset is a multiple of 256, the largest storage- and
 //! uniform-buffer offset alignment Vulkan allows.
 
-use crate::passes::{inpaint, segmentation, target_shadows, warp};
+use crate::passes::{inpaint, segmentation, shadow_flow, target_shadows, warp};
 
 /// The frame warp's counts and largest motion (`warp::*_OFFSET`): holes, off-screen pixels, the
 /// target's invalid geometry, and what it sanitised when it remodulates.
@@ -22,8 +22,11 @@ pub const CAMERAS: u64 = (PATCHES + inpaint::PATCH_SLOTS_BYTES).next_multiple_of
 pub const DEFERRED_HOLES: u64 = (CAMERAS + warp::CAMERAS_BYTES).next_multiple_of(256);
 /// With a target shadow input: the sun's share summed over frame t's shadows.
 pub const SUN_SHARE: u64 = DEFERRED_HOLES + 256;
+/// Submit: the shadow flow's expansion constants (`shadow_flow::ExpansionConstants`), a uniform
+/// block.
+pub const EXPANSION: u64 = (SUN_SHARE + target_shadows::SUN_SHARE_BYTES).next_multiple_of(256);
 /// One region's counters, which the frame ring allocates per region.
-pub const REGION_BYTES: u64 = SUN_SHARE + target_shadows::SUN_SHARE_BYTES;
+pub const REGION_BYTES: u64 = EXPANSION + shadow_flow::EXPANSION_BYTES;
 
 // An extrapolation writes its region in one vkCmdUpdateBuffer (`plan::starting_counters`), which
 // takes a multiple of 4 bytes under 65536.

@@ -129,23 +129,30 @@ impl Context {
             &plan.passes.all_counters(),
             self.ring.readback.buffer,
         );
-
-        let record = self.ring.slots[slot]
-            .record
-            .as_mut()
-            .expect("the submit recorded this slot");
-        let camera_cut = inputs.geometry.camera.is_cut_from(&source.camera);
-        record.extrapolations.push(RegionRecord {
+        let record = RegionRecord {
             stages,
             alpha: inputs.alpha,
-            camera_cut,
+            camera_cut: camera.is_cut_from(&source.camera),
             whole_frame: self.inpainting.is_some() && run_networks.whole_frame,
-        });
-        Ok(if camera_cut {
+        };
+        Ok(self.keep_extrapolation(slot, record))
+    }
+
+    /// Keeps what an extrapolation recorded for the stats of its slot; `RenderInstead` for a
+    /// camera cut.
+    fn keep_extrapolation(&mut self, slot: usize, record: RegionRecord) -> PatchexResult {
+        let camera_cut = record.camera_cut;
+        self.ring.slots[slot]
+            .record
+            .as_mut()
+            .expect("the submit recorded this slot")
+            .extrapolations
+            .push(record);
+        if camera_cut {
             PatchexResult::RenderInstead
         } else {
             PatchexResult::Success
-        })
+        }
     }
 
     /// The images this extrapolation needs beyond the submit's: the staging of an output the

@@ -5,7 +5,7 @@ use ash::vk;
 use gpu_allocator::vulkan::Allocator;
 
 use crate::error::{bail, Result};
-use crate::passes::{shadow_flow, Texture};
+use crate::passes::{shadow_flow, CounterRange, Texture};
 use crate::vk::device::Gpu;
 use crate::vk::frame_ring::FrameRing;
 use crate::vk::image::OwnedImage;
@@ -294,11 +294,14 @@ impl FlowAtlases {
         atlas_image("patchex shadow flow pyramid B", vk::Format::R32G32_SFLOAT),
     ];
 
-    /// What the flow reads and writes: these atlases and frame t's `frame` mask.
+    /// What the flow reads and writes: these atlases and frame t's `frame` mask, with the
+    /// expansion's constants in `expansion` and `unread` bound where a pass reads nothing.
     pub fn flow_images<'a>(
         &'a self,
         current: usize,
         frame: shadow_flow::FrameMask<'a>,
+        expansion: CounterRange,
+        unread: Texture,
     ) -> shadow_flow::FlowImages<'a> {
         shadow_flow::FlowImages {
             frame,
@@ -308,6 +311,8 @@ impl FlowAtlases {
             current,
             flow_pyramid: Self::FLOW_PYRAMID.map(|index| &self[index]),
             mask_step: shadow_flow::mask_step(self.extent),
+            expansion,
+            unread,
         }
     }
 

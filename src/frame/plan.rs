@@ -53,6 +53,7 @@ pub struct SubmitPlan<'a> {
         &'a translucency::SourceTranslucency<'a>,
         &'a TranslucencyImages,
     )>,
+    pub placeholder: Texture,
     pub placeholder_uint: Texture,
 }
 
@@ -153,6 +154,7 @@ fn shadow_flow(rec: &mut Recorder, plan: &SubmitPlan) {
                 mask_pyramid: passes.get(PipelineId::ShadowMaskPyramid),
                 poly: passes.get(PipelineId::ShadowPoly),
                 iterate: [0, 1].map(|n| passes.nth(PipelineId::ShadowFlowIterate, n)),
+                start: passes.nth(PipelineId::ShadowFlowIterate, 2),
             },
             plan.extent,
             &plan.flow,
@@ -163,6 +165,8 @@ fn shadow_flow(rec: &mut Recorder, plan: &SubmitPlan) {
                     source_objects: plan.gbuffer.objects(plan.placeholder_uint),
                     source_depth: &plan.work[WorkImages::SOURCE_DEPTH],
                 },
+                passes.counters(counters::EXPANSION, shadow_flow::EXPANSION_BYTES),
+                plan.placeholder,
             ),
             plan.reprojection.as_ref(),
         )
@@ -239,20 +243,35 @@ pub fn record(rec: &mut Recorder, plan: &ExtrapolationPlan) {
     pack_output(rec, plan);
 }
 
-/// The extrapolation's counters as `Recorder::acquire` writes them ahead of its passes: zeros,
-/// but for what its passes read there, both instants' `cameras` and no deferred holes yet. Also
-/// returns those two ranges.
+/// A call's counters as `Recorder::acquire` writes them ahead of its passes: zeros, but for
+/// `blocks`, each at its offset.
+fn counter_contents(passes: &RegionPasses, blocks: &[(u64, &[u8])]) -> Vec<u8> {
+    let mut contents = vec![0u8; passes.all_counters().range as usize];
+    for &(offset, bytes) in blocks {
+        contents[offset as usize..offset as usize + bytes.len()].copy_from_slice(bytes);
+    }
+    contents
+}
+
+/// The submit's counters, with what the shadow flow's expansion reads there.
+pub fn submit_counters(passes: &RegionPasses, flow: &FlowSettings) -> Vec<u8> {
+    let expansion = flow.expansion();
+    counter_contents(passes, &[(counters::EXPANSION, expansion.as_bytes())])
+}
+
+/// The extrapolation's counters, with what its passes read there: both instants' `cameras` and
+/// no deferred holes yet. Also returns those two ranges.
 pub fn starting_counters(
     passes: &RegionPasses,
     cameras: &warp::Cameras,
 ) -> (Vec<u8>, CounterRange, CounterRange) {
-    let mut contents = vec![0u8; passes.all_counters().range as usize];
-    for (offset, bytes) in [
-        (counters::CAMERAS, cameras.as_bytes()),
-        (counters::DEFERRED_HOLES, warp::NO_DEFERRED_HOLES.as_bytes()),
-    ] {
-        contents[offset as usize..offset as usize + bytes.len()].copy_from_slice(bytes);
-    }
+    let contents = counter_contents(
+        passes,
+        &[
+            (counters::CAMERAS, cameras.as_bytes()),
+            (counters::DEFERRED_HOLES, warp::NO_DEFERRED_HOLES.as_bytes()),
+        ],
+    );
     (
         contents,
         passes.counters(counters::CAMERAS, warp::CAMERAS_BYTES),

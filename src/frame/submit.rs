@@ -167,7 +167,8 @@ impl Context {
             slot,
             region: 0,
         };
-        rec.acquire(&access, &passes.all_counters(), None);
+        let contents = plan::submit_counters(&passes, &flow_settings);
+        rec.acquire(&access, &passes.all_counters(), Some(&contents));
         let mut rec = rec.timed(&self.ring, slot, 0);
         let separates = shadows_separated(shadow_history);
         let work = self.images.work.as_ref().expect("allocated above");
@@ -245,6 +246,7 @@ impl Context {
                 let kept = self.images.translucency.as_ref().expect("allocated above");
                 (t, kept)
             }),
+            placeholder,
             placeholder_uint,
         };
         plan::record_submit(&mut rec, &plan);

@@ -151,8 +151,8 @@ pipeline_table! {
     ShadowMaskFinest: shadow_mask_finest, 1;
     ShadowMaskPyramid: shadow_mask_pyramid, 1;
     ShadowPoly: shadow_poly, 1;
-    /// Reading the estimate from either flow atlas.
-    ShadowFlowIterate: shadow_flow_iterate, 2;
+    /// Reading the estimate from either flow atlas, and the start (`shadow_flow::FlowPasses`).
+    ShadowFlowIterate: shadow_flow_iterate, 3;
     /// The frame's warp (when chosen), which carries the shadow layer beside it.
     WarpGbuffer: warp_gbuffer, 1;
     WarpMotionVector: warp_motion_vector, 1;

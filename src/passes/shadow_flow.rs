@@ -21,8 +21,19 @@ use crate::camera::PixelRays;
 use crate::error::{bail, Result};
 use crate::passes::pack_gbuffer::EngineObjects;
 use crate::shaders;
+use crate::vk::buffer::CounterRange;
 use crate::vk::image::{pixels, texel_bytes, OwnedImage, Texture};
 use crate::vk::recorder::{Pass, Recorder};
+
+/// The polynomial expansion's constants, as a uniform block.
+pub use crate::shaders::shadow_poly::ExpansionConstants;
+pub const EXPANSION_BYTES: u64 = size_of::<ExpansionConstants>() as u64;
+
+// The expansion and the flow's start read one block, declared once in the shared include.
+const _: () = assert!(
+    size_of::<ExpansionConstants>()
+        == size_of::<shaders::shadow_flow_iterate::ExpansionConstants>()
+);
 
 pub const MAX_LEVELS: u32 = 6;
 /// Levels `shadow_mask_finest.wgsl` makes, halving its workgroup's 8x8 tile: the default
@@ -33,7 +44,7 @@ const FINEST_PASS_LEVELS: u32 = 4;
 const MASK_PYRAMID_TILE: u32 = 1 << (MAX_LEVELS - FINEST_PASS_LEVELS);
 pub const MAX_ITERATIONS: u32 = 10;
 pub const MAX_WINDOW_RADIUS: u32 = 15;
-/// The expansion's weights travel as four push constants.
+/// The expansion's weights travel as four fields of its constants.
 pub const MAX_POLY_RADIUS: u32 = 3;
 const POLY_SIGMA_RANGE: std::ops::RangeInclusive<f32> = 0.1..=4.0;
 
@@ -132,10 +143,9 @@ impl FlowSettings {
         })
     }
 
-    /// The polynomial expansion's constants for a pyramid whose finest level is `finest`: the
-    /// least-squares fit's inverse normal matrix, reduced by the weights' symmetry (see
-    /// `shaders/shadow_poly.wgsl`).
-    pub fn poly_params(&self, finest: vk::Extent2D) -> shaders::shadow_poly::Params {
+    /// The polynomial expansion's constants (`shaders/include/expansion.wgsl`), which the submit
+    /// writes into its counters for the expansion and the flow's start.
+    pub fn expansion(&self) -> ExpansionConstants {
         let r = self.poly_radius as i32;
         let sigma = self.poly_sigma as f64;
         let weight = |i: i32| (-((i * i) as f64) / (2.0 * sigma * sigma)).exp();
@@ -158,9 +168,7 @@ impl FlowSettings {
         let inverse = m.inverse();
         let a_row = inverse.row(1);
         let w: Vec<f32> = (0..=3).map(|i| weight(i) as f32).collect();
-        shaders::shadow_poly::Params {
-            finest_size: [finest.width, finest.height],
-            levels: self.levels,
+        ExpansionConstants {
             radius: r,
             weight0: w[0],
             weight1: w[1],
@@ -171,7 +179,6 @@ impl FlowSettings {
             a_from_sum: a_row.x as f32,
             a_from_xx: a_row.y as f32,
             a_from_yy: a_row.z as f32,
-            ..Default::default()
         }
     }
 }
@@ -277,14 +284,20 @@ pub struct FlowImages<'a> {
     pub flow_pyramid: [&'a OwnedImage; 2],
     /// Frame pixels per texel of the finest level (`mask_step` of the images' extent).
     pub mask_step: u32,
+    /// The expansion's constants (`FlowSettings::expansion`), in the submit's counters.
+    pub expansion: CounterRange,
+    /// Bound where a pass reads nothing.
+    pub unread: Texture,
 }
 
-/// The flow stage's passes; `iterate[i]` reads `flow_pyramid[i]` and writes the other.
+/// The flow stage's passes; `iterate[i]` reads `flow_pyramid[i]` and writes the other, and
+/// `start` is the coarsest level's first iteration.
 pub struct FlowPasses<'a> {
     pub mask_finest: Pass<'a>,
     pub mask_pyramid: Pass<'a>,
     pub poly: Pass<'a>,
     pub iterate: [Pass<'a>; 2],
+    pub start: Pass<'a>,
 }
 
 /// The flow a submit measured, as the extrapolations read it: its finest level, in the first
@@ -306,17 +319,25 @@ impl<'a> FrameFlow<'a> {
     }
 }
 
-/// The atlases every flow iteration reads or writes over its level: both frames' expansions and
-/// the new flow (the estimate's atlas besides, where it starts from one).
-const ITERATION_ATLASES: [u32; 5] = {
+/// The atlases a flow iteration reads or writes over its level: both frames' expansions, the
+/// estimate and the new flow.
+const ITERATION_ATLASES: [u32; 6] = {
     use shaders::shadow_flow_iterate::binding::*;
     [
         POLY_CURRENT,
         POLY_XY_CURRENT,
         POLY_PREVIOUS,
         POLY_XY_PREVIOUS,
+        ESTIMATE,
         FLOW,
     ]
+};
+
+/// The start's: frame t's mask in place of its expansion, and no estimate (the cameras give it,
+/// from a depth texel per texel).
+const START_ATLASES: [u32; 4] = {
+    use shaders::shadow_flow_iterate::binding::*;
+    [MASK_PYRAMID, POLY_PREVIOUS, POLY_XY_PREVIOUS, FLOW]
 };
 
 fn extent_of(level: &Level) -> vk::Extent2D {
@@ -400,9 +421,15 @@ fn record_expansion(
             .image(p::binding::MASK_PYRAMID, images.mask_pyramid)
             .image(p::binding::POLY, images.poly[images.current])
             .image(p::binding::POLY_XY, images.poly_xy[images.current])
+            .buffer(p::binding::EXPANSION, &images.expansion)
     });
     // Every level's expansion at once.
-    rec.dispatch(&poly, &settings.poly_params(finest), span(levels));
+    let params = p::Params {
+        finest_size: [finest.width, finest.height],
+        levels: settings.levels,
+        ..Default::default()
+    };
+    rec.dispatch(&poly, &params, span(levels));
 }
 
 /// The flow from frame t's and frame t-1's expansions, coarse to fine, into `flow_pyramid[0]`.
@@ -417,26 +444,39 @@ fn record_flow(
 ) {
     use shaders::shadow_flow_iterate as i;
     let (current, previous) = (images.current, 1 - images.current);
-    let iterate = [0, 1].map(|from| {
-        rec.bind(passes.iterate[from], |writes| {
+    // Iteration n of `total` writes flow_pyramid[(total - 1 - n) % 2], so that the last writes
+    // the first, and reads its estimate from the other.
+    let total = levels.len() * settings.iterations as usize;
+    // The start expands frame t's mask itself, so that it can run beside the expansion.
+    let bind = |rec: &mut Recorder, pass, from: usize, starts: bool| {
+        let (poly_current, poly_xy_current, mask): (Texture, Texture, Texture) = match starts {
+            true => (images.unread, images.unread, images.mask_pyramid.into()),
+            false => (
+                images.poly[current].into(),
+                images.poly_xy[current].into(),
+                images.unread,
+            ),
+        };
+        rec.bind(pass, |writes| {
             writes
-                .image(i::binding::POLY_CURRENT, images.poly[current])
-                .image(i::binding::POLY_XY_CURRENT, images.poly_xy[current])
+                .image(i::binding::POLY_CURRENT, poly_current)
+                .image(i::binding::POLY_XY_CURRENT, poly_xy_current)
                 .image(i::binding::POLY_PREVIOUS, images.poly[previous])
                 .image(i::binding::POLY_XY_PREVIOUS, images.poly_xy[previous])
                 .image(i::binding::ESTIMATE, images.flow_pyramid[from])
                 .image(i::binding::FLOW, images.flow_pyramid[1 - from])
                 .image(i::binding::SOURCE_DEPTH, images.frame.source_depth)
+                .image(i::binding::MASK_PYRAMID, mask)
+                .buffer(i::binding::EXPANSION, &images.expansion)
         })
-    });
+    };
+    let iterate = [0, 1].map(|from| bind(rec, passes.iterate[from], from, false));
+    let start = bind(rec, passes.start, total % 2, true);
     let depth = images.frame.source_depth;
     let depth_texel_bytes = texel_bytes(depth.format, vk::ImageAspectFlags::COLOR);
     // The coarsest level starts where the cameras put static receivers.
     let [camera_offset, camera_at_origin, camera_per_x, camera_per_y] =
         camera_params(reprojection, images.mask_step << (levels.len() - 1));
-    // Iteration n of `total` writes flow_pyramid[(total - 1 - n) % 2], so that the last writes
-    // the first, and reads its estimate from the other.
-    let total = levels.len() * settings.iterations as usize;
     let atlas = images.mask_pyramid.extent;
     let mut n = 0;
     for (index, level) in levels.iter().enumerate().rev() {
@@ -456,7 +496,7 @@ fn record_flow(
                 frame_extent: [extent.width, extent.height],
                 radius: settings.window_radius as i32,
                 regularization: REGULARIZATION,
-                from_camera: prior.is_none() as u32,
+                starts: prior.is_none() as u32,
                 camera_offset,
                 camera_at_origin,
                 camera_per_x,
@@ -465,17 +505,19 @@ fn record_flow(
             };
             // One workgroup per tile of the level; it reads this level and the coarser one (or
             // a depth texel per texel), and writes this level.
-            let (estimate, depth_bytes) = match prior {
-                Some(_) => (Some(i::binding::ESTIMATE), 0),
-                None => (None, pixels(extent_of(level)) * depth_texel_bytes),
+            let (bound, atlases, depth_bytes) = match prior {
+                Some(_) => (&iterate[(total - n) % 2], &ITERATION_ATLASES[..], 0),
+                None => (
+                    &start,
+                    &START_ATLASES[..],
+                    pixels(extent_of(level)) * depth_texel_bytes,
+                ),
             };
-            let atlases: Vec<u32> = ITERATION_ATLASES.into_iter().chain(estimate).collect();
-            let extents = (extent_of(level), atlas);
             rec.dispatch_level(
-                &iterate[(total - n) % 2],
+                bound,
                 &params,
-                extents,
-                &atlases,
+                (extent_of(level), atlas),
+                atlases,
                 depth_bytes,
             );
             n += 1;

@@ -1,18 +1,16 @@
 //! Mirror of the Farneback flow passes (`shaders/shadow_mask_finest.wgsl`,
 //! `shadow_mask_pyramid.wgsl`, `shadow_poly.wgsl`, `shadow_flow_iterate.wgsl`,
-//! `include/flow.wgsl` and `include/atlas.wgsl`), one image per level instead of one atlas per
+//! `include/flow.wgsl`, `include/expansion.wgsl` and `include/atlas.wgsl`), one image per level instead of one atlas per
 //! quantity; the pyramid is built level by level here, and on the GPU in the finest level's pass,
 //! whose workgroups halve their tiles in workgroup memory.
 //! An iteration is three steps here (`equations`, `rows`, `solve`) and one pass on the GPU,
 //! which keeps the equations and their row sums in workgroup memory.
 
-use ash::vk;
 use glam::{Vec2, Vec4};
 
 use super::{round_to_f16, Image};
 use crate::camera::PixelRays;
-use crate::passes::shadow_flow::{FlowSettings, REGULARIZATION};
-use crate::shaders::shadow_poly;
+use crate::passes::shadow_flow::{ExpansionConstants, FlowSettings, REGULARIZATION};
 
 /// A level's polynomial expansion: (b1, b2, a11, a22) and a12.
 pub struct Expansion {
@@ -73,7 +71,7 @@ pub fn pyramid(mask: &Image, levels: u32, mask_step: u32) -> Vec<Image> {
     result
 }
 
-pub fn expand(level: &Image, params: &shadow_poly::Params) -> Expansion {
+pub fn expand(level: &Image, params: &ExpansionConstants) -> Expansion {
     let weights = [
         params.weight0,
         params.weight1,
@@ -112,14 +110,11 @@ pub fn expand(level: &Image, params: &shadow_poly::Params) -> Expansion {
 /// Every level's expansion of a mask, as the submit computes it.
 pub fn expand_pyramid(mask: &Image, settings: &FlowSettings, mask_step: u32) -> Vec<Expansion> {
     let levels = pyramid(mask, settings.levels, mask_step);
-    let finest = levels
-        .first()
-        .map_or(vk::Extent2D::default(), |level| vk::Extent2D {
-            width: level.width as u32,
-            height: level.height as u32,
-        });
-    let params = settings.poly_params(finest);
-    levels.iter().map(|level| expand(level, &params)).collect()
+    let constants = settings.expansion();
+    levels
+        .iter()
+        .map(|level| expand(level, &constants))
+        .collect()
 }
 
 /// Where the flow starts: frame t's linear depth (channel 3 of the packed geometry) and
