@@ -1,11 +1,13 @@
 //! Seeded scene variation: a set of scene files drawn from one seed, each a family's setting
-//! (street, forest, autumn wood, desert, the Littlest Tokyo diorama) with its characters, clips,
-//! paths, camera, sun and start time varied. Families belong to one split each and the
+//! (street, forest, autumn wood, desert, the Littlest Tokyo diorama, and Kenney's city block,
+//! race track, platforms and arena) with its characters, clips, paths, camera, sun and start
+//! time varied. Families belong to one split each and the
 //! validation and test families use assets, characters and camera kinds that training does not,
 //! so that what is tuned or trained on one split is measured on content it has not seen.
 //! The output is plain scene files: what was generated can be read, rendered and diffed.
 
 use super::placement::SplitMix64;
+use std::f32::consts::PI;
 use std::fmt::Write;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -49,51 +51,102 @@ struct CharacterKind {
     asset: &'static str,
     scale: f32,
     yaw_offset_deg: f32,
-    walk: (&'static str, f32),
+    /// The clip it moves with (none for a rigid mover: a vehicle, a drone) and its speed.
+    walk: (Option<&'static str>, f32),
     run: Option<(&'static str, f32)>,
     /// A clip played standing in place.
     in_place: Option<&'static str>,
+    /// How it moves: on foot anywhere, or as a vehicle or a drone.
+    travel: Travel,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Travel {
+    /// Across the action area on any heading.
+    Walks,
+    /// Along the x axis, either way: the race track's.
+    Drives,
+    /// On any heading, 1.5 to 3 m above the ground, never standing still.
+    Flies,
 }
 
 const ROBOT: CharacterKind = CharacterKind {
     asset: "characters/RobotExpressive.glb",
     scale: 0.4,
     yaw_offset_deg: 0.0,
-    walk: ("Walking", 1.1),
+    walk: (Some("Walking"), 1.1),
     run: Some(("Running", 4.0)),
     in_place: Some("Dance"),
+    travel: Travel::Walks,
 };
 const CESIUM_MAN: CharacterKind = CharacterKind {
     asset: "characters/CesiumMan.glb",
     scale: 1.0,
     yaw_offset_deg: 90.0,
-    walk: ("animation0", 1.2),
+    walk: (Some("animation0"), 1.2),
     run: None,
     in_place: None,
+    travel: Travel::Walks,
 };
 const CYBERPUNK: CharacterKind = CharacterKind {
     asset: "characters/cyberpunk_Character.glb",
     scale: 1.25,
     yaw_offset_deg: 0.0,
-    walk: ("CharacterArmature|Walk", 1.4),
+    walk: (Some("CharacterArmature|Walk"), 1.4),
     run: Some(("CharacterArmature|Run", 4.0)),
     in_place: Some("CharacterArmature|Wave"),
+    travel: Travel::Walks,
 };
 const PLATFORMER: CharacterKind = CharacterKind {
     asset: "characters/platformer_Character.glb",
     scale: 0.5,
     yaw_offset_deg: 0.0,
-    walk: ("CharacterArmature|Walk", 1.2),
+    walk: (Some("CharacterArmature|Walk"), 1.2),
     run: Some(("CharacterArmature|Run", 4.0)),
     in_place: Some("CharacterArmature|Wave"),
+    travel: Travel::Walks,
 };
 const FOX: CharacterKind = CharacterKind {
     asset: "characters/Fox.glb",
     scale: 0.012,
     yaw_offset_deg: 0.0,
-    walk: ("Walk", 1.0),
+    walk: (Some("Walk"), 1.0),
     run: Some(("Run", 5.0)),
     in_place: Some("Survey"),
+    travel: Travel::Walks,
+};
+/// Kenney's platformer character: rigid parts animated by their nodes, no skin.
+const KENNEY_CHARACTER: CharacterKind = CharacterKind {
+    asset: "kenney/platformer/character.glb",
+    scale: 0.9,
+    yaw_offset_deg: 0.0,
+    walk: (Some("walk"), 1.6),
+    run: None,
+    in_place: Some("idle"),
+    travel: Travel::Walks,
+};
+const fn vehicle(asset: &'static str, speed: f32) -> CharacterKind {
+    CharacterKind {
+        asset,
+        scale: 1.2,
+        yaw_offset_deg: 0.0,
+        walk: (None, speed),
+        run: None,
+        in_place: None,
+        travel: Travel::Drives,
+    }
+}
+const TRUCK_RED: CharacterKind = vehicle("kenney/racing/vehicle-truck-red.glb", 9.0);
+const TRUCK_GREEN: CharacterKind = vehicle("kenney/racing/vehicle-truck-green.glb", 7.0);
+const MOTORCYCLE: CharacterKind = vehicle("kenney/racing/vehicle-motorcycle.glb", 12.0);
+const DRONE: CharacterKind = CharacterKind {
+    asset: "kenney/fps/enemy-flying.glb",
+    scale: 1.0,
+    yaw_offset_deg: 0.0,
+    walk: (None, 3.0),
+    run: None,
+    in_place: None,
+    travel: Travel::Flies,
 };
 
 struct Family {
@@ -107,7 +160,7 @@ struct Family {
     setting: fn(&mut SplitMix64, &mut String, f32, bool),
 }
 
-const FAMILIES: [Family; 5] = [
+const FAMILIES: [Family; 9] = [
     Family {
         name: "street",
         split: Split::Training,
@@ -162,6 +215,53 @@ const FAMILIES: [Family; 5] = [
         cameras: &[CameraKind::Follow, CameraKind::Pan, CameraKind::Handheld],
         characters: &[PLATFORMER, FOX],
         setting: desert,
+    },
+    Family {
+        name: "city",
+        split: Split::Training,
+        count: 5,
+        cameras: &[
+            CameraKind::Static,
+            CameraKind::Orbit,
+            CameraKind::Follow,
+            CameraKind::Strafe,
+        ],
+        characters: &[ROBOT, CESIUM_MAN, CYBERPUNK],
+        setting: city,
+    },
+    Family {
+        name: "racing",
+        split: Split::Training,
+        count: 5,
+        cameras: &[
+            CameraKind::Strafe,
+            CameraKind::Static,
+            CameraKind::Orbit,
+            CameraKind::Follow,
+        ],
+        characters: &[TRUCK_RED, TRUCK_GREEN, MOTORCYCLE, CYBERPUNK],
+        setting: racing,
+    },
+    Family {
+        name: "platforms",
+        split: Split::Validation,
+        count: 4,
+        cameras: &[
+            CameraKind::Handheld,
+            CameraKind::Orbit,
+            CameraKind::Pan,
+            CameraKind::Follow,
+        ],
+        characters: &[KENNEY_CHARACTER, FOX],
+        setting: platforms,
+    },
+    Family {
+        name: "arena",
+        split: Split::Test,
+        count: 3,
+        cameras: &[CameraKind::Pan, CameraKind::Follow, CameraKind::Handheld],
+        characters: &[PLATFORMER, DRONE],
+        setting: arena,
     },
 ];
 
@@ -511,19 +611,26 @@ fn character(
 ) {
     let how = rng.next_u64() % 4;
     let (clip, speed) = match (how, kind.run, kind.in_place) {
-        (0, Some(run), _) => run,
-        (1, _, Some(clip)) if !must_move => (clip, 0.0),
+        (0, Some((clip, speed)), _) => (Some(clip), speed),
+        (1, _, Some(clip)) if !must_move => (Some(clip), 0.0),
         _ => kind.walk,
     };
     // A straight walk across the action area, back and forth.
-    let heading = range(rng, 0.0, std::f32::consts::TAU);
+    let mut heading = range(rng, 0.0, std::f32::consts::TAU);
+    if kind.travel == Travel::Drives {
+        heading = if heading.cos() >= 0.0 { 0.0 } else { PI };
+    }
     let offset = range(rng, -1.5, 1.5);
     let half = if speed > 3.0 { 6.0 } else { 3.0 };
-    let across = [-heading.sin() * offset, 0.0, heading.cos() * offset];
+    let height = match kind.travel {
+        Travel::Flies => range(rng, 1.5, 3.0),
+        _ => 0.0,
+    };
+    let across = [-heading.sin() * offset, height, heading.cos() * offset];
     let ends = [-half, half].map(|s| {
         [
             across[0] + s * heading.cos(),
-            0.0,
+            height,
             across[2] + s * heading.sin(),
         ]
     });
@@ -532,9 +639,10 @@ fn character(
     } else {
         format!("[{}, {}]", point(ends[0]), point(ends[1]))
     };
+    let clip = clip.map_or(String::new(), |clip| format!("clip = \"{clip}\"\n"));
     writeln!(
         text,
-        "\n[[character]]\nname = \"c{}\"\nasset = \"{}\"\nclip = \"{clip}\"\nclip_offset = {:.2}\n\
+        "\n[[character]]\nname = \"c{}\"\nasset = \"{}\"\n{clip}clip_offset = {:.2}\n\
          scale = {}\nyaw_offset_deg = {}\nyaw_deg = {:.1}\npath = {path}\nwalk_speed = {speed}",
         index + 1,
         kind.asset,
@@ -579,18 +687,24 @@ fn ground(text: &mut String, height: f32, color: [f32; 3], paving: Option<Paving
     .expect("writing to a String");
 }
 
+/// An environment piece; `asset` is under `assets/environments/`.
 fn prop(text: &mut String, asset: &str, position: [f32; 3], yaw: f32, scale: f32) {
+    placed(text, &format!("environments/{asset}"), position, yaw, scale);
+}
+
+/// An environment piece; `asset` is under `assets/`.
+fn placed(text: &mut String, asset: &str, position: [f32; 3], yaw: f32, scale: f32) {
     writeln!(
         text,
-        "\n[[environment]]\nasset = \"environments/{asset}\"\nposition = {}\nyaw_deg = {yaw:.1}\n\
+        "\n[[environment]]\nasset = \"{asset}\"\nposition = {}\nyaw_deg = {yaw:.1}\n\
          scale = {scale:.3}",
         point(position)
     )
     .expect("writing to a String");
 }
 
-/// A ring of props around the action, drawn by the renderer's own seeded scatter.
-#[allow(clippy::too_many_arguments)]
+/// A ring of Quaternius nature pieces around the action, drawn by the renderer's own seeded
+/// scatter.
 fn scatter(
     rng: &mut SplitMix64,
     text: &mut String,
@@ -599,9 +713,30 @@ fn scatter(
     radius: (f32, f32),
     scale: (f32, f32),
 ) {
+    scatter_from(
+        rng,
+        text,
+        "environments/quaternius_nature",
+        assets,
+        count,
+        radius,
+        scale,
+    );
+}
+
+/// A ring of pieces of `folder` (under `assets/`) around the action.
+fn scatter_from(
+    rng: &mut SplitMix64,
+    text: &mut String,
+    folder: &str,
+    assets: &[&str],
+    count: usize,
+    radius: (f32, f32),
+    scale: (f32, f32),
+) {
     let assets: Vec<String> = assets
         .iter()
-        .map(|a| format!("\"environments/quaternius_nature/{a}.glb\""))
+        .map(|a| format!("\"{folder}/{a}.glb\""))
         .collect();
     writeln!(
         text,
@@ -793,6 +928,164 @@ fn tokyo(rng: &mut SplitMix64, text: &mut String, camera_bearing: f32, wet: bool
     }
 }
 
+/// Kenney's city block: a crossroads of 6 m road tiles through the action, street lights along
+/// its outer tiles (beyond the cameras, which the kit's posts at this scale would fill), and
+/// houses, garages and tree lots in the four corners beyond the cameras' reach.
+fn city(rng: &mut SplitMix64, text: &mut String, _: f32, wet: bool) {
+    ground(
+        text,
+        -0.02,
+        [0.36, 0.45, 0.3],
+        Some(Paving {
+            tile_size: 0.5,
+            roughness: 0.4,
+        }),
+        wet,
+    );
+    let kit = |piece: &str| format!("kenney/city/{piece}.glb");
+    let tile = 6.0;
+    placed(text, &kit("road-intersection"), [0.0; 3], 0.0, tile);
+    for step in [1.0, 2.0, -1.0, -2.0] {
+        let outer: &[&str] = &["road-straight", "road-straight-lightposts"];
+        let pieces = if f32::abs(step) > 1.0 {
+            outer
+        } else {
+            &outer[..1]
+        };
+        let piece = pick(rng, pieces);
+        placed(text, &kit(piece), [step * tile, 0.0, 0.0], 90.0, tile);
+        let piece = pick(rng, pieces);
+        placed(text, &kit(piece), [0.0, 0.0, step * tile], 0.0, tile);
+    }
+    let lots = [
+        "building-small-a",
+        "building-small-b",
+        "building-small-c",
+        "building-small-d",
+        "building-garage",
+        "grass-trees",
+        "grass-trees-tall",
+        "pavement-fountain",
+    ];
+    for (x, z) in [(1.0, 1.0), (-1.0, 1.0), (1.0, -1.0), (-1.0, -1.0)] {
+        for (near, far) in [(1.5, 1.5), (1.5, 2.5), (2.5, 1.5)] {
+            let yaw = 90.0 * (rng.next_u64() % 4) as f32;
+            let position = [x * near * tile + tile / 2.0 * x, 0.0, z * far * tile];
+            placed(text, &kit(pick(rng, &lots)), position, yaw, tile);
+        }
+    }
+}
+
+/// Kenney's race track: a straight of 10 m track pieces along x through the action, with the
+/// kit's forest and tent pieces in rows either side.
+fn racing(rng: &mut SplitMix64, text: &mut String, _: f32, wet: bool) {
+    ground(text, 0.0, [0.38, 0.5, 0.28], None, wet);
+    let kit = |piece: &str| format!("kenney/racing/{piece}.glb");
+    for step in -2..=2 {
+        let x = 10.0 * step as f32;
+        let piece = match step {
+            0 => pick(rng, &["track-straight", "track-finish"]),
+            _ => "track-straight",
+        };
+        placed(text, &kit(piece), [x, 0.0, 0.0], 90.0, 1.0);
+        for side in [-1.0, 1.0] {
+            let decoration = pick(
+                rng,
+                &["decoration-forest", "decoration-tents", "decoration-empty"],
+            );
+            let yaw = if side > 0.0 { 0.0 } else { 180.0 };
+            placed(text, &kit(decoration), [x, 0.0, 15.0 * side], yaw, 1.0);
+        }
+    }
+}
+
+/// Validation's platforms: grassy islands of Kenney's platformer kit around the action, bricks,
+/// coin blocks and flags on them, and clouds overhead.
+fn platforms(rng: &mut SplitMix64, text: &mut String, _: f32, wet: bool) {
+    ground(
+        text,
+        0.0,
+        [0.45, 0.62, 0.32],
+        Some(Paving {
+            tile_size: 1.0,
+            roughness: 0.5,
+        }),
+        wet,
+    );
+    let folder = "kenney/platformer";
+    let islands = [
+        "platform-grass-large-round",
+        "platform-large",
+        "platform-medium",
+        "platform",
+    ];
+    let count = 8 + (rng.next_u64() % 6) as usize;
+    scatter_from(rng, text, folder, &islands, count, (9.0, 16.0), (1.0, 1.6));
+    let pieces = ["brick", "block-coin", "flag", "grass", "grass-small"];
+    let count = 10 + (rng.next_u64() % 10) as usize;
+    scatter_from(rng, text, folder, &pieces, count, (3.0, 9.0), (0.8, 1.3));
+    for _ in 0..4 {
+        let angle = range(rng, 0.0, std::f32::consts::TAU);
+        let radius = range(rng, 6.0, 14.0);
+        let position = [
+            radius * angle.cos(),
+            range(rng, 5.0, 8.0),
+            radius * angle.sin(),
+        ];
+        placed(text, &format!("{folder}/cloud.glb"), position, 0.0, 2.0);
+    }
+}
+
+/// Test's arena: Kenney's FPS kit, high and low walls for cover around the action, raised
+/// grassy platforms beyond, drones overhead.
+fn arena(rng: &mut SplitMix64, text: &mut String, _: f32, wet: bool) {
+    ground(
+        text,
+        0.0,
+        [0.5, 0.5, 0.48],
+        Some(Paving {
+            tile_size: 1.2,
+            roughness: 0.3,
+        }),
+        wet,
+    );
+    let folder = "kenney/fps";
+    // Low cover among the action, which the cameras see over; high walls behind them.
+    let count = 4 + (rng.next_u64() % 4) as usize;
+    scatter_from(
+        rng,
+        text,
+        folder,
+        &["wall-low"],
+        count,
+        (2.5, 6.0),
+        (1.0, 1.3),
+    );
+    let count = 6 + (rng.next_u64() % 6) as usize;
+    scatter_from(
+        rng,
+        text,
+        folder,
+        &["wall-high"],
+        count,
+        (8.5, 12.0),
+        (1.2, 1.6),
+    );
+    let count = 6 + (rng.next_u64() % 4) as usize;
+    let raised = ["platform-large-grass", "platform"];
+    scatter_from(rng, text, folder, &raised, count, (10.0, 16.0), (1.0, 1.5));
+    let count = 30 + (rng.next_u64() % 30) as usize;
+    scatter_from(
+        rng,
+        text,
+        folder,
+        &["grass", "grass-small"],
+        count,
+        (1.0, 9.0),
+        (1.0, 2.0),
+    );
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -830,6 +1123,33 @@ mod tests {
                 "{} is stale; run `patchex scenes`",
                 path.display()
             );
+        }
+    }
+
+    /// Every asset file a scene names, characters and environment pieces alike.
+    fn assets_named(text: &str) -> Vec<&str> {
+        text.split('"')
+            .filter(|piece| piece.ends_with(".glb"))
+            .collect()
+    }
+
+    #[test]
+    fn no_asset_of_a_validation_or_test_scene_is_in_training() {
+        let set = generate_set(1);
+        let training: std::collections::HashSet<&str> = set
+            .iter()
+            .filter(|s| s.split == Split::Training)
+            .flat_map(|s| assets_named(&s.text))
+            .collect();
+        for scene in set.iter().filter(|s| s.split != Split::Training) {
+            for asset in assets_named(&scene.text) {
+                assert!(
+                    !training.contains(asset),
+                    "{} ({:?}) shares {asset} with training",
+                    scene.name,
+                    scene.split
+                );
+            }
         }
     }
 
