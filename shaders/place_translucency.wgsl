@@ -9,7 +9,11 @@
 // With its own motion, the 3x3 texels around x are splatted forward: each moves by its own
 // motion and adds itself to the pixels its centre lands between, with bilinear weights, so that
 // a puff keeps its light where its motion stretches or squeezes it, and particles moving apart
-// stay apart. Where splats pile up beyond full cover, they are scaled back to it. Without its
+// stay apart. Where splats pile up beyond full cover, they are scaled back to it. Where they
+// leave a static surface inside the layer partly uncovered, the rest is the layer carried with
+// that surface: one motion per pixel cannot say how layers drawn over one another move (a pane
+// of glass with smoke drifting behind it takes their mean), and where the parts of one layer
+// move apart the splat would open a seam of bare surface between them. Without its
 // own motion, the layer is read bilinear at x, and where frame t did not see the target's
 // surface (a disocclusion, which the warp fills from the uncovered side), what lay over it was
 // hidden too: the layer is spread there as the fill spreads the shading, from the texels whose
@@ -115,11 +119,36 @@ fn layer_at(x: vec2f) -> vec4f {
     return mix(mix(l00, l10, f.x), mix(l01, l11, f.x), f.y);
 }
 
+// A point is inside the layer where it covers the texels this many pixels away in the 8
+// directions (chosen on validation among 2, 4 and 8; 2 and 4 tie): a spark or a puff's edge
+// moving away leaves its place bare.
+const GAP_REACH: i32 = 4;
+
+// Whether frame t's layer covers q and the 8 points GAP_REACH pixels around it: q lies inside
+// the layer, not at an edge of it.
+fn inside_layer(q: vec2f) -> bool {
+    let centre = vec2i(floor(q));
+    for (var i = 0; i < 9; i++) {
+        let s = centre + GAP_REACH * vec2i(i % 3 - 1, i / 3 - 1);
+        if (any(s < vec2i(0)) || any(s >= vec2i(params.extent)) || textureLoad(layer, s, 0).a <= 0.0) {
+            return false;
+        }
+    }
+    return true;
+}
+
+// A splat's premultiplied sum, and the share of the pixel the covered texels landing on it fill.
+struct Splat {
+    sum: vec4f,
+    weight: f32,
+}
+
 // The layer's texels around x, moved to the target instant by their own motion, splatted onto
 // the pixel centred at `centre`.
-fn layer_splatted(x: vec2f, centre: vec2f) -> vec4f {
+fn layer_splatted(x: vec2f, centre: vec2f) -> Splat {
     let around = vec2i(floor(clamp(x, vec2f(-1.0), vec2f(params.extent) + 1.0)));
     var sum = vec4f(0.0);
+    var weight = 0.0;
     for (var i = 0; i < 9; i++) {
         let s = around + vec2i(i % 3 - 1, i / 3 - 1);
         if (any(s < vec2i(0)) || any(s >= vec2i(params.extent))) {
@@ -127,9 +156,11 @@ fn layer_splatted(x: vec2f, centre: vec2f) -> vec4f {
         }
         let moved = vec2f(s) + 0.5 - params.alpha * textureLoad(layer_motion, s, 0).xy;
         let w = max(vec2f(1.0) - abs(moved - centre), vec2f(0.0));
-        sum += (w.x * w.y) * textureLoad(layer, s, 0);
+        let l = textureLoad(layer, s, 0);
+        sum += (w.x * w.y) * l;
+        weight += select(0.0, w.x * w.y, l.a > 0.0);
     }
-    return sum / max(1.0, sum.a);
+    return Splat(sum, weight);
 }
 
 @compute @workgroup_size(8, 8, 1)
@@ -145,10 +176,16 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
         let t = target_surface(p);
         let takes_layer = finite && (t.id == 0u || layer_at(x).a > 0.0);
         if (takes_layer && unspecialised(params.has_motion) != ABSENT) {
+            let surface_point = x;
             for (var step = 0; step < 2; step++) {
                 x = step_from(x, centre);
             }
-            over = layer_splatted(x, centre);
+            let splat = layer_splatted(x, centre);
+            over = splat.sum;
+            if (splat.weight < 1.0 && t.id == 0u && inside_layer(surface_point)) {
+                over += (1.0 - splat.weight) * layer_at(surface_point);
+            }
+            over /= max(1.0, over.a);
         } else if (finite && t.valid && !seen_around(t, clamp(x, vec2f(0.0), vec2f(params.extent)))) {
             over = fill_hole(x, t);
         } else if (takes_layer) {

@@ -18,6 +18,7 @@ const FLAT_TOLERANCE: f32 = 0.01;
 const SAME_MOTION: f32 = 0.5;
 const SAME_MOTION_EXACT: f32 = 0.1;
 const MOTION_SEARCH_STEP: i32 = 2;
+const GAP_REACH: i32 = 4;
 
 /// A `PatchexTranslucencyInput`: the mask, and the motion vectors with their scale.
 #[derive(Clone, Copy)]
@@ -231,13 +232,31 @@ fn layer_at(layer: &Image, x: Vec2) -> Vec4 {
     )
 }
 
+/// `inside_layer`: whether the layer covers `q` and the 8 points `GAP_REACH` pixels around it.
+fn inside_layer(layer: &Image, q: Vec2) -> bool {
+    let centre = q.floor().as_ivec2();
+    let extent = IVec2::new(layer.width as i32, layer.height as i32);
+    (0..9).all(|i| {
+        let s = centre + GAP_REACH * IVec2::new(i % 3 - 1, i / 3 - 1);
+        s.cmpge(IVec2::ZERO).all()
+            && s.cmplt(extent).all()
+            && layer.at(s.x as usize, s.y as usize)[3] > 0.0
+    })
+}
+
 /// `layer_splatted`: the layer's texels around `x`, moved by their own motion, splatted onto the
-/// pixel centred at `centre`.
-fn layer_splatted(inputs: &TargetTranslucency, motion: &Image, x: Vec2, centre: Vec2) -> Vec4 {
+/// pixel centred at `centre`: their premultiplied sum, and the share of the pixel the covered
+/// ones fill.
+fn layer_splatted(
+    inputs: &TargetTranslucency,
+    motion: &Image,
+    x: Vec2,
+    centre: Vec2,
+) -> (Vec4, f32) {
     let layer = inputs.layer;
     let extent = Vec2::new(layer.width as f32, layer.height as f32);
     let around = x.clamp(Vec2::splat(-1.0), extent + 1.0).floor().as_ivec2();
-    let mut sum = Vec4::ZERO;
+    let (mut sum, mut weight) = (Vec4::ZERO, 0.0);
     for i in 0..9 {
         let s = around + IVec2::new(i % 3 - 1, i / 3 - 1);
         if s.cmplt(IVec2::ZERO).any() || s.cmpge(extent.as_ivec2()).any() {
@@ -246,9 +265,13 @@ fn layer_splatted(inputs: &TargetTranslucency, motion: &Image, x: Vec2, centre: 
         let (sx, sy) = (s.x as usize, s.y as usize);
         let moved = s.as_vec2() + 0.5 - inputs.alpha * Vec2::from_slice(motion.at(sx, sy));
         let w = (Vec2::ONE - (moved - centre).abs()).max(Vec2::ZERO);
-        sum += (w.x * w.y) * Vec4::from_slice(layer.at(sx, sy));
+        let texel = Vec4::from_slice(layer.at(sx, sy));
+        sum += (w.x * w.y) * texel;
+        if texel.w > 0.0 {
+            weight += w.x * w.y;
+        }
     }
-    sum / sum.w.max(1.0)
+    (sum, weight)
 }
 
 /// `seen_around`: whether frame t saw the pixel's surface at one of the 3x3 texels around q.
@@ -287,10 +310,16 @@ pub fn place(frame: &mut Image, inputs: &TargetTranslucency) -> u32 {
             let takes_layer = finite && (static_surface || layer_at(inputs.layer, point).w > 0.0);
             let mut over = Vec4::ZERO;
             if let Some(motion) = inputs.motion.filter(|_| takes_layer) {
+                let surface_point = point;
                 for _ in 0..2 {
                     point = step_from(inputs, motion, point, centre);
                 }
-                over = layer_splatted(inputs, motion, point, centre);
+                let (sum, weight) = layer_splatted(inputs, motion, point, centre);
+                over = sum;
+                if weight < 1.0 && static_surface && inside_layer(inputs.layer, surface_point) {
+                    over += (1.0 - weight) * layer_at(inputs.layer, surface_point);
+                }
+                over /= over.w.max(1.0);
             } else if finite
                 && valid
                 && !seen_around(&pixel, point.clamp(Vec2::ZERO, extent.as_vec2()), extent)
