@@ -10,10 +10,12 @@
 // motion and adds itself to the pixels its centre lands between, with bilinear weights, so that
 // a puff keeps its light where its motion stretches or squeezes it, and particles moving apart
 // stay apart. Where splats pile up beyond full cover, they are scaled back to it. Where they
-// leave a static surface inside the layer partly uncovered, the rest is the layer carried with
-// that surface: one motion per pixel cannot say how layers drawn over one another move (a pane
-// of glass with smoke drifting behind it takes their mean), and where the parts of one layer
-// move apart the splat would open a seam of bare surface between them. Without its
+// leave a static surface partly uncovered, the rest comes with the surface: inside the layer,
+// the layer carried with it, since one motion per pixel cannot say how layers drawn over one
+// another move (a pane of glass with smoke drifting behind it takes their mean) and the parts of
+// one layer moving apart would open a seam of bare surface between them; where a moving object
+// covered the surface in frame t, hiding what lay over it, the layer spread there as the fill
+// spreads the shading. Without its
 // own motion, the layer is read bilinear at x, and where frame t did not see the target's
 // surface (a disocclusion, which the warp fills from the uncovered side), what lay over it was
 // hidden too: the layer is spread there as the fill spreads the shading, from the texels whose
@@ -119,9 +121,9 @@ fn layer_at(x: vec2f) -> vec4f {
     return mix(mix(l00, l10, f.x), mix(l01, l11, f.x), f.y);
 }
 
-// A point is inside the layer where it covers the texels this many pixels away in the 8
-// directions (chosen on validation among 2, 4 and 8; 2 and 4 tie): a spark or a puff's edge
-// moving away leaves its place bare.
+// A point is inside the layer where the layer covers it and the texels this many pixels away in
+// the 8 directions (chosen on validation among 2, 4 and 8; 2 and 4 tie): a spark or a puff's
+// edge moving away leaves its place bare.
 const GAP_REACH: i32 = 4;
 
 // Whether frame t's layer covers q and the 8 points GAP_REACH pixels around it: q lies inside
@@ -135,6 +137,17 @@ fn inside_layer(q: vec2f) -> bool {
         }
     }
     return true;
+}
+
+// The layer that comes with the target's static surface `t`, which lay at `q` in frame t, where
+// the splat leaves it partly uncovered: spread from around where a moving object covered it in
+// frame t, read at q inside the layer, none at the layer's edges.
+fn layer_with_surface(q: vec2f, t: Surface) -> vec4f {
+    let under = clamped(vec2i(floor(q)));
+    if (object_id(textureLoad(source_normal_id, under, 0).r) != 0u) {
+        return fill_hole(q, t);
+    }
+    return select(vec4f(0.0), layer_at(q), inside_layer(q));
 }
 
 // A splat's premultiplied sum, and the share of the pixel the covered texels landing on it fill.
@@ -182,8 +195,8 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
             }
             let splat = layer_splatted(x, centre);
             over = splat.sum;
-            if (splat.weight < 1.0 && t.id == 0u && inside_layer(surface_point)) {
-                over += (1.0 - splat.weight) * layer_at(surface_point);
+            if (splat.weight < 1.0 && t.id == 0u) {
+                over += (1.0 - splat.weight) * layer_with_surface(surface_point, t);
             }
             over /= max(1.0, over.a);
         } else if (finite && t.valid && !seen_around(t, clamp(x, vec2f(0.0), vec2f(params.extent)))) {

@@ -30,6 +30,10 @@ use support::*;
 /// characters, under a moving camera.
 const SCENE: &str = "generated/autumn_07.toml";
 
+/// A generated validation scene whose characters walk through smoke: they cover and uncover the
+/// ground behind them by a pixel and more between frame t and the target.
+const MOVERS: &str = "generated/platforms_06.toml";
+
 /// What the frames show over the surfaces.
 #[derive(Clone, Copy)]
 enum Content {
@@ -49,7 +53,12 @@ struct Frames {
 }
 
 fn rendered_frames(width: u32, height: u32, content: Content) -> Frames {
-    let mut world = support::rendered::load(SCENE);
+    rendered_frames_of(SCENE, width, height, content)
+}
+
+/// The same of another scene.
+fn rendered_frames_of(scene: &str, width: u32, height: u32, content: Content) -> Frames {
+    let mut world = support::rendered::load(scene);
     if let Content::Particles = content {
         let mut description = world.description.clone();
         description.glass.clear();
@@ -200,6 +209,31 @@ fn translucency_passes_match_their_references_with_each_input() {
         let outcome = assert_matches_reference(&frames, &frames.input, with);
         let ran = outcome.stats.extrapolations[0].stages_run & 1 << PATCHEX_STAGE_TRANSLUCENCY;
         assert_ne!(ran, 0);
+    }
+}
+
+/// A fog over the ground behind the characters, held still on screen: where a character moves
+/// off ground whose fog it hid in frame t, the splat brings nothing, and the layer is spread
+/// there from the ground around, on the GPU as in the reference.
+#[test]
+fn a_layer_a_character_uncovers_matches_the_reference() {
+    let frames = rendered_frames_of(MOVERS, 128, 72, Content::Everything);
+    let mut fog = frames.input.clone();
+    for (a, id) in fog.mask.data.iter_mut().zip(&frames.source.stencil.data) {
+        *a = if *id == 0.0 { 0.5 } else { 0.0 };
+    }
+    fog.motion.data.fill(0.0);
+    let uncovered = frames
+        .source
+        .stencil
+        .data
+        .iter()
+        .zip(&frames.target.stencil.data)
+        .filter(|(t, target)| **t != 0.0 && **target == 0.0)
+        .count();
+    assert!(uncovered > 10, "the characters uncover {uncovered} pixels");
+    for with in [With::MaskAndMotion, With::Everything] {
+        assert_matches_reference(&frames, &fog, with);
     }
 }
 

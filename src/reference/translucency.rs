@@ -244,6 +244,25 @@ fn inside_layer(layer: &Image, q: Vec2) -> bool {
     })
 }
 
+/// `layer_with_surface`: the layer that comes with the pixel's static surface, which lay at `q`
+/// in frame t, where the splat leaves it partly uncovered.
+fn layer_with_surface(inputs: &TargetTranslucency, pixel: &TargetPixel, q: Vec2) -> Vec4 {
+    let layer = inputs.layer;
+    let extent = IVec2::new(layer.width as i32, layer.height as i32);
+    let under = q.floor().as_ivec2().clamp(IVec2::ZERO, extent - 1);
+    if inputs
+        .source_normal_id
+        .at(under.x as usize, under.y as usize)[3]
+        != 0.0
+    {
+        pixel.fill_hole(q)
+    } else if inside_layer(layer, q) {
+        layer_at(layer, q)
+    } else {
+        Vec4::ZERO
+    }
+}
+
 /// `layer_splatted`: the layer's texels around `x`, moved by their own motion, splatted onto the
 /// pixel centred at `centre`: their premultiplied sum, and the share of the pixel the covered
 /// ones fill.
@@ -316,8 +335,8 @@ pub fn place(frame: &mut Image, inputs: &TargetTranslucency) -> u32 {
                 }
                 let (sum, weight) = layer_splatted(inputs, motion, point, centre);
                 over = sum;
-                if weight < 1.0 && static_surface && inside_layer(inputs.layer, surface_point) {
-                    over += (1.0 - weight) * layer_at(inputs.layer, surface_point);
+                if weight < 1.0 && static_surface {
+                    over += (1.0 - weight) * layer_with_surface(inputs, &pixel, surface_point);
                 }
                 over /= over.w.max(1.0);
             } else if finite
