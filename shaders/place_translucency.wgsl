@@ -126,8 +126,7 @@ fn layer_at(x: vec2f) -> vec4f {
 // edge moving away leaves its place bare.
 const GAP_REACH: i32 = 4;
 
-// Whether frame t's layer covers q and the 8 points GAP_REACH pixels around it: q lies inside
-// the layer, not at an edge of it.
+// Whether q lies inside frame t's layer, not at an edge of it.
 fn inside_layer(q: vec2f) -> bool {
     let centre = vec2i(floor(q));
     for (var i = 0; i < 9; i++) {

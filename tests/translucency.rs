@@ -1,10 +1,10 @@
 //! What is drawn over the surfaces (`PatchexTranslucencyInput`) on lavapipe through the C ABI:
 //! taken apart from frame t's surfaces and placed at the target by its own motion, against the
 //! plain-Rust reference on frames of the scene renderer (smoke, sparks and panes of glass over a
-//! moving camera and animated characters), with and without the translucency's own motion and
-//! frame t's colour before its translucency; the gain where the particles are; the extremes of
-//! the mask (empty, full, uniform, and values at every threshold); and bad inputs sanitised and
-//! counted or refused.
+//! moving camera and animated characters, and a fog they uncover), with and without the
+//! translucency's own motion and frame t's colour before its translucency; the gain where the
+//! particles are; the extremes of the mask (empty, full, uniform, and values at every
+//! threshold); and bad inputs sanitised and counted or refused.
 //!
 //! Tolerance: the colour tolerance of `support/pipeline.rs` (2e-3 relative plus 1e-4),
 //! loosened to 1e-3 absolute: the surface behind is a weighted mean of exponentials whose last
@@ -56,7 +56,7 @@ fn rendered_frames(width: u32, height: u32, content: Content) -> Frames {
     rendered_frames_of(SCENE, width, height, content)
 }
 
-/// The same of another scene.
+/// The same frames of another scene.
 fn rendered_frames_of(scene: &str, width: u32, height: u32, content: Content) -> Frames {
     let mut world = support::rendered::load(scene);
     if let Content::Particles = content {
