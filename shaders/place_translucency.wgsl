@@ -186,7 +186,9 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
         let finite = all(abs(x) <= vec2f(MAX_FINITE));
         var over = vec4f(0.0);
         let t = target_surface(p);
-        let takes_layer = finite && (t.id == 0u || layer_at(x).a > 0.0);
+        // A moving object takes the layer only where it lay over the texel the object showed in
+        // frame t, not over the background beside it.
+        let takes_layer = finite && (t.id == 0u || textureLoad(layer, clamped(vec2i(floor(x))), 0).a > 0.0);
         if (takes_layer && unspecialised(params.has_motion) != ABSENT) {
             let surface_point = x;
             for (var step = 0; step < 2; step++) {

@@ -232,6 +232,13 @@ fn layer_at(layer: &Image, x: Vec2) -> Vec4 {
     )
 }
 
+/// Whether the layer covers the texel under `q` (clamped to the image).
+fn covered_at(layer: &Image, q: Vec2) -> bool {
+    let extent = IVec2::new(layer.width as i32, layer.height as i32);
+    let s = q.floor().as_ivec2().clamp(IVec2::ZERO, extent - 1);
+    layer.at(s.x as usize, s.y as usize)[3] > 0.0
+}
+
 /// `inside_layer`: whether the layer covers `q` and the 8 points `GAP_REACH` pixels around it.
 fn inside_layer(layer: &Image, q: Vec2) -> bool {
     let centre = q.floor().as_ivec2();
@@ -326,7 +333,7 @@ pub fn place(frame: &mut Image, inputs: &TargetTranslucency) -> u32 {
             let valid = inputs.target.valid[x + y * frame.width];
             let finite = point.abs().cmple(Vec2::splat(f32::MAX)).all();
             let static_surface = valid && inputs.target.normal_id.at(x, y)[3] == 0.0;
-            let takes_layer = finite && (static_surface || layer_at(inputs.layer, point).w > 0.0);
+            let takes_layer = finite && (static_surface || covered_at(inputs.layer, point));
             let mut over = Vec4::ZERO;
             if let Some(motion) = inputs.motion.filter(|_| takes_layer) {
                 let surface_point = point;
