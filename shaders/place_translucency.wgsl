@@ -20,8 +20,9 @@
 // surface (a disocclusion, which the warp fills from the uncovered side), what lay over it was
 // hidden too: the layer is spread there as the fill spreads the shading, from the texels whose
 // surface matches (with its own motion, the splat brings there what moved there).
-// Either way, a dynamic object takes the layer only where frame t's layer lay over it: one that
-// moved in front of the translucency (whose depth no input gives) must not be covered by it.
+// Either way, a dynamic object takes the layer only where frame t's layer lay over the texel it
+// showed (not over the background beside it): one that moved in front of the translucency (whose
+// depth no input gives) must not be covered by it.
 // #import gbuffer
 // #import cameras
 // #import surface
@@ -186,8 +187,6 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
         let finite = all(abs(x) <= vec2f(MAX_FINITE));
         var over = vec4f(0.0);
         let t = target_surface(p);
-        // A moving object takes the layer only where it lay over the texel the object showed in
-        // frame t, not over the background beside it.
         let takes_layer = finite && (t.id == 0u || textureLoad(layer, clamped(vec2i(floor(x))), 0).a > 0.0);
         if (takes_layer && unspecialised(params.has_motion) != ABSENT) {
             let surface_point = x;
