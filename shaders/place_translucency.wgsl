@@ -15,11 +15,10 @@
 // another move (a pane of glass with smoke drifting behind it takes their mean) and the parts of
 // one layer moving apart would open a seam of bare surface between them; where a moving object
 // covered the surface in frame t, hiding what lay over it, the layer spread there as the fill
-// spreads the shading. Without its
-// own motion, the layer is read bilinear at x, and where frame t did not see the target's
-// surface (a disocclusion, which the warp fills from the uncovered side), what lay over it was
-// hidden too: the layer is spread there as the fill spreads the shading, from the texels whose
-// surface matches (with its own motion, the splat brings there what moved there).
+// spreads the shading. Without its own motion, the layer is read bilinear at x, and where frame
+// t did not see the target's surface (a disocclusion, which the warp fills from the uncovered
+// side), what lay over it was hidden too: the layer is spread there as the fill spreads the
+// shading, from the texels whose surface matches.
 // Either way, a dynamic object takes the layer only where frame t's layer lay over the texel it
 // showed (not over the background beside it): one that moved in front of the translucency (whose
 // depth no input gives) must not be covered by it.
