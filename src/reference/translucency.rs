@@ -234,9 +234,8 @@ fn layer_at(layer: &Image, x: Vec2) -> Vec4 {
 
 /// Whether the layer covers the texel under `q` (clamped to the image).
 fn covered_at(layer: &Image, q: Vec2) -> bool {
-    let extent = IVec2::new(layer.width as i32, layer.height as i32);
-    let s = q.floor().as_ivec2().clamp(IVec2::ZERO, extent - 1);
-    layer.at(s.x as usize, s.y as usize)[3] > 0.0
+    let s = q.floor().as_ivec2();
+    layer.clamped(s.x, s.y)[3] > 0.0
 }
 
 /// `inside_layer`: whether the layer covers `q` and the 8 points `GAP_REACH` pixels around it.
@@ -255,13 +254,8 @@ fn inside_layer(layer: &Image, q: Vec2) -> bool {
 /// in frame t, where the splat leaves it partly uncovered.
 fn layer_with_surface(inputs: &TargetTranslucency, pixel: &TargetPixel, q: Vec2) -> Vec4 {
     let layer = inputs.layer;
-    let extent = IVec2::new(layer.width as i32, layer.height as i32);
-    let under = q.floor().as_ivec2().clamp(IVec2::ZERO, extent - 1);
-    if inputs
-        .source_normal_id
-        .at(under.x as usize, under.y as usize)[3]
-        != 0.0
-    {
+    let under = q.floor().as_ivec2();
+    if inputs.source_normal_id.clamped(under.x, under.y)[3] != 0.0 {
         pixel.fill_hole(q)
     } else if inside_layer(layer, q) {
         layer_at(layer, q)
