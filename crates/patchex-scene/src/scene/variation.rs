@@ -275,11 +275,15 @@ enum Translucency {
     /// windows glazed onto them: glass that moves with the surface it lies on, a few pixels
     /// across.
     ParticlesAndWindows,
+    /// Smoke, sparks or embers rising between the camera and the action: the layer lies over
+    /// the characters, where in the other two it mostly lies beside or behind them.
+    ParticlesBeforeTheAction,
 }
 
-const TRANSLUCENCY_SCENES: [Translucency; 2] = [
+const TRANSLUCENCY_SCENES: [Translucency; 3] = [
     Translucency::ParticlesAndPanes,
     Translucency::ParticlesAndWindows,
+    Translucency::ParticlesBeforeTheAction,
 ];
 
 /// The whole set for `seed`: the same seed always gives the same files.
@@ -310,12 +314,15 @@ pub fn generate_set(seed: u64) -> Vec<GeneratedScene> {
             match translucency {
                 None => {}
                 Some(Translucency::ParticlesAndPanes) => {
-                    particles(&mut rng, &mut text);
+                    particles(&mut rng, &mut text, None);
                     glass(&mut rng, &mut text);
                 }
                 Some(Translucency::ParticlesAndWindows) => {
-                    particles(&mut rng, &mut text);
+                    particles(&mut rng, &mut text, None);
                     walls(&mut rng, &mut text, camera_bearing);
+                }
+                Some(Translucency::ParticlesBeforeTheAction) => {
+                    particles(&mut rng, &mut text, Some(camera_bearing));
                 }
             }
             scenes.push(GeneratedScene {
@@ -328,11 +335,14 @@ pub fn generate_set(seed: u64) -> Vec<GeneratedScene> {
     scenes
 }
 
-/// A smoke column in a gusty wind, and sparks or embers, among the characters around the action.
-fn particles(rng: &mut SplitMix64, text: &mut String) {
+/// A smoke column in a gusty wind, and sparks or embers, among the characters around the action,
+/// or, given the camera's bearing, between the camera and the action.
+fn particles(rng: &mut SplitMix64, text: &mut String, towards_camera: Option<f32>) {
     let near = |rng: &mut SplitMix64| {
-        let angle = range(rng, 0.0, std::f32::consts::TAU);
-        let distance = range(rng, 0.3, 2.0);
+        let (angle, distance) = match towards_camera {
+            Some(bearing) => (bearing + range(rng, -0.4, 0.4), range(rng, 1.5, 3.0)),
+            None => (range(rng, 0.0, std::f32::consts::TAU), range(rng, 0.3, 2.0)),
+        };
         [distance * angle.cos(), 0.1, distance * angle.sin()]
     };
     let wind = [
