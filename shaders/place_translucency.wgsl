@@ -19,9 +19,10 @@
 // t did not see the target's surface (a disocclusion, which the warp fills from the uncovered
 // side), what lay over it was hidden too: the layer is spread there as the fill spreads the
 // shading, from the texels whose surface matches.
-// Either way, a dynamic object takes the layer only where frame t's layer lay over the texel it
-// showed (not over the background beside it): one that moved in front of the translucency (whose
-// depth no input gives) must not be covered by it.
+// Either way, a dynamic object takes the layer where frame t's layer lay over the texel it showed,
+// or where frame t showed the object itself under the layer around that texel: there the layer
+// lay in front of it, and covers its edges as they move. Elsewhere the layer beside the object
+// lay behind it (no input gives the layer's depth), and must not cover it.
 // #import gbuffer
 // #import cameras
 // #import surface
@@ -149,6 +150,25 @@ fn layer_with_surface(q: vec2f, t: Surface) -> vec4f {
     return select(vec4f(0.0), layer_at(q), inside_layer(q));
 }
 
+// Whether the dynamic object `id`, which frame t showed at x, takes the layer (see the top).
+// Its own texels are looked for among the 3x3 around x (5x5 and 9x9 tie on validation).
+fn object_takes_layer(x: vec2f, id: u32) -> bool {
+    let under = clamped(vec2i(floor(x)));
+    if (textureLoad(layer, under, 0).a > 0.0) {
+        return true;
+    }
+    if (layer_at(x).a <= 0.0) {
+        return false;
+    }
+    var behind_layer = false;
+    for (var i = 0; i < 9; i++) {
+        let s = clamped(under + vec2i(i % 3 - 1, i / 3 - 1));
+        let own = object_id(textureLoad(source_normal_id, s, 0).r) == id;
+        behind_layer = behind_layer || (own && textureLoad(layer, s, 0).a > 0.0);
+    }
+    return behind_layer;
+}
+
 // A splat's premultiplied sum, and the share of the pixel the covered texels landing on it fill.
 struct Splat {
     sum: vec4f,
@@ -186,7 +206,7 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
         let finite = all(abs(x) <= vec2f(MAX_FINITE));
         var over = vec4f(0.0);
         let t = target_surface(p);
-        let takes_layer = finite && (t.id == 0u || textureLoad(layer, clamped(vec2i(floor(x))), 0).a > 0.0);
+        let takes_layer = finite && (t.id == 0u || object_takes_layer(x, t.id));
         if (takes_layer && unspecialised(params.has_motion) != ABSENT) {
             let surface_point = x;
             for (var step = 0; step < 2; step++) {

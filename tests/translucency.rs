@@ -1,7 +1,8 @@
 //! What is drawn over the surfaces (`PatchexTranslucencyInput`) on lavapipe through the C ABI:
 //! taken apart from frame t's surfaces and placed at the target by its own motion, against the
 //! plain-Rust reference on frames of the scene renderer (smoke, sparks and panes of glass over a
-//! moving camera and animated characters, and a fog they uncover), with and without the
+//! moving camera and animated characters, a fog they uncover, and smoke and fog in front of
+//! them), with and without the
 //! translucency's own motion and frame t's colour before its translucency; the gain where the
 //! particles are; the extremes of the mask (empty, full, uniform, and values at every
 //! threshold); and bad inputs sanitised and counted or refused.
@@ -33,6 +34,9 @@ const SCENE: &str = "generated/autumn_07.toml";
 /// A generated validation scene whose characters walk through smoke: they cover and uncover the
 /// ground behind them by a pixel and more between frame t and the target.
 const MOVERS: &str = "generated/platforms_06.toml";
+
+/// A generated validation scene whose smoke rises between the camera and its characters.
+const SMOKE_IN_FRONT: &str = "generated/autumn_09.toml";
 
 /// What the frames show over the surfaces.
 #[derive(Clone, Copy)]
@@ -234,6 +238,41 @@ fn a_layer_a_character_uncovers_matches_the_reference() {
     assert!(uncovered > 10, "the characters uncover {uncovered} pixels");
     for with in [With::MaskAndMotion, With::Everything] {
         assert_matches_reference(&frames, &fog, with);
+    }
+}
+
+/// A layer in front of the characters: the scene's smoke, and a fog over everything with every
+/// other texel of the characters left bare, held still on screen. Where the texel a character
+/// showed in frame t is bare but its own texels around lie under the layer, the layer covers it,
+/// on the GPU as in the reference.
+#[test]
+fn a_layer_over_a_character_matches_the_reference() {
+    let frames = rendered_frames_of(SMOKE_IN_FRONT, 128, 72, Content::Everything);
+    let width = frames.source.stencil.width;
+    let mut fog = frames.input.clone();
+    for (i, (a, id)) in fog
+        .mask
+        .data
+        .iter_mut()
+        .zip(&frames.source.stencil.data)
+        .enumerate()
+    {
+        let bare = *id != 0.0 && (i % width + i / width) % 2 == 1;
+        *a = if bare { 0.0 } else { 0.5 };
+    }
+    fog.motion.data.fill(0.0);
+    let characters = frames
+        .source
+        .stencil
+        .data
+        .iter()
+        .filter(|id| **id != 0.0)
+        .count();
+    assert!(characters > 20, "the characters cover {characters} pixels");
+    for given in [&frames.input, &fog] {
+        for with in [With::MaskAndMotion, With::Everything] {
+            assert_matches_reference(&frames, given, with);
+        }
     }
 }
 

@@ -232,10 +232,21 @@ fn layer_at(layer: &Image, x: Vec2) -> Vec4 {
     )
 }
 
-/// Whether the layer covers the texel under `q` (clamped to the image).
-fn covered_at(layer: &Image, q: Vec2) -> bool {
-    let s = q.floor().as_ivec2();
-    layer.clamped(s.x, s.y)[3] > 0.0
+/// `object_takes_layer`: whether the dynamic object `id`, which frame t showed at `x`, takes the
+/// layer: where the layer covers the texel under `x`, or, where it covers `x` read bilinear,
+/// where one of the 3x3 texels around shows the object under the layer.
+fn object_takes_layer(inputs: &TargetTranslucency, x: Vec2, id: f32) -> bool {
+    let layer = inputs.layer;
+    let extent = IVec2::new(layer.width as i32, layer.height as i32);
+    let under = x.floor().as_ivec2().clamp(IVec2::ZERO, extent - 1);
+    if layer.at(under.x as usize, under.y as usize)[3] > 0.0 {
+        return true;
+    }
+    layer_at(layer, x).w > 0.0
+        && (0..9).any(|i| {
+            let s = under + IVec2::new(i % 3 - 1, i / 3 - 1);
+            inputs.source_normal_id.clamped(s.x, s.y)[3] == id && layer.clamped(s.x, s.y)[3] > 0.0
+        })
 }
 
 /// `inside_layer`: whether the layer covers `q` and the 8 points `GAP_REACH` pixels around it.
@@ -326,8 +337,9 @@ pub fn place(frame: &mut Image, inputs: &TargetTranslucency) -> u32 {
             );
             let valid = inputs.target.valid[x + y * frame.width];
             let finite = point.abs().cmple(Vec2::splat(f32::MAX)).all();
-            let static_surface = valid && inputs.target.normal_id.at(x, y)[3] == 0.0;
-            let takes_layer = finite && (static_surface || covered_at(inputs.layer, point));
+            let id = inputs.target.normal_id.at(x, y)[3];
+            let static_surface = valid && id == 0.0;
+            let takes_layer = finite && (static_surface || object_takes_layer(inputs, point, id));
             let mut over = Vec4::ZERO;
             if let Some(motion) = inputs.motion.filter(|_| takes_layer) {
                 let surface_point = point;
