@@ -270,20 +270,20 @@ const FAMILIES: [Family; 9] = [
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Translucency {
     /// Smoke, sparks or embers, and free-standing panes of glass around the action.
-    ParticlesAndPanes,
+    WithPanes,
     /// Smoke, sparks or embers over wet (glossier) ground, and walls behind the action with
     /// windows glazed onto them: glass that moves with the surface it lies on, a few pixels
     /// across.
-    ParticlesAndWindows,
+    WithWindows,
     /// Smoke, sparks or embers rising between the camera and the action: the layer lies over
     /// the characters, where in the other two it mostly lies beside or behind them.
-    ParticlesBeforeTheAction,
+    BeforeTheAction,
 }
 
 const TRANSLUCENCY_SCENES: [Translucency; 3] = [
-    Translucency::ParticlesAndPanes,
-    Translucency::ParticlesAndWindows,
-    Translucency::ParticlesBeforeTheAction,
+    Translucency::WithPanes,
+    Translucency::WithWindows,
+    Translucency::BeforeTheAction,
 ];
 
 /// The whole set for `seed`: the same seed always gives the same files.
@@ -308,20 +308,20 @@ pub fn generate_set(seed: u64) -> Vec<GeneratedScene> {
                 }
                 None => family.cameras[i % family.cameras.len()],
             };
-            let wet = translucency == Some(Translucency::ParticlesAndWindows);
+            let wet = translucency == Some(Translucency::WithWindows);
             let name = format!("{}_{:02}", family.name, i + 1);
             let (mut text, camera_bearing) = scene_text(&mut rng, &name, family, camera, seed, wet);
             match translucency {
                 None => {}
-                Some(Translucency::ParticlesAndPanes) => {
+                Some(Translucency::WithPanes) => {
                     particles(&mut rng, &mut text, None);
                     glass(&mut rng, &mut text);
                 }
-                Some(Translucency::ParticlesAndWindows) => {
+                Some(Translucency::WithWindows) => {
                     particles(&mut rng, &mut text, None);
                     walls(&mut rng, &mut text, camera_bearing);
                 }
-                Some(Translucency::ParticlesBeforeTheAction) => {
+                Some(Translucency::BeforeTheAction) => {
                     particles(&mut rng, &mut text, Some(camera_bearing));
                 }
             }
