@@ -2,10 +2,9 @@
 //! taken apart from frame t's surfaces and placed at the target by its own motion, against the
 //! plain-Rust reference on frames of the scene renderer (smoke, sparks and panes of glass over a
 //! moving camera and animated characters, a fog they uncover, and smoke and fog in front of
-//! them), with and without the
-//! translucency's own motion and frame t's colour before its translucency; the gain where the
-//! particles are; the extremes of the mask (empty, full, uniform, and values at every
-//! threshold); and bad inputs sanitised and counted or refused.
+//! them), with and without the translucency's own motion and frame t's colour before its
+//! translucency; the gain where the particles are; the extremes of the mask (empty, full,
+//! uniform, and values at every threshold); and bad inputs sanitised and counted or refused.
 //!
 //! Tolerance: the colour tolerance of `support/pipeline.rs` (2e-3 relative plus 1e-4),
 //! loosened to 1e-3 absolute: the surface behind is a weighted mean of exponentials whose last
