@@ -215,17 +215,30 @@ fn translucency_passes_match_their_references_with_each_input() {
     }
 }
 
+/// Frame t's input replaced by a fog of coverage 0.5 held still on screen, bare at the texels
+/// `bare(index, stencil id)` picks.
+fn still_fog(frames: &Frames, bare: impl Fn(usize, f32) -> bool) -> Translucency {
+    let mut fog = frames.input.clone();
+    for (i, (a, id)) in fog
+        .mask
+        .data
+        .iter_mut()
+        .zip(&frames.source.stencil.data)
+        .enumerate()
+    {
+        *a = if bare(i, *id) { 0.0 } else { 0.5 };
+    }
+    fog.motion.data.fill(0.0);
+    fog
+}
+
 /// A fog over the ground behind the characters, held still on screen: where a character moves
 /// off ground whose fog it hid in frame t, the splat brings nothing, and the layer is spread
 /// there from the ground around, on the GPU as in the reference.
 #[test]
 fn a_layer_a_character_uncovers_matches_the_reference() {
     let frames = rendered_frames_of(MOVERS, 128, 72, Content::Everything);
-    let mut fog = frames.input.clone();
-    for (a, id) in fog.mask.data.iter_mut().zip(&frames.source.stencil.data) {
-        *a = if *id == 0.0 { 0.5 } else { 0.0 };
-    }
-    fog.motion.data.fill(0.0);
+    let fog = still_fog(&frames, |_, id| id != 0.0);
     let uncovered = frames
         .source
         .stencil
@@ -248,18 +261,9 @@ fn a_layer_a_character_uncovers_matches_the_reference() {
 fn a_layer_over_a_character_matches_the_reference() {
     let frames = rendered_frames_of(SMOKE_IN_FRONT, 128, 72, Content::Everything);
     let width = frames.source.stencil.width;
-    let mut fog = frames.input.clone();
-    for (i, (a, id)) in fog
-        .mask
-        .data
-        .iter_mut()
-        .zip(&frames.source.stencil.data)
-        .enumerate()
-    {
-        let bare = *id != 0.0 && (i % width + i / width) % 2 == 1;
-        *a = if bare { 0.0 } else { 0.5 };
-    }
-    fog.motion.data.fill(0.0);
+    let fog = still_fog(&frames, |i, id| {
+        id != 0.0 && (i % width + i / width) % 2 == 1
+    });
     let characters = frames
         .source
         .stencil
