@@ -13,8 +13,9 @@
 // Without the colour before the pass, a layer is left in the colour, carried with the surface
 // behind it, where that is right already and taking it apart would only add the estimate's
 // errors: where it is the same all around a texel (inside a pane of glass or a fog card), since
-// nothing in it moves that could show, and where its own motion is the surface's to within half
-// a pixel a frame. Only where the mask changes (smoke, sparks, a pane's edges) and moves
+// nothing in it moves that could show, where its own motion is the surface's to within half
+// a pixel a frame, and where it is thin (under a fifth), fainter than the estimate's error.
+// Only where the mask changes (smoke, sparks, a pane's edges) and moves
 // otherwise than the surface behind it is the layer taken apart.
 // Given that colour, only a layer lying on its surface (glass set in a wall, a decal), whose
 // motion is the surface's to within a tenth of a pixel, is left: the warp follows its surface's
@@ -65,6 +66,10 @@ const BEHIND_MAX_COST: f32 = 9.0;
 // Coverage below this is left in the surface's shading: so faint a layer is not worth an
 // estimate of the surface that may be off by more than it.
 const MIN_COVERAGE: f32 = 0.05;
+// ...and below this without the colour before the pass: thin smoke spread wide leaves the
+// estimate few uncovered texels, and its error, carried with the layer, lands where the smoke
+// goes (chosen on validation among 0.05, 0.2 and 0.5).
+const MIN_ESTIMATED_COVERAGE: f32 = 0.2;
 // A layer is uniform at a texel where the coverage FLAT_REACH pixels away, in the 8 directions,
 // is within FLAT_TOLERANCE of its own (about two steps of an 8-bit mask).
 const FLAT_REACH: i32 = 8;
@@ -157,7 +162,7 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(local_invocation_inde
         // only a layer lying on its surface is left in the colour.
         let exact = unspecialised(params.has_opaque) != ABSENT;
         var a = coverage(vec2i(p));
-        if (a.value.x > 0.0 && !exact && uniform_layer(vec2i(p), a.value.x)) {
+        if (!exact && (a.value.x < MIN_ESTIMATED_COVERAGE || uniform_layer(vec2i(p), a.value.x))) {
             a.value = vec3f(0.0);
         }
         var changed = a.changed;

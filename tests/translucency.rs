@@ -323,8 +323,9 @@ fn the_mask_brings_the_particles_closer_to_the_rendered_target() {
 
 /// An empty mask changes nothing: the frame is the one without the input, bit for bit; nor does a
 /// full mask or one as uniform as a pane of glass filling the view, nor the scene's own mask
-/// moving exactly as the surfaces behind it, even with the colour from before the translucency
-/// (glass set in a wall): each is left in the colour and carried with them.
+/// thinned under a fifth without the colour from before the translucency, nor that mask moving
+/// exactly as the surfaces behind it, even with that colour (glass set in a wall): each is left in
+/// the colour and carried with them.
 #[test]
 fn an_empty_full_uniform_or_surface_bound_mask_changes_nothing() {
     let frames = rendered_frames(96, 54, Content::Everything);
@@ -340,6 +341,15 @@ fn an_empty_full_uniform_or_surface_bound_mask_changes_nothing() {
         let with = assert_matches_reference(&frames, &given, With::MaskAndMotion);
         assert_eq!(with.output, without, "a mask of {coverage} everywhere");
     }
+    let thin = Translucency {
+        mask: Image {
+            data: frames.input.mask.data.iter().map(|a| 0.199 * a).collect(),
+            ..frames.input.mask.clone()
+        },
+        ..frames.input.clone()
+    };
+    let with = assert_matches_reference(&frames, &thin, With::MaskAndMotion);
+    assert_eq!(with.output, without, "the mask thinned under a fifth");
     let given = Translucency {
         motion: frames.source.motion.clone(),
         ..frames.input.clone()
@@ -350,14 +360,25 @@ fn an_empty_full_uniform_or_surface_bound_mask_changes_nothing() {
     }
 }
 
-/// Coverage on each side of every threshold the passes hold it to (the least taken apart, the
-/// uniform test's tolerance, subnormal, 1 and just under), and motion at and past what a half
+/// Coverage on each side of every threshold the passes hold it to (the least taken apart, with
+/// and without the colour before the translucency, the uniform test's tolerance, subnormal, 1 and just under), and motion at and past what a half
 /// float holds, match the reference with each input and leave the output finite.
 #[test]
 fn mask_and_motion_at_their_thresholds_match_the_reference() {
     let frames = rendered_frames(96, 54, Content::Everything);
     let mut given = frames.input.clone();
-    let coverages = [0.05 - 1e-6, 0.05, 1e-40, 1.0 - 1e-7, 1.0, 0.3, 0.31, 0.2999];
+    let coverages = [
+        0.05 - 1e-6,
+        0.05,
+        0.2 - 1e-6,
+        0.2,
+        1e-40,
+        1.0 - 1e-7,
+        1.0,
+        0.3,
+        0.31,
+        0.2999,
+    ];
     let motions = [65504.0, -65504.0, 65520.0, 1e-8, -0.5];
     for (i, value) in given.mask.data.iter_mut().enumerate().step_by(3) {
         *value = coverages[(i / 3) % coverages.len()];

@@ -13,6 +13,7 @@ const BEHIND_RADIUS: i32 = 48;
 const BEHIND_STEP: usize = 8;
 const BEHIND_MAX_COST: f32 = 9.0;
 const MIN_COVERAGE: f32 = 0.05;
+const MIN_ESTIMATED_COVERAGE: f32 = 0.2;
 const FLAT_REACH: i32 = 8;
 const FLAT_TOLERANCE: f32 = 0.01;
 const SAME_MOTION: f32 = 0.5;
@@ -132,7 +133,7 @@ pub fn separate(shading: &Image, inputs: &SourceTranslucency) -> Separated {
         for x in 0..width {
             let p = IVec2::new(x as i32, y as i32);
             let (mut a, mut changed) = coverage(inputs.mask, x, y);
-            if a > 0.0 && !exact && uniform_layer(inputs.mask, p, a) {
+            if !exact && (a < MIN_ESTIMATED_COVERAGE || uniform_layer(inputs.mask, p, a)) {
                 a = 0.0;
             }
             let mut own = Vec2::ZERO;
