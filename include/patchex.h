@@ -763,9 +763,10 @@ typedef struct PatchexSkyLight {
 // texel splatted where its motion takes it), or, without motion vectors of its own, as the
 // target's motion vectors say the surface behind it moves; then blends it over the
 // extrapolated frame. Without `opaque_color`, a layer the same all around a pixel (inside a
-// pane of glass, a full-screen tint), one whose own motion is that of the surface behind it
-// to within half a pixel (given frame t's geometry motion vectors), and a fully covered region
-// far from any uncovered texel stay in the colour and move with the surface behind them, where
+// pane of glass, a full-screen tint), one covering a pixel less than a fifth (thin smoke), one
+// whose own motion is that of the surface behind it to within half a pixel (given frame t's
+// geometry motion vectors), and a fully covered region far from any uncovered texel stay in the
+// colour and move with the surface behind them, where
 // the estimate would only add its errors. With `opaque_color`, only a layer whose motion is the
 // surface's to within a tenth of a pixel stays (glass set in a wall, a decal): the warp follows
 // that surface's geometry more sharply than the splat would.
