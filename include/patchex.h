@@ -766,10 +766,10 @@ typedef struct PatchexSkyLight {
 // pane of glass, a full-screen tint), one covering a pixel less than a fifth (thin smoke), one
 // whose own motion is that of the surface behind it to within half a pixel (given frame t's
 // geometry motion vectors), and a fully covered region far from any uncovered texel stay in the
-// colour and move with the surface behind them, where
-// the estimate would only add its errors. With `opaque_color`, only a layer whose motion is the
-// surface's to within a tenth of a pixel stays (glass set in a wall, a decal): the warp follows
-// that surface's geometry more sharply than the splat would.
+// colour and move with the surface behind them, where the estimate would only add its errors.
+// With `opaque_color`, only a layer whose motion is the surface's to within a tenth of a pixel
+// stays (glass set in a wall, a decal): the warp follows that surface's geometry more sharply
+// than the splat would.
 //
 // What an engine provides, after the conventions of FSR's transparency-and-composition mask:
 // the mask's first channel is the opacity with which everything drawn after the G-buffer's

@@ -13,10 +13,10 @@
 // Without the colour before the pass, a layer is left in the colour, carried with the surface
 // behind it, where that is right already and taking it apart would only add the estimate's
 // errors: where it is the same all around a texel (inside a pane of glass or a fog card), since
-// nothing in it moves that could show, where its own motion is the surface's to within half
-// a pixel a frame, and where it is thin (under a fifth), fainter than the estimate's error.
-// Only where the mask changes (smoke, sparks, a pane's edges) and moves
-// otherwise than the surface behind it is the layer taken apart.
+// nothing in it moves that could show, where its own motion is the surface's to within half a
+// pixel a frame, and where it is thin (under a fifth), fainter than the estimate's error. Only
+// where the mask changes (smoke, sparks, a pane's edges) and moves otherwise than the surface
+// behind it is the layer taken apart.
 // Given that colour, only a layer lying on its surface (glass set in a wall, a decal), whose
 // motion is the surface's to within a tenth of a pixel, is left: the warp follows its surface's
 // geometry, while a separated layer one or two aliased pixels wide would be smeared by the splat.

@@ -361,8 +361,9 @@ fn an_empty_full_uniform_or_surface_bound_mask_changes_nothing() {
 }
 
 /// Coverage on each side of every threshold the passes hold it to (the least taken apart, with
-/// and without the colour before the translucency, the uniform test's tolerance, subnormal, 1 and just under), and motion at and past what a half
-/// float holds, match the reference with each input and leave the output finite.
+/// and without the colour before the translucency, the uniform test's tolerance, subnormal, 1 and
+/// just under), and motion at and past what a half float holds, match the reference with each
+/// input and leave the output finite.
 #[test]
 fn mask_and_motion_at_their_thresholds_match_the_reference() {
     let frames = rendered_frames(96, 54, Content::Everything);
